@@ -1,0 +1,171 @@
+#include <cstring>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "softgl/api/context.h"
+
+namespace py = pybind11;
+using softgl::Context;
+using softgl::ContextAttributes;
+using softgl::GLenum;
+namespace gl = softgl::gl;
+
+namespace {
+
+py::object to_python(const softgl::Value& value) {
+    struct Visitor {
+        py::object operator()(const softgl::Null&) const { return py::none(); }
+        py::object operator()(bool v) const { return py::bool_(v); }
+        py::object operator()(int64_t v) const { return py::int_(v); }
+        py::object operator()(double v) const { return py::float_(v); }
+        py::object operator()(const std::string& v) const { return py::str(v); }
+        py::object operator()(const softgl::Int32Array& v) const {
+            return py::array_t<int32_t>(py::ssize_t(v.values.size()), v.values.data());
+        }
+        py::object operator()(const softgl::Uint32Array& v) const {
+            return py::array_t<uint32_t>(py::ssize_t(v.values.size()), v.values.data());
+        }
+        py::object operator()(const softgl::Float32Array& v) const {
+            return py::array_t<float>(py::ssize_t(v.values.size()), v.values.data());
+        }
+        py::object operator()(const softgl::BoolList& v) const {
+            py::list out;
+            for (bool b : v.values) out.append(py::bool_(b));
+            return out;
+        }
+    };
+    return std::visit(Visitor{}, value);
+}
+
+// The WebGL typed-array kind of a NumPy dtype (Uint8Array <-> uint8, ...); 0 if none.
+GLenum array_type_of(const py::dtype& dt) {
+    const char kind = dt.kind();
+    const auto size = dt.itemsize();
+    if (kind == 'u' && size == 1) return gl::UNSIGNED_BYTE;
+    if (kind == 'i' && size == 1) return gl::BYTE;
+    if (kind == 'u' && size == 2) return gl::UNSIGNED_SHORT;
+    if (kind == 'i' && size == 2) return gl::SHORT;
+    if (kind == 'u' && size == 4) return gl::UNSIGNED_INT;
+    if (kind == 'i' && size == 4) return gl::INT;
+    if (kind == 'f' && size == 4) return gl::FLOAT;
+    return 0;
+}
+
+py::dtype dtype_for(GLenum type) {
+    switch (type) {
+        case gl::FLOAT: return py::dtype::of<float>();
+        case gl::BYTE: return py::dtype::of<int8_t>();
+        case gl::SHORT: return py::dtype::of<int16_t>();
+        case gl::INT: return py::dtype::of<int32_t>();
+        case gl::UNSIGNED_INT: case gl::UNSIGNED_INT_2_10_10_10_REV:
+        case gl::UNSIGNED_INT_10F_11F_11F_REV: case gl::UNSIGNED_INT_5_9_9_9_REV:
+            return py::dtype::of<uint32_t>();
+        case gl::UNSIGNED_SHORT: case gl::UNSIGNED_SHORT_5_6_5: case gl::UNSIGNED_SHORT_4_4_4_4:
+        case gl::UNSIGNED_SHORT_5_5_5_1: case gl::HALF_FLOAT:
+            return py::dtype::of<uint16_t>();
+        default: return py::dtype::of<uint8_t>();
+    }
+}
+
+py::object read_pixels(Context& ctx, int32_t x, int32_t y, int32_t w, int32_t h, GLenum format,
+                       GLenum type, py::object pixels) {
+    if (pixels.is_none()) {
+        // Return a new (h, w, 4) array, zero outside the drawing buffer. Negative sizes and bad
+        // enums are reported by the core before anything is allocated.
+        if (w < 0 || h < 0 || format != gl::RGBA) {
+            ctx.read_pixels(x, y, w, h, format, type, type, nullptr, 0, false);
+            return py::none();
+        }
+        py::array out(dtype_for(type), std::vector<py::ssize_t>{h, w, 4});
+        std::memset(out.mutable_data(), 0, size_t(out.nbytes()));
+        if (!ctx.read_pixels(x, y, w, h, format, type, array_type_of(out.dtype()),
+                             static_cast<uint8_t*>(out.mutable_data()), size_t(out.nbytes()), false))
+            return py::none();
+        return std::move(out);
+    }
+    if (!py::isinstance<py::array>(pixels))
+        throw py::type_error("readPixels: pixels must be a NumPy array (the ArrayBufferView) or None");
+    py::array arr = pixels.cast<py::array>();
+    if (!(arr.flags() & py::array::c_style) || !arr.writeable())
+        throw py::type_error("readPixels: pixels must be a writeable C-contiguous NumPy array");
+    ctx.read_pixels(x, y, w, h, format, type, array_type_of(arr.dtype()),
+                    static_cast<uint8_t*>(arr.mutable_data()), size_t(arr.nbytes()), true);
+    return pixels;
+}
+
+}  // namespace
+
+void bind_context(py::module_& m) {
+    py::class_<ContextAttributes>(m, "ContextAttributes")
+        .def(py::init<>())
+        .def_readwrite("alpha", &ContextAttributes::alpha)
+        .def_readwrite("depth", &ContextAttributes::depth)
+        .def_readwrite("stencil", &ContextAttributes::stencil)
+        .def_readwrite("antialias", &ContextAttributes::antialias)
+        .def_readwrite("premultipliedAlpha", &ContextAttributes::premultiplied_alpha)
+        .def_readwrite("preserveDrawingBuffer", &ContextAttributes::preserve_drawing_buffer)
+        .def_readwrite("failIfMajorPerformanceCaveat", &ContextAttributes::fail_if_major_performance_caveat)
+        .def_readwrite("desynchronized", &ContextAttributes::desynchronized)
+        .def_readwrite("powerPreference", &ContextAttributes::power_preference)
+        .def_readwrite("version", &ContextAttributes::version)
+        .def_readwrite("samples", &ContextAttributes::samples);
+
+    m.def("check_context", &Context::check, "Why a context of this size and attributes cannot be made ('' if it can)");
+    m.def("error_name", &softgl::error_name);
+    m.def("enum_name", &softgl::enum_name);
+
+    py::class_<Context>(m, "Context")
+        .def(py::init<int32_t, int32_t, const ContextAttributes&>())
+        .def("_set_error_listener",
+             [](Context& c, py::function f) {
+                 c.errors().set_listener([f](GLenum code, const char* call, const std::string& why) {
+                     f(code, call, why);
+                 });
+             })
+        .def("_attributes", [](const Context& c) { return c.attributes(); })
+        .def("_present", &Context::present)
+        .def_property_readonly("drawingBufferWidth", &Context::drawing_buffer_width)
+        .def_property_readonly("drawingBufferHeight", &Context::drawing_buffer_height)
+        .def("getError", &Context::get_error)
+        .def("isContextLost", &Context::is_context_lost)
+        .def("getSupportedExtensions", &Context::get_supported_extensions)
+        .def("_enable_extension", &Context::enable_extension)
+        .def("enable", &Context::enable)
+        .def("disable", &Context::disable)
+        .def("isEnabled", &Context::is_enabled)
+        .def("blendFunc", &Context::blend_func)
+        .def("blendFuncSeparate", &Context::blend_func_separate)
+        .def("blendEquation", &Context::blend_equation)
+        .def("blendEquationSeparate", &Context::blend_equation_separate)
+        .def("blendColor", &Context::blend_color)
+        .def("depthFunc", &Context::depth_func)
+        .def("depthMask", &Context::depth_mask)
+        .def("depthRange", &Context::depth_range)
+        .def("clearColor", &Context::clear_color)
+        .def("clearDepth", &Context::clear_depth)
+        .def("clearStencil", &Context::clear_stencil)
+        .def("colorMask", &Context::color_mask)
+        .def("stencilFunc", &Context::stencil_func)
+        .def("stencilFuncSeparate", &Context::stencil_func_separate)
+        .def("stencilOp", &Context::stencil_op)
+        .def("stencilOpSeparate", &Context::stencil_op_separate)
+        .def("stencilMask", &Context::stencil_mask)
+        .def("stencilMaskSeparate", &Context::stencil_mask_separate)
+        .def("cullFace", &Context::cull_face)
+        .def("frontFace", &Context::front_face)
+        .def("lineWidth", &Context::line_width)
+        .def("polygonOffset", &Context::polygon_offset)
+        .def("sampleCoverage", &Context::sample_coverage)
+        .def("scissor", &Context::scissor)
+        .def("viewport", &Context::viewport)
+        .def("hint", &Context::hint)
+        .def("pixelStorei", &Context::pixel_store_i)
+        .def("activeTexture", &Context::active_texture)
+        .def("getParameter", [](Context& c, GLenum pname) { return to_python(c.get_parameter(pname)); })
+        .def("clear", &Context::clear)
+        .def("flush", [](Context&) {})    // drawing is synchronous: nothing is ever pending
+        .def("finish", [](Context&) {})
+        .def("readPixels", &read_pixels, py::arg("x"), py::arg("y"), py::arg("width"),
+             py::arg("height"), py::arg("format"), py::arg("type"), py::arg("pixels") = py::none());
+}

@@ -1,0 +1,13 @@
+// softgl._core: the pybind11 module. Conversions only; behaviour lives in cpp/softgl.
+#include <pybind11/pybind11.h>
+
+namespace py = pybind11;
+
+void bind_enums(py::module_& m);
+void bind_context(py::module_& m);
+
+PYBIND11_MODULE(_core, m) {
+    m.doc() = "softgl's C++ core (use the softgl package, not this module)";
+    bind_enums(m);
+    bind_context(m);
+}

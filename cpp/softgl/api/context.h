@@ -1,0 +1,147 @@
+// A WebGL 1 / WebGL 2 rendering context: the entry points, their validation, and the state.
+// Every entry point validates first and records the WebGL error without changing anything.
+#pragma once
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "softgl/api/errors.h"
+#include "softgl/api/state.h"
+#include "softgl/api/value.h"
+#include "softgl/surface/framebuffer.h"
+
+namespace softgl {
+
+struct ContextAttributes {
+    bool alpha = true;
+    bool depth = true;
+    bool stencil = false;
+    bool antialias = true;
+    bool premultiplied_alpha = true;
+    bool preserve_drawing_buffer = false;
+    bool fail_if_major_performance_caveat = false;
+    bool desynchronized = false;
+    std::string power_preference = "default";
+    // softgl's own options
+    int version = 2;     // 1 = WebGL 1, 2 = WebGL 2
+    int samples = 0;     // 0 = 4 when antialias, else 1; otherwise 2, 4, 8 or 16 (needs antialias)
+};
+
+// Limits softgl reports through getParameter.
+namespace limits {
+inline constexpr int32_t kMaxViewportDims = kMaxDrawingBufferSize;
+inline constexpr int32_t kMaxTextureSize = 16384;
+inline constexpr int32_t kMaxCubeMapTextureSize = 16384;
+inline constexpr int32_t kMaxRenderbufferSize = 16384;
+inline constexpr int32_t kMaxVertexAttribs = 16;
+inline constexpr int32_t kMaxTextureImageUnits = 16;
+inline constexpr int32_t kMaxVertexTextureImageUnits = 16;
+inline constexpr int32_t kMaxCombinedTextureImageUnits = 32;
+inline constexpr int32_t kMaxVertexUniformVectors = 1024;
+inline constexpr int32_t kMaxFragmentUniformVectors = 1024;
+inline constexpr int32_t kMaxVaryingVectors = 16;
+inline constexpr float kPointSizeRange[2] = {1.0f, 1024.0f};
+inline constexpr float kLineWidthRange[2] = {1.0f, 256.0f};
+inline constexpr int32_t kSubpixelBits = 8;
+inline constexpr int32_t kMaxSamples = 16;
+}  // namespace limits
+
+class Context {
+public:
+    // Empty when the attributes and size are acceptable; else the reason (nothing is allocated).
+    static std::string check(int32_t width, int32_t height, const ContextAttributes& attributes);
+    Context(int32_t width, int32_t height, const ContextAttributes& attributes);
+
+    const ContextAttributes& attributes() const { return attributes_; }
+    int version() const { return attributes_.version; }
+    int32_t drawing_buffer_width() const { return framebuffer_.width(); }
+    int32_t drawing_buffer_height() const { return framebuffer_.height(); }
+    const State& state() const { return state_; }
+    DefaultFramebuffer& framebuffer() { return framebuffer_; }
+    ErrorState& errors() { return errors_; }
+
+    // Errors, extensions
+    GLenum get_error() { return errors_.take(); }
+    bool is_context_lost() const { return false; }
+    std::vector<std::string> get_supported_extensions() const;
+    bool enable_extension(const std::string& name);   // getExtension: false when unsupported
+    bool extension_enabled(const std::string& name) const;
+
+    // Capabilities
+    void enable(GLenum cap) { set_capability("enable", cap, true); }
+    void disable(GLenum cap) { set_capability("disable", cap, false); }
+    bool is_enabled(GLenum cap);
+
+    // Blending
+    void blend_func(GLenum sfactor, GLenum dfactor);
+    void blend_func_separate(GLenum src_rgb, GLenum dst_rgb, GLenum src_alpha, GLenum dst_alpha);
+    void blend_equation(GLenum mode);
+    void blend_equation_separate(GLenum mode_rgb, GLenum mode_alpha);
+    void blend_color(float r, float g, float b, float a);
+
+    // Depth, stencil, masks, clear values
+    void depth_func(GLenum func);
+    void depth_mask(bool flag) { state_.depth_mask = flag; }
+    void depth_range(float z_near, float z_far);
+    void clear_color(float r, float g, float b, float a) { state_.clear_color = {r, g, b, a}; }
+    void clear_depth(float depth);
+    void clear_stencil(int32_t s) { state_.clear_stencil = s; }
+    void color_mask(bool r, bool g, bool b, bool a) { state_.color_mask = {r, g, b, a}; }
+    void stencil_func(GLenum func, int32_t ref, uint32_t mask);
+    void stencil_func_separate(GLenum face, GLenum func, int32_t ref, uint32_t mask);
+    void stencil_op(GLenum fail, GLenum zfail, GLenum zpass);
+    void stencil_op_separate(GLenum face, GLenum fail, GLenum zfail, GLenum zpass);
+    void stencil_mask(uint32_t mask);
+    void stencil_mask_separate(GLenum face, uint32_t mask);
+
+    // Rasterization
+    void cull_face(GLenum mode);
+    void front_face(GLenum mode);
+    void line_width(float width);
+    void polygon_offset(float factor, float units);
+    void sample_coverage(float value, bool invert);
+    void scissor(int32_t x, int32_t y, int32_t width, int32_t height);
+    void viewport(int32_t x, int32_t y, int32_t width, int32_t height);
+
+    // Misc state
+    void hint(GLenum target, GLenum mode);
+    void pixel_store_i(GLenum pname, int32_t param);
+    void active_texture(GLenum texture);
+    Value get_parameter(GLenum pname);
+
+    // Framebuffer operations
+    void clear(uint32_t mask);
+    // readPixels into `dst` (dst_bytes long, elements of GL type `dst_type`). With `packed` the
+    // destination is laid out by the PACK_* parameters (as a WebGL ArrayBufferView); otherwise it
+    // is a tightly packed h x w x 4 block. Returns false after recording an error.
+    bool read_pixels(int32_t x, int32_t y, int32_t width, int32_t height, GLenum format,
+                    GLenum type, GLenum dst_type, uint8_t* dst, size_t dst_bytes, bool packed);
+    // Bytes that readPixels writes at most for this block with the current PACK_* parameters.
+    size_t pack_size(int32_t width, int32_t height) const;
+
+    // The browser's compositing step: after the canvas is shown, a drawing buffer without
+    // preserveDrawingBuffer is cleared to its initial contents (WebGL 1.0 §2.2).
+    void present();
+
+private:
+    void set_capability(const char* call, GLenum cap, bool value);
+    bool* capability(GLenum cap);
+    bool valid_blend_factor(GLenum factor, bool is_destination) const;
+    bool valid_blend_equation(GLenum mode) const;
+    bool check_blend_factors(const char* call, GLenum src_rgb, GLenum dst_rgb, GLenum src_alpha,
+                             GLenum dst_alpha);
+    void error(GLenum code, const char* call, const std::string& why) {
+        errors_.record(code, call, why);
+    }
+
+    ContextAttributes attributes_;
+    State state_;
+    DefaultFramebuffer framebuffer_;
+    ErrorState errors_;
+    bool ext_blend_minmax_ = false;
+};
+
+std::string enum_name(uint32_t value);   // "BLEND" or "0x1234"
+
+}  // namespace softgl

@@ -1,0 +1,125 @@
+#include "softgl/surface/framebuffer.h"
+
+#include <algorithm>
+#include <unistd.h>
+
+#include "softgl/surface/formats.h"
+
+namespace softgl {
+
+uint64_t DefaultFramebuffer::bytes_needed(const FramebufferConfig& c) {
+    const uint64_t samples = uint64_t(c.width) * uint64_t(c.height) * uint64_t(c.samples);
+    uint64_t per_sample = 4;
+    if (c.depth) per_sample += 4;
+    if (c.stencil) per_sample += 1;
+    return samples * per_sample;
+}
+
+std::string DefaultFramebuffer::check(const FramebufferConfig& c) {
+    if (c.width <= 0 || c.height <= 0)
+        return "drawing buffer size must be positive, got " + std::to_string(c.width) + "x" +
+               std::to_string(c.height);
+    if (c.width > kMaxDrawingBufferSize || c.height > kMaxDrawingBufferSize)
+        return "drawing buffer " + std::to_string(c.width) + "x" + std::to_string(c.height) +
+               " exceeds the maximum of " + std::to_string(kMaxDrawingBufferSize) + " per side";
+    // Refuse what cannot fit in half the physical memory, before allocating anything.
+    const long pages = sysconf(_SC_PHYS_PAGES), page_size = sysconf(_SC_PAGE_SIZE);
+    if (pages > 0 && page_size > 0) {
+        const uint64_t budget = uint64_t(pages) * uint64_t(page_size) / 2;
+        const uint64_t need = bytes_needed(c);
+        if (need > budget)
+            return "drawing buffer needs " + std::to_string(need >> 20) + " MiB, more than half of " +
+                   "this machine's memory (" + std::to_string(budget >> 20) + " MiB)";
+    }
+    return {};
+}
+
+DefaultFramebuffer::DefaultFramebuffer(const FramebufferConfig& config) : config_(config) {
+    const size_t n = size_t(config.width) * size_t(config.height) * size_t(config.samples);
+    // Initial contents are zero (WebGL clears a new drawing buffer to transparent black, depth 1,
+    // stencil 0; ES 3.0 §4.2.3 clear values); without alpha the buffer reads back alpha = 1.
+    color_.assign(n * 4, 0);
+    if (!config.alpha)
+        for (size_t i = 0; i < n; ++i) color_[i * 4 + 3] = 255;
+    if (config.depth) depth_.assign(n, (1u << kDepthBits) - 1);
+    if (config.stencil) stencil_.assign(n, 0);
+}
+
+Rect DefaultFramebuffer::clip(Rect r) const {
+    // Widen to 64 bits: x + width may overflow int32.
+    const int64_t x0 = std::max<int64_t>(r.x, 0), y0 = std::max<int64_t>(r.y, 0);
+    const int64_t x1 = std::min<int64_t>(int64_t(r.x) + r.width, config_.width);
+    const int64_t y1 = std::min<int64_t>(int64_t(r.y) + r.height, config_.height);
+    Rect out;
+    out.x = int32_t(x0);
+    out.y = int32_t(y0);
+    out.width = int32_t(std::max<int64_t>(0, x1 - x0));
+    out.height = int32_t(std::max<int64_t>(0, y1 - y0));
+    return out;
+}
+
+void DefaultFramebuffer::clear_color(Rect rect, const std::array<float, 4>& rgba,
+                                     const std::array<bool, 4>& mask) {
+    const Rect r = clip(rect);
+    uint8_t value[4];
+    for (int c = 0; c < 4; ++c) value[c] = float_to_unorm8(rgba[c]);
+    std::array<bool, 4> write = mask;
+    if (!config_.alpha) write[3] = false;  // no alpha channel: alpha stays 1
+    const int S = config_.samples;
+    for (int32_t y = r.y; y < r.y + r.height; ++y) {
+        uint8_t* p = color_sample(r.x, y, 0);
+        const size_t count = size_t(r.width) * S;
+        if (write[0] && write[1] && write[2] && write[3]) {
+            for (size_t i = 0; i < count; ++i, p += 4) std::copy(value, value + 4, p);
+        } else {
+            for (size_t i = 0; i < count; ++i, p += 4)
+                for (int c = 0; c < 4; ++c)
+                    if (write[c]) p[c] = value[c];
+        }
+    }
+}
+
+void DefaultFramebuffer::clear_depth(Rect rect, float depth) {
+    if (depth_.empty()) return;
+    const Rect r = clip(rect);
+    const uint32_t value = float_to_unorm(depth, kDepthBits);
+    const size_t S = config_.samples;
+    for (int32_t y = r.y; y < r.y + r.height; ++y) {
+        uint32_t* p = &depth_[(size_t(y) * config_.width + r.x) * S];
+        std::fill(p, p + size_t(r.width) * S, value);
+    }
+}
+
+void DefaultFramebuffer::clear_stencil(Rect rect, int32_t value, uint32_t write_mask) {
+    if (stencil_.empty()) return;
+    const Rect r = clip(rect);
+    // ES 3.0 §4.2.3: the clear value is masked to the stencil bits; the write mask applies.
+    const uint8_t bits = uint8_t(uint32_t(value) & 0xFFu), mask = uint8_t(write_mask & 0xFFu);
+    const size_t S = config_.samples;
+    for (int32_t y = r.y; y < r.y + r.height; ++y) {
+        uint8_t* p = &stencil_[(size_t(y) * config_.width + r.x) * S];
+        for (size_t i = 0; i < size_t(r.width) * S; ++i) p[i] = uint8_t((p[i] & ~mask) | (bits & mask));
+    }
+}
+
+void DefaultFramebuffer::read_rgba8(int32_t x, int32_t y, int32_t w, int32_t h, uint8_t* dst,
+                                    std::ptrdiff_t row_stride) const {
+    const Rect r = clip(Rect{x, y, w, h});
+    const int S = config_.samples;
+    for (int32_t py = r.y; py < r.y + r.height; ++py) {
+        uint8_t* out = dst + (py - y) * row_stride + std::ptrdiff_t(r.x - x) * 4;
+        const uint8_t* in = &color_[(size_t(py) * config_.width + r.x) * S * 4];
+        if (S == 1) {
+            std::copy(in, in + size_t(r.width) * 4, out);
+            continue;
+        }
+        for (int32_t px = 0; px < r.width; ++px, in += S * 4, out += 4)
+            for (int c = 0; c < 4; ++c) {
+                uint32_t sum = 0;
+                for (int s = 0; s < S; ++s) sum += in[s * 4 + c];
+                out[c] = uint8_t((sum + uint32_t(S) / 2) / uint32_t(S));
+            }
+    }
+}
+
+}  // namespace softgl

@@ -1,0 +1,69 @@
+// The default (drawing-buffer) framebuffer: RGBA8 color, 24-bit unorm depth, 8-bit stencil,
+// each with `samples` samples per pixel stored contiguously (pixel-major).
+#pragma once
+#include <array>
+#include <cstddef>
+#include <cstdint>
+#include <string>
+#include <vector>
+
+#include "softgl/api/state.h"
+
+namespace softgl {
+
+struct FramebufferConfig {
+    int32_t width = 0, height = 0;
+    int32_t samples = 1;   // 1 = single-sampled
+    bool alpha = true, depth = true, stencil = false;
+};
+
+// Largest width or height accepted for a drawing buffer (also MAX_VIEWPORT_DIMS etc.).
+inline constexpr int32_t kMaxDrawingBufferSize = 16384;
+
+class DefaultFramebuffer {
+public:
+    static constexpr int kDepthBits = 24;
+    static constexpr int kStencilBits = 8;
+
+    // Empty string when `config` can be allocated; otherwise why not. Allocates nothing.
+    static std::string check(const FramebufferConfig& config);
+    static uint64_t bytes_needed(const FramebufferConfig& config);
+
+    explicit DefaultFramebuffer(const FramebufferConfig& config);
+
+    const FramebufferConfig& config() const { return config_; }
+    int32_t width() const { return config_.width; }
+    int32_t height() const { return config_.height; }
+
+    // Clears the part of `rect` inside the buffer. Channels with mask false keep their value.
+    void clear_color(Rect rect, const std::array<float, 4>& rgba, const std::array<bool, 4>& mask);
+    void clear_depth(Rect rect, float depth);
+    void clear_stencil(Rect rect, int32_t value, uint32_t write_mask);
+
+    // Copies the in-buffer part of the w x h block at (x, y) as RGBA8 (multisample resolved by the
+    // rounded mean). `dst` points at the block's pixel (x, y); rows are `row_stride` bytes apart,
+    // bottom row first. Pixels outside the buffer are not written.
+    void read_rgba8(int32_t x, int32_t y, int32_t w, int32_t h, uint8_t* dst,
+                    std::ptrdiff_t row_stride) const;
+
+    // Raw per-sample access for the pipeline and for tests.
+    uint8_t* color_sample(int32_t x, int32_t y, int32_t s) {
+        return &color_[(size_t(y) * config_.width + x) * config_.samples * 4 + size_t(s) * 4];
+    }
+    uint32_t depth_sample(int32_t x, int32_t y, int32_t s) const {
+        return depth_.empty() ? 0 : depth_[(size_t(y) * config_.width + x) * config_.samples + s];
+    }
+    uint8_t stencil_sample(int32_t x, int32_t y, int32_t s) const {
+        return stencil_.empty() ? 0 : stencil_[(size_t(y) * config_.width + x) * config_.samples + s];
+    }
+
+private:
+    Rect clip(Rect rect) const;
+
+    FramebufferConfig config_;
+    std::vector<uint8_t> color_;
+    std::vector<uint32_t> depth_;
+    std::vector<uint8_t> stencil_;
+};
+
+}  // namespace softgl

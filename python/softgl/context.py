@@ -1,0 +1,144 @@
+"""The rendering context: WebGLRenderingContext (version=1) and WebGL2RenderingContext (version=2)."""
+from __future__ import annotations
+
+import warnings
+
+from . import _core
+from .errors import GLError, GLWarning
+
+_ATTRIBUTE_DEFAULTS = dict(alpha=True, depth=True, stencil=False, antialias=True,
+                           premultipliedAlpha=True, preserveDrawingBuffer=False,
+                           powerPreference="default", failIfMajorPerformanceCaveat=False,
+                           desynchronized=False)
+
+
+def _error_listener(strict: bool):
+    # Holds no reference to the context, so contexts are freed as soon as they are unused.
+    if strict:
+        def listener(code, call, reason):
+            raise GLError(code, call, reason)
+    else:
+        def listener(code, call, reason):
+            warnings.warn(GLWarning(code, call, reason), stacklevel=2)
+    return listener
+
+
+class Extension:
+    """An object returned by getExtension: its constants (e.g. MIN_EXT) and functions."""
+
+    def __init__(self, name: str, constants: dict):
+        self.name = name
+        self.__dict__.update(constants)
+
+    def __repr__(self):
+        return f"<softgl extension {self.name}>"
+
+
+_EXTENSION_CONSTANTS = {
+    "EXT_blend_minmax": {"MIN_EXT": 0x8007, "MAX_EXT": 0x8008},
+}
+
+
+class Context(_core.Context):
+    """A WebGL rendering context drawing into a software drawing buffer.
+
+    ``Context(width=300, height=150, **attributes)`` takes WebGL's context attributes with
+    WebGL's defaults (alpha, depth, stencil, antialias, premultipliedAlpha,
+    preserveDrawingBuffer, powerPreference, failIfMajorPerformanceCaveat, desynchronized) and
+    softgl's own options: ``version`` (1 or 2, default 2), ``samples`` (2, 4, 8 or 16 with
+    antialias; default 4) and ``strict`` (raise GLError instead of warning GLWarning).
+    """
+
+    _version = None   # fixed by the subclasses
+
+    def __new__(cls, *args, version: int | None = None, **kwargs):
+        if cls is Context:
+            cls = WebGLRenderingContext if version == 1 else WebGL2RenderingContext
+        return _core.Context.__new__(cls)
+
+    def __init__(self, width: int = 300, height: int = 150, *, version: int | None = None,
+                 samples: int | None = None, strict: bool = False, **attributes):
+        if version is None:
+            version = self._version
+        elif version != self._version and version in (1, 2):
+            raise ValueError(f"{type(self).__name__} is WebGL {self._version}, not version={version}")
+        unknown = set(attributes) - set(_ATTRIBUTE_DEFAULTS)
+        if unknown:
+            raise TypeError(f"Context() got unexpected keyword argument(s): {', '.join(sorted(unknown))}")
+        for name in ("width", "height"):
+            value = locals()[name]
+            if not isinstance(value, int) or isinstance(value, bool):
+                raise TypeError(f"Context(): {name} must be an int, got {type(value).__name__}")
+        attrs = _core.ContextAttributes()
+        for name, default in _ATTRIBUTE_DEFAULTS.items():
+            setattr(attrs, name, attributes.get(name, default))
+        attrs.version = version
+        attrs.samples = 0 if samples is None else samples
+        if not (-2**31 <= width < 2**31 and -2**31 <= height < 2**31):
+            raise ValueError(f"drawing buffer size {width}x{height} is out of range")
+        reason = _core.check_context(width, height, attrs)
+        if reason:
+            raise ValueError(f"softgl.Context: {reason}")
+        super().__init__(width, height, attrs)
+        self._strict = bool(strict)
+        self._extensions = {}
+        self._set_error_listener(_error_listener(self._strict))
+
+    # -- WebGL API implemented in Python (no per-pixel work) ---------------------------------
+
+    def getContextAttributes(self) -> dict:
+        a = self._attributes()
+        return {name: getattr(a, name) for name in _ATTRIBUTE_DEFAULTS} | {"xrCompatible": False}
+
+    def getExtension(self, name: str):
+        """The extension object (always the same one), or None if softgl does not support it."""
+        if name in self._extensions:
+            return self._extensions[name]
+        supported = {n.lower(): n for n in self.getSupportedExtensions()}
+        canonical = supported.get(name.lower())   # extension names match case-insensitively
+        if canonical is None or not self._enable_extension(canonical):
+            return None
+        ext = Extension(canonical, _EXTENSION_CONSTANTS.get(canonical, {}))
+        self._extensions[name] = self._extensions[canonical] = ext
+        return ext
+
+    @property
+    def canvas(self):
+        return self
+
+    @property
+    def version(self) -> int:
+        return self._attributes().version
+
+    # -- display -------------------------------------------------------------------------------
+
+    def _repr_png_(self):
+        from .display import canvas_png
+        return canvas_png(self)
+
+    def __repr__(self):
+        return (f"<softgl.{type(self).__name__} {self.drawingBufferWidth}x"
+                f"{self.drawingBufferHeight}>")
+
+
+def _install_constants():
+    v1, v2 = {}, {}
+    for name, value, version in _core.ENUMS:
+        (v1 if version == 1 else v2)[name] = value
+    for name, value in v1.items():
+        setattr(WebGLRenderingContext, name, value)
+    for name, value in v1.items() | v2.items():
+        setattr(WebGL2RenderingContext, name, value)
+
+
+class WebGLRenderingContext(Context):
+    """WebGL 1 (``Context(..., version=1)``)."""
+    _version = 1
+
+
+class WebGL2RenderingContext(Context):
+    """WebGL 2 (the default)."""
+    _version = 2
+
+
+_install_constants()
