@@ -4,11 +4,13 @@
 #include <pybind11/stl.h>
 
 #include "softgl/api/context.h"
+#include "webidl.h"
 
 namespace py = pybind11;
 using softgl::Context;
 using softgl::ContextAttributes;
 using softgl::GLenum;
+using softgl::bindings::webidl;
 namespace gl = softgl::gl;
 
 namespace {
@@ -68,8 +70,12 @@ py::dtype dtype_for(GLenum type) {
     }
 }
 
-py::object read_pixels(Context& ctx, int32_t x, int32_t y, int32_t w, int32_t h, GLenum format,
-                       GLenum type, py::object pixels) {
+py::object read_pixels(Context& ctx, softgl::bindings::IdlInt32 x_, softgl::bindings::IdlInt32 y_,
+                       softgl::bindings::IdlInt32 w_, softgl::bindings::IdlInt32 h_,
+                       softgl::bindings::IdlUint32 format_, softgl::bindings::IdlUint32 type_,
+                       py::object pixels) {
+    const int32_t x = x_.value, y = y_.value, w = w_.value, h = h_.value;
+    const GLenum format = format_.value, type = type_.value;
     if (pixels.is_none()) {
         // Return a new (h, w, 4) array, zero outside the drawing buffer. Negative sizes and bad
         // enums are reported by the core before anything is allocated.
@@ -127,43 +133,43 @@ void bind_context(py::module_& m) {
         .def("_present", &Context::present)
         .def_property_readonly("drawingBufferWidth", &Context::drawing_buffer_width)
         .def_property_readonly("drawingBufferHeight", &Context::drawing_buffer_height)
-        .def("getError", &Context::get_error)
-        .def("isContextLost", &Context::is_context_lost)
-        .def("getSupportedExtensions", &Context::get_supported_extensions)
-        .def("_enable_extension", &Context::enable_extension)
-        .def("enable", &Context::enable)
-        .def("disable", &Context::disable)
-        .def("isEnabled", &Context::is_enabled)
-        .def("blendFunc", &Context::blend_func)
-        .def("blendFuncSeparate", &Context::blend_func_separate)
-        .def("blendEquation", &Context::blend_equation)
-        .def("blendEquationSeparate", &Context::blend_equation_separate)
-        .def("blendColor", &Context::blend_color)
-        .def("depthFunc", &Context::depth_func)
-        .def("depthMask", &Context::depth_mask)
-        .def("depthRange", &Context::depth_range)
-        .def("clearColor", &Context::clear_color)
-        .def("clearDepth", &Context::clear_depth)
-        .def("clearStencil", &Context::clear_stencil)
-        .def("colorMask", &Context::color_mask)
-        .def("stencilFunc", &Context::stencil_func)
-        .def("stencilFuncSeparate", &Context::stencil_func_separate)
-        .def("stencilOp", &Context::stencil_op)
-        .def("stencilOpSeparate", &Context::stencil_op_separate)
-        .def("stencilMask", &Context::stencil_mask)
-        .def("stencilMaskSeparate", &Context::stencil_mask_separate)
-        .def("cullFace", &Context::cull_face)
-        .def("frontFace", &Context::front_face)
-        .def("lineWidth", &Context::line_width)
-        .def("polygonOffset", &Context::polygon_offset)
-        .def("sampleCoverage", &Context::sample_coverage)
-        .def("scissor", &Context::scissor)
-        .def("viewport", &Context::viewport)
-        .def("hint", &Context::hint)
-        .def("pixelStorei", &Context::pixel_store_i)
-        .def("activeTexture", &Context::active_texture)
-        .def("getParameter", [](Context& c, GLenum pname) { return to_python(c.get_parameter(pname)); })
-        .def("clear", &Context::clear)
+        .def("getError", webidl(&Context::get_error))
+        .def("isContextLost", webidl(&Context::is_context_lost))
+        .def("getSupportedExtensions", webidl(&Context::get_supported_extensions))
+        .def("_enable_extension", webidl(&Context::enable_extension))
+        .def("enable", webidl(&Context::enable))
+        .def("disable", webidl(&Context::disable))
+        .def("isEnabled", webidl(&Context::is_enabled))
+        .def("blendFunc", webidl(&Context::blend_func))
+        .def("blendFuncSeparate", webidl(&Context::blend_func_separate))
+        .def("blendEquation", webidl(&Context::blend_equation))
+        .def("blendEquationSeparate", webidl(&Context::blend_equation_separate))
+        .def("blendColor", webidl(&Context::blend_color))
+        .def("depthFunc", webidl(&Context::depth_func))
+        .def("depthMask", webidl(&Context::depth_mask))
+        .def("depthRange", webidl(&Context::depth_range))
+        .def("clearColor", webidl(&Context::clear_color))
+        .def("clearDepth", webidl(&Context::clear_depth))
+        .def("clearStencil", webidl(&Context::clear_stencil))
+        .def("colorMask", webidl(&Context::color_mask))
+        .def("stencilFunc", webidl(&Context::stencil_func))
+        .def("stencilFuncSeparate", webidl(&Context::stencil_func_separate))
+        .def("stencilOp", webidl(&Context::stencil_op))
+        .def("stencilOpSeparate", webidl(&Context::stencil_op_separate))
+        .def("stencilMask", webidl(&Context::stencil_mask))
+        .def("stencilMaskSeparate", webidl(&Context::stencil_mask_separate))
+        .def("cullFace", webidl(&Context::cull_face))
+        .def("frontFace", webidl(&Context::front_face))
+        .def("lineWidth", webidl(&Context::line_width))
+        .def("polygonOffset", webidl(&Context::polygon_offset))
+        .def("sampleCoverage", webidl(&Context::sample_coverage))
+        .def("scissor", webidl(&Context::scissor))
+        .def("viewport", webidl(&Context::viewport))
+        .def("hint", webidl(&Context::hint))
+        .def("pixelStorei", webidl(&Context::pixel_store_i))
+        .def("activeTexture", webidl(&Context::active_texture))
+        .def("getParameter", [](Context& c, softgl::bindings::IdlUint32 pname) { return to_python(c.get_parameter(pname.value)); })
+        .def("clear", webidl(&Context::clear))
         .def("flush", [](Context&) {})    // drawing is synchronous: nothing is ever pending
         .def("finish", [](Context&) {})
         .def("readPixels", &read_pixels, py::arg("x"), py::arg("y"), py::arg("width"),

@@ -9,6 +9,7 @@
 from . import _core
 from .errors import GLError, GLWarning
 from .context import Context, WebGLRenderingContext, WebGL2RenderingContext
+from . import display, io
 
 __version__ = "0.1.0"
 
