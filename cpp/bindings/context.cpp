@@ -31,6 +31,7 @@ py::object to_python(const softgl::Value& value) {
         py::object operator()(const softgl::Float32Array& v) const {
             return py::array_t<float>(py::ssize_t(v.values.size()), v.values.data());
         }
+        py::object operator()(const std::shared_ptr<softgl::Object>& v) const { return py::cast(v); }
         py::object operator()(const softgl::BoolList& v) const {
             py::list out;
             for (bool b : v.values) out.append(py::bool_(b));
@@ -70,6 +71,12 @@ py::dtype dtype_for(GLenum type) {
     }
 }
 
+void vertex_attrib_fv(Context& c, const char* call, uint32_t index, const std::vector<float>& v, int n) {
+    // WebGL 1.0 §5.14.10: an array shorter than the call's size is INVALID_VALUE.
+    if (int(v.size()) < n) return c.record_error(gl::INVALID_VALUE, call, "needs " + std::to_string(n) + " values");
+    c.vertex_attrib_f(call, index, v.data(), n);
+}
+
 py::object read_pixels(Context& ctx, softgl::bindings::IdlInt32 x_, softgl::bindings::IdlInt32 y_,
                        softgl::bindings::IdlInt32 w_, softgl::bindings::IdlInt32 h_,
                        softgl::bindings::IdlUint32 format_, softgl::bindings::IdlUint32 type_,
@@ -100,9 +107,57 @@ py::object read_pixels(Context& ctx, softgl::bindings::IdlInt32 x_, softgl::bind
     return pixels;
 }
 
+// A read-only byte view of a buffer-protocol object (NumPy array, bytes, ...), optionally the
+// element range [src_offset, src_offset + length) as in WebGL 2's ArrayBufferView overloads.
+struct ByteSpan {
+    const uint8_t* data = nullptr;
+    int64_t size = 0;
+    bool ok = true;
+};
+
+ByteSpan byte_span(Context& ctx, const char* call, const py::buffer& source, int64_t src_offset,
+                   int64_t length) {
+    py::buffer_info info = source.request();
+    if (info.ndim > 1) {
+        // Only C-contiguous data is accepted, as a typed array is one contiguous block.
+        py::ssize_t expected = info.itemsize;
+        for (py::ssize_t d = info.ndim - 1; d >= 0; --d) {
+            if (info.strides[size_t(d)] != expected)
+                throw py::type_error(std::string(call) + ": data must be C-contiguous");
+            expected *= info.shape[size_t(d)];
+        }
+    } else if (info.ndim == 1 && info.strides[0] != info.itemsize && info.shape[0] > 1) {
+        throw py::type_error(std::string(call) + ": data must be contiguous");
+    }
+    const int64_t count = int64_t(info.size), item = int64_t(info.itemsize);
+    ByteSpan span;
+    if (src_offset < 0 || length < 0 || src_offset > count || (length && src_offset + length > count)) {
+        ctx.record_error(gl::INVALID_VALUE, call, "srcOffset/length exceed the source array");
+        span.ok = false;
+        return span;
+    }
+    span.data = static_cast<const uint8_t*>(info.ptr) + src_offset * item;
+    span.size = (length ? length : count - src_offset) * item;
+    return span;
+}
+
+template <class T>
+py::object object_or_none(const std::shared_ptr<T>& p) {
+    return p ? py::cast(p) : py::none();
+}
+
 }  // namespace
 
 void bind_context(py::module_& m) {
+    using softgl::Buffer;
+    using softgl::Object;
+    using softgl::VertexArray;
+    using softgl::bindings::IdlInt32;
+    using softgl::bindings::IdlUint32;
+    py::class_<Object, std::shared_ptr<Object>>(m, "WebGLObject");
+    py::class_<Buffer, Object, std::shared_ptr<Buffer>>(m, "WebGLBuffer");
+    py::class_<VertexArray, Object, std::shared_ptr<VertexArray>>(m, "WebGLVertexArrayObject");
+
     py::class_<ContextAttributes>(m, "ContextAttributes")
         .def(py::init<>())
         .def_readwrite("alpha", &ContextAttributes::alpha)
@@ -172,6 +227,77 @@ void bind_context(py::module_& m) {
         .def("clear", webidl(&Context::clear))
         .def("flush", [](Context&) {})    // drawing is synchronous: nothing is ever pending
         .def("finish", [](Context&) {})
+        // Buffers
+        .def("createBuffer", &Context::create_buffer)
+        .def("bindBuffer", webidl(&Context::bind_buffer))
+        .def("deleteBuffer", &Context::delete_buffer)
+        .def("isBuffer", &Context::is_buffer)
+        .def("bufferData",
+             [](Context& c, IdlUint32 target, py::object data, IdlUint32 usage, int64_t src_offset, int64_t length) {
+                 if (py::isinstance<py::int_>(data))
+                     return c.buffer_data_size(target.value, data.cast<int64_t>(), usage.value);
+                 if (data.is_none()) return c.buffer_data(target.value, nullptr, -1, usage.value);
+                 ByteSpan span = byte_span(c, "bufferData", data.cast<py::buffer>(), src_offset, length);
+                 if (span.ok) c.buffer_data(target.value, span.data ? span.data : reinterpret_cast<const uint8_t*>(""), span.size, usage.value);
+             },
+             py::arg("target"), py::arg("data"), py::arg("usage"), py::arg("srcOffset") = 0, py::arg("length") = 0)
+        .def("bufferSubData",
+             [](Context& c, IdlUint32 target, int64_t offset, py::buffer data, int64_t src_offset, int64_t length) {
+                 ByteSpan span = byte_span(c, "bufferSubData", data, src_offset, length);
+                 if (span.ok) c.buffer_sub_data(target.value, offset, span.data, span.size);
+             },
+             py::arg("target"), py::arg("dstByteOffset"), py::arg("srcData"), py::arg("srcOffset") = 0,
+             py::arg("length") = 0)
+        .def("copyBufferSubData", webidl(&Context::copy_buffer_sub_data))
+        .def("getBufferSubData",
+             [](Context& c, IdlUint32 target, int64_t offset, py::array dst, int64_t dst_offset, int64_t length) {
+                 if (!(dst.flags() & py::array::c_style) || !dst.writeable())
+                     throw py::type_error("getBufferSubData: dstBuffer must be a writeable C-contiguous array");
+                 const int64_t count = int64_t(dst.size()), item = int64_t(dst.itemsize());
+                 if (dst_offset < 0 || length < 0 || dst_offset > count || (length && dst_offset + length > count))
+                     return c.record_error(gl::INVALID_VALUE, "getBufferSubData", "dstOffset/length exceed the array");
+                 const int64_t n = length ? length : count - dst_offset;
+                 c.get_buffer_sub_data(target.value, offset,
+                                       static_cast<uint8_t*>(dst.mutable_data()) + dst_offset * item, n * item);
+             },
+             py::arg("target"), py::arg("srcByteOffset"), py::arg("dstBuffer"), py::arg("dstOffset") = 0,
+             py::arg("length") = 0)
+        .def("getBufferParameter", [](Context& c, IdlUint32 target, IdlUint32 pname) {
+            return to_python(c.get_buffer_parameter(target.value, pname.value));
+        })
+        // Vertex attributes
+        .def("vertexAttribPointer", webidl(&Context::vertex_attrib_pointer))
+        .def("vertexAttribIPointer", webidl(&Context::vertex_attrib_i_pointer))
+        .def("enableVertexAttribArray", webidl(&Context::enable_vertex_attrib_array))
+        .def("disableVertexAttribArray", webidl(&Context::disable_vertex_attrib_array))
+        .def("vertexAttrib1f", [](Context& c, IdlUint32 i, float x) { float v[] = {x}; c.vertex_attrib_f("vertexAttrib1f", i.value, v, 1); })
+        .def("vertexAttrib2f", [](Context& c, IdlUint32 i, float x, float y) { float v[] = {x, y}; c.vertex_attrib_f("vertexAttrib2f", i.value, v, 2); })
+        .def("vertexAttrib3f", [](Context& c, IdlUint32 i, float x, float y, float z) { float v[] = {x, y, z}; c.vertex_attrib_f("vertexAttrib3f", i.value, v, 3); })
+        .def("vertexAttrib4f", [](Context& c, IdlUint32 i, float x, float y, float z, float w) { float v[] = {x, y, z, w}; c.vertex_attrib_f("vertexAttrib4f", i.value, v, 4); })
+        .def("vertexAttrib1fv", [](Context& c, IdlUint32 i, std::vector<float> v) { vertex_attrib_fv(c, "vertexAttrib1fv", i.value, v, 1); })
+        .def("vertexAttrib2fv", [](Context& c, IdlUint32 i, std::vector<float> v) { vertex_attrib_fv(c, "vertexAttrib2fv", i.value, v, 2); })
+        .def("vertexAttrib3fv", [](Context& c, IdlUint32 i, std::vector<float> v) { vertex_attrib_fv(c, "vertexAttrib3fv", i.value, v, 3); })
+        .def("vertexAttrib4fv", [](Context& c, IdlUint32 i, std::vector<float> v) { vertex_attrib_fv(c, "vertexAttrib4fv", i.value, v, 4); })
+        .def("vertexAttribI4i", webidl(&Context::vertex_attrib_i4i))
+        .def("vertexAttribI4ui", webidl(&Context::vertex_attrib_i4ui))
+        .def("vertexAttribI4iv", [](Context& c, IdlUint32 i, std::vector<int32_t> v) {
+            if (v.size() < 4) return c.record_error(gl::INVALID_VALUE, "vertexAttribI4iv", "needs 4 values");
+            c.vertex_attrib_i4i(i.value, v[0], v[1], v[2], v[3]);
+        })
+        .def("vertexAttribI4uiv", [](Context& c, IdlUint32 i, std::vector<uint32_t> v) {
+            if (v.size() < 4) return c.record_error(gl::INVALID_VALUE, "vertexAttribI4uiv", "needs 4 values");
+            c.vertex_attrib_i4ui(i.value, v[0], v[1], v[2], v[3]);
+        })
+        .def("vertexAttribDivisor", webidl(&Context::vertex_attrib_divisor))
+        .def("getVertexAttrib", [](Context& c, IdlUint32 index, IdlUint32 pname) {
+            return to_python(c.get_vertex_attrib(index.value, pname.value));
+        })
+        .def("getVertexAttribOffset", webidl(&Context::get_vertex_attrib_offset))
+        // Vertex array objects
+        .def("createVertexArray", &Context::create_vertex_array)
+        .def("bindVertexArray", &Context::bind_vertex_array)
+        .def("deleteVertexArray", &Context::delete_vertex_array)
+        .def("isVertexArray", &Context::is_vertex_array)
         .def("readPixels", &read_pixels, py::arg("x"), py::arg("y"), py::arg("width"),
              py::arg("height"), py::arg("format"), py::arg("type"), py::arg("pixels") = py::none());
 }

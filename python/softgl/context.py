@@ -2,6 +2,7 @@
 from __future__ import annotations
 
 import warnings
+import weakref
 
 from . import _core
 from .errors import GLError, GLWarning
@@ -36,7 +37,26 @@ class Extension:
 
 _EXTENSION_CONSTANTS = {
     "EXT_blend_minmax": {"MIN_EXT": 0x8007, "MAX_EXT": 0x8008},
+    "OES_vertex_array_object": {"VERTEX_ARRAY_BINDING_OES": 0x85B5},
 }
+
+
+def _extension_functions(name: str, gl) -> dict:
+    """The functions of an extension object; they hold the context weakly (no cycles)."""
+    ref = weakref.ref(gl)
+    core = _core.Context
+    if name == "OES_vertex_array_object":
+        return {"createVertexArrayOES": lambda: core.createVertexArray(ref()),
+                "bindVertexArrayOES": lambda vao: core.bindVertexArray(ref(), vao),
+                "deleteVertexArrayOES": lambda vao: core.deleteVertexArray(ref(), vao),
+                "isVertexArrayOES": lambda vao: core.isVertexArray(ref(), vao)}
+    return {}
+
+
+# Entry points that exist only on WebGL2RenderingContext.
+WEBGL2_ONLY = ["copyBufferSubData", "getBufferSubData", "vertexAttribIPointer", "vertexAttribI4i",
+               "vertexAttribI4ui", "vertexAttribI4iv", "vertexAttribI4uiv", "vertexAttribDivisor",
+               "createVertexArray", "bindVertexArray", "deleteVertexArray", "isVertexArray"]
 
 
 class Context(_core.Context):
@@ -98,7 +118,8 @@ class Context(_core.Context):
         canonical = supported.get(name.lower())   # extension names match case-insensitively
         if canonical is None or not self._enable_extension(canonical):
             return None
-        ext = Extension(canonical, _EXTENSION_CONSTANTS.get(canonical, {}))
+        ext = Extension(canonical, _EXTENSION_CONSTANTS.get(canonical, {}) |
+                        _extension_functions(canonical, self))
         self._extensions[name] = self._extensions[canonical] = ext
         return ext
 
@@ -131,9 +152,16 @@ def _install_constants():
         setattr(WebGL2RenderingContext, name, value)
 
 
+def _missing_in_webgl1(name):
+    def fail(self):
+        raise AttributeError(f"'{type(self).__name__}' has no attribute '{name}' (WebGL 2 only)")
+    return property(fail)
+
+
 class WebGLRenderingContext(Context):
     """WebGL 1 (``Context(..., version=1)``)."""
     _version = 1
+    locals().update({name: _missing_in_webgl1(name) for name in WEBGL2_ONLY})
 
 
 class WebGL2RenderingContext(Context):

@@ -80,26 +80,34 @@ Context::Context(int32_t width, int32_t height, const ContextAttributes& attribu
     attributes_.samples = framebuffer_.config().samples;
     state_.viewport = Rect{0, 0, width, height};
     state_.scissor = Rect{0, 0, width, height};
+    default_vertex_array_ = std::make_shared<VertexArray>();
+    default_vertex_array_->owner = this;
+    vertex_array_ = default_vertex_array_;
 }
 
 // ---------------------------------------------------------------------------- extensions
 
 std::vector<std::string> Context::get_supported_extensions() const {
     std::vector<std::string> names;
-    if (version() == 1) names.push_back("EXT_blend_minmax");  // core in WebGL 2
+    if (version() == 1) {   // all three are core in WebGL 2
+        names.push_back("EXT_blend_minmax");
+        names.push_back("OES_vertex_array_object");
+    }
     return names;
 }
 
 bool Context::enable_extension(const std::string& name) {
-    if (version() == 1 && name == "EXT_blend_minmax") {
-        ext_blend_minmax_ = true;
-        return true;
-    }
+    if (version() != 1) return false;
+    if (name == "EXT_blend_minmax") return ext_blend_minmax_ = true;
+    if (name == "OES_vertex_array_object") return ext_vertex_array_object_ = true;
     return false;
 }
 
 bool Context::extension_enabled(const std::string& name) const {
-    return name == "EXT_blend_minmax" && ext_blend_minmax_;
+    if (name == "EXT_blend_minmax") return ext_blend_minmax_;
+    if (name == "OES_vertex_array_object") return ext_vertex_array_object_;
+    if (name == "ANGLE_instanced_arrays") return ext_instanced_arrays_;
+    return false;
 }
 
 // ---------------------------------------------------------------------------- capabilities

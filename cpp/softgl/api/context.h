@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "softgl/api/errors.h"
+#include "softgl/api/objects.h"
 #include "softgl/api/state.h"
 #include "softgl/api/value.h"
 #include "softgl/surface/framebuffer.h"
@@ -60,6 +61,8 @@ public:
     const State& state() const { return state_; }
     DefaultFramebuffer& framebuffer() { return framebuffer_; }
     ErrorState& errors() { return errors_; }
+    // For errors found while converting arguments (e.g. a typed-array range out of bounds).
+    void record_error(GLenum code, const char* call, const std::string& why) { error(code, call, why); }
 
     // Errors, extensions
     GLenum get_error() { return errors_.take(); }
@@ -120,6 +123,38 @@ public:
     // Bytes that readPixels writes at most for this block with the current PACK_* parameters.
     size_t pack_size(int32_t width, int32_t height) const;
 
+    // Buffers (buffers.cpp)
+    std::shared_ptr<Buffer> create_buffer();
+    void bind_buffer(GLenum target, const std::shared_ptr<Buffer>& buffer);
+    void delete_buffer(const std::shared_ptr<Buffer>& buffer);
+    bool is_buffer(const std::shared_ptr<Buffer>& buffer) const;
+    void buffer_data_size(GLenum target, int64_t size, GLenum usage);
+    void buffer_data(GLenum target, const uint8_t* data, int64_t size, GLenum usage);
+    void buffer_sub_data(GLenum target, int64_t offset, const uint8_t* data, int64_t size);
+    void copy_buffer_sub_data(GLenum read_target, GLenum write_target, int64_t read_offset,
+                              int64_t write_offset, int64_t size);
+    bool get_buffer_sub_data(GLenum target, int64_t offset, uint8_t* dst, int64_t size);
+    Value get_buffer_parameter(GLenum target, GLenum pname);
+
+    // Vertex attributes and vertex array objects (vertex_arrays.cpp)
+    void vertex_attrib_pointer(uint32_t index, int32_t size, GLenum type, bool normalized,
+                               int32_t stride, int64_t offset);
+    void vertex_attrib_i_pointer(uint32_t index, int32_t size, GLenum type, int32_t stride, int64_t offset);
+    void enable_vertex_attrib_array(uint32_t index);
+    void disable_vertex_attrib_array(uint32_t index);
+    void vertex_attrib_f(const char* call, uint32_t index, const float* values, int count);
+    void vertex_attrib_i4i(uint32_t index, int32_t x, int32_t y, int32_t z, int32_t w);
+    void vertex_attrib_i4ui(uint32_t index, uint32_t x, uint32_t y, uint32_t z, uint32_t w);
+    void vertex_attrib_divisor(uint32_t index, uint32_t divisor);
+    Value get_vertex_attrib(uint32_t index, GLenum pname);
+    int64_t get_vertex_attrib_offset(uint32_t index, GLenum pname);
+    std::shared_ptr<VertexArray> create_vertex_array();
+    void bind_vertex_array(const std::shared_ptr<VertexArray>& vao);
+    void delete_vertex_array(const std::shared_ptr<VertexArray>& vao);
+    bool is_vertex_array(const std::shared_ptr<VertexArray>& vao) const;
+    const VertexArray& vertex_array() const { return *vertex_array_; }
+    const CurrentAttrib& current_attrib(int index) const { return current_attribs_[size_t(index)]; }
+
     // The browser's compositing step: after the canvas is shown, a drawing buffer without
     // preserveDrawingBuffer is cleared to its initial contents (WebGL 1.0 §2.2).
     void present();
@@ -131,6 +166,10 @@ private:
     bool valid_blend_equation(GLenum mode) const;
     bool check_blend_factors(const char* call, GLenum src_rgb, GLenum dst_rgb, GLenum src_alpha,
                              GLenum dst_alpha);
+    std::shared_ptr<Buffer>* buffer_binding(GLenum target);
+    Value vertex_array_binding() const;
+    Buffer* bound_buffer(const char* call, GLenum target);
+    bool check_object(const char* call, const Object* object) const;
     void error(GLenum code, const char* call, const std::string& why) {
         errors_.record(code, call, why);
     }
@@ -140,6 +179,14 @@ private:
     DefaultFramebuffer framebuffer_;
     ErrorState errors_;
     bool ext_blend_minmax_ = false;
+    bool ext_vertex_array_object_ = false;
+    bool ext_instanced_arrays_ = false;
+
+    // Object bindings
+    std::shared_ptr<Buffer> array_buffer_, copy_read_buffer_, copy_write_buffer_,
+        pixel_pack_buffer_, pixel_unpack_buffer_, uniform_buffer_, transform_feedback_buffer_;
+    std::shared_ptr<VertexArray> default_vertex_array_, vertex_array_;
+    std::array<CurrentAttrib, kMaxVertexAttribs> current_attribs_;
 };
 
 std::string enum_name(uint32_t value);   // "BLEND" or "0x1234"

@@ -25,6 +25,17 @@ constexpr int32_t kMaxDrawBuffers = 8;
 
 }  // namespace
 
+template <class T>
+static Value object(const std::shared_ptr<T>& p) {
+    if (!p) return Value(Null{});
+    return Value(std::shared_ptr<Object>(p));
+}
+
+Value Context::vertex_array_binding() const {
+    // The default vertex array reads as null (WebGL 2.0 §3.7.2).
+    return vertex_array_ == default_vertex_array_ ? Value(Null{}) : object(vertex_array_);
+}
+
 Value Context::get_parameter(GLenum pname) {
     const State& s = state_;
     const auto& fb = framebuffer_.config();
@@ -98,8 +109,10 @@ Value Context::get_parameter(GLenum pname) {
         case gl::UNPACK_PREMULTIPLY_ALPHA_WEBGL: return b(s.pixel_store.unpack_premultiply_alpha);
         case gl::UNPACK_COLORSPACE_CONVERSION_WEBGL: return i(s.pixel_store.unpack_colorspace_conversion);
 
-        // Object bindings: softgl has no such objects yet, so every binding is null.
-        case gl::ARRAY_BUFFER_BINDING: case gl::ELEMENT_ARRAY_BUFFER_BINDING:
+        // Object bindings
+        case gl::ARRAY_BUFFER_BINDING: return object(array_buffer_);
+        case gl::ELEMENT_ARRAY_BUFFER_BINDING: return object(vertex_array_->element_buffer);
+        // Objects softgl does not have yet (programs, framebuffers, textures): always null.
         case gl::CURRENT_PROGRAM: case gl::FRAMEBUFFER_BINDING: case gl::RENDERBUFFER_BINDING:
         case gl::TEXTURE_BINDING_2D: case gl::TEXTURE_BINDING_CUBE_MAP:
             return Value(Null{});
@@ -156,12 +169,16 @@ Value Context::get_parameter(GLenum pname) {
             case gl::READ_BUFFER: return i(gl::BACK);
             case gl::TRANSFORM_FEEDBACK_ACTIVE: case gl::TRANSFORM_FEEDBACK_PAUSED: return b(false);
 
-            case gl::COPY_READ_BUFFER_BINDING: case gl::COPY_WRITE_BUFFER_BINDING:
-            case gl::READ_FRAMEBUFFER_BINDING: case gl::PIXEL_PACK_BUFFER_BINDING:
-            case gl::PIXEL_UNPACK_BUFFER_BINDING: case gl::SAMPLER_BINDING:
+            case gl::COPY_READ_BUFFER_BINDING: return object(copy_read_buffer_);
+            case gl::COPY_WRITE_BUFFER_BINDING: return object(copy_write_buffer_);
+            case gl::PIXEL_PACK_BUFFER_BINDING: return object(pixel_pack_buffer_);
+            case gl::PIXEL_UNPACK_BUFFER_BINDING: return object(pixel_unpack_buffer_);
+            case gl::UNIFORM_BUFFER_BINDING: return object(uniform_buffer_);
+            case gl::TRANSFORM_FEEDBACK_BUFFER_BINDING: return object(transform_feedback_buffer_);
+            case gl::VERTEX_ARRAY_BINDING: return vertex_array_binding();
+            case gl::READ_FRAMEBUFFER_BINDING: case gl::SAMPLER_BINDING:
             case gl::TEXTURE_BINDING_2D_ARRAY: case gl::TEXTURE_BINDING_3D:
-            case gl::TRANSFORM_FEEDBACK_BINDING: case gl::TRANSFORM_FEEDBACK_BUFFER_BINDING:
-            case gl::UNIFORM_BUFFER_BINDING: case gl::VERTEX_ARRAY_BINDING:
+            case gl::TRANSFORM_FEEDBACK_BINDING:
                 return Value(Null{});
 
             case gl::MAX_3D_TEXTURE_SIZE: return i(2048);
@@ -198,6 +215,7 @@ Value Context::get_parameter(GLenum pname) {
             default: break;
         }
     }
+    if (ext_vertex_array_object_ && pname == gl::VERTEX_ARRAY_BINDING) return vertex_array_binding();
     error(gl::INVALID_ENUM, "getParameter", enum_name(pname) + " is not a parameter name of this context");
     return Value(Null{});
 }
