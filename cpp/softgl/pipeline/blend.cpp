@@ -1,0 +1,85 @@
+#include "softgl/pipeline/blend.h"
+
+#include <algorithm>
+
+#include "softgl/surface/formats.h"
+
+namespace softgl {
+
+BlendOp BlendOp::from_state(const State& s, bool has_alpha) {
+    BlendOp op;
+    op.enabled = s.blend.enabled;
+    op.src_rgb = s.blend.src_rgb;
+    op.dst_rgb = s.blend.dst_rgb;
+    op.src_alpha = s.blend.src_alpha;
+    op.dst_alpha = s.blend.dst_alpha;
+    op.eq_rgb = s.blend.equation_rgb;
+    op.eq_alpha = s.blend.equation_alpha;
+    for (int c = 0; c < 4; ++c) op.constant[size_t(c)] = clamp01(s.blend.color[size_t(c)]);
+    op.write = s.color_mask;
+    op.has_alpha = has_alpha;
+    if (!has_alpha) op.write[3] = false;
+    return op;
+}
+
+bool BlendOp::is_plain_write() const {
+    return !enabled || (src_rgb == gl::ONE && dst_rgb == gl::ZERO && src_alpha == gl::ONE &&
+                        dst_alpha == gl::ZERO && eq_rgb == gl::FUNC_ADD && eq_alpha == gl::FUNC_ADD);
+}
+
+namespace {
+
+// The blend factor for channel c (0..3) given clamped source, destination and constant colors.
+float factor(GLenum f, int c, const float s[4], const float d[4], const float k[4]) {
+    switch (f) {
+        case gl::ZERO: return 0.0f;
+        case gl::ONE: return 1.0f;
+        case gl::SRC_COLOR: return s[c];
+        case gl::ONE_MINUS_SRC_COLOR: return 1.0f - s[c];
+        case gl::DST_COLOR: return d[c];
+        case gl::ONE_MINUS_DST_COLOR: return 1.0f - d[c];
+        case gl::SRC_ALPHA: return s[3];
+        case gl::ONE_MINUS_SRC_ALPHA: return 1.0f - s[3];
+        case gl::DST_ALPHA: return d[3];
+        case gl::ONE_MINUS_DST_ALPHA: return 1.0f - d[3];
+        case gl::CONSTANT_COLOR: return k[c];
+        case gl::ONE_MINUS_CONSTANT_COLOR: return 1.0f - k[c];
+        case gl::CONSTANT_ALPHA: return k[3];
+        case gl::ONE_MINUS_CONSTANT_ALPHA: return 1.0f - k[3];
+        case gl::SRC_ALPHA_SATURATE: return c == 3 ? 1.0f : std::min(s[3], 1.0f - d[3]);
+        default: return 0.0f;
+    }
+}
+
+float equation(GLenum eq, float s, float sf, float d, float df) {
+    switch (eq) {
+        case gl::FUNC_SUBTRACT: return s * sf - d * df;
+        case gl::FUNC_REVERSE_SUBTRACT: return d * df - s * sf;
+        case gl::MIN: return std::min(s, d);
+        case gl::MAX: return std::max(s, d);
+        default: return s * sf + d * df;
+    }
+}
+
+}  // namespace
+
+void blend_unorm8(const BlendOp& op, const float src[4], uint8_t dst[4]) {
+    float s[4], d[4], out[4];
+    for (int c = 0; c < 4; ++c) s[c] = clamp01(src[c]);
+    if (op.is_plain_write()) {
+        for (int c = 0; c < 4; ++c) out[c] = s[c];
+    } else {
+        for (int c = 0; c < 4; ++c) d[c] = float(dst[c]) / 255.0f;
+        if (!op.has_alpha) d[3] = 1.0f;
+        for (int c = 0; c < 4; ++c) {
+            const bool alpha = c == 3;
+            const float sf = factor(alpha ? op.src_alpha : op.src_rgb, c, s, d, op.constant.data());
+            const float df = factor(alpha ? op.dst_alpha : op.dst_rgb, c, s, d, op.constant.data());
+            out[c] = equation(alpha ? op.eq_alpha : op.eq_rgb, s[c], sf, d[c], df);
+        }
+    }
+    for (int c = 0; c < 4; ++c)
+        if (op.write[size_t(c)]) dst[c] = float_to_unorm8(out[c]);
+}
+
+}  // namespace softgl
