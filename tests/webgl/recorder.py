@@ -394,7 +394,9 @@ def pixels_match(a, b, tolerance: int = 1) -> str | None:
     if diff.size == 0 or diff.max() <= tolerance:
         return None
     bad = np.flatnonzero(diff > tolerance)
-    return (f"{np.mean(diff == 0):.1%} of values equal, max diff {diff.max():g}, "
+    # RGBA data: a pixel is equal when its 4 values are
+    pixels = diff.reshape(-1, 4) if diff.size % 4 == 0 else diff.reshape(-1, 1)
+    return (f"{np.mean((pixels == 0).all(axis=1)):.1%} of pixels equal, max diff {diff.max():g}, "
             f"{bad.size} beyond {tolerance}; first at element {bad[0]}: "
             f"softgl {x[bad[0]]:g} vs webgl {y[bad[0]]:g}")
 

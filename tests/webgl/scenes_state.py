@@ -647,6 +647,18 @@ def clear_color_rounding(gl, version):
     gl.readPixels(0, 0, 64, 1, gl.RGBA, gl.UNSIGNED_BYTE)
 
 
+@scene(width=1, height=1)
+def clear_one_pixel_canvas(gl, version):
+    read_all(gl, 1, 1)
+    gl.clearColor(1, 1, 1, 1)
+    gl.clear(gl.COLOR_BUFFER_BIT)
+    read_all(gl, 1, 1)
+    gl.colorMask(False, False, False, True)
+    gl.clearColor(0.5, 0.5, 0.5, 0.5)
+    gl.clear(gl.COLOR_BUFFER_BIT)
+    gl.readPixels(0, 0, 2, 2, gl.RGBA, gl.UNSIGNED_BYTE)
+
+
 @scene(alpha=False)
 def clear_without_alpha_channel(gl, version):
     gl.clearColor(1, 0, 0, 0.25)
@@ -804,6 +816,11 @@ def read_pixels_formats_and_types(gl, version):
     gl.readPixels(0, 0, 1, 1, gl.RGBA, 0x1234, u8(4))
     gl.readPixels(0, 0, 1, 1, gl.DEPTH_COMPONENT, gl.UNSIGNED_SHORT, np.zeros(4, np.uint16))
     gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, u8(4))
+    if version == 2:
+        gl.readPixels(0, 0, 1, 1, gl.RGBA_INTEGER, gl.UNSIGNED_BYTE, u8(4))
+        gl.readPixels(0, 0, 1, 1, gl.RGBA_INTEGER, gl.INT, np.zeros(4, np.int32))
+        gl.readPixels(0, 0, 1, 1, gl.RG, gl.UNSIGNED_BYTE, u8(4))
+        gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_INT_2_10_10_10_REV, np.zeros(1, np.uint32))
 
 
 @scene()

@@ -77,3 +77,25 @@ def test_corpus_size():
     ids = [c for c, _, _ in scenes_state.scene_cases()]
     assert len(scenes_state.SCENES) >= 40 and len(ids) == len(set(ids))
     assert set(ids) == {k for k in REFERENCE if not k.startswith("_")}, "regenerate the references"
+
+
+def summary():
+    """Numbers for a report: scenes, calls compared, how many match (and how many by a rule)."""
+    runs = calls = equal = by_rule = 0
+    lines = []
+    for case_id, fn, setup in scenes_state.scene_cases():
+        trace, found = mismatches(case_id, fn, setup)
+        plain = recorder.compare(trace, REFERENCE[case_id]["trace"], setup)
+        bad = {m.index for m in found}
+        runs += 1
+        calls += len(trace)
+        equal += len(trace) - len({m.index for m in plain})
+        by_rule += len({m.index for m in plain} - bad)
+        lines += [f"{case_id}: {m}" for m in found]
+    print(f"{len(scenes_state.SCENES)} scenes, {runs} scene x version runs, {calls} calls compared")
+    print(f"identical {equal}, accepted by a rule {by_rule}, mismatching {calls - equal - by_rule}")
+    print("\n".join(lines))
+
+
+if __name__ == "__main__":
+    summary()
