@@ -28,7 +28,7 @@ KNOWN_SOFTGL_BUGS = {
        "bindings raise TypeError for negative ints such as stencilMask(-1) or enable(-1)"
        for v in (1, 2)},
     "read_pixels_pack_row_length_and_skips-v2":
-        "WebGL 2.0 §5.35: readPixels with PACK_ROW_LENGTH != 0 and PACK_SKIP_PIXELS + width > "
+        "WebGL 2.0 spec (pixel store parameters for downloads): readPixels with PACK_ROW_LENGTH != 0 and PACK_SKIP_PIXELS + width > "
         "PACK_ROW_LENGTH is INVALID_OPERATION; softgl reads and writes the array",
 }
 
