@@ -1,10 +1,14 @@
-"""Regenerate tests/webgl/reference/{enums,initial_parameters}.json from real WebGL in Chromium.
+"""Regenerate tests/webgl/reference/*.json from real WebGL in Chromium.
 
-    python tools/regen_webgl_references.py      (needs `apt-get install chromium`)
+    python tools/regen_webgl_references.py            (needs `apt-get install chromium`)
+    python tools/regen_webgl_references.py --scenes   (only the scene traces, enums kept)
 
 enums.json: every numeric constant of WebGLRenderingContext and WebGL2RenderingContext.
 initial_parameters.json: for each context version, every constant that getParameter accepts
 (no error), with the type and value it returns on a fresh 300x150 context.
+<corpus>.json (e.g. scenes_state.json): for each scene corpus in tests/webgl/ (SCENE_CORPORA), the
+trace of every scene x version replayed in Chromium (tests/webgl/recorder.py); the tests compare
+softgl against these files and never need Chromium. Regenerate after editing a corpus.
 """
 import json
 import sys
@@ -60,14 +64,38 @@ result = {v1: dump(1), v2: dump(2)};
 """
 
 
+SCENE_CORPORA = ["scenes_state"]
+
+
+def regen_scenes(version):
+    """Replay every scene of every corpus in Chromium and store the traces."""
+    import importlib
+    import recorder
+    for corpus in SCENE_CORPORA:
+        module = importlib.import_module(corpus)
+        cases = {case_id: (setup, recorder.record(fn, setup.version))
+                 for case_id, fn, setup in module.scene_cases()}
+        traces = recorder.run_webgl(cases)
+        out = {"_about": {"chromium": version,
+                          "command": "python tools/regen_webgl_references.py --scenes",
+                          "trace": []}}
+        for case_id, (setup, _) in cases.items():
+            out[case_id] = {"setup": setup.to_json(), "trace": traces[case_id]}
+        (REF / f"{corpus}.json").write_text(recorder.dump_traces(out))
+        calls = sum(len(t) for t in traces.values())
+        print(f"wrote {REF / corpus}.json: {len(cases)} scene runs, {calls} calls")
+
+
 def main():
     version = chromium_version()
-    enums = run_script(ENUMS_JS)
-    (REF / "enums.json").write_text(json.dumps(enums, indent=1, sort_keys=True))
-    params = run_script(PARAMS_JS)
-    params.update(chromium=version, canvas=[300, 150])
-    (REF / "initial_parameters.json").write_text(json.dumps(params, indent=1, sort_keys=True))
-    print(f"wrote {REF} from {version}")
+    if "--scenes" not in sys.argv[1:]:
+        enums = run_script(ENUMS_JS)
+        (REF / "enums.json").write_text(json.dumps(enums, indent=1, sort_keys=True))
+        params = run_script(PARAMS_JS)
+        params.update(chromium=version, canvas=[300, 150])
+        (REF / "initial_parameters.json").write_text(json.dumps(params, indent=1, sort_keys=True))
+        print(f"wrote {REF} from {version}")
+    regen_scenes(version)
 
 
 if __name__ == "__main__":
