@@ -22,15 +22,8 @@ REFERENCE = json.loads((recorder.REFERENCE / "scenes_state.json").read_text())
 
 # Scenes where softgl is known to be wrong (the report lists each one precisely). strict=True:
 # the test turns red when the C++ is fixed, so this list only ever shrinks.
-KNOWN_SOFTGL_BUGS = {
-    **{f"unsigned_arguments_wrap_like_webidl-v{v}":
-       "WebIDL converts GLenum/GLuint/GLbitfield modulo 2^32 (no exception in JS); softgl's "
-       "bindings raise TypeError for negative ints such as stencilMask(-1) or enable(-1)"
-       for v in (1, 2)},
-    "read_pixels_pack_row_length_and_skips-v2":
-        "WebGL 2.0 spec (pixel store parameters for downloads): readPixels with PACK_ROW_LENGTH != 0 and PACK_SKIP_PIXELS + width > "
-        "PACK_ROW_LENGTH is INVALID_OPERATION; softgl reads and writes the array",
-}
+# Scenes where softgl is known to disagree with WebGL: strict xfails, so a fix flips them.
+KNOWN_SOFTGL_BUGS: dict[str, str] = {}
 
 
 def cases(mark_known_bugs=True):

@@ -443,6 +443,12 @@ bool Context::read_pixels(int32_t x, int32_t y, int32_t width, int32_t height, G
               " cannot be read from an RGBA8 drawing buffer; use RGBA/UNSIGNED_BYTE");
         return false;
     }
+    const PixelStore& store = state_.pixel_store;
+    if (packed && store.pack_row_length > 0 && int64_t(store.pack_skip_pixels) + width > store.pack_row_length) {
+        // WebGL 2.0 §5.35: a row that would not fit in PACK_ROW_LENGTH is an error, not an overlap.
+        error(gl::INVALID_OPERATION, call, "PACK_SKIP_PIXELS + width exceeds PACK_ROW_LENGTH");
+        return false;
+    }
     if (dst_type != array_type_for(type)) {
         error(gl::INVALID_OPERATION, call, "the destination array's element type does not match " + quote(type));
         return false;
