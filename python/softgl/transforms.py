@@ -101,8 +101,9 @@ def shadow_matrix(light_position, plane_y: float = 0.0, epsilon: float = 0.0) ->
     """Projection-shadow matrix onto the plane y = plane_y from a point light.
 
     Ms = T(pl) · Mp · T(-pl): move the light to the origin, project with
-    Mp (x, y, z, w) -> (x, y, z, y / (plane_y' )), move back. `epsilon` lifts the shadow by that much
-    above the plane so it passes a depth test against the plane itself (the usual trick).
+    Mp: (x, y, z, 1) -> (x, y, z, y / h), where h is the plane's height relative to the light,
+    then move back. `epsilon` lifts the shadow by that much above the plane so that it passes
+    a depth test against the plane itself (the usual trick).
     Multiply by the object's model matrix on the right: ``shadow_matrix(pl) @ M``.
     """
     lx, ly, lz = (float(v) for v in light_position)
