@@ -7,6 +7,7 @@
 #include <glm/glm.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "softgl/pipeline/assemble.h"
 #include "softgl/pipeline/blend.h"
 #include "softgl/pipeline/depth_stencil.h"
 
@@ -28,6 +29,11 @@ glm::vec3 vec3(const std::array<float, 3>& v) { return glm::vec3(v[0], v[1], v[2
 
 void bind_testing(py::module_& m) {
     auto t = m.def_submodule("testing", "single pipeline stages, for tests");
+    t.def("assemble", [](uint32_t mode, uint32_t count) {
+        std::vector<uint32_t> out;
+        softgl::assemble(mode, count, out);
+        return out;
+    });
     // GLM as the reference for softgl.transforms (the C++ side's math library).
     t.def("glm_perspective", [](float fovy, float aspect, float n, float f) { return from_glm(glm::perspective(fovy, aspect, n, f)); });
     t.def("glm_ortho", [](float l, float r, float b, float tp, float n, float f) { return from_glm(glm::ortho(l, r, b, tp, n, f)); });
