@@ -35,7 +35,15 @@ namespace {
 
 // The point where the segment from `in` (distance din >= 0) to `out` (dout < 0) crosses the plane.
 // Always computed from the inside vertex: see the watertightness note in clip.h.
-ClipVertex intersect(const ClipVertex& in, double din, const ClipVertex& out, double dout) {
+//
+// z, w and the weights are interpolated with t, which is accurate, and they are bounded (|z| <= w
+// after near/far, weights in [0, 1]). x and y are not: for a guard-band plane and an edge between
+// two vertices at, say, +-1e30, in + t * (out - in) cancels catastrophically and the point lands
+// nowhere near the band. For those planes x and y come instead from the intersection of the edge's
+// line with the plane's line in homogeneous (x, y, w) space (cross products, no cancellation unless
+// the input itself is ill-conditioned), scaled to the interpolated w.
+ClipVertex intersect(const ClipVertex& in, double din, const ClipVertex& out, double dout,
+                     const double* plane, bool use_line) {
     const double t = din / (din - dout);
     ClipVertex r;
     r.position.x = in.position.x + t * (out.position.x - in.position.x);
@@ -43,6 +51,20 @@ ClipVertex intersect(const ClipVertex& in, double din, const ClipVertex& out, do
     r.position.z = in.position.z + t * (out.position.z - in.position.z);
     r.position.w = in.position.w + t * (out.position.w - in.position.w);
     for (int k = 0; k < 3; ++k) r.weight[k] = in.weight[k] + t * (out.weight[k] - in.weight[k]);
+    if (use_line) {
+        const Vec4d& a = in.position;
+        const Vec4d& b = out.position;
+        // Edge line L = a x b, plane line M = (px, py, pw); their intersection P = L x M.
+        const double l0 = a.y * b.w - a.w * b.y, l1 = a.w * b.x - a.x * b.w, l2 = a.x * b.y - a.y * b.x;
+        const double m0 = plane[0], m1 = plane[1], m2 = plane[3];
+        const double px = l1 * m2 - l2 * m1, py = l2 * m0 - l0 * m2, pw = l0 * m1 - l1 * m0;
+        const double s = r.position.w / pw;
+        const double x = px * s, y = py * s;
+        if (pw != 0 && (x - x) == 0 && (y - y) == 0) {
+            r.position.x = x;
+            r.position.y = y;
+        }
+    }
     return r;
 }
 
@@ -72,8 +94,8 @@ int Clipper::clip_triangle(const Vec4d v[3], ClipVertex out[kMaxClipVertices]) c
             const int j = i + 1 == n ? 0 : i + 1;
             const bool in_i = d[i] >= 0, in_j = d[j] >= 0;
             if (in_i) dst[m++] = src[i];
-            if (in_i && !in_j) dst[m++] = intersect(src[i], d[i], src[j], d[j]);
-            if (!in_i && in_j) dst[m++] = intersect(src[j], d[j], src[i], d[i]);
+            if (in_i && !in_j) dst[m++] = intersect(src[i], d[i], src[j], d[j], plane_[p], p >= 3);
+            if (!in_i && in_j) dst[m++] = intersect(src[j], d[j], src[i], d[i], plane_[p], p >= 3);
         }
         n = m;
         if (n < 3) return 0;
@@ -98,8 +120,8 @@ bool Clipper::clip_line(const Vec4d v[2], ClipVertex out[2]) const {
         const double d0 = distance(p, out[0].position), d1 = distance(p, out[1].position);
         const bool in0 = d0 >= 0, in1 = d1 >= 0;
         if (!in0 && !in1) return false;
-        if (in0 && !in1) out[1] = intersect(out[0], d0, out[1], d1);
-        if (!in0 && in1) out[0] = intersect(out[1], d1, out[0], d0);
+        if (in0 && !in1) out[1] = intersect(out[0], d0, out[1], d1, plane_[p], p >= 3);
+        if (!in0 && in1) out[0] = intersect(out[1], d1, out[0], d0, plane_[p], p >= 3);
     }
     return true;
 }
