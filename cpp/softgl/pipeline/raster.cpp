@@ -39,15 +39,21 @@ void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, i
     int64_t so[N][16];     // edge value offset of each sample from its pixel's corner
     for (int i = 0; i < N; ++i)
         for (int s = 0; s < S; ++s) so[i][s] = p.a[i] * sp.x[s] + p.b[i] * sp.y[s];
+    // The extent of the samples within a pixel: block tests cover exactly the samples' hull.
+    int32_t sx0 = sp.x[0], sx1 = sp.x[0], sy0 = sp.y[0], sy1 = sp.y[0];
+    for (int s = 1; s < S; ++s) {
+        sx0 = std::min(sx0, sp.x[s]); sx1 = std::max(sx1, sp.x[s]);
+        sy0 = std::min(sy0, sp.y[s]); sy1 = std::max(sy1, sp.y[s]);
+    }
 
     for (int32_t by = y0 & ~(kBlockSize - 1); by < y1; by += kBlockSize) {
         const int32_t cy0 = std::max(by, y0), cy1 = std::min(by + kBlockSize, y1);
         for (int32_t bx = x0 & ~(kBlockSize - 1); bx < x1; bx += kBlockSize) {
             const int32_t cx0 = std::max(bx, x0), cx1 = std::min(bx + kBlockSize, x1);
-            // The block's closed extent in fixed point; edges are linear, so their extremes over it
-            // are at corners chosen by the coefficients' signs.
-            const int64_t X0 = int64_t(cx0) * kSubPixel, X1 = int64_t(cx1) * kSubPixel;
-            const int64_t Y0 = int64_t(cy0) * kSubPixel, Y1 = int64_t(cy1) * kSubPixel;
+            // The rectangle spanned by the block's samples, in fixed point; edges are linear, so
+            // their extremes over it are at corners chosen by the coefficients' signs.
+            const int64_t X0 = int64_t(cx0) * kSubPixel + sx0, X1 = int64_t(cx1 - 1) * kSubPixel + sx1;
+            const int64_t Y0 = int64_t(cy0) * kSubPixel + sy0, Y1 = int64_t(cy1 - 1) * kSubPixel + sy1;
             bool reject = false, accept = true;
             for (int i = 0; i < N; ++i) {
                 const int64_t a = p.a[i], b = p.b[i], c = p.c[i];
