@@ -33,7 +33,7 @@ py::dict raster_coverage(int32_t width, int32_t height,
                          int depth_bits, int samples, unsigned threads,
                          std::optional<std::tuple<int32_t, int32_t, int32_t, int32_t>> scissor,
                          std::optional<py::array_t<float, py::array::c_style | py::array::forcecast>> point_sizes,
-                         double line_width) {
+                         double line_width, bool record) {
     if (positions.ndim() != 2 || positions.shape(1) != 4)
         throw py::value_error("positions must have shape (N, 4)");
     ProbeInput in;
@@ -56,6 +56,7 @@ py::dict raster_coverage(int32_t width, int32_t height,
         in.point_sizes = point_sizes->data();
     }
 
+    in.record = record;
     RasterState st = RasterState::for_target(width, height);
     if (viewport) std::tie(st.viewport.x, st.viewport.y, st.viewport.width, st.viewport.height) = *viewport;
     std::tie(st.viewport.depth_near, st.viewport.depth_far) = depth_range;
@@ -75,7 +76,7 @@ py::dict raster_coverage(int32_t width, int32_t height,
         ThreadPool pool(threads);
         r = coverage_probe(in, st, pool);
     }
-    const py::ssize_t H = height, W = width, S = samples;
+    const py::ssize_t H = record ? height : 0, W = record ? width : 0, S = samples;
     py::dict out;
     out["count"] = to_array(r.count, {H, W, S});
     out["depth"] = to_array(r.depth, {H, W, S});
@@ -94,6 +95,7 @@ py::dict raster_coverage(int32_t width, int32_t height,
     raster["blocks_partial"] = r.raster.blocks_partial; raster["quads"] = r.raster.quads;
     raster["tiles_skipped"] = r.tiles_skipped;
     out["raster"] = raster;
+    out["samples_covered"] = r.samples_covered;
     out["seconds"] = py::make_tuple(r.seconds_setup, r.seconds_bin, r.seconds_raster);
     return out;
 }
@@ -107,8 +109,8 @@ void bind_raster(py::module_& m) {
           py::arg("cull_face") = py::none(), py::arg("front_face") = 0x901u,
           py::arg("polygon_offset") = py::none(), py::arg("depth_bits") = 24,
           py::arg("samples") = 1, py::arg("threads") = 1u, py::arg("scissor") = py::none(),
-          py::arg("point_sizes") = py::none(), py::arg("line_width") = 1.0,
+          py::arg("point_sizes") = py::none(), py::arg("line_width") = 1.0, py::arg("record") = true,
           "Coverage of primitives given in clip coordinates (testing/benchmarks): per-sample hit "
           "counts and depth of the last primitive, per-pixel last primitive, facing, weights. "
-          "Arrays are [y][x], row 0 = bottom. Enum arguments take GL values.");
+          "Arrays are [y][x], row 0 = bottom. Enum arguments take GL values. record=False: only samples_covered and stats (benchmarks).");
 }

@@ -28,7 +28,7 @@ ProbeResult coverage_probe(const ProbeInput& in, const RasterState& state, Threa
     r.width = state.width;
     r.height = state.height;
     r.samples = state.samples;
-    const size_t pixels = size_t(state.width) * size_t(state.height);
+    const size_t pixels = in.record ? size_t(state.width) * size_t(state.height) : 0;
     r.count.assign(pixels * state.samples, 0);
     r.depth.assign(pixels * state.samples, 0.0);
     r.last.assign(pixels, -1);
@@ -39,6 +39,7 @@ ProbeResult coverage_probe(const ProbeInput& in, const RasterState& state, Threa
     // Geometry: serial, in primitive order.
     auto t0 = std::chrono::steady_clock::now();
     std::vector<PrimitiveSetup> prims;
+    prims.reserve(in.primitive_count);
     Setup setup(state);
     auto vtx = [&](size_t prim, int k) -> uint32_t {
         return in.indices ? in.indices[prim * per + k] : uint32_t(prim * per + k);
@@ -71,6 +72,7 @@ ProbeResult coverage_probe(const ProbeInput& in, const RasterState& state, Threa
     // Per tile, on the pool: each tile writes only its own pixels, primitives in order.
     t0 = std::chrono::steady_clock::now();
     std::vector<RasterStats> stats(pool.size());
+    std::vector<uint64_t> covered(pool.size(), 0);
     std::vector<std::vector<Quad>> quad_buffers(pool.size());
     const int S = state.samples;
     const int32_t W = state.width;
@@ -81,7 +83,12 @@ ProbeResult coverage_probe(const ProbeInput& in, const RasterState& state, Threa
             const PrimitiveSetup& p = prims[index];
             quads.clear();
             rasterize(p, rect, pattern, quads, stats[worker]);
+            if (!in.record) {
+                for (const Quad& q : quads) covered[worker] += uint64_t(__builtin_popcountll(q.coverage));
+                continue;
+            }
             for (const Quad& q : quads) {
+                covered[worker] += uint64_t(__builtin_popcountll(q.coverage));
                 for (int j = 0; j < 4; ++j) {
                     const uint32_t mask = quad_pixel_mask(q, j);
                     if (!mask) continue;
@@ -104,6 +111,7 @@ ProbeResult coverage_probe(const ProbeInput& in, const RasterState& state, Threa
         }
     });
     for (const auto& s : stats) r.raster.add(s);
+    for (uint64_t c : covered) r.samples_covered += c;
     r.seconds_raster = seconds_since(t0);
     return r;
 }

@@ -22,6 +22,8 @@ struct ProbeInput {
     const uint32_t* indices = nullptr;  // vertices_per_primitive per primitive; null: 0, 1, 2, ...
     size_t primitive_count = 0;
     const float* point_sizes = nullptr; // per vertex; null: 1
+    bool record = true;                 // false: only count covered samples (benchmarks the
+                                        // geometry and coverage alone; images stay empty)
 };
 
 struct ProbeResult {
@@ -32,6 +34,7 @@ struct ProbeResult {
     std::vector<int8_t> front;           // [y][x] its gl_FrontFacing
     std::vector<float> weights;          // [y][x][3] its perspective-correct weights at the centre
     std::vector<float> point_coord;      // [y][x][2] its gl_PointCoord (points only, else 0)
+    uint64_t samples_covered = 0;        // total over all primitives
     SetupStats setup;
     RasterStats raster;
     uint64_t tiles_skipped = 0;
