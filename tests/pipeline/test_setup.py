@@ -138,3 +138,16 @@ def test_perspective_correct_weights():
             b = np.linalg.solve(a, [0, 0, 1])
             # Snapping moves vertices by up to 1/512 px: weights agree to about that.
             np.testing.assert_allclose(r["weights"][y, x], b, atol=3e-3)
+
+
+def test_point_coord_and_wide_point_off_screen():
+    """gl_PointCoord (ES 3.0 §3.4.1): s grows to the right, t grows downwards, evaluated at pixel
+    centres; a point whose centre is off-screen still draws its visible part."""
+    pts = clip_from_window([(8.5, 8.5), (-1.0, 20.0)], W, H)
+    r = coverage(W, H, pts, primitive="points", point_sizes=np.array([4, 6], np.float32))
+    ys, xs = np.nonzero(r["last"] == 0)
+    assert len(ys) == 16
+    np.testing.assert_allclose(r["point_coord"][ys, xs, 0], 0.5 + (xs + 0.5 - 8.5) / 4)
+    np.testing.assert_allclose(r["point_coord"][ys, xs, 1], 0.5 - (ys + 0.5 - 8.5) / 4)
+    ys, xs = np.nonzero(r["last"] == 1)
+    assert sorted(set(xs)) == [0, 1] and sorted(set(ys)) == list(range(17, 23))
