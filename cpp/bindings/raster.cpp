@@ -1,0 +1,116 @@
+// softgl._core.raster_coverage: a testing/benchmark entry to the geometric pipeline
+// (pipeline/coverage_probe). Conversions only.
+#include <cstring>
+#include <optional>
+#include <string>
+#include <tuple>
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "softgl/pipeline/coverage_probe.h"
+
+namespace py = pybind11;
+using namespace softgl;
+
+namespace {
+
+template <class T>
+py::array_t<T> to_array(const std::vector<T>& v, std::vector<py::ssize_t> shape) {
+    py::array_t<T> a(shape);
+    std::memcpy(a.mutable_data(), v.data(), v.size() * sizeof(T));
+    return a;
+}
+
+py::dict raster_coverage(int32_t width, int32_t height,
+                         py::array_t<float, py::array::c_style | py::array::forcecast> positions,
+                         std::optional<py::array_t<uint32_t, py::array::c_style | py::array::forcecast>> indices,
+                         const std::string& primitive,
+                         std::optional<std::tuple<int32_t, int32_t, int32_t, int32_t>> viewport,
+                         std::tuple<double, double> depth_range, std::optional<uint32_t> cull_face,
+                         uint32_t front_face, std::optional<std::tuple<double, double>> polygon_offset,
+                         int depth_bits, int samples, unsigned threads,
+                         std::optional<std::tuple<int32_t, int32_t, int32_t, int32_t>> scissor,
+                         std::optional<py::array_t<float, py::array::c_style | py::array::forcecast>> point_sizes,
+                         double line_width, bool record) {
+    if (positions.ndim() != 2 || positions.shape(1) != 4)
+        throw py::value_error("positions must have shape (N, 4)");
+    ProbeInput in;
+    in.positions = positions.data();
+    in.vertex_count = size_t(positions.shape(0));
+    int per;
+    if (primitive == "triangles") { in.kind = PrimitiveKind::Triangle; per = 3; }
+    else if (primitive == "lines") { in.kind = PrimitiveKind::Line; per = 2; }
+    else if (primitive == "points") { in.kind = PrimitiveKind::Point; per = 1; }
+    else throw py::value_error("primitive must be 'triangles', 'lines' or 'points'");
+    if (indices) {
+        if (indices->size() % per) throw py::value_error("index count is not a multiple of the primitive size");
+        in.indices = indices->data();
+        in.primitive_count = size_t(indices->size()) / per;
+    } else {
+        in.primitive_count = in.vertex_count / per;
+    }
+    if (point_sizes) {
+        if (size_t(point_sizes->size()) != in.vertex_count) throw py::value_error("one point size per vertex");
+        in.point_sizes = point_sizes->data();
+    }
+
+    in.record = record;
+    RasterState st = RasterState::for_target(width, height);
+    if (viewport) std::tie(st.viewport.x, st.viewport.y, st.viewport.width, st.viewport.height) = *viewport;
+    std::tie(st.viewport.depth_near, st.viewport.depth_far) = depth_range;
+    if (scissor) st.set_scissor(std::get<0>(*scissor), std::get<1>(*scissor), std::get<2>(*scissor), std::get<3>(*scissor));
+    st.cull_face = cull_face.has_value();
+    if (cull_face) st.cull_face_mode = *cull_face;
+    st.front_face = front_face;
+    st.polygon_offset_fill = polygon_offset.has_value();
+    if (polygon_offset) std::tie(st.polygon_offset_factor, st.polygon_offset_units) = *polygon_offset;
+    st.depth_bits = depth_bits;
+    st.samples = samples;
+    st.line_width = line_width;
+
+    ProbeResult r;
+    {
+        py::gil_scoped_release release;
+        ThreadPool pool(threads);
+        r = coverage_probe(in, st, pool);
+    }
+    const py::ssize_t H = record ? height : 0, W = record ? width : 0, S = samples;
+    py::dict out;
+    out["count"] = to_array(r.count, {H, W, S});
+    out["depth"] = to_array(r.depth, {H, W, S});
+    out["last"] = to_array(r.last, {H, W});
+    out["front"] = to_array(r.front, {H, W});
+    out["weights"] = to_array(r.weights, {H, W, 3});
+    out["point_coord"] = to_array(r.point_coord, {H, W, 2});
+    py::dict setup;
+    setup["primitives"] = r.setup.primitives; setup["invalid"] = r.setup.invalid;
+    setup["outside"] = r.setup.outside; setup["clipped"] = r.setup.clipped;
+    setup["culled"] = r.setup.culled; setup["zero_area"] = r.setup.zero_area;
+    setup["emitted"] = r.setup.emitted;
+    out["setup"] = setup;
+    py::dict raster;
+    raster["blocks_rejected"] = r.raster.blocks_rejected; raster["blocks_accepted"] = r.raster.blocks_accepted;
+    raster["blocks_partial"] = r.raster.blocks_partial; raster["quads"] = r.raster.quads;
+    raster["tiles_skipped"] = r.tiles_skipped;
+    out["raster"] = raster;
+    out["samples_covered"] = r.samples_covered;
+    out["seconds"] = py::make_tuple(r.seconds_setup, r.seconds_bin, r.seconds_raster);
+    return out;
+}
+
+}  // namespace
+
+void bind_raster(py::module_& m) {
+    m.def("raster_coverage", &raster_coverage, py::arg("width"), py::arg("height"),
+          py::arg("positions"), py::arg("indices") = py::none(), py::arg("primitive") = "triangles",
+          py::arg("viewport") = py::none(), py::arg("depth_range") = std::make_tuple(0.0, 1.0),
+          py::arg("cull_face") = py::none(), py::arg("front_face") = 0x901u,
+          py::arg("polygon_offset") = py::none(), py::arg("depth_bits") = 24,
+          py::arg("samples") = 1, py::arg("threads") = 1u, py::arg("scissor") = py::none(),
+          py::arg("point_sizes") = py::none(), py::arg("line_width") = 1.0, py::arg("record") = true,
+          "Coverage of primitives given in clip coordinates (testing/benchmarks): per-sample hit "
+          "counts and depth of the last primitive, per-pixel last primitive, facing, weights. "
+          "Arrays are [y][x], row 0 = bottom. Enum arguments take GL values. record=False: only samples_covered and stats (benchmarks).");
+}

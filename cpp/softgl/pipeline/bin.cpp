@@ -1,0 +1,57 @@
+#include "softgl/pipeline/bin.h"
+
+#include <algorithm>
+
+namespace softgl {
+
+TileGrid::TileGrid(int32_t w, int32_t h)
+    : width(w), height(h), tiles_x((w + kTileSize - 1) / kTileSize),
+      tiles_y((h + kTileSize - 1) / kTileSize) {}
+
+TileRect TileGrid::rect(size_t tile) const {
+    const int32_t tx = int32_t(tile % size_t(tiles_x)), ty = int32_t(tile / size_t(tiles_x));
+    TileRect r;
+    r.x0 = tx * kTileSize;
+    r.y0 = ty * kTileSize;
+    r.x1 = std::min(r.x0 + kTileSize, width);
+    r.y1 = std::min(r.y0 + kTileSize, height);
+    return r;
+}
+
+void Bins::reset(const TileGrid& grid) {
+    grid_ = grid;
+    lists_.resize(grid.count());
+    for (auto& l : lists_) l.clear();
+    tiles_skipped = 0;
+}
+
+void Bins::add(const std::vector<PrimitiveSetup>& prims, size_t first) {
+    for (size_t n = first; n < prims.size(); ++n) {
+        const PrimitiveSetup& p = prims[n];
+        const int32_t tx0 = p.x0 / kTileSize, tx1 = (p.x1 - 1) / kTileSize;
+        const int32_t ty0 = p.y0 / kTileSize, ty1 = (p.y1 - 1) / kTileSize;
+        if (tx0 == tx1 && ty0 == ty1) {   // the common case: a small primitive in one tile
+            lists_[size_t(ty0) * grid_.tiles_x + tx0].push_back(uint32_t(n));
+            continue;
+        }
+        for (int32_t ty = ty0; ty <= ty1; ++ty) {
+            for (int32_t tx = tx0; tx <= tx1; ++tx) {
+                // Reject the tile if its part of the bounding box is outside one edge (same exact
+                // corner test as the rasterizer's blocks).
+                const int64_t X0 = int64_t(std::max(tx * kTileSize, p.x0)) * kSubPixel;
+                const int64_t X1 = int64_t(std::min((tx + 1) * kTileSize, p.x1)) * kSubPixel;
+                const int64_t Y0 = int64_t(std::max(ty * kTileSize, p.y0)) * kSubPixel;
+                const int64_t Y1 = int64_t(std::min((ty + 1) * kTileSize, p.y1)) * kSubPixel;
+                bool outside = false;
+                for (int i = 0; i < p.edge_count && !outside; ++i) {
+                    const int64_t a = p.a[i], b = p.b[i];
+                    outside = a * (a > 0 ? X1 : X0) + b * (b > 0 ? Y1 : Y0) + p.c[i] < 0;
+                }
+                if (outside) { ++tiles_skipped; continue; }
+                lists_[size_t(ty) * grid_.tiles_x + tx].push_back(uint32_t(n));
+            }
+        }
+    }
+}
+
+}  // namespace softgl

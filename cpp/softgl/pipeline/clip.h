@@ -1,0 +1,80 @@
+// Homogeneous clipping in clip space (ES 3.0 §2.17), before the perspective division.
+//
+// Triangles are clipped against w >= kClipEpsilon, the near and far planes (-w <= z <= w) and, only
+// when a vertex lies outside it, the guard band (viewport.h): a rectangle of +-2^20 pixels in window
+// space written as four planes in clip space. Inside the guard band x and y are not clipped: the
+// rasterizer's bounding box and the framebuffer/scissor rectangle do that exactly, and clipping
+// there would only add vertices and rounding. Lines are clipped against the same planes; points are
+// handled by setup (not clipped by their centre in x/y, ES 3.0 §3.4 / WebGL clipping-wide-points).
+//
+// Every output vertex carries barycentric weights relative to the original primitive's vertices, so
+// varyings are never clipped: the fragment stage interpolates the original vertices' varyings with
+// perspective-correct weights built from these (see setup.h).
+//
+// Watertightness across clipped shared edges: an intersection is always computed from the inside
+// vertex towards the outside vertex, with the plane distances of those two vertices, and planes are
+// applied in a fixed order, so two triangles sharing an edge produce bit-identical clipped points.
+//
+// Primitives with a NaN or infinite coordinate are dropped.
+#pragma once
+#include <cstdint>
+
+#include "softgl/pipeline/viewport.h"
+
+namespace softgl {
+
+struct Vec4d {
+    double x, y, z, w;
+};
+
+struct ClipVertex {
+    Vec4d position;     // clip coordinates
+    double weight[3];   // barycentric weights relative to the original primitive's vertices
+};
+
+// The smallest w a clipped vertex may have: keeps the division by w finite. Any vertex with
+// |x|,|y| <= 2^20 w after guard-band clipping maps to finite window coordinates.
+inline constexpr double kClipEpsilon = 1e-30;
+
+enum ClipPlaneBit : uint32_t {
+    kClipW = 1u << 0,
+    kClipNear = 1u << 1,
+    kClipFar = 1u << 2,
+    kClipLeft = 1u << 3,    // guard band, window x >= -kGuardBand
+    kClipRight = 1u << 4,   // guard band, window x <= +kGuardBand
+    kClipBottom = 1u << 5,
+    kClipTop = 1u << 6,
+};
+inline constexpr int kClipPlaneCount = 7;
+// A triangle clipped by 7 planes has at most 3 + 7 vertices.
+inline constexpr int kMaxClipVertices = 3 + kClipPlaneCount;
+
+inline bool finite_vertex(const Vec4d& v);
+
+class Clipper {
+public:
+    explicit Clipper(const Viewport& viewport);
+
+    // Signed distance of v to plane i (>= 0 inside); a linear (affine for kClipW) function of v.
+    double distance(int plane, const Vec4d& v) const;
+    // Bit i set when v is outside plane i.
+    uint32_t outcode(const Vec4d& v) const;
+
+    // Clips triangle v[0..2]. Returns the number of vertices of the clipped convex polygon written to
+    // `out` (0: nothing left, or a non-finite coordinate), in the triangle's winding order.
+    int clip_triangle(const Vec4d v[3], ClipVertex out[kMaxClipVertices]) const;
+
+    // Clips segment v[0..1] against w, near, far and the guard band. Returns false when nothing is
+    // left; otherwise out[0..1] hold the clipped endpoints (weight[0..1] relative to v[0], v[1]).
+    bool clip_line(const Vec4d v[2], ClipVertex out[2]) const;
+
+private:
+    double plane_[kClipPlaneCount][4];   // coefficients on x, y, z, w
+};
+
+inline bool finite_vertex(const Vec4d& v) {
+    // x - x is 0 for finite x and NaN for NaN and +-Inf.
+    return (v.x - v.x) == 0 && (v.y - v.y) == 0 && (v.z - v.z) == 0 && (v.w - v.w) == 0;
+}
+
+}  // namespace softgl

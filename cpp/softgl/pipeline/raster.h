@@ -1,0 +1,60 @@
+// Coverage: which samples of which pixels a set-up primitive covers, within one screen tile.
+//
+// Hierarchical: the tile ∩ bounding box is walked in 8x8-pixel blocks; a block that lies entirely
+// outside one edge is skipped, a block entirely inside all edges is emitted with full coverage and
+// no per-sample test (DESIGN §4), and only the remaining blocks test every sample. Output is 2x2
+// quads (the unit the fragment shader runs on, so derivatives have neighbours) with a per-pixel
+// sample mask. Results are exact (integer edge functions), so block-level accept/reject never changes
+// coverage, only speed.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "softgl/pipeline/setup.h"
+
+namespace softgl {
+
+// Sample positions inside a pixel, in 1/256 pixel from the pixel's lower-left corner (window
+// coordinates, y up). The 2/4/8/16 patterns are the Vulkan/D3D standard sample locations (all on
+// the 1/16 grid, so exact in 8 sub-pixel bits), taken with the same numbers in GL window
+// coordinates (which is how ANGLE's Vulkan back end maps framebuffer objects: GL row 0 is memory
+// row 0). 1 sample: the pixel centre.
+struct SamplePattern {
+    int count;
+    int32_t x[16], y[16];
+};
+// samples: 1, 2, 4, 8 or 16; anything else throws std::invalid_argument.
+const SamplePattern& sample_pattern(int samples);
+
+// A 2x2 block of pixels with its lower-left pixel at (x, y), both even. Pixel i (i = dx + 2*dy)
+// has its sample mask in bits [16*i, 16*i + 16): bit 16*i + s is sample s of the pattern.
+struct Quad {
+    int32_t x, y;
+    uint64_t coverage;
+};
+inline constexpr int kQuadPixelBits = 16;
+inline uint32_t quad_pixel_mask(const Quad& q, int i) {
+    return uint32_t(q.coverage >> (kQuadPixelBits * i)) & 0xFFFFu;
+}
+
+struct TileRect {
+    int32_t x0, y0, x1, y1;   // pixels [x0, x1) x [y0, y1); x0, y0 even
+};
+
+struct RasterStats {
+    uint64_t blocks_rejected = 0, blocks_accepted = 0, blocks_partial = 0, quads = 0;
+    void add(const RasterStats& o) {
+        blocks_rejected += o.blocks_rejected; blocks_accepted += o.blocks_accepted;
+        blocks_partial += o.blocks_partial; quads += o.quads;
+    }
+};
+
+inline constexpr int kBlockSize = 8;
+
+// Appends to `out` the quads of `prim` inside `tile` (intersected with the primitive's bounding
+// box), in a fixed order (blocks bottom-up then left-right, quads likewise). Quads with no covered
+// sample are not emitted.
+void rasterize(const PrimitiveSetup& prim, const TileRect& tile, const SamplePattern& pattern,
+               std::vector<Quad>& out, RasterStats& stats);
+
+}  // namespace softgl

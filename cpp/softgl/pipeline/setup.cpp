@@ -1,0 +1,349 @@
+#include "softgl/pipeline/setup.h"
+
+#include <algorithm>
+#include <cmath>
+#include <utility>
+
+namespace softgl {
+
+namespace {
+
+constexpr uint32_t kGlFront = 0x404, kGlBack = 0x405, kGlFrontAndBack = 0x408, kGlCcw = 0x901;
+
+int64_t floor_div(int64_t a, int64_t b) {   // b > 0
+    int64_t q = a / b;
+    return (a % b != 0 && a < 0) ? q - 1 : q;
+}
+
+// Snap a window coordinate to 1/256 pixel, round to nearest. The clamp catches the last ulp that
+// guard-band clipping may leave outside the band (and keeps the conversion defined).
+int64_t snap(double window) {
+    window = std::min(std::max(window, -kGuardBand), kGuardBand);
+    return int64_t(std::floor(window * double(kSubPixel) + 0.5));
+}
+
+// Edge from (xj, yj) to (xk, yk) of a counter-clockwise polygon (window y up): E >= 0 inside.
+// The tie rule (setup.h) is folded into c: an excluded edge needs E >= 1, i.e. E > 0.
+void make_edge(PrimitiveSetup& s, int i, int64_t xj, int64_t yj, int64_t xk, int64_t yk) {
+    const int64_t a = yj - yk, b = xk - xj;
+    // a > 0: the edge runs downwards (interior to its right): a "left" edge.
+    // a == 0, b > 0: horizontal, running right, interior above: a "bottom" edge.
+    const bool included = a > 0 || (a == 0 && b > 0);
+    s.a[i] = a;
+    s.b[i] = b;
+    s.c[i] = -(a * xj + b * yj) - (included ? 0 : 1);
+}
+
+// The plane through (0, 0, v0), (dx1, dy1, v1), (dx2, dy2, v2) (pixel offsets from vertex 0);
+// inv_det = 1 / (dx1*dy2 - dx2*dy1).
+Plane plane3(double v0, double v1, double v2, double dx1, double dy1, double dx2, double dy2,
+             double inv_det) {
+    Plane p;
+    p.a = ((v1 - v0) * dy2 - (v2 - v0) * dy1) * inv_det;
+    p.b = ((v2 - v0) * dx1 - (v1 - v0) * dx2) * inv_det;
+    p.c = v0;
+    return p;
+}
+
+Plane constant_plane(double v) {
+    Plane p;
+    p.c = v;
+    return p;
+}
+
+}  // namespace
+
+RasterState RasterState::for_target(int32_t width, int32_t height) {
+    RasterState s;
+    s.width = width;
+    s.height = height;
+    s.clip_x1 = width;
+    s.clip_y1 = height;
+    s.viewport.width = width;
+    s.viewport.height = height;
+    return s;
+}
+
+void RasterState::set_scissor(int32_t x, int32_t y, int32_t w, int32_t h) {
+    clip_x0 = std::max(0, x);
+    clip_y0 = std::max(0, y);
+    clip_x1 = int32_t(std::min<int64_t>(width, int64_t(x) + w));
+    clip_y1 = int32_t(std::min<int64_t>(height, int64_t(y) + h));
+}
+
+void SetupStats::add(const SetupStats& o) {
+    primitives += o.primitives; invalid += o.invalid; outside += o.outside; clipped += o.clipped;
+    culled += o.culled; zero_area += o.zero_area; emitted += o.emitted;
+}
+
+Setup::Setup(const RasterState& state) : state_(state), clipper_(state.viewport) {}
+
+Setup::WindowVertex Setup::project(const ClipVertex& cv) const {
+    // ES 3.0 §2.12: perspective division, then the viewport transform.
+    const Viewport& vp = state_.viewport;
+    const Vec4d& p = cv.position;
+    WindowVertex w;
+    w.X = snap(vp.scale_x() * (p.x / p.w) + vp.offset_x());
+    w.Y = snap(vp.scale_y() * (p.y / p.w) + vp.offset_y());
+    w.z = vp.scale_z() * (p.z / p.w) + vp.offset_z();
+    w.inv_w = 1.0 / p.w;
+    for (int k = 0; k < 3; ++k) w.weight[k] = cv.weight[k];
+    return w;
+}
+
+double Setup::resolvable_difference(double max_abs_z) const {
+    // ES 3.0 §3.6.5: r is the smallest resolvable difference of window z. Fixed-point N-bit
+    // depth: 1 / (2^N - 1), one step of the unorm encoding. Floating-point depth: 2^(e - 23),
+    // e the exponent of the largest z of the primitive.
+    if (state_.depth_bits > 0) return 1.0 / (std::ldexp(1.0, state_.depth_bits) - 1.0);
+    if (!(max_abs_z > 0)) return std::ldexp(1.0, -126 - 23);
+    int e = 0;
+    std::frexp(max_abs_z, &e);         // max_abs_z = m * 2^e, m in [0.5, 1): IEEE exponent e - 1
+    return std::ldexp(1.0, e - 1 - 23);
+}
+
+bool Setup::finish_bbox(PrimitiveSetup& s, int64_t xmin, int64_t ymin, int64_t xmax,
+                        int64_t ymax) {
+    // Pixel px has samples at px*256 + [0, 255]; it can be covered only if that range meets
+    // [xmin, xmax].
+    const int64_t x0 = std::max<int64_t>(floor_div(xmin, kSubPixel), state_.clip_x0);
+    const int64_t y0 = std::max<int64_t>(floor_div(ymin, kSubPixel), state_.clip_y0);
+    const int64_t x1 = std::min<int64_t>(floor_div(xmax, kSubPixel) + 1, state_.clip_x1);
+    const int64_t y1 = std::min<int64_t>(floor_div(ymax, kSubPixel) + 1, state_.clip_y1);
+    if (x0 >= x1 || y0 >= y1) return false;
+    s.x0 = int32_t(x0); s.y0 = int32_t(y0); s.x1 = int32_t(x1); s.y1 = int32_t(y1);
+    return true;
+}
+
+void Setup::triangle(const float* p0, const float* p1, const float* p2, uint32_t i0, uint32_t i1,
+                     uint32_t i2, uint32_t primitive, std::vector<PrimitiveSetup>& out) {
+    ++stats.primitives;
+    const Vec4d v[3] = {{p0[0], p0[1], p0[2], p0[3]},
+                        {p1[0], p1[1], p1[2], p1[3]},
+                        {p2[0], p2[1], p2[2], p2[3]}};
+    const uint32_t vertex[3] = {i0, i1, i2};
+    ClipVertex poly[kMaxClipVertices];
+    const int n = clipper_.clip_triangle(v, poly);
+    if (n == 0) {
+        if (!finite_vertex(v[0]) || !finite_vertex(v[1]) || !finite_vertex(v[2])) ++stats.invalid;
+        else ++stats.outside;
+        return;
+    }
+    WindowVertex w[kMaxClipVertices];
+    for (int i = 0; i < n; ++i) w[i] = project(poly[i]);
+
+    if (n == 3 && poly[0].weight[0] == 1 && poly[1].weight[1] == 1 && poly[2].weight[2] == 1) {
+        // Unclipped. ES 3.0 §3.6.1: the facing comes from the signed area in window coordinates.
+        const int64_t area2 = (w[1].X - w[0].X) * (w[2].Y - w[0].Y) -
+                              (w[2].X - w[0].X) * (w[1].Y - w[0].Y);
+        if (area2 == 0) { ++stats.zero_area; return; }
+        const bool ccw = area2 > 0;
+        const bool front = (state_.front_face == kGlCcw) == ccw;
+        if (state_.cull_face &&
+            (state_.cull_face_mode == kGlFrontAndBack ||
+             (state_.cull_face_mode == kGlFront && front) ||
+             (state_.cull_face_mode == kGlBack && !front))) {
+            ++stats.culled;
+            return;
+        }
+        emit_triangle(w[0], w[1], w[2], area2, front, vertex, primitive, out);
+        return;
+    }
+
+    // Clipped polygon: the facing is that of the whole polygon (shoelace, 128-bit: up to 10 terms of
+    // 2^59), and it is triangulated as a fan. A fan triangle that snapping made degenerate or
+    // inverted is dropped: it covers no sample the neighbours do not.
+    ++stats.clipped;
+    __int128 poly_area2 = 0;
+    for (int i = 0; i < n; ++i) {
+        const int j = i + 1 == n ? 0 : i + 1;
+        poly_area2 += __int128(w[i].X) * w[j].Y - __int128(w[j].X) * w[i].Y;
+    }
+    if (poly_area2 == 0) { ++stats.zero_area; return; }
+    const bool ccw = poly_area2 > 0;
+    const bool front = (state_.front_face == kGlCcw) == ccw;
+    if (state_.cull_face &&
+        (state_.cull_face_mode == kGlFrontAndBack ||
+         (state_.cull_face_mode == kGlFront && front) ||
+         (state_.cull_face_mode == kGlBack && !front))) {
+        ++stats.culled;
+        return;
+    }
+    for (int i = 1; i + 1 < n; ++i) {
+        const int64_t area2 = (w[i].X - w[0].X) * (w[i + 1].Y - w[0].Y) -
+                              (w[i + 1].X - w[0].X) * (w[i].Y - w[0].Y);
+        if (area2 == 0 || (area2 > 0) != ccw) continue;
+        emit_triangle(w[0], w[i], w[i + 1], area2, front, vertex, primitive, out);
+    }
+}
+
+void Setup::emit_triangle(WindowVertex v0, WindowVertex v1, WindowVertex v2, int64_t area2,
+                          bool front, const uint32_t vertex[3], uint32_t primitive,
+                          std::vector<PrimitiveSetup>& out) {
+    if (area2 < 0) {   // make the vertex order counter-clockwise: interior has E >= 0
+        std::swap(v1, v2);
+        area2 = -area2;
+    }
+    PrimitiveSetup s;
+    const WindowVertex* v[3] = {&v0, &v1, &v2};
+    for (int i = 0; i < 3; ++i) {
+        const WindowVertex& j = *v[(i + 1) % 3];
+        const WindowVertex& k = *v[(i + 2) % 3];
+        make_edge(s, i, j.X, j.Y, k.X, k.Y);     // edge i is opposite vertex i
+    }
+    s.a[3] = s.b[3] = s.c[3] = 0;
+    const int64_t xmin = std::min({v0.X, v1.X, v2.X}), xmax = std::max({v0.X, v1.X, v2.X});
+    const int64_t ymin = std::min({v0.Y, v1.Y, v2.Y}), ymax = std::max({v0.Y, v1.Y, v2.Y});
+    if (!finish_bbox(s, xmin, ymin, xmax, ymax)) { ++stats.outside; return; }
+
+    s.origin_x = v0.X;
+    s.origin_y = v0.Y;
+    const double inv = 1.0 / kSubPixel;
+    const double dx1 = double(v1.X - v0.X) * inv, dy1 = double(v1.Y - v0.Y) * inv;
+    const double dx2 = double(v2.X - v0.X) * inv, dy2 = double(v2.Y - v0.Y) * inv;
+    const double inv_det = double(kSubPixel * kSubPixel) / double(area2);
+    s.depth = plane3(v0.z, v1.z, v2.z, dx1, dy1, dx2, dy2, inv_det);
+    s.inv_w = plane3(v0.inv_w, v1.inv_w, v2.inv_w, dx1, dy1, dx2, dy2, inv_det);
+    for (int k = 0; k < 3; ++k)
+        s.weight[k] = plane3(v0.weight[k] * v0.inv_w, v1.weight[k] * v1.inv_w,
+                             v2.weight[k] * v2.inv_w, dx1, dy1, dx2, dy2, inv_det);
+    s.depth_offset = 0;
+    if (state_.polygon_offset_fill) {
+        // ES 3.0 §3.6.5: o = m * factor + r * units, m = max(|dz/dx|, |dz/dy|) (the allowed
+        // approximation of the gradient length), added to every fragment's depth, then clamped.
+        const double m = std::max(std::fabs(s.depth.a), std::fabs(s.depth.b));
+        const double zmax = std::max({std::fabs(v0.z), std::fabs(v1.z), std::fabs(v2.z)});
+        s.depth_offset = m * state_.polygon_offset_factor +
+                         resolvable_difference(zmax) * state_.polygon_offset_units;
+    }
+    for (int k = 0; k < 3; ++k) s.vertex[k] = vertex[k];
+    s.primitive = primitive;
+    s.kind = PrimitiveKind::Triangle;
+    s.edge_count = 3;
+    s.front_facing = front;
+    s.point_x = s.point_y = s.point_size = 0;
+    out.push_back(s);
+    ++stats.emitted;
+}
+
+void Setup::point(const float* p, float size, uint32_t index, uint32_t primitive,
+                  std::vector<PrimitiveSetup>& out) {
+    ++stats.primitives;
+    const Vec4d v{p[0], p[1], p[2], p[3]};
+    if (!finite_vertex(v)) { ++stats.invalid; return; }
+    // ES 3.0 §2.17: a point is clipped by its centre, but only against w, near and far here: in x
+    // and y a wide point whose centre is off-screen still draws its visible part (WebGL
+    // conformance clipping-wide-points). Centres beyond the guard band are dropped (they are
+    // 2^20 pixels away from any pixel).
+    if (clipper_.outcode(v) & (kClipW | kClipNear | kClipFar)) { ++stats.outside; return; }
+    const Viewport& vp = state_.viewport;
+    const double xw = vp.scale_x() * (v.x / v.w) + vp.offset_x();
+    const double yw = vp.scale_y() * (v.y / v.w) + vp.offset_y();
+    if (!(std::fabs(xw) <= kGuardBand && std::fabs(yw) <= kGuardBand)) { ++stats.outside; return; }
+    // ES 3.0 §3.4: the size is clamped to the implementation's range. NaN becomes the minimum.
+    double sz = size;
+    if (!(sz >= state_.point_size_min)) sz = state_.point_size_min;
+    if (sz > state_.point_size_max) sz = state_.point_size_max;
+
+    // The square of side sz centred on the snapped centre; its edges follow the same tie rule as
+    // triangles, so x in [left, right) and y in [bottom, top).
+    PrimitiveSetup s;
+    const int64_t X = snap(xw), Y = snap(yw);
+    const int64_t h = int64_t(std::floor(sz * (kSubPixel / 2) + 0.5));
+    const int64_t l = X - h, r = X + h, b = Y - h, t = Y + h;
+    make_edge(s, 0, l, b, r, b);
+    make_edge(s, 1, r, b, r, t);
+    make_edge(s, 2, r, t, l, t);
+    make_edge(s, 3, l, t, l, b);
+    if (h == 0 || !finish_bbox(s, l, b, r, t)) { ++stats.outside; return; }
+    s.origin_x = X;
+    s.origin_y = Y;
+    s.depth = constant_plane(vp.scale_z() * (v.z / v.w) + vp.offset_z());
+    s.depth_offset = 0;                         // polygon offset applies to polygons only
+    s.inv_w = constant_plane(1.0 / v.w);
+    s.weight[0] = constant_plane(1.0 / v.w);    // weights (1, 0, 0)
+    s.weight[1] = s.weight[2] = constant_plane(0);
+    s.vertex[0] = s.vertex[1] = s.vertex[2] = index;
+    s.primitive = primitive;
+    s.kind = PrimitiveKind::Point;
+    s.edge_count = 4;
+    s.front_facing = true;                      // ES 3.0 §3.6.1: points and lines are front-facing
+    s.point_x = float(double(X) / kSubPixel);
+    s.point_y = float(double(Y) / kSubPixel);
+    s.point_size = float(double(2 * h) / kSubPixel);
+    out.push_back(s);
+    ++stats.emitted;
+}
+
+void Setup::line(const float* p0, const float* p1, uint32_t i0, uint32_t i1, uint32_t primitive,
+                 std::vector<PrimitiveSetup>& out) {
+    ++stats.primitives;
+    const Vec4d v[2] = {{p0[0], p0[1], p0[2], p0[3]}, {p1[0], p1[1], p1[2], p1[3]}};
+    ClipVertex c[2];
+    if (!clipper_.clip_line(v, c)) {
+        if (!finite_vertex(v[0]) || !finite_vertex(v[1])) ++stats.invalid;
+        else ++stats.outside;
+        return;
+    }
+    if (c[0].weight[0] != 1 || c[1].weight[1] != 1) ++stats.clipped;
+    const WindowVertex a = project(c[0]), e = project(c[1]);
+    const int64_t dx = e.X - a.X, dy = e.Y - a.Y;
+    if (dx == 0 && dy == 0) { ++stats.zero_area; return; }
+
+    // ES 3.0 §3.5.2: a line of width w is rasterised by offsetting it by w/2 either way in its
+    // minor direction (y for an x-major line), i.e. as the parallelogram with ends perpendicular to
+    // the major axis. For w = 1 this is the diamond-exit rule of §3.5.1 except at the two end
+    // pixels, where this takes the half-open span [start, end) along the major axis (the
+    // tie rule decides which end is closed).
+    const int64_t h = std::max<int64_t>(1, int64_t(std::floor(state_.line_width * (kSubPixel / 2) + 0.5)));
+    int64_t px[4], py[4];
+    if ((dx < 0 ? -dx : dx) >= (dy < 0 ? -dy : dy)) {
+        px[0] = a.X; py[0] = a.Y - h; px[1] = e.X; py[1] = e.Y - h;
+        px[2] = e.X; py[2] = e.Y + h; px[3] = a.X; py[3] = a.Y + h;
+    } else {
+        px[0] = a.X + h; py[0] = a.Y; px[1] = e.X + h; py[1] = e.Y;
+        px[2] = e.X - h; py[2] = e.Y; px[3] = a.X - h; py[3] = a.Y;
+    }
+    __int128 area2 = 0;
+    for (int i = 0; i < 4; ++i) {
+        const int j = (i + 1) & 3;
+        area2 += __int128(px[i]) * py[j] - __int128(px[j]) * py[i];
+    }
+    PrimitiveSetup s;
+    for (int i = 0; i < 4; ++i) {     // counter-clockwise order: reverse if the area is negative
+        const int j = area2 > 0 ? i : 3 - i, k = area2 > 0 ? (i + 1) & 3 : (6 - i) & 3;
+        make_edge(s, i, px[j], py[j], px[k], py[k]);
+    }
+    if (!finish_bbox(s, *std::min_element(px, px + 4), *std::min_element(py, py + 4),
+                     *std::max_element(px, px + 4), *std::max_element(py, py + 4))) {
+        ++stats.outside;
+        return;
+    }
+    // ES 3.0 §3.5.1 eq. 3.7: values along the line use t = ((p - pa) . (pb - pa)) / |pb - pa|^2,
+    // which is a plane in window space.
+    s.origin_x = a.X;
+    s.origin_y = a.Y;
+    const double fx = double(dx) / kSubPixel, fy = double(dy) / kSubPixel;
+    const double inv_len2 = 1.0 / (fx * fx + fy * fy);
+    auto along = [&](double va, double vb) {
+        Plane p;
+        p.a = (vb - va) * fx * inv_len2;
+        p.b = (vb - va) * fy * inv_len2;
+        p.c = va;
+        return p;
+    };
+    s.depth = along(a.z, e.z);
+    s.depth_offset = 0;
+    s.inv_w = along(a.inv_w, e.inv_w);
+    for (int k = 0; k < 3; ++k) s.weight[k] = along(a.weight[k] * a.inv_w, e.weight[k] * e.inv_w);
+    s.vertex[0] = i0; s.vertex[1] = i1; s.vertex[2] = i1;
+    s.primitive = primitive;
+    s.kind = PrimitiveKind::Line;
+    s.edge_count = 4;
+    s.front_facing = true;
+    s.point_x = s.point_y = s.point_size = 0;
+    out.push_back(s);
+    ++stats.emitted;
+}
+
+}  // namespace softgl

@@ -1,0 +1,144 @@
+// Primitive setup: viewport transform, snapping to fixed point, edge functions with the tie rule,
+// face determination and culling, polygon offset, and the screen-linear planes the rasterizer and
+// the fragment stage evaluate (depth, perspective-correct barycentrics).
+//
+// Fixed point: window coordinates snap to 1/256 pixel, rounding to nearest (floor(x*256 + 0.5), so
+// that moving a primitive by whole pixels never changes its coverage pattern). Edge functions are
+// exact int64 (ranges in viewport.h).
+//
+// Tie rule (a sample exactly on an edge): measured against WebGL in Chromium (SwiftShader), see
+// tests/pipeline/reference/coverage_chromium.json. In GL window coordinates (y up, pixel centres at
+// +0.5) a sample on an edge is covered when the edge is a "left" edge (interior to its right) or a
+// horizontal "bottom" edge (interior above it). This is D3D/Vulkan's top-left rule seen in a y-down
+// framebuffer. A sample on a vertex is covered only if both edges through it are included.
+//
+// Primitives are convex polygons of 3 (triangles) or 4 (points, lines) edges, all with the same
+// representation, so one rasterizer serves all of them.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "softgl/pipeline/clip.h"
+#include "softgl/pipeline/viewport.h"
+
+namespace softgl {
+
+// Fixed-function state that setup and raster read (the lead fills it from the context State).
+struct RasterState {
+    int32_t width = 0, height = 0;              // render target size in pixels
+    // Pixels outside [x0, x1) x [y0, y1) are never covered: framebuffer ∩ scissor (ES 3.0 §4.1.2).
+    int32_t clip_x0 = 0, clip_y0 = 0, clip_x1 = 0, clip_y1 = 0;
+    Viewport viewport;
+    bool cull_face = false;
+    uint32_t cull_face_mode = 0x405;            // GL BACK
+    uint32_t front_face = 0x901;                // GL CCW
+    bool polygon_offset_fill = false;
+    double polygon_offset_factor = 0, polygon_offset_units = 0;
+    int depth_bits = 24;                        // unorm depth bits; 0 = 32-bit float depth
+    int samples = 1;                            // 1, 2, 4, 8 or 16
+    double point_size_min = 1, point_size_max = 1023;   // ALIASED_POINT_SIZE_RANGE (Chromium: 1..1023)
+    double line_width = 1;                      // already clamped to ALIASED_LINE_WIDTH_RANGE
+
+    // Convenience: whole framebuffer, viewport = framebuffer, no scissor.
+    static RasterState for_target(int32_t width, int32_t height);
+    void set_scissor(int32_t x, int32_t y, int32_t w, int32_t h);   // intersect with the target
+};
+
+// value(x, y) = c + a * dx + b * dy, with (dx, dy) the pixel-unit offset of (x, y) from the
+// primitive's origin (a snapped vertex). Relative evaluation keeps precision far from 0.
+struct Plane {
+    double a = 0, b = 0, c = 0;
+};
+
+enum class PrimitiveKind : uint8_t { Triangle, Line, Point };
+
+struct PrimitiveSetup {
+    // Coverage: a sample at fixed-point window position (X, Y) (units of 1/256 pixel) is inside when
+    // a[i]*X + b[i]*Y + c[i] >= 0 for every edge i < edge_count (the tie rule is folded into c).
+    int64_t a[4], b[4], c[4];
+    // Pixel bounding box [x0, x1) x [y0, y1), already inside the RasterState clip rectangle.
+    int32_t x0, y0, x1, y1;
+    int64_t origin_x, origin_y;      // fixed-point origin of the planes
+    Plane depth;                      // window z (ES 3.0 §2.12.1), linear in screen space (§3.6.1)
+    double depth_offset;              // polygon offset o (ES 3.0 §3.6.5), 0 when disabled
+    // Perspective-correct barycentrics relative to the ORIGINAL primitive's vertices (ES 3.0
+    // §3.6.1 eq. 3.9): weight_k(x, y) = weight[k](x, y) / inv_w(x, y). These planes interpolate
+    // weight_k / w_clip and 1 / w_clip linearly in screen space. inv_w is also gl_FragCoord.w.
+    Plane weight[3];
+    Plane inv_w;
+    uint32_t vertex[3];               // indices of the original primitive's vertices (flat: vertex[2]
+                                      // for triangles, vertex[1] for lines: the provoking vertex)
+    uint32_t primitive;               // the primitive's number in the draw
+    PrimitiveKind kind;
+    uint8_t edge_count;               // 3 or 4
+    bool front_facing;                // gl_FrontFacing (points and lines: true)
+    float point_x, point_y, point_size;   // points: window centre and size, for gl_PointCoord
+
+    // Depth at a fixed-point sample position: plane + offset, clamped to [0, 1] (ES 3.0 §3.6.5).
+    double depth_at(int64_t X, int64_t Y) const {
+        double z = eval(depth, X, Y) + depth_offset;
+        return z < 0 ? 0 : (z > 1 ? 1 : z);
+    }
+    double eval(const Plane& p, int64_t X, int64_t Y) const {
+        return p.c + p.a * (double(X - origin_x) * (1.0 / kSubPixel)) +
+               p.b * (double(Y - origin_y) * (1.0 / kSubPixel));
+    }
+    // Perspective-correct weights of the original vertices at (X, Y).
+    void weights_at(int64_t X, int64_t Y, double out[3]) const {
+        const double q = 1.0 / eval(inv_w, X, Y);
+        for (int k = 0; k < 3; ++k) out[k] = eval(weight[k], X, Y) * q;
+    }
+    // gl_PointCoord for the fragment of pixel (px, py) (ES 3.0 §3.4.1: evaluated at the centre).
+    void point_coord(int32_t px, int32_t py, float out[2]) const {
+        out[0] = 0.5f + (float(px) + 0.5f - point_x) / point_size;
+        out[1] = 0.5f - (float(py) + 0.5f - point_y) / point_size;
+    }
+};
+
+struct SetupStats {
+    uint64_t primitives = 0;   // primitives given to setup
+    uint64_t invalid = 0;      // dropped: NaN or infinite coordinate
+    uint64_t outside = 0;      // dropped: outside the clip volume or the framebuffer/scissor rectangle
+    uint64_t clipped = 0;      // needed clipping (near/far/w/guard band) and survived
+    uint64_t culled = 0;       // dropped by cullFace
+    uint64_t zero_area = 0;    // dropped: no area after snapping
+    uint64_t emitted = 0;      // PrimitiveSetup records produced (a clipped triangle may give several)
+    void add(const SetupStats& o);
+};
+
+class Setup {
+public:
+    explicit Setup(const RasterState& state);
+
+    // Each call appends zero or more PrimitiveSetup records to `out`. Positions are clip coordinates
+    // (x, y, z, w) as the vertex shader wrote gl_Position; i0.. are the vertex indices recorded for
+    // varying interpolation; `primitive` is the primitive's number in the draw.
+    void triangle(const float* p0, const float* p1, const float* p2, uint32_t i0, uint32_t i1,
+                  uint32_t i2, uint32_t primitive, std::vector<PrimitiveSetup>& out);
+    // A point of gl_PointSize `size` (clamped to the point size range), ES 3.0 §3.4.
+    void point(const float* p, float size, uint32_t index, uint32_t primitive,
+               std::vector<PrimitiveSetup>& out);
+    // A line segment of RasterState::line_width, ES 3.0 §3.5 (see setup.cpp for the rule used).
+    void line(const float* p0, const float* p1, uint32_t i0, uint32_t i1, uint32_t primitive,
+              std::vector<PrimitiveSetup>& out);
+
+    SetupStats stats;
+
+private:
+    struct WindowVertex {
+        int64_t X, Y;        // snapped, 1/256 pixel
+        double z, inv_w;     // window z, 1/w_clip
+        double weight[3];
+    };
+    WindowVertex project(const ClipVertex& v) const;
+    void emit_triangle(WindowVertex v0, WindowVertex v1, WindowVertex v2, int64_t area2,
+                       bool front, const uint32_t vertex[3], uint32_t primitive,
+                       std::vector<PrimitiveSetup>& out);
+    bool finish_bbox(PrimitiveSetup& s, int64_t xmin, int64_t ymin, int64_t xmax, int64_t ymax);
+    double resolvable_difference(double max_abs_z) const;
+
+    RasterState state_;
+    Clipper clipper_;
+};
+
+}  // namespace softgl

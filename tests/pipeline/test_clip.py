@@ -1,0 +1,155 @@
+"""Homogeneous clipping: vertices behind the eye, w -> 0+, huge coordinates, NaN/Inf, near/far,
+watertight clipped meshes. Reference: for each pixel centre, solve for the barycentrics b of the
+point of the (homogeneous) triangle that the pixel sees; the pixel is covered when b >= 0, w > 0 and
+-w <= z <= w (ES 3.0 §2.17). Pixels within a small margin of any boundary are not compared."""
+import numpy as np
+import pytest
+
+from conftest import coverage
+
+W = H = 48
+MARGIN = 2e-3
+
+
+def analytic(clip, width=W, height=H):
+    c = np.asarray(clip, np.float32).astype(np.float64)
+    py, px = np.mgrid[0:height, 0:width] + 0.5
+    nx, ny = 2 * px / width - 1, 2 * py / height - 1
+    cov = np.zeros((height, width), bool)
+    sure = np.zeros((height, width), bool)
+    bary = np.zeros((height, width, 3))
+    for y in range(height):
+        for x in range(width):
+            a = np.array([c[:, 0] - nx[y, x] * c[:, 3], c[:, 1] - ny[y, x] * c[:, 3], np.ones(3)])
+            try:
+                b = np.linalg.solve(a, [0, 0, 1])
+            except np.linalg.LinAlgError:
+                continue
+            p = b @ c
+            # Scale-free distances to each boundary, relative to the point's w.
+            d = np.concatenate([b / np.abs(b).sum(), [(p[3] + p[2]) / abs(p[3]) if p[3] else -1,
+                                                     (p[3] - p[2]) / abs(p[3]) if p[3] else -1]])
+            inside = p[3] > 0 and (d >= 0).all()
+            cov[y, x] = inside
+            sure[y, x] = np.abs(d).min() > MARGIN
+            bary[y, x] = b
+    return cov, sure, bary
+
+
+def check(clip, **kw):
+    r = coverage(W, H, clip, **kw)
+    cov, sure, bary = analytic(clip)
+    got = r["count"][..., 0]
+    assert got.max() <= 1
+    np.testing.assert_array_equal(got[sure], cov[sure].astype(np.uint32))
+    both = sure & cov
+    np.testing.assert_allclose(r["weights"][both], bary[both], atol=5e-3)
+    return r
+
+
+def test_vertex_behind_the_eye():
+    # A floor plane in perspective, one vertex behind the camera (w < 0).
+    clip = [[-3.0, -1.0, 2.0, 3.0], [3.0, -1.0, 2.0, 3.0], [0.0, -1.0, -2.2, -2.0]]
+    r = check(clip)
+    assert r["setup"]["clipped"] == 1 and r["count"].sum() > 50
+
+
+@pytest.mark.parametrize("seed", range(20))
+def test_random_triangles_crossing_w_zero_and_near_far(seed):
+    rng = np.random.default_rng(seed)
+    clip = rng.uniform(-2, 2, (3, 4))
+    clip[:, 3] = rng.uniform(-1, 2, 3)
+    check(clip.astype(np.float32))
+
+
+@pytest.mark.parametrize("w", [1e-3, 1e-7, 1e-20, 1e-38])
+def test_w_approaching_zero(w):
+    # One vertex at a tiny positive w: its window position is astronomically far away.
+    clip = [[-0.5, -0.5, 0, 1], [0.5, -0.6, 0, 1], [0.3 * w, 0.9 * w, 0, w]]
+    r = check(clip)
+    assert r["count"].sum() > 0
+
+
+@pytest.mark.parametrize("big", [2.0 ** 20, 2.0 ** 24, -(2.0 ** 24), 1e30])
+def test_huge_coordinates(big):
+    clip = [[-0.9, -0.9, 0, 1], [big, -0.7, 0, 1], [-0.8, 0.9, 0, 1]]
+    check(clip)
+    clip = [[big, big, 0, 1], [-big, big * 0.5, 0, 1], [0.1, -big, 0, 1]]
+    check(clip)
+    # An edge from -big to +big through the screen: its guard-band intersections are tiny
+    # compared with its endpoints (catastrophic cancellation for plain interpolation).
+    clip = [[-big, -big, 0, 1], [big, big, 0, 1], [-big, big, 0, 1]]
+    r = check(clip)
+    assert r["count"].sum() > W * H / 3
+
+
+@pytest.mark.parametrize("bad", [np.nan, np.inf, -np.inf])
+@pytest.mark.parametrize("component", range(4))
+def test_non_finite_vertices_drop_the_primitive(bad, component):
+    clip = np.array([[-0.9, -0.9, 0, 1], [0.9, -0.9, 0, 1], [0, 0.9, 0, 1],
+                     [-0.5, -0.5, 0, 1], [0.5, -0.5, 0, 1], [0, 0.5, 0, 1]], np.float32)
+    clip[1, component] = bad
+    r = coverage(W, H, clip)
+    assert r["setup"]["invalid"] == 1
+    assert (r["last"][r["count"][..., 0] > 0] == 1).all()
+    for prim, n in (("lines", 2), ("points", 1)):
+        r = coverage(W, H, clip[:n * (6 // n)], primitive=prim)
+        assert r["setup"]["invalid"] == 1
+
+
+def test_entirely_behind_or_beyond_is_dropped():
+    behind = [[-1, -1, 0, -1], [1, -1, 0, -1], [0, 1, 0, -1]]
+    beyond_far = [[-1, -1, 2, 1], [1, -1, 3, 1], [0, 1, 2, 1]]
+    zero = [[0, 0, 0, 0], [0, 0, 0, 0], [0, 0, 0, 0]]
+    r = coverage(W, H, np.array(behind + beyond_far + zero, np.float32))
+    assert r["count"].sum() == 0 and r["setup"]["outside"] == 3
+
+
+def test_near_far_clipping_depth():
+    # A triangle spanning z from -3w to 3w: only the part with |z| <= w remains; depth in [0, 1].
+    clip = [[-0.9, -0.9, -3, 1], [0.9, -0.9, -3, 1], [0, 0.9, 3, 1]]
+    r = check(clip)
+    d = r["depth"][r["count"] > 0]
+    assert d.min() >= 0 and d.max() <= 1
+    rows = np.nonzero(r["count"][..., 0].any(1))[0]
+    # z_ndc = -3 + 6 * (y_ndc + 0.9) / 1.8 is inside [-1, 1] for y_ndc in [-0.3, 0.3].
+    assert rows.min() >= int((0.7 / 2) * H) - 1 and rows.max() <= int((1.3 / 2) * H)
+
+
+@pytest.mark.parametrize("seed", range(5))
+def test_clipped_mesh_is_watertight(seed):
+    """A perspective grid that passes behind the eye and through near/far: shared clipped edges
+    produce identical points, so no cracks and no double hits."""
+    rng = np.random.default_rng(seed)
+    n = 16
+    gx, gz = np.meshgrid(np.linspace(-6, 6, n + 1), np.linspace(-4, 30, n + 1))
+    gx = gx + rng.uniform(-0.1, 0.1, gx.shape)
+    # Eye at the origin looking down -z... in clip space: x, y=-1 (floor), z mapped, w = -z_eye.
+    z_eye = -gz
+    near, far = 0.5, 20.0
+    zc = -(far + near) / (far - near) * z_eye - 2 * far * near / (far - near)
+    clip = np.stack([gx, np.full_like(gx, -1.0), zc, -z_eye], -1).reshape(-1, 4).astype(np.float32)
+    idx = np.arange((n + 1) ** 2).reshape(n + 1, n + 1)
+    tris = []
+    for j in range(n):
+        for i in range(n):
+            a, b, c, d = idx[j, i], idx[j, i + 1], idx[j + 1, i], idx[j + 1, i + 1]
+            tris += [(a, b, d), (a, d, c)]
+    r = coverage(W, H, clip, indices=np.array(tris, np.uint32))
+    count = r["count"][..., 0]
+    assert count.max() == 1
+    assert r["setup"]["clipped"] > 0
+    # The union is a single planar region: compare with the analytic floor between near and far.
+    py, px = np.mgrid[0:H, 0:W] + 0.5
+    ny = 2 * py / H - 1
+    nx = 2 * px / W - 1
+    # Floor point seen by the pixel: y_clip = -1 = ny * w  ->  w = -1 / ny (ny < 0).
+    with np.errstate(divide="ignore", invalid="ignore"):
+        w = -1.0 / ny
+        x = nx * w
+        zn = (-(far + near) / (far - near) * (-w) - 2 * far * near / (far - near)) / w
+        inside = (ny < 0) & (w > 0) & (w <= 30) & (np.abs(zn) <= 1) & (np.abs(x) <= 6)
+        edge = ((np.abs(w - 30) < 1) | (np.abs(np.abs(zn) - 1) < 1e-3)
+                | (np.abs(np.abs(x) - 6) < 0.4))
+    sure = ~edge
+    np.testing.assert_array_equal(count[sure], inside[sure].astype(np.uint32))

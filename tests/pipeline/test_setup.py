@@ -1,0 +1,153 @@
+"""Face determination and culling, zero-area triangles, depth planes, polygon offset, viewport and
+depth range, scissor."""
+import numpy as np
+import pytest
+
+from conftest import (GL_BACK, GL_CCW, GL_CW, GL_FRONT, GL_FRONT_AND_BACK, clip_from_window,
+                      coverage, snap, window_from_clip)
+
+W = H = 32
+CCW_TRI = [(2.3, 3.1), (14.7, 4.2), (6.1, 13.9)]        # left half, counter-clockwise
+CW_TRI = [(18.3, 3.1), (22.1, 13.9), (30.7, 4.2)]       # right half, clockwise
+
+
+@pytest.mark.parametrize("front_face", [GL_CCW, GL_CW])
+@pytest.mark.parametrize("cull", [None, GL_FRONT, GL_BACK, GL_FRONT_AND_BACK])
+def test_culling(front_face, cull):
+    r = coverage(W, H, clip_from_window(CCW_TRI + CW_TRI, W, H), cull_face=cull,
+                 front_face=front_face)
+    ccw_front = front_face == GL_CCW
+    drawn = {0: cull is None or (cull == GL_BACK) == ccw_front,
+             1: cull is None or (cull == GL_BACK) != ccw_front}
+    if cull == GL_FRONT_AND_BACK:
+        drawn = {0: False, 1: False}
+    for tri in (0, 1):
+        hit = r["last"] == tri
+        assert hit.any() == drawn[tri]
+        if drawn[tri]:
+            assert (r["front"][hit] == (ccw_front if tri == 0 else not ccw_front)).all()
+    assert r["setup"]["culled"] == 2 - sum(drawn.values())
+
+
+def test_zero_area_triangles_never_reach_tiles():
+    tris = [[(1.5, 1.5), (20.5, 20.5), (10.5, 10.5)],       # collinear
+            [(5.0, 5.0), (5.0, 5.0), (9.0, 2.0)],            # repeated vertex
+            [(3.0, 3.0), (3.001, 3.001), (3.0005, 3.0005)]]  # collapses when snapped
+    r = coverage(W, H, clip_from_window(sum(tris, []), W, H))
+    assert r["count"].sum() == 0
+    assert r["setup"]["zero_area"] == 3 and r["setup"]["emitted"] == 0
+    assert r["raster"]["quads"] == 0
+
+
+def ref_depth(fixed, z, X, Y):
+    """float64 screen-linear interpolation of z at fixed-point (X, Y)."""
+    (x0, y0), (x1, y1), (x2, y2) = fixed.astype(np.float64)
+    area = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0)
+    l1 = ((X - x0) * (y2 - y0) - (x2 - x0) * (Y - y0)) / area
+    l2 = ((x1 - x0) * (Y - y0) - (X - x0) * (y1 - y0)) / area
+    return z[0] + l1 * (z[1] - z[0]) + l2 * (z[2] - z[0])
+
+
+def random_triangle(rng, z_range=(-1, 1)):
+    xy = rng.uniform(-4, W + 4, (3, 2))
+    z = rng.uniform(*z_range, 3)
+    w = rng.uniform(0.5, 3, 3)
+    return clip_from_window(xy, W, H, z=z, w=w)
+
+
+@pytest.mark.parametrize("depth_range", [(0, 1), (0.25, 0.75), (1, 0), (0.5, 0.5)])
+@pytest.mark.parametrize("seed", range(5))
+def test_depth_is_screen_linear(seed, depth_range):
+    rng = np.random.default_rng(seed)
+    clip = random_triangle(rng)
+    r = coverage(W, H, clip, depth_range=depth_range)
+    n, f = depth_range
+    c64 = clip.astype(np.float64)
+    zw = (f - n) / 2 * (c64[:, 2] / c64[:, 3]) + (n + f) / 2
+    fixed = snap(window_from_clip(clip, W, H))
+    ys, xs = np.nonzero(r["count"][..., 0])
+    assert len(ys) > 0
+    expect = np.clip(ref_depth(fixed, zw, xs * 256 + 128, ys * 256 + 128), 0, 1)
+    np.testing.assert_allclose(r["depth"][ys, xs, 0], expect, rtol=0, atol=1e-12)
+
+
+@pytest.mark.parametrize("factor,units", [(0, 0), (1, 1), (-2, 5), (4, -100), (0, 1e7), (0, -1e7)])
+@pytest.mark.parametrize("depth_bits", [16, 24])
+def test_polygon_offset(factor, units, depth_bits):
+    rng = np.random.default_rng(int(abs(factor) * 7 + abs(units) % 97))
+    clip = random_triangle(rng, (-0.5, 0.5))
+    r0 = coverage(W, H, clip)
+    r = coverage(W, H, clip, polygon_offset=(factor, units), depth_bits=depth_bits)
+    np.testing.assert_array_equal(r["count"], r0["count"])
+    c64 = clip.astype(np.float64)
+    zw = 0.5 * (c64[:, 2] / c64[:, 3]) + 0.5
+    fixed = snap(window_from_clip(clip, W, H))
+    # Slopes of the depth plane, per pixel (ES 3.0 §3.6.5).
+    (x0, y0), (x1, y1), (x2, y2) = fixed / 256.0
+    det = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0)
+    dzdx = ((zw[1] - zw[0]) * (y2 - y0) - (zw[2] - zw[0]) * (y1 - y0)) / det
+    dzdy = ((zw[2] - zw[0]) * (x1 - x0) - (zw[1] - zw[0]) * (x2 - x0)) / det
+    o = max(abs(dzdx), abs(dzdy)) * factor + units / (2.0 ** depth_bits - 1)
+    ys, xs = np.nonzero(r["count"][..., 0])
+    expect = np.clip(ref_depth(fixed, zw, xs * 256 + 128, ys * 256 + 128) + o, 0, 1)
+    np.testing.assert_allclose(r["depth"][ys, xs, 0], expect, rtol=0, atol=1e-9)
+
+
+def test_polygon_offset_float_depth_uses_exponent_of_max_z():
+    clip = clip_from_window([(2, 2), (30, 3), (5, 29)], W, H, z=[0.2, 0.2, 0.2])
+    r = coverage(W, H, clip, polygon_offset=(0, 3), depth_bits=0)
+    zw = 0.5 * np.float64(np.float32(0.2)) + 0.5        # 0.6: exponent -1, r = 2^-24
+    d = r["depth"][r["count"] > 0]
+    np.testing.assert_allclose(d, zw + 3 * 2.0 ** -24, rtol=0, atol=1e-15)
+
+
+def test_polygon_offset_applies_to_triangles_only():
+    pts = clip_from_window([(8.5, 8.5)], W, H, z=0.0)
+    r = coverage(W, H, pts, primitive="points", polygon_offset=(0, 1e6))
+    assert r["depth"][8, 8, 0] == 0.5
+
+
+def test_viewport_maps_ndc():
+    clip = np.array([[-1, -1, 0, 1], [1, -1, 0, 1], [1, 1, 0, 1], [-1, -1, 0, 1], [1, 1, 0, 1],
+                     [-1, 1, 0, 1]], np.float32)
+    r = coverage(W, H, clip, viewport=(5, 7, 10, 20))
+    expect = np.zeros((H, W), np.uint32)
+    expect[7:27, 5:15] = 1
+    np.testing.assert_array_equal(r["count"][..., 0], expect)
+
+
+def test_scissor_limits_coverage():
+    clip = np.array([[-1, -1, 0, 1], [3, -1, 0, 1], [-1, 3, 0, 1]], np.float32)
+    r = coverage(W, H, clip, scissor=(3, 4, 9, 7))
+    expect = np.zeros((H, W), np.uint32)
+    expect[4:11, 3:12] = 1
+    np.testing.assert_array_equal(r["count"][..., 0], expect)
+
+
+def test_perspective_correct_weights():
+    """Weights at pixel centres are the barycentrics of the 3D point the pixel sees."""
+    rng = np.random.default_rng(3)
+    for _ in range(10):
+        clip = random_triangle(rng, (-0.9, 0.9))
+        r = coverage(W, H, clip)
+        c = clip.astype(np.float64)
+        ys, xs = np.nonzero(r["count"][..., 0])
+        for y, x in zip(ys, xs):
+            nx, ny = 2 * (x + 0.5) / W - 1, 2 * (y + 0.5) / H - 1
+            a = np.array([c[:, 0] - nx * c[:, 3], c[:, 1] - ny * c[:, 3], np.ones(3)])
+            b = np.linalg.solve(a, [0, 0, 1])
+            # Snapping moves vertices by up to 1/512 px: weights agree to about that.
+            np.testing.assert_allclose(r["weights"][y, x], b, atol=3e-3)
+
+
+def test_point_coord_and_wide_point_off_screen():
+    """gl_PointCoord (ES 3.0 §3.4.1): s grows to the right, t grows downwards, evaluated at pixel
+    centres; a point whose centre is off-screen still draws its visible part."""
+    pts = clip_from_window([(8.5, 8.5), (-1.0, 20.0)], W, H)
+    r = coverage(W, H, pts, primitive="points", point_sizes=np.array([4, 6], np.float32))
+    ys, xs = np.nonzero(r["last"] == 0)
+    assert len(ys) == 16
+    np.testing.assert_allclose(r["point_coord"][ys, xs, 0], 0.5 + (xs + 0.5 - 8.5) / 4)
+    np.testing.assert_allclose(r["point_coord"][ys, xs, 1], 0.5 - (ys + 0.5 - 8.5) / 4)
+    ys, xs = np.nonzero(r["last"] == 1)
+    assert sorted(set(xs)) == [0, 1] and sorted(set(ys)) == list(range(17, 23))
