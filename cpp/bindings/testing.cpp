@@ -7,7 +7,10 @@
 #include <glm/glm.hpp>
 #include <glm/gtc/matrix_transform.hpp>
 
+#include "softgl/api/context.h"
 #include "softgl/pipeline/assemble.h"
+#include "softgl/pipeline/draw.h"
+#include "softgl/pipeline/passthrough_shaders.h"
 #include "softgl/pipeline/blend.h"
 #include "softgl/pipeline/depth_stencil.h"
 
@@ -29,6 +32,95 @@ glm::vec3 vec3(const std::array<float, 3>& v) { return glm::vec3(v[0], v[1], v[2
 
 void bind_testing(py::module_& m) {
     auto t = m.def_submodule("testing", "single pipeline stages, for tests");
+    // A draw through the whole pipeline with the C++ passthrough shaders, using the context's
+    // state and drawing buffer: positions (N, 4) and colors (N, 4) float32 as attributes 0 and 1.
+    t.def("draw_passthrough",
+          [](softgl::Context& ctx, uint32_t mode, py::array_t<float, py::array::c_style | py::array::forcecast> positions,
+             py::array_t<float, py::array::c_style | py::array::forcecast> colors, py::object indices,
+             float discard_below, bool depth_from_red, uint32_t instances, py::object point_sizes) {
+              const size_t n = size_t(positions.shape(0));
+              if (positions.ndim() != 2 || positions.shape(1) != 4 || colors.ndim() != 2 ||
+                  colors.shape(1) != 4 || size_t(colors.shape(0)) != n)
+                  throw py::value_error("positions and colors must be (N, 4)");
+              softgl::VertexArray vao;
+              auto make_buffer = [](const void* data, size_t bytes) {
+                  auto b = std::make_shared<softgl::Buffer>();
+                  b->data.assign(static_cast<const uint8_t*>(data), static_cast<const uint8_t*>(data) + bytes);
+                  return b;
+              };
+              auto attach = [&](int loc, std::shared_ptr<softgl::Buffer> b, int size) {
+                  auto& a = vao.attribs[size_t(loc)];
+                  a.enabled = true;
+                  a.size = size;
+                  a.buffer = std::move(b);
+              };
+              attach(0, make_buffer(positions.data(), n * 16), 4);
+              attach(1, make_buffer(colors.data(), n * 16), 4);
+              int point_size_location = -1;
+              if (!point_sizes.is_none()) {
+                  auto ps = point_sizes.cast<py::array_t<float, py::array::c_style | py::array::forcecast>>();
+                  if (size_t(ps.size()) != n) throw py::value_error("point_sizes must have N values");
+                  attach(2, make_buffer(ps.data(), n * 4), 1);
+                  point_size_location = 2;
+              }
+              std::vector<uint32_t> index_list;
+              softgl::DrawCall call;
+              call.mode = mode;
+              call.instance_count = instances;
+              if (!indices.is_none()) {
+                  index_list = indices.cast<std::vector<uint32_t>>();
+                  for (uint32_t i : index_list)
+                      if (i >= n) throw py::value_error("index out of range");
+                  call.indices = index_list.data();
+                  call.count = uint32_t(index_list.size());
+              } else {
+                  call.count = uint32_t(n);
+              }
+              softgl::PassthroughVertexShader vs(point_size_location);
+              softgl::ColorFragmentShader fs(discard_below, depth_from_red);
+              softgl::DrawStats stats;
+              {
+                  py::gil_scoped_release release;
+                  softgl::DrawInputs in{ctx.state(), vao, ctx.current_attribs(), vs, fs, ctx.framebuffer(), ctx.pool()};
+                  softgl::draw(in, call, stats);
+              }
+              py::dict d;
+              d["vertices_shaded"] = stats.vertices_shaded;
+              d["primitives"] = stats.primitives;
+              d["primitives_culled"] = stats.primitives_culled;
+              d["quads"] = stats.quads;
+              d["fragments_shaded"] = stats.fragments_shaded;
+              d["fragments_killed_early"] = stats.fragments_killed_early;
+              d["fragments_killed_late"] = stats.fragments_killed_late;
+              d["fragments_discarded"] = stats.fragments_discarded;
+              d["samples_written"] = stats.samples_written;
+              d["samples_blended"] = stats.samples_blended;
+              d["draws_skipped_no_output"] = stats.draws_skipped_no_output;
+              d["draws_early_depth"] = stats.draws_early_depth;
+              d["draws_plain_write"] = stats.draws_plain_write;
+              return d;
+          },
+          py::arg("ctx"), py::arg("mode"), py::arg("positions"), py::arg("colors"), py::arg("indices") = py::none(),
+          py::arg("discard_below") = -1.0f, py::arg("depth_from_red") = false, py::arg("instances") = 1,
+          py::arg("point_sizes") = py::none());
+    t.def("read_depth", [](softgl::Context& ctx) {
+        auto& fb = ctx.framebuffer();
+        const int S = fb.config().samples;
+        py::array_t<uint32_t> out({py::ssize_t(fb.height()), py::ssize_t(fb.width()), py::ssize_t(S)});
+        for (int y = 0; y < fb.height(); ++y)
+            for (int x = 0; x < fb.width(); ++x)
+                for (int s = 0; s < S; ++s) *out.mutable_data(y, x, s) = fb.depth_sample(x, y, s);
+        return out;
+    });
+    t.def("read_stencil", [](softgl::Context& ctx) {
+        auto& fb = ctx.framebuffer();
+        const int S = fb.config().samples;
+        py::array_t<uint8_t> out({py::ssize_t(fb.height()), py::ssize_t(fb.width()), py::ssize_t(S)});
+        for (int y = 0; y < fb.height(); ++y)
+            for (int x = 0; x < fb.width(); ++x)
+                for (int s = 0; s < S; ++s) *out.mutable_data(y, x, s) = fb.stencil_sample(x, y, s);
+        return out;
+    });
     t.def("assemble", [](uint32_t mode, uint32_t count) {
         std::vector<uint32_t> out;
         softgl::assemble(mode, count, out);

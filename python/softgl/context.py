@@ -66,7 +66,8 @@ class Context(_core.Context):
     WebGL's defaults (alpha, depth, stencil, antialias, premultipliedAlpha,
     preserveDrawingBuffer, powerPreference, failIfMajorPerformanceCaveat, desynchronized) and
     softgl's own options: ``version`` (1 or 2, default 2), ``samples`` (2, 4, 8 or 16 with
-    antialias; default 4) and ``strict`` (raise GLError instead of warning GLWarning).
+    antialias; default 4), ``threads`` (drawing threads, default one per core; the bytes drawn
+    never depend on it) and ``strict`` (raise GLError instead of warning GLWarning).
     """
 
     _version = None   # fixed by the subclasses
@@ -77,7 +78,8 @@ class Context(_core.Context):
         return _core.Context.__new__(cls)
 
     def __init__(self, width: int = 300, height: int = 150, *, version: int | None = None,
-                 samples: int | None = None, strict: bool = False, **attributes):
+                 samples: int | None = None, threads: int | None = None, strict: bool = False,
+                 **attributes):
         if version is None:
             version = self._version
         elif version != self._version and version in (1, 2):
@@ -94,6 +96,7 @@ class Context(_core.Context):
             setattr(attrs, name, attributes.get(name, default))
         attrs.version = version
         attrs.samples = 0 if samples is None else samples
+        attrs.threads = 0 if threads is None else threads
         if not (-2**31 <= width < 2**31 and -2**31 <= height < 2**31):
             raise ValueError(f"drawing buffer size {width}x{height} is out of range")
         reason = _core.check_context(width, height, attrs)

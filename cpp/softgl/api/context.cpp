@@ -50,6 +50,7 @@ std::string Context::check(int32_t width, int32_t height, const ContextAttribute
             return "samples must be 1, 2, 4, 8 or 16, got " + std::to_string(a.samples);
         if (a.samples > 1 && !a.antialias) return "samples > 1 needs antialias=True";
     }
+    if (a.threads < 0 || a.threads > 256) return "threads must be in [0, 256] (0 = one per core)";
     if (a.power_preference != "default" && a.power_preference != "low-power" &&
         a.power_preference != "high-performance")
         return "powerPreference must be 'default', 'low-power' or 'high-performance'";
@@ -470,6 +471,11 @@ bool Context::read_pixels(int32_t x, int32_t y, int32_t width, int32_t height, G
     }
     framebuffer_.read_rgba8(x, y, width, height, origin, stride);
     return true;
+}
+
+ThreadPool& Context::pool() {
+    if (!pool_) pool_ = std::make_unique<ThreadPool>(unsigned(std::max(0, attributes_.threads)));
+    return *pool_;
 }
 
 void Context::present() {

@@ -10,6 +10,8 @@
 #include "softgl/api/objects.h"
 #include "softgl/api/state.h"
 #include "softgl/api/value.h"
+#include "softgl/pipeline/draw.h"
+#include "softgl/runtime/thread_pool.h"
 #include "softgl/surface/framebuffer.h"
 
 namespace softgl {
@@ -27,6 +29,7 @@ struct ContextAttributes {
     // softgl's own options
     int version = 2;     // 1 = WebGL 1, 2 = WebGL 2
     int samples = 0;     // 0 = 4 when antialias, else 1; otherwise 2, 4, 8 or 16 (needs antialias)
+    int threads = 0;     // worker threads for drawing; 0 = one per core
 };
 
 // Limits softgl reports through getParameter.
@@ -59,6 +62,9 @@ public:
     int32_t drawing_buffer_width() const { return framebuffer_.width(); }
     int32_t drawing_buffer_height() const { return framebuffer_.height(); }
     const State& state() const { return state_; }
+    ThreadPool& pool();
+    DrawStats& stats() { return stats_; }
+    const std::array<CurrentAttrib, kMaxVertexAttribs>& current_attribs() const { return current_attribs_; }
     DefaultFramebuffer& framebuffer() { return framebuffer_; }
     ErrorState& errors() { return errors_; }
     // For errors found while converting arguments (e.g. a typed-array range out of bounds).
@@ -187,6 +193,9 @@ private:
         pixel_pack_buffer_, pixel_unpack_buffer_, uniform_buffer_, transform_feedback_buffer_;
     std::shared_ptr<VertexArray> default_vertex_array_, vertex_array_;
     std::array<CurrentAttrib, kMaxVertexAttribs> current_attribs_;
+
+    std::unique_ptr<ThreadPool> pool_;   // created at the first draw
+    DrawStats stats_;
 };
 
 std::string enum_name(uint32_t value);   // "BLEND" or "0x1234"

@@ -4,18 +4,10 @@ namespace softgl {
 
 bool valid_draw_mode(GLenum mode) { return mode <= gl::TRIANGLE_FAN; }
 
-PrimitiveKind primitive_kind(GLenum mode) {
-    switch (mode) {
-        case gl::POINTS: return PrimitiveKind::Points;
-        case gl::LINES: case gl::LINE_STRIP: case gl::LINE_LOOP: return PrimitiveKind::Lines;
-        default: return PrimitiveKind::Triangles;
-    }
-}
-
 int vertices_per_primitive(GLenum mode) {
-    switch (primitive_kind(mode)) {
-        case PrimitiveKind::Points: return 1;
-        case PrimitiveKind::Lines: return 2;
+    switch (mode) {
+        case gl::POINTS: return 1;
+        case gl::LINES: case gl::LINE_STRIP: case gl::LINE_LOOP: return 2;
         default: return 3;
     }
 }

@@ -11,10 +11,7 @@ namespace softgl {
 
 using GLenum = uint32_t;
 
-enum class PrimitiveKind { Points, Lines, Triangles };
-
-PrimitiveKind primitive_kind(GLenum mode);
-int vertices_per_primitive(GLenum mode);   // 1, 2 or 3
+int vertices_per_primitive(GLenum mode);   // 1 (points), 2 (lines) or 3 (triangles)
 bool valid_draw_mode(GLenum mode);
 
 // Appends, for `count` vertices numbered 0..count-1 in draw order, the vertex numbers of each

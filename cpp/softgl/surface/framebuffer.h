@@ -50,6 +50,13 @@ public:
     uint8_t* color_sample(int32_t x, int32_t y, int32_t s) {
         return &color_[(size_t(y) * config_.width + x) * config_.samples * 4 + size_t(s) * 4];
     }
+    // The pixel's samples in the depth / stencil buffer, or null when there is no such buffer.
+    uint32_t* depth_samples(int32_t x, int32_t y) {
+        return depth_.empty() ? nullptr : &depth_[(size_t(y) * config_.width + x) * config_.samples];
+    }
+    uint8_t* stencil_samples(int32_t x, int32_t y) {
+        return stencil_.empty() ? nullptr : &stencil_[(size_t(y) * config_.width + x) * config_.samples];
+    }
     uint32_t depth_sample(int32_t x, int32_t y, int32_t s) const {
         return depth_.empty() ? 0 : depth_[(size_t(y) * config_.width + x) * config_.samples + s];
     }

@@ -1,0 +1,54 @@
+// A draw call from shaded vertices to pixels: vertex fetch and shading, primitive assembly,
+// clip/setup, binning, then per tile on the thread pool: raster, early tests, fragment shading,
+// late tests, blending and the write (DESIGN §2). The API layer validates before calling here.
+#pragma once
+#include <array>
+#include <cstdint>
+
+#include "softgl/api/objects.h"
+#include "softgl/api/state.h"
+#include "softgl/pipeline/shader_stage.h"
+#include "softgl/runtime/thread_pool.h"
+#include "softgl/surface/framebuffer.h"
+
+namespace softgl {
+
+struct DrawCall {
+    GLenum mode = gl::TRIANGLES;
+    uint32_t first = 0;               // drawArrays
+    uint32_t count = 0;
+    const uint32_t* indices = nullptr;   // drawElements: `count` indices, already range-checked
+    uint32_t instance_count = 1;
+};
+
+// Counters for gl.stats(): what was done and what was skipped (DESIGN §4).
+struct DrawStats {
+    uint64_t draws = 0;
+    uint64_t vertices_shaded = 0;
+    uint64_t primitives = 0, primitives_culled = 0, primitives_clipped = 0,
+             primitives_outside = 0, primitives_invalid = 0, primitives_zero_area = 0,
+             primitives_rasterized = 0;
+    uint64_t tiles_touched = 0, quads = 0, blocks_accepted_whole = 0;
+    uint64_t fragments_shaded = 0;      // lanes run through the fragment shader (helpers included)
+    uint64_t fragments_killed_early = 0, fragments_killed_late = 0, fragments_discarded = 0;
+    uint64_t samples_written = 0, samples_blended = 0;
+    uint64_t draws_skipped_no_output = 0;  // nothing could change: no shading at all
+    uint64_t draws_early_depth = 0;        // depth/stencil tested before shading
+    uint64_t draws_plain_write = 0;        // blending off or ONE/ZERO/ADD: no destination read
+    double seconds_vertex = 0, seconds_setup = 0, seconds_fragment = 0;
+    void add(const DrawStats& o);
+};
+
+struct DrawInputs {
+    const State& state;
+    const VertexArray& vertex_array;
+    const std::array<CurrentAttrib, kMaxVertexAttribs>& current_attribs;
+    const VertexShader& vertex_shader;
+    const FragmentShader& fragment_shader;
+    DefaultFramebuffer& framebuffer;
+    ThreadPool& pool;
+};
+
+void draw(const DrawInputs& in, const DrawCall& call, DrawStats& stats);
+
+}  // namespace softgl

@@ -1,0 +1,66 @@
+// The pipeline's view of a linked program: a vertex stage and a fragment stage that run over many
+// lanes at once (structure of arrays). The GLSL executor implements these; tests may implement
+// them directly in C++ to exercise the fixed-function stages.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <vector>
+
+#include "softgl/api/objects.h"
+#include "softgl/pipeline/vertex_fetch.h"
+
+namespace softgl {
+
+// How the varyings a vertex shader writes are laid out: `words` 32-bit words per vertex; for each
+// word, whether it is flat (integers and `flat` qualifiers) and whether the fragment stage reads it.
+struct VaryingLayout {
+    int words = 0;
+    std::vector<uint8_t> flat;
+    std::vector<uint8_t> read_by_fragment;
+};
+
+struct VertexShaderOutputs {
+    size_t count = 0;
+    std::vector<float> position;      // gl_Position, 4 floats per vertex
+    std::vector<float> point_size;    // gl_PointSize per vertex (1 when not written)
+    std::vector<uint32_t> varyings;   // layout.words words per vertex (float or int bit patterns)
+};
+
+class VertexShader {
+public:
+    virtual ~VertexShader() = default;
+    virtual uint32_t used_attributes() const = 0;   // bit per attribute location
+    virtual const VaryingLayout& varying_layout() const = 0;
+    // Shades `count` vertices; attribs[loc] holds their attribute values for each used location;
+    // vertex_ids[v] is gl_VertexID. Must be safe to call from several threads at once.
+    virtual void run(const std::array<AttributeStream, kMaxVertexAttribs>& attribs, size_t count,
+                     const uint32_t* vertex_ids, uint32_t instance_id, VertexShaderOutputs& out) const = 0;
+};
+
+// Fragments of whole 2x2 quads: lane 4*q + j is pixel j (dx = j & 1, dy = j >> 1) of quad q, so
+// that derivatives are differences within a quad. Arrays are [component][lane].
+struct FragmentBatch {
+    size_t lanes = 0;
+    std::vector<uint32_t> varyings;    // [word * lanes + lane]
+    std::vector<float> frag_coord;     // [c * lanes + lane], c = x, y, z, w
+    std::vector<uint8_t> front_facing; // [lane]
+    std::vector<float> point_coord;    // [c * lanes + lane], c = s, t
+    std::vector<uint8_t> covered;      // [lane]: 0 for helper lanes (shaded only for derivatives)
+};
+
+struct FragmentResults {
+    std::vector<float> color;          // [c * lanes + lane] for color output 0
+    std::vector<float> depth;          // [lane], when the shader writes gl_FragDepth
+    std::vector<uint8_t> killed;       // [lane], 1 where the shader discarded
+};
+
+class FragmentShader {
+public:
+    virtual ~FragmentShader() = default;
+    virtual bool may_discard() const = 0;
+    virtual bool writes_depth() const = 0;
+    // Must be safe to call from several threads at once (each with its own batch and results).
+    virtual void run(const FragmentBatch& batch, FragmentResults& out) const = 0;
+};
+
+}  // namespace softgl
