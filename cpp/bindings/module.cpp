@@ -5,9 +5,11 @@ namespace py = pybind11;
 
 void bind_enums(py::module_& m);
 void bind_context(py::module_& m);
+void bind_glsl(py::module_& m);
 
 PYBIND11_MODULE(_core, m) {
     m.doc() = "softgl's C++ core (use the softgl package, not this module)";
     bind_enums(m);
     bind_context(m);
+    bind_glsl(m);
 }
