@@ -7,6 +7,7 @@ void bind_enums(py::module_& m);
 void bind_context(py::module_& m);
 void bind_testing(py::module_& m);
 void bind_raster(py::module_& m);
+void bind_glsl(py::module_& m);
 
 PYBIND11_MODULE(_core, m) {
     m.doc() = "softgl's C++ core (use the softgl package, not this module)";
@@ -14,4 +15,5 @@ PYBIND11_MODULE(_core, m) {
     bind_context(m);
     bind_testing(m);
     bind_raster(m);
+    bind_glsl(m);
 }

@@ -1,0 +1,541 @@
+#include "softgl/glsl/executor.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <limits>
+
+namespace softgl::glsl {
+namespace {
+
+// ---- per-lane semantics shared by every lane loop (ES 3.00 §8 definitions) ----
+inline float f_sign(float x) { return x > 0.0f ? 1.0f : (x < 0.0f ? -1.0f : x); }
+inline float f_min(float x, float y) { return y < x ? y : x; }   // min(x, y) = y < x ? y : x
+inline float f_max(float x, float y) { return x < y ? y : x; }   // max(x, y) = x < y ? y : x
+inline float f_clamp(float x, float lo, float hi) { return f_min(f_max(x, lo), hi); }
+inline float f_mod(float x, float y) { return x - y * std::floor(x / y); }
+inline float f_mix(float x, float y, float a) { return x * (1.0f - a) + y * a; }
+inline float f_step(float edge, float x) { return x < edge ? 0.0f : 1.0f; }
+inline float f_smoothstep(float e0, float e1, float x) {
+    float t = f_clamp((x - e0) / (e1 - e0), 0.0f, 1.0f);
+    return t * t * (3.0f - 2.0f * t);
+}
+inline int32_t i_div(int32_t a, int32_t b) {
+    if (b == 0) return 0;  // undefined in GLSL; softgl returns 0
+    if (a == std::numeric_limits<int32_t>::min() && b == -1) return a;
+    return a / b;
+}
+inline int32_t i_mod(int32_t a, int32_t b) {
+    if (b == 0 || (a == std::numeric_limits<int32_t>::min() && b == -1)) return 0;
+    return a % b;
+}
+// Float -> integer conversions saturate (and NaN -> 0 or INT_MIN), matching the checker's folding.
+inline int32_t f_to_i(float x) {
+    if (!(std::fabs(x) < 2147483648.0f)) return x > 0 ? std::numeric_limits<int32_t>::max() : std::numeric_limits<int32_t>::min();
+    return static_cast<int32_t>(x);
+}
+inline uint32_t f_to_u(float x) {
+    if (!(x > -1.0f)) return 0;
+    if (!(x < 4294967296.0f)) return std::numeric_limits<uint32_t>::max();
+    return static_cast<uint32_t>(x);
+}
+inline uint32_t float_to_half(float value) {
+    uint32_t bits;
+    std::memcpy(&bits, &value, 4);
+    uint32_t sign = (bits >> 16) & 0x8000u;
+    uint32_t exponent = (bits >> 23) & 0xffu;
+    uint32_t mantissa = bits & 0x7fffffu;
+    if (exponent == 0xff) return sign | 0x7c00u | (mantissa ? 0x200u : 0u);
+    int e = static_cast<int>(exponent) - 127 + 15;
+    if (e >= 31) return sign | 0x7c00u;
+    if (e <= 0) {
+        if (e < -10) return sign;
+        mantissa |= 0x800000u;
+        int shift = 14 - e;
+        uint32_t half = mantissa >> shift;
+        uint32_t rest = mantissa & ((1u << shift) - 1);
+        uint32_t halfway = 1u << (shift - 1);
+        if (rest > halfway || (rest == halfway && (half & 1u))) ++half;
+        return sign | half;
+    }
+    uint32_t half = sign | (static_cast<uint32_t>(e) << 10) | (mantissa >> 13);
+    uint32_t rest = mantissa & 0x1fffu;
+    if (rest > 0x1000u || (rest == 0x1000u && (half & 1u))) ++half;  // round to nearest even
+    return half;
+}
+inline float half_to_float(uint32_t h) {
+    uint32_t sign = (h & 0x8000u) << 16;
+    uint32_t exponent = (h >> 10) & 0x1fu;
+    uint32_t mantissa = h & 0x3ffu;
+    uint32_t bits;
+    if (exponent == 0) {
+        if (mantissa == 0) bits = sign;
+        else {
+            int e = -1;
+            do { ++e; mantissa <<= 1; } while (!(mantissa & 0x400u));
+            bits = sign | (static_cast<uint32_t>(127 - 15 - e) << 23) | ((mantissa & 0x3ffu) << 13);
+        }
+    } else if (exponent == 31) {
+        bits = sign | 0x7f800000u | (mantissa << 13);
+    } else {
+        bits = sign | ((exponent + 127 - 15) << 23) | (mantissa << 13);
+    }
+    float f;
+    std::memcpy(&f, &bits, 4);
+    return f;
+}
+inline uint32_t pack_snorm16(float x) {
+    return static_cast<uint32_t>(static_cast<int32_t>(std::round(f_clamp(x, -1.0f, 1.0f) * 32767.0f))) & 0xffffu;
+}
+inline uint32_t pack_unorm16(float x) { return static_cast<uint32_t>(std::round(f_clamp(x, 0.0f, 1.0f) * 65535.0f)); }
+inline float unpack_snorm16(uint32_t v) {
+    return f_clamp(static_cast<float>(static_cast<int16_t>(static_cast<uint16_t>(v))) / 32767.0f, -1.0f, 1.0f);
+}
+inline float unpack_unorm16(uint32_t v) { return static_cast<float>(v & 0xffffu) / 65535.0f; }
+
+bool any_set(const uint32_t* m, int n) {
+    uint32_t acc = 0;
+    for (int l = 0; l < n; ++l) acc |= m[l];
+    return acc != 0;
+}
+bool all_set(const uint32_t* m, int n) {
+    uint32_t acc = ~0u;
+    for (int l = 0; l < n; ++l) acc &= m[l];
+    return acc == ~0u;
+}
+
+enum class FrameKind : uint8_t { If, Loop, Switch, Function };
+
+struct Frame {
+    FrameKind kind;
+    uint32_t* saved;  // mask at entry (minus lanes that left through an enclosing construct)
+    uint32_t* other;  // If: lanes for the else branch; Loop: lanes still looping
+    int begin;        // index of the opening instruction
+    bool in_else = false;
+    uint64_t iterations = 0;
+};
+
+}  // namespace
+
+Executor::Executor(const IrProgram& program, int batch_lanes) : program_(program) {
+    batch_ = std::max(4, (batch_lanes + 3) / 4 * 4);
+    registers_.assign(static_cast<size_t>(program.register_count) * batch_, Scalar{});
+    for (const ConstantRegister& c : program.constants) std::fill_n(reg(c.reg), batch_, c.value);
+    for (Reg r = 0; r < program.register_count; ++r)
+        if (program.is_variable[r]) variable_registers_.push_back(r);
+    int depth = 0;
+    for (const Instruction& i : program.code) {
+        if (i.op == Op::IfBegin || i.op == Op::LoopBegin || i.op == Op::SwitchBegin || i.op == Op::FunctionBegin) max_depth_ = std::max(max_depth_, ++depth);
+        if (i.op == Op::IfEnd || i.op == Op::LoopEnd || i.op == Op::SwitchEnd || i.op == Op::FunctionEnd) --depth;
+    }
+    mask_storage_.assign(static_cast<size_t>(2 * max_depth_ + 2) * batch_, 0);
+    scratch_.assign(static_cast<size_t>(6) * batch_, Scalar{});
+}
+
+void Executor::run(const StageRun& run) {
+    for (int first = 0; first < run.lane_count; first += batch_) run_batch(run, first, std::min(batch_, run.lane_count - first));
+}
+
+void Executor::run_batch(const StageRun& run, int first, int lanes) {
+    for (Reg r : variable_registers_) std::fill_n(reg(r), lanes, Scalar{});
+    for (size_t i = 0; i < program_.inputs.size(); ++i) {
+        const Scalar* src = run.inputs ? run.inputs[i] : nullptr;
+        if (src) std::memcpy(reg(program_.inputs[i].reg), src + first, sizeof(Scalar) * lanes);
+    }
+    execute(lanes, run);
+    for (size_t i = 0; i < program_.outputs.size(); ++i) {
+        Scalar* dst = run.outputs ? run.outputs[i] : nullptr;
+        if (dst) std::memcpy(dst + first, reg(program_.outputs[i].reg), sizeof(Scalar) * lanes);
+    }
+    if (run.discarded) {
+        const uint32_t* killed = mask_storage_.data() + static_cast<size_t>(2 * max_depth_ + 1) * batch_;
+        for (int l = 0; l < lanes; ++l) run.discarded[first + l] = killed[l] ? 1 : 0;
+    }
+}
+
+void Executor::execute(const int n, const StageRun& run) {
+    const std::vector<Instruction>& code = program_.code;
+    uint32_t* mask = mask_storage_.data();
+    uint32_t* killed = mask_storage_.data() + static_cast<size_t>(2 * max_depth_ + 1) * batch_;
+    std::fill_n(mask, n, ~0u);
+    std::fill_n(killed, n, 0u);
+    bool all = true;
+    std::vector<Frame> frames;
+    frames.reserve(max_depth_ + 1);
+    auto push = [&](FrameKind kind, int begin) -> Frame& {
+        size_t d = frames.size();
+        Frame f{kind, mask_storage_.data() + (2 * d + 1) * batch_, mask_storage_.data() + (2 * d + 2) * batch_, begin};
+        std::memcpy(f.saved, mask, sizeof(uint32_t) * n);
+        frames.push_back(f);
+        return frames.back();
+    };
+    auto set_mask = [&](const uint32_t* m) {
+        std::memcpy(mask, m, sizeof(uint32_t) * n);
+        all = all_set(mask, n);
+    };
+    // Where execution continues when no lane of the innermost construct is active any more.
+    auto skip_target = [&]() -> int {
+        const Frame& f = frames.back();
+        const Instruction& open = code[f.begin];
+        switch (f.kind) {
+        case FrameKind::If: return f.in_else ? code[open.target].target : open.target;  // IfEnd, or Else/IfEnd
+        case FrameKind::Loop: return open.imm[0];  // the continue point
+        default: return open.target;
+        }
+    };
+    // Lanes in `mask` leave every construct above frame index `target` (exclusive).
+    auto leave = [&](size_t target, bool clear_target_other) {
+        for (size_t k = target + 1; k < frames.size(); ++k) {
+            Frame& f = frames[k];
+            for (int l = 0; l < n; ++l) {
+                f.saved[l] &= ~mask[l];
+                if (f.kind == FrameKind::If || f.kind == FrameKind::Loop) f.other[l] &= ~mask[l];
+            }
+        }
+        if (clear_target_other)
+            for (int l = 0; l < n; ++l) frames[target].other[l] &= ~mask[l];
+        std::fill_n(mask, n, 0u);
+        all = false;
+    };
+
+#define LANES for (int l = 0; l < n; ++l)
+#define D reg(i.dst)
+#define A reg(i.a)
+#define B reg(i.b)
+#define C reg(i.c)
+#define F1(expr) { Scalar* d = D; const Scalar* a = A; LANES { float x = a[l].f; d[l].f = (expr); } break; }
+#define F2(expr) { Scalar* d = D; const Scalar* a = A; const Scalar* b = B; LANES { float x = a[l].f, y = b[l].f; d[l].f = (expr); } break; }
+#define F3(expr) { Scalar* d = D; const Scalar* a = A; const Scalar* b = B; const Scalar* c = C; LANES { float x = a[l].f, y = b[l].f, z = c[l].f; d[l].f = (expr); } break; }
+#define FB1(expr) { Scalar* d = D; const Scalar* a = A; LANES { float x = a[l].f; d[l].i = (expr) ? 1 : 0; } break; }
+#define FB2(expr) { Scalar* d = D; const Scalar* a = A; const Scalar* b = B; LANES { float x = a[l].f, y = b[l].f; d[l].i = (expr) ? 1 : 0; } break; }
+#define I1(expr) { Scalar* d = D; const Scalar* a = A; LANES { int32_t x = a[l].i; uint32_t ux = a[l].u; (void)ux; (void)x; d[l].i = (expr); } break; }
+#define I2(expr) { Scalar* d = D; const Scalar* a = A; const Scalar* b = B; LANES { int32_t x = a[l].i, y = b[l].i; uint32_t ux = a[l].u, uy = b[l].u; (void)x; (void)y; (void)ux; (void)uy; d[l].i = (expr); } break; }
+#define U2(expr) { Scalar* d = D; const Scalar* a = A; const Scalar* b = B; LANES { uint32_t x = a[l].u, y = b[l].u; d[l].u = (expr); } break; }
+#define I3(expr) { Scalar* d = D; const Scalar* a = A; const Scalar* b = B; const Scalar* c = C; LANES { int32_t x = a[l].i, y = b[l].i, z = c[l].i; d[l].i = (expr); } break; }
+#define U3(expr) { Scalar* d = D; const Scalar* a = A; const Scalar* b = B; const Scalar* c = C; LANES { uint32_t x = a[l].u, y = b[l].u, z = c[l].u; d[l].u = (expr); } break; }
+
+    const int count = static_cast<int>(code.size());
+    for (int pc = 0; pc < count; ++pc) {
+        const Instruction& i = code[pc];
+        switch (i.op) {
+        case Op::Mov: {
+            Scalar* d = D;
+            const Scalar* a = A;
+            if (all) { if (d != a) std::memcpy(d, a, sizeof(Scalar) * n); }
+            else LANES { d[l].u = (a[l].u & mask[l]) | (d[l].u & ~mask[l]); }
+            break;
+        }
+        case Op::FAdd: F2(x + y)
+        case Op::FSub: F2(x - y)
+        case Op::FMul: F2(x * y)
+        case Op::FDiv: F2(x / y)
+        case Op::FNeg: F1(-x)
+        case Op::FAbs: F1(std::fabs(x))
+        case Op::FSign: F1(f_sign(x))
+        case Op::FFloor: F1(std::floor(x))
+        case Op::FCeil: F1(std::ceil(x))
+        case Op::FFract: F1(x - std::floor(x))
+        case Op::FTrunc: F1(std::trunc(x))
+        case Op::FRound: F1(std::round(x))
+        case Op::FRoundEven: F1(std::nearbyint(x))
+        case Op::FMin: F2(f_min(x, y))
+        case Op::FMax: F2(f_max(x, y))
+        case Op::FMod: F2(f_mod(x, y))
+        case Op::FStep: F2(f_step(x, y))
+        case Op::FSqrt: F1(std::sqrt(x))
+        case Op::FInverseSqrt: F1(1.0f / std::sqrt(x))
+        case Op::FSin: F1(std::sin(x))
+        case Op::FCos: F1(std::cos(x))
+        case Op::FTan: F1(std::tan(x))
+        case Op::FAsin: F1(std::asin(x))
+        case Op::FAcos: F1(std::acos(x))
+        case Op::FAtan: F1(std::atan(x))
+        case Op::FAtan2: F2(std::atan2(x, y))
+        case Op::FSinh: F1(std::sinh(x))
+        case Op::FCosh: F1(std::cosh(x))
+        case Op::FTanh: F1(std::tanh(x))
+        case Op::FAsinh: F1(std::asinh(x))
+        case Op::FAcosh: F1(std::acosh(x))
+        case Op::FAtanh: F1(std::atanh(x))
+        case Op::FExp: F1(std::exp(x))
+        case Op::FLog: F1(std::log(x))
+        case Op::FExp2: F1(std::exp2(x))
+        case Op::FLog2: F1(std::log2(x))
+        case Op::FPow: F2(std::pow(x, y))
+        case Op::FClamp: F3(f_clamp(x, y, z))
+        case Op::FMix: F3(f_mix(x, y, z))
+        case Op::FSmoothstep: F3(f_smoothstep(x, y, z))
+        case Op::FIsNan: FB1(std::isnan(x))
+        case Op::FIsInf: FB1(std::isinf(x))
+        case Op::FLess: FB2(x < y)
+        case Op::FLessEqual: FB2(x <= y)
+        case Op::FGreater: FB2(x > y)
+        case Op::FGreaterEqual: FB2(x >= y)
+        case Op::FEqual: FB2(x == y)
+        case Op::FNotEqual: FB2(x != y)
+        case Op::IAdd: I2(static_cast<int32_t>(ux + uy))
+        case Op::ISub: I2(static_cast<int32_t>(ux - uy))
+        case Op::IMul: I2(static_cast<int32_t>(ux * uy))
+        case Op::IDiv: I2(i_div(x, y))
+        case Op::IMod: I2(i_mod(x, y))
+        case Op::INeg: I1(static_cast<int32_t>(0u - ux))
+        case Op::IAbs: I1(x < 0 ? static_cast<int32_t>(0u - ux) : x)
+        case Op::ISign: I1(x > 0 ? 1 : (x < 0 ? -1 : 0))
+        case Op::IMin: I2(y < x ? y : x)
+        case Op::IMax: I2(x < y ? y : x)
+        case Op::IClamp: I3(std::min(std::max(x, y), z))
+        case Op::ILess: I2(x < y)
+        case Op::ILessEqual: I2(x <= y)
+        case Op::IGreater: I2(x > y)
+        case Op::IGreaterEqual: I2(x >= y)
+        case Op::UDiv: U2(y == 0 ? 0u : x / y)
+        case Op::UMod: U2(y == 0 ? 0u : x % y)
+        case Op::UMin: U2(y < x ? y : x)
+        case Op::UMax: U2(x < y ? y : x)
+        case Op::UClamp: U3(std::min(std::max(x, y), z))
+        case Op::ULess: I2(ux < uy)
+        case Op::ULessEqual: I2(ux <= uy)
+        case Op::UGreater: I2(ux > uy)
+        case Op::UGreaterEqual: I2(ux >= uy)
+        case Op::BitAnd: U2(x & y)
+        case Op::BitOr: U2(x | y)
+        case Op::BitXor: U2(x ^ y)
+        case Op::BitNot: I1(static_cast<int32_t>(~ux))
+        case Op::ShiftLeft: U2(x << (y & 31u))
+        case Op::ShiftRightArithmetic: I2(x >> (uy & 31u))
+        case Op::ShiftRightLogical: U2(x >> (y & 31u))
+        case Op::Equal: I2(ux == uy)
+        case Op::NotEqual: I2(ux != uy)
+        case Op::BoolNot: I1(x == 0)
+        case Op::Select: U3(x ? y : z)
+        case Op::IntToFloat: { Scalar* d = D; const Scalar* a = A; LANES d[l].f = static_cast<float>(a[l].i); break; }
+        case Op::UintToFloat: { Scalar* d = D; const Scalar* a = A; LANES d[l].f = static_cast<float>(a[l].u); break; }
+        case Op::BoolToFloat: { Scalar* d = D; const Scalar* a = A; LANES d[l].f = a[l].i ? 1.0f : 0.0f; break; }
+        case Op::FloatToInt: { Scalar* d = D; const Scalar* a = A; LANES d[l].i = f_to_i(a[l].f); break; }
+        case Op::FloatToUint: { Scalar* d = D; const Scalar* a = A; LANES d[l].u = f_to_u(a[l].f); break; }
+        case Op::FloatToBool: FB1(x != 0.0f)
+        case Op::IntToBool: I1(x != 0)
+        case Op::PackSnorm2x16: { Scalar* d = D; const Scalar* a = A; const Scalar* b = B; LANES d[l].u = pack_snorm16(a[l].f) | (pack_snorm16(b[l].f) << 16); break; }
+        case Op::PackUnorm2x16: { Scalar* d = D; const Scalar* a = A; const Scalar* b = B; LANES d[l].u = pack_unorm16(a[l].f) | (pack_unorm16(b[l].f) << 16); break; }
+        case Op::PackHalf2x16: { Scalar* d = D; const Scalar* a = A; const Scalar* b = B; LANES d[l].u = float_to_half(a[l].f) | (float_to_half(b[l].f) << 16); break; }
+        case Op::UnpackSnorm2x16X: { Scalar* d = D; const Scalar* a = A; LANES d[l].f = unpack_snorm16(a[l].u & 0xffffu); break; }
+        case Op::UnpackSnorm2x16Y: { Scalar* d = D; const Scalar* a = A; LANES d[l].f = unpack_snorm16(a[l].u >> 16); break; }
+        case Op::UnpackUnorm2x16X: { Scalar* d = D; const Scalar* a = A; LANES d[l].f = unpack_unorm16(a[l].u & 0xffffu); break; }
+        case Op::UnpackUnorm2x16Y: { Scalar* d = D; const Scalar* a = A; LANES d[l].f = unpack_unorm16(a[l].u >> 16); break; }
+        case Op::UnpackHalf2x16X: { Scalar* d = D; const Scalar* a = A; LANES d[l].f = half_to_float(a[l].u & 0xffffu); break; }
+        case Op::UnpackHalf2x16Y: { Scalar* d = D; const Scalar* a = A; LANES d[l].f = half_to_float(a[l].u >> 16); break; }
+        case Op::DFdx:
+        case Op::DFdy: {
+            Scalar* d = D;
+            const Scalar* a = A;
+            const bool dx = i.op == Op::DFdx;
+            int quads = n / 4;
+            for (int q = 0; q < quads; ++q) {
+                const Scalar* v = a + 4 * q;
+                Scalar* o = d + 4 * q;
+                if (dx) {
+                    float top = v[1].f - v[0].f, bottom = v[3].f - v[2].f;
+                    o[0].f = top; o[1].f = top; o[2].f = bottom; o[3].f = bottom;
+                } else {
+                    float left = v[2].f - v[0].f, right = v[3].f - v[1].f;
+                    o[0].f = left; o[1].f = right; o[2].f = left; o[3].f = right;
+                }
+            }
+            for (int l = quads * 4; l < n; ++l) d[l].f = 0.0f;  // an incomplete quad has no derivative
+            break;
+        }
+        case Op::LoadIndexed: {
+            Scalar* d = D;
+            const Scalar* idx = B;
+            const int32_t start = i.imm[0], offset = i.imm[1], size = i.imm[2];
+            LANES {
+                int32_t k = std::min(std::max(offset + idx[l].i, 0), size - 1);
+                d[l] = reg(static_cast<Reg>(start + k))[l];
+            }
+            break;
+        }
+        case Op::StoreIndexed: {
+            const Scalar* src = A;
+            const Scalar* idx = B;
+            const int32_t start = i.imm[0], offset = i.imm[1], size = i.imm[2];
+            LANES {
+                if (!mask[l]) continue;
+                int32_t k = std::min(std::max(offset + idx[l].i, 0), size - 1);
+                reg(static_cast<Reg>(start + k))[l] = src[l];
+            }
+            break;
+        }
+        case Op::LoadUniform: {
+            Scalar v = run.uniforms ? run.uniforms[i.imm[0]] : Scalar{};
+            std::fill_n(D, n, v);
+            break;
+        }
+        case Op::LoadUniformIndexed: {
+            Scalar* d = D;
+            const Scalar* idx = B;
+            const int32_t start = i.imm[0], offset = i.imm[1], size = i.imm[2];
+            LANES {
+                int32_t k = std::min(std::max(offset + idx[l].i, 0), size - 1);
+                d[l] = run.uniforms ? run.uniforms[start + k] : Scalar{};
+            }
+            break;
+        }
+        case Op::Texture: texture(i, n, run); break;
+
+        // ---- control flow ----
+        case Op::IfBegin: {
+            Frame& f = push(FrameKind::If, pc);
+            const Scalar* c = A;
+            LANES {
+                uint32_t take = c[l].i ? ~0u : 0u;
+                f.other[l] = mask[l] & ~take;
+                mask[l] &= take;
+            }
+            all = all_set(mask, n);
+            if (!all && !any_set(mask, n)) pc = i.target - 1;  // to Else or IfEnd
+            break;
+        }
+        case Op::Else: {
+            Frame& f = frames.back();
+            f.in_else = true;
+            set_mask(f.other);
+            if (!all && !any_set(mask, n)) pc = i.target - 1;  // to IfEnd
+            break;
+        }
+        case Op::IfEnd:
+        case Op::SwitchEnd:
+        case Op::FunctionEnd:
+            set_mask(frames.back().saved);
+            frames.pop_back();
+            break;
+        case Op::SwitchBegin:
+        case Op::FunctionBegin:
+            push(i.op == Op::SwitchBegin ? FrameKind::Switch : FrameKind::Function, pc);
+            break;
+        case Op::LoopBegin: {
+            Frame& f = push(FrameKind::Loop, pc);
+            std::memcpy(f.other, mask, sizeof(uint32_t) * n);
+            break;
+        }
+        case Op::LoopBreakUnless: {
+            Frame& f = frames.back();
+            const Scalar* c = A;
+            LANES {
+                uint32_t stay = c[l].i ? ~0u : 0u;
+                mask[l] &= stay;
+                f.other[l] &= stay;
+            }
+            all = all_set(mask, n);
+            if (!any_set(f.other, n)) pc = code[f.begin].target - 1;  // to LoopEnd
+            break;
+        }
+        case Op::LoopContinuePoint: {
+            Frame& f = frames.back();
+            set_mask(f.other);
+            if (!all && !any_set(mask, n)) pc = code[f.begin].target - 1;
+            break;
+        }
+        case Op::LoopEnd: {
+            Frame& f = frames.back();
+            if (any_set(f.other, n)) {
+                if (++f.iterations > max_loop_iterations) throw ExecutionError("loop iteration limit exceeded");
+                set_mask(f.other);
+                pc = f.begin;  // continue after LoopBegin
+            } else {
+                set_mask(f.saved);
+                frames.pop_back();
+            }
+            break;
+        }
+        case Op::Break:
+        case Op::Continue:
+        case Op::Return: {
+            size_t t = frames.size();
+            while (t > 0) {
+                FrameKind k = frames[t - 1].kind;
+                if (i.op == Op::Break && (k == FrameKind::Loop || k == FrameKind::Switch)) break;
+                if (i.op == Op::Continue && k == FrameKind::Loop) break;
+                if (i.op == Op::Return && k == FrameKind::Function) break;
+                --t;
+            }
+            if (t == 0) break;  // cannot happen for checked programs
+            size_t target = t - 1;
+            bool clear_loop = i.op == Op::Break && frames[target].kind == FrameKind::Loop;
+            leave(target, clear_loop);
+            pc = skip_target() - 1;
+            break;
+        }
+        case Op::Discard: {
+            LANES killed[l] |= mask[l];
+            for (Frame& f : frames)
+                LANES { f.saved[l] &= ~mask[l]; f.other[l] &= ~mask[l]; }
+            std::fill_n(mask, n, 0u);
+            all = false;
+            if (all_set(killed, n)) return;  // every lane discarded
+            pc = skip_target() - 1;
+            break;
+        }
+        case Op::Count_: break;
+        }
+    }
+#undef LANES
+#undef D
+#undef A
+#undef B
+#undef C
+}
+
+void Executor::texture(const Instruction& ins, int n, const StageRun& run) {
+    const TextureOperands& t = program_.textures[ins.texture];
+    TextureQuery q;
+    q.kind = t.kind;
+    q.dim = t.dim;
+    q.shadow = t.shadow;
+    q.result = t.result;
+    q.lod_mode = t.lod_mode;
+    q.lane_count = n;
+    q.active = mask_storage_.data();
+    q.unit = reg(t.unit);
+    for (int k = 0; k < 3; ++k) q.coord[k] = t.coord[k] != kNoReg ? reg(t.coord[k]) : nullptr;
+    q.compare = t.compare != kNoReg ? reg(t.compare) : nullptr;
+    q.lod = t.lod != kNoReg ? reg(t.lod) : nullptr;
+    for (int k = 0; k < 3; ++k) q.offset[k] = t.offset[k];
+    for (int k = 0; k < 4; ++k) q.out[k] = t.dst[k] != kNoReg ? reg(t.dst[k]) : nullptr;
+    if (t.lod_mode == TextureLod::Gradient) {
+        for (int k = 0; k < 3; ++k) {
+            q.ddx[k] = t.grad_x[k] != kNoReg ? reg(t.grad_x[k]) : nullptr;
+            q.ddy[k] = t.grad_y[k] != kNoReg ? reg(t.grad_y[k]) : nullptr;
+        }
+    } else if (t.kind == TextureKind::Sample && (t.lod_mode == TextureLod::Implicit || t.lod_mode == TextureLod::Bias)) {
+        // Implicit derivatives: differences inside each quad (zero in vertex shaders).
+        for (int k = 0; k < 3; ++k) {
+            if (!q.coord[k]) continue;
+            Scalar* dx = scratch_.data() + static_cast<size_t>(2 * k) * batch_;
+            Scalar* dy = dx + batch_;
+            const Scalar* v = q.coord[k];
+            int quads = program_.fragment ? n / 4 : 0;
+            for (int qd = 0; qd < quads; ++qd) {
+                const Scalar* p = v + 4 * qd;
+                float top = p[1].f - p[0].f, bottom = p[3].f - p[2].f, left = p[2].f - p[0].f, right = p[3].f - p[1].f;
+                dx[4 * qd].f = top; dx[4 * qd + 1].f = top; dx[4 * qd + 2].f = bottom; dx[4 * qd + 3].f = bottom;
+                dy[4 * qd].f = left; dy[4 * qd + 1].f = right; dy[4 * qd + 2].f = left; dy[4 * qd + 3].f = right;
+            }
+            for (int l = quads * 4; l < n; ++l) { dx[l].f = 0.0f; dy[l].f = 0.0f; }
+            q.ddx[k] = dx;
+            q.ddy[k] = dy;
+        }
+    }
+    if (!run.sampler) {
+        // No textures bound: GL returns (0, 0, 0, 1) for incomplete textures.
+        for (int k = 0; k < 4; ++k)
+            if (q.out[k]) {
+                Scalar v{};
+                if (k == 3 && t.kind == TextureKind::Sample) { if (t.result == BaseType::Float) v.f = 1.0f; else v.i = 1; }
+                std::fill_n(q.out[k], n, v);
+            }
+        return;
+    }
+    run.sampler->sample(q);
+}
+
+}  // namespace softgl::glsl

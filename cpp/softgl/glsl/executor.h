@@ -1,0 +1,93 @@
+// The executor: runs an IrProgram over many lanes at once (SIMD over vertices or fragments).
+// Registers are arrays of `batch` lanes (structure of arrays); each instruction is one tight
+// loop over the lanes of a batch. Control flow is masked: lanes leave a branch, loop, function
+// or the whole program (discard) by clearing their bit in the execution mask.
+//
+// Fragment lanes arrive as 2x2 quads: lanes 4q+0, 4q+1, 4q+2, 4q+3 are the pixels (x, y),
+// (x+1, y), (x, y+1), (x+1, y+1). dFdx/dFdy (and the implicit LOD of texture lookups) are the
+// differences inside a quad: dFdx = row's right - left, dFdy = column's top - bottom (fine
+// derivatives). Lanes of a quad that are not covered (helpers) must still be supplied.
+//
+// Results never depend on the batch size or lane count: lanes are independent (except inside a
+// quad, and quads are never split as long as batch sizes are multiples of 4).
+#pragma once
+#include <cstdint>
+#include <stdexcept>
+#include <vector>
+
+#include "softgl/glsl/ir.h"
+
+namespace softgl::glsl {
+
+// ---- The texture interface the pipeline implements -------------------------------------
+struct TextureQuery {
+    TextureKind kind = TextureKind::Sample;
+    SamplerDim dim = SamplerDim::Tex2D;
+    bool shadow = false;
+    BaseType result = BaseType::Float;   // float, int or uint texels
+    TextureLod lod_mode = TextureLod::Implicit;
+    int lane_count = 0;
+    const uint32_t* active = nullptr;    // per lane: all ones if the lane's result is needed
+    const Scalar* unit = nullptr;        // per lane: texture unit (.i) from the sampler uniform
+    const Scalar* coord[3] = {nullptr, nullptr, nullptr};  // s, t, r/layer (.f; .i for Fetch)
+    const Scalar* compare = nullptr;     // shadow reference (.f)
+    const Scalar* lod = nullptr;         // bias (Bias), level (Explicit, Fetch, Size)
+    // Coordinate derivatives per lane: from the quad for Implicit/Bias in fragment shaders, the
+    // shader's for Gradient, zero in vertex shaders.
+    const Scalar* ddx[3] = {nullptr, nullptr, nullptr};
+    const Scalar* ddy[3] = {nullptr, nullptr, nullptr};
+    int offset[3] = {0, 0, 0};
+    Scalar* out[4] = {nullptr, nullptr, nullptr, nullptr};  // results (.f, .i or .u); Size: width, height, depth
+};
+
+class TextureSampler {
+public:
+    virtual ~TextureSampler() = default;
+    virtual void sample(const TextureQuery& query) = 0;
+};
+
+struct ExecutionError : std::runtime_error {
+    using std::runtime_error::runtime_error;
+};
+
+// One run of a stage over `lane_count` lanes.
+struct StageRun {
+    int lane_count = 0;
+    // program.inputs[i] reads inputs[i][lane] (nullptr: zero). Built-in fragment inputs:
+    // gl_FragCoord (4 slots), gl_FrontFacing (.i 0/1), gl_PointCoord (2 slots).
+    const Scalar* const* inputs = nullptr;
+    // program.outputs[i] is written to outputs[i][lane] (nullptr: not needed).
+    Scalar* const* outputs = nullptr;
+    const Scalar* uniforms = nullptr;  // the flat uniform buffer (reflection offsets)
+    TextureSampler* sampler = nullptr;
+    uint8_t* discarded = nullptr;      // fragment: set to 1 for lanes that executed discard
+};
+
+class Executor {
+public:
+    // batch_lanes: lanes per register (rounded up to a multiple of 4).
+    explicit Executor(const IrProgram& program, int batch_lanes = 128);
+    void run(const StageRun& run);
+
+    // Loops that run longer than this many iterations abort the draw (a GPU would hang or
+    // lose the context; softgl reports it).
+    uint64_t max_loop_iterations = 1u << 24;
+
+private:
+    void run_batch(const StageRun& run, int first_lane, int lanes);
+    void execute(int lanes, const StageRun& run);
+    Scalar* reg(Reg r) { return registers_.data() + static_cast<size_t>(r) * batch_; }
+    void texture(const Instruction& ins, int lanes, const StageRun& run);
+
+    const IrProgram& program_;
+    int batch_;
+    std::vector<Scalar> registers_;
+    std::vector<uint32_t> mask_storage_;
+    std::vector<Reg> variable_registers_;
+    std::vector<Reg> temp_registers_written_by_mov_;
+    size_t prologue_end_ = 0;
+    int max_depth_ = 0;
+    std::vector<Scalar> scratch_;  // derivatives for texture lookups
+};
+
+}  // namespace softgl::glsl

@@ -1,0 +1,77 @@
+#include "softgl/glsl/ir.h"
+
+#include <sstream>
+
+namespace softgl::glsl {
+
+const char* op_name(Op op) {
+    static const char* const names[] = {
+        "mov", "fadd", "fsub", "fmul", "fdiv", "fneg", "fabs", "fsign", "ffloor", "fceil", "ffract", "ftrunc", "fround",
+        "froundeven", "fmin", "fmax", "fmod", "fstep", "fsqrt", "finversesqrt", "fsin", "fcos", "ftan", "fasin", "facos",
+        "fatan", "fatan2", "fsinh", "fcosh", "ftanh", "fasinh", "facosh", "fatanh", "fexp", "flog", "fexp2", "flog2",
+        "fpow", "fclamp", "fmix", "fsmoothstep", "fisnan", "fisinf", "flt", "fle", "fgt", "fge", "feq", "fne", "iadd",
+        "isub", "imul", "idiv", "imod", "ineg", "iabs", "isign", "imin", "imax", "iclamp", "ilt", "ile", "igt", "ige",
+        "udiv", "umod", "umin", "umax", "uclamp", "ult", "ule", "ugt", "uge", "and", "or", "xor", "not", "shl", "sar",
+        "shr", "eq", "ne", "bnot", "select", "itof", "utof", "ftoi", "ftou", "btof", "ftob", "itob", "packsnorm2x16",
+        "packunorm2x16", "packhalf2x16", "unpacksnorm2x16.x", "unpacksnorm2x16.y", "unpackunorm2x16.x",
+        "unpackunorm2x16.y", "unpackhalf2x16.x", "unpackhalf2x16.y", "dfdx", "dfdy", "load.indexed", "store.indexed",
+        "load.uniform", "load.uniform.indexed", "texture", "if", "else", "endif", "loop", "break.unless",
+        "continue.point", "endloop", "switch", "endswitch", "function", "endfunction", "break", "continue", "return",
+        "discard"};
+    static_assert(sizeof(names) / sizeof(names[0]) == static_cast<size_t>(Op::Count_), "op names");
+    return op < Op::Count_ ? names[static_cast<int>(op)] : "?";
+}
+
+bool op_is_control(Op op) { return op >= Op::IfBegin && op < Op::Count_; }
+
+bool link_control_flow(IrProgram& program) {
+    std::vector<int> stack;
+    std::vector<Instruction>& code = program.code;
+    for (int pc = 0; pc < static_cast<int>(code.size()); ++pc) {
+        Instruction& i = code[pc];
+        switch (i.op) {
+        case Op::IfBegin: case Op::LoopBegin: case Op::SwitchBegin: case Op::FunctionBegin:
+            stack.push_back(pc);
+            break;
+        case Op::Else:
+            if (stack.empty() || code[stack.back()].op != Op::IfBegin) return false;
+            code[stack.back()].target = pc;
+            stack.back() = pc;  // the IfEnd links to Else; Else links to IfEnd
+            break;
+        case Op::LoopContinuePoint:
+            if (stack.empty() || code[stack.back()].op != Op::LoopBegin) return false;
+            code[stack.back()].imm[0] = pc;
+            break;
+        case Op::IfEnd: case Op::LoopEnd: case Op::SwitchEnd: case Op::FunctionEnd: {
+            if (stack.empty()) return false;
+            int open = stack.back();
+            stack.pop_back();
+            code[open].target = pc;
+            i.target = open;
+            if (code[open].op == Op::Else) {
+                // Find the IfBegin whose target is this Else: it keeps pointing at the Else.
+            }
+            break;
+        }
+        default: break;
+        }
+    }
+    return stack.empty();
+}
+
+std::string IrProgram::dump() const {
+    std::ostringstream out;
+    for (size_t pc = 0; pc < code.size(); ++pc) {
+        const Instruction& i = code[pc];
+        out << pc << ": " << op_name(i.op);
+        if (i.dst != kNoReg) out << " r" << i.dst;
+        for (Reg r : {i.a, i.b, i.c}) if (r != kNoReg) out << ", r" << r;
+        if (i.op == Op::LoadUniform || i.op == Op::LoadIndexed || i.op == Op::StoreIndexed || i.op == Op::LoadUniformIndexed)
+            out << " [" << i.imm[0] << ", " << i.imm[1] << ", " << i.imm[2] << "]";
+        if (i.target >= 0) out << " -> " << i.target;
+        out << "\n";
+    }
+    return out.str();
+}
+
+}  // namespace softgl::glsl
