@@ -193,6 +193,7 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
     const SamplePattern& pattern = sample_pattern(config.samples);
     const int S = config.samples;
     std::vector<Scratch> scratch(in.pool.size());
+    fs.prepare(in.pool.size());
     in.pool.parallel_for(grid.count(), [&](size_t tile, unsigned worker) {
         const std::vector<uint32_t>& list = bins.tile(tile);
         if (list.empty()) return;
@@ -279,7 +280,7 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                 b.point_coord[L + lane] = pc[1];
                 b.covered[lane] = w.masks[lane] ? 1 : 0;
             }
-            fs.run(b, w.results);
+            fs.run(b, w.results, worker);
             w.stats.fragments_shaded += L;
 
             // Late tests, blending and the write, per covered sample.

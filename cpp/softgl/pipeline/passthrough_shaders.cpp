@@ -31,7 +31,7 @@ void PassthroughVertexShader::run(const std::array<AttributeStream, kMaxVertexAt
             std::memcpy(&out.point_size[v], &attribs[size_t(point_size_location_)].comp[0][v], 4);
 }
 
-void ColorFragmentShader::run(const FragmentBatch& b, FragmentResults& out) const {
+void ColorFragmentShader::run(const FragmentBatch& b, FragmentResults& out, unsigned) const {
     const size_t L = b.lanes;
     out.color.resize(4 * L);
     for (size_t i = 0; i < 4 * L; ++i) std::memcpy(&out.color[i], &b.varyings[i], 4);

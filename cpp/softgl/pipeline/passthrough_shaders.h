@@ -28,7 +28,7 @@ public:
         : discard_below_(discard_below), depth_from_red_(depth_from_red) {}
     bool may_discard() const override { return discard_below_ >= 0.0f; }
     bool writes_depth() const override { return depth_from_red_; }
-    void run(const FragmentBatch& batch, FragmentResults& out) const override;
+    void run(const FragmentBatch& batch, FragmentResults& out, unsigned worker) const override;
 
 private:
     float discard_below_;

@@ -59,8 +59,10 @@ public:
     virtual ~FragmentShader() = default;
     virtual bool may_discard() const = 0;
     virtual bool writes_depth() const = 0;
-    // Must be safe to call from several threads at once (each with its own batch and results).
-    virtual void run(const FragmentBatch& batch, FragmentResults& out) const = 0;
+    // Called once per draw before run(): `workers` threads will call run() concurrently.
+    virtual void prepare(unsigned workers) const { (void)workers; }
+    // Runs on worker thread `worker` (< the prepared count), each with its own batch and results.
+    virtual void run(const FragmentBatch& batch, FragmentResults& out, unsigned worker) const = 0;
 };
 
 }  // namespace softgl

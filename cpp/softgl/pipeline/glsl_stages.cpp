@@ -1,0 +1,168 @@
+#include "softgl/pipeline/glsl_stages.h"
+
+#include <cstring>
+
+namespace softgl {
+
+using glsl::Scalar;
+using glsl::SlotKind;
+
+void IncompleteTextureSampler::sample(const glsl::TextureQuery& q) {
+    for (int lane = 0; lane < q.lane_count; ++lane) {
+        for (int c = 0; c < 4; ++c) {
+            if (!q.out[c]) continue;
+            Scalar v;
+            if (q.kind == glsl::TextureKind::Size) v.i = 0;
+            else if (q.result == glsl::BaseType::Float) v.f = c == 3 ? 1.0f : 0.0f;
+            else v.i = c == 3 ? 1 : 0;
+            q.out[c][lane] = v;
+        }
+    }
+}
+
+GlslVertexShader::GlslVertexShader(std::shared_ptr<const glsl::LinkedProgram> program,
+                                   const std::vector<int>& attribute_locations_by_input_slot)
+    : program_(std::move(program)), input_location_(attribute_locations_by_input_slot) {
+    for (int loc : input_location_)
+        if (loc >= 0 && loc < kMaxVertexAttribs) used_ |= 1u << loc;
+    const auto& outputs = program_->vertex.outputs;
+    output_word_.assign(outputs.size(), -1);
+    for (size_t i = 0; i < outputs.size(); ++i) {
+        if (outputs[i].name == "gl_Position") position_slot_[outputs[i].component] = int(i);
+        if (outputs[i].name == "gl_PointSize") point_size_slot_ = int(i);
+    }
+    // One word per varying component, in the program's varying order.
+    for (const auto& v : program_->reflection.varyings) {
+        for (int c = 0; c < v.components; ++c) {
+            const int word = layout_.words++;
+            if (v.vertex_slot >= 0) output_word_[size_t(v.vertex_slot + c)] = word;
+            const auto base = v.vertex_slot >= 0 ? outputs[size_t(v.vertex_slot + c)].base : glsl::BaseType::Float;
+            layout_.flat.push_back(v.interpolation == glsl::Interpolation::Flat || base != glsl::BaseType::Float);
+            layout_.read_by_fragment.push_back(v.fragment_slot >= 0);
+        }
+    }
+}
+
+void GlslVertexShader::run(const std::array<AttributeStream, kMaxVertexAttribs>& attribs, size_t count,
+                           const uint32_t* vertex_ids, uint32_t instance_id, VertexShaderOutputs& out) const {
+    const glsl::IrProgram& ir = program_->vertex;
+    std::vector<Scalar> ids(count), instances(count);
+    for (size_t v = 0; v < count; ++v) ids[v].u = vertex_ids ? vertex_ids[v] : uint32_t(v), instances[v].u = instance_id;
+    std::vector<const Scalar*> inputs(ir.inputs.size(), nullptr);
+    for (size_t i = 0; i < ir.inputs.size(); ++i) {
+        const glsl::Slot& s = ir.inputs[i];
+        if (s.name == "gl_VertexID") inputs[i] = ids.data();
+        else if (s.name == "gl_InstanceID") inputs[i] = instances.data();
+        else if (input_location_[i] >= 0) {
+            // Matrix attributes take one location per column (ES 3.0 §2.11.5).
+            const int location = input_location_[i] + s.component / 4;
+            if (location < kMaxVertexAttribs)
+                inputs[i] = reinterpret_cast<const Scalar*>(attribs[size_t(location)].comp[size_t(s.component % 4)].data());
+        }
+    }
+    std::vector<std::vector<Scalar>> results(ir.outputs.size(), std::vector<Scalar>(count));
+    std::vector<Scalar*> outputs(ir.outputs.size());
+    for (size_t i = 0; i < outputs.size(); ++i) outputs[i] = results[i].data();
+    if (!executor_) executor_ = std::make_unique<glsl::Executor>(ir);
+    glsl::StageRun run;
+    run.lane_count = int(count);
+    run.inputs = inputs.data();
+    run.outputs = outputs.data();
+    run.uniforms = uniforms_;
+    run.sampler = &sampler_;
+    executor_->run(run);
+
+    out.count = count;
+    out.position.assign(count * 4, 0.0f);
+    for (int c = 0; c < 4; ++c)
+        if (position_slot_[c] >= 0)
+            for (size_t v = 0; v < count; ++v) out.position[v * 4 + size_t(c)] = results[size_t(position_slot_[c])][v].f;
+    out.point_size.assign(count, 1.0f);
+    if (point_size_slot_ >= 0)
+        for (size_t v = 0; v < count; ++v) out.point_size[v] = results[size_t(point_size_slot_)][v].f;
+    const size_t words = size_t(layout_.words);
+    out.varyings.assign(count * words, 0);
+    for (size_t i = 0; i < output_word_.size(); ++i) {
+        if (output_word_[i] < 0) continue;
+        for (size_t v = 0; v < count; ++v) out.varyings[v * words + size_t(output_word_[i])] = results[i][v].u;
+    }
+}
+
+GlslFragmentShader::GlslFragmentShader(std::shared_ptr<const glsl::LinkedProgram> program, const VaryingLayout&)
+    : program_(std::move(program)) {
+    const glsl::IrProgram& ir = program_->fragment;
+    input_word_.assign(ir.inputs.size(), -1);
+    input_builtin_.assign(ir.inputs.size(), -1);
+    int word = 0;
+    for (const auto& v : program_->reflection.varyings) {
+        for (int c = 0; c < v.components; ++c, ++word)
+            if (v.fragment_slot >= 0) input_word_[size_t(v.fragment_slot + c)] = word;
+    }
+    for (size_t i = 0; i < ir.inputs.size(); ++i) {
+        const glsl::Slot& s = ir.inputs[i];
+        if (s.name == "gl_FragCoord") input_builtin_[i] = s.component;
+        else if (s.name == "gl_FrontFacing") input_builtin_[i] = 4;
+        else if (s.name == "gl_PointCoord") input_builtin_[i] = 5 + s.component;
+    }
+    // Color output 0: gl_FragColor, gl_FragData[0], or the `out` at location 0.
+    int location0 = -1;
+    for (const auto& o : program_->reflection.outputs)
+        if (o.location == 0 || (o.location < 0 && o.name != "gl_FragDepth")) location0 = location0 < 0 ? 0 : location0;
+    (void)location0;
+    color_slot_.assign(4, -1);
+    for (size_t i = 0; i < ir.outputs.size(); ++i) {
+        const glsl::Slot& s = ir.outputs[i];
+        if (s.name == "gl_FragDepth" || s.name == "gl_FragDepthEXT") { depth_slot_ = int(i); continue; }
+        if (s.kind != SlotKind::FragmentOutput || s.component > 3) continue;
+        bool is_color0 = s.name == "gl_FragColor" || (s.name == "gl_FragData" && s.element == 0);
+        if (!is_color0)
+            for (const auto& o : program_->reflection.outputs)
+                if (o.name == s.name && (o.location < 0 ? 0 : o.location) + s.element == 0) is_color0 = true;
+        if (is_color0) color_slot_[size_t(s.component)] = int(i);
+    }
+}
+
+void GlslFragmentShader::prepare(unsigned workers) const {
+    if (workers_.size() >= workers) return;
+    workers_.resize(workers);
+    for (auto& w : workers_)
+        if (!w.executor) w.executor = std::make_unique<glsl::Executor>(program_->fragment);
+}
+
+void GlslFragmentShader::run(const FragmentBatch& b, FragmentResults& out, unsigned worker) const {
+    Worker& w = workers_[worker];
+    const glsl::IrProgram& ir = program_->fragment;
+    const size_t L = b.lanes;
+    w.builtins.resize(L);
+    for (size_t lane = 0; lane < L; ++lane) w.builtins[lane].i = b.front_facing[lane];
+    w.input_ptrs.assign(ir.inputs.size(), nullptr);
+    for (size_t i = 0; i < ir.inputs.size(); ++i) {
+        const int builtin = input_builtin_[i];
+        if (input_word_[i] >= 0) w.input_ptrs[i] = reinterpret_cast<const Scalar*>(&b.varyings[size_t(input_word_[i]) * L]);
+        else if (builtin >= 0 && builtin < 4) w.input_ptrs[i] = reinterpret_cast<const Scalar*>(&b.frag_coord[size_t(builtin) * L]);
+        else if (builtin == 4) w.input_ptrs[i] = w.builtins.data();
+        else if (builtin >= 5) w.input_ptrs[i] = reinterpret_cast<const Scalar*>(&b.point_coord[size_t(builtin - 5) * L]);
+    }
+    w.outputs.assign(ir.outputs.size() * L, Scalar{});
+    w.output_ptrs.resize(ir.outputs.size());
+    for (size_t i = 0; i < ir.outputs.size(); ++i) w.output_ptrs[i] = &w.outputs[i * L];
+    out.killed.assign(L, 0);
+    glsl::StageRun run;
+    run.lane_count = int(L);
+    run.inputs = w.input_ptrs.data();
+    run.outputs = w.output_ptrs.data();
+    run.uniforms = uniforms_;
+    run.sampler = &w.sampler;
+    run.discarded = out.killed.data();
+    w.executor->run(run);
+    // An output the shader never writes is undefined; softgl gives 0 (alpha 0 for RGBA8).
+    out.color.assign(4 * L, 0.0f);
+    for (int c = 0; c < 4; ++c)
+        if (color_slot_[size_t(c)] >= 0) std::memcpy(&out.color[size_t(c) * L], w.output_ptrs[size_t(color_slot_[size_t(c)])], L * 4);
+    if (depth_slot_ >= 0) {
+        out.depth.resize(L);
+        std::memcpy(out.depth.data(), w.output_ptrs[size_t(depth_slot_)], L * 4);
+    }
+}
+
+}  // namespace softgl

@@ -1,0 +1,71 @@
+// The GLSL executor behind the pipeline's stage interfaces: a linked program's vertex and
+// fragment IR run over the lanes the pipeline provides, reading the program's uniform buffer.
+#pragma once
+#include <memory>
+#include <mutex>
+#include <vector>
+
+#include "softgl/glsl/compiler.h"
+#include "softgl/glsl/executor.h"
+#include "softgl/pipeline/shader_stage.h"
+
+namespace softgl {
+
+// Texture lookups while softgl has no texture objects: every sampler reads an incomplete
+// texture, which samples as (0, 0, 0, 1) (ES 3.0 §3.8.14), and textureSize is 0.
+class IncompleteTextureSampler : public glsl::TextureSampler {
+public:
+    void sample(const glsl::TextureQuery& query) override;
+};
+
+class GlslVertexShader : public VertexShader {
+public:
+    GlslVertexShader(std::shared_ptr<const glsl::LinkedProgram> program,
+                     const std::vector<int>& attribute_locations_by_input_slot);
+    uint32_t used_attributes() const override { return used_; }
+    const VaryingLayout& varying_layout() const override { return layout_; }
+    void run(const std::array<AttributeStream, kMaxVertexAttribs>& attribs, size_t count,
+             const uint32_t* vertex_ids, uint32_t instance_id, VertexShaderOutputs& out) const override;
+    void set_uniforms(const glsl::Scalar* uniforms) { uniforms_ = uniforms; }
+
+private:
+    std::shared_ptr<const glsl::LinkedProgram> program_;
+    std::vector<int> input_location_;    // per vertex input slot: attribute location, -1 built-in
+    std::vector<int> output_word_;       // per vertex output slot: varying word, -1 otherwise
+    int position_slot_[4] = {-1, -1, -1, -1};
+    int point_size_slot_ = -1;
+    uint32_t used_ = 0;
+    VaryingLayout layout_;
+    const glsl::Scalar* uniforms_ = nullptr;
+    mutable std::unique_ptr<glsl::Executor> executor_;   // the vertex stage runs on one thread
+    mutable IncompleteTextureSampler sampler_;
+};
+
+class GlslFragmentShader : public FragmentShader {
+public:
+    GlslFragmentShader(std::shared_ptr<const glsl::LinkedProgram> program, const VaryingLayout& layout);
+    bool may_discard() const override { return program_->reflection.fragment_usage.may_discard; }
+    bool writes_depth() const override { return program_->reflection.fragment_usage.writes_frag_depth; }
+    void prepare(unsigned workers) const override;
+    void run(const FragmentBatch& batch, FragmentResults& out, unsigned worker) const override;
+    void set_uniforms(const glsl::Scalar* uniforms) { uniforms_ = uniforms; }
+
+private:
+    std::shared_ptr<const glsl::LinkedProgram> program_;
+    std::vector<int> input_word_;        // per fragment input slot: varying word, or -1
+    std::vector<int> input_builtin_;     // per fragment input slot: 0..3 FragCoord, 4 FrontFacing, 5..6 PointCoord, -1
+    std::vector<int> color_slot_;        // output slot of color component c (or -1)
+    int depth_slot_ = -1;
+    const glsl::Scalar* uniforms_ = nullptr;
+    struct Worker {
+        std::unique_ptr<glsl::Executor> executor;
+        std::vector<glsl::Scalar> builtins;          // front facing as ints
+        std::vector<glsl::Scalar> outputs;
+        std::vector<const glsl::Scalar*> input_ptrs;
+        std::vector<glsl::Scalar*> output_ptrs;
+        IncompleteTextureSampler sampler;
+    };
+    mutable std::vector<Worker> workers_;
+};
+
+}  // namespace softgl
