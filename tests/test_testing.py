@@ -3,6 +3,7 @@ when they do not, and leave loadable images behind on failure."""
 import math
 
 import numpy as np
+import OpenImageIO  # noqa: F401
 import pytest
 
 import softgl
@@ -154,3 +155,91 @@ def test_bad_inputs_raise(tmp_path):
         assert_images_close(np.zeros((0, 2, 4), np.uint8), np.zeros((0, 2, 4), np.uint8), out_dir=tmp_path)
     with pytest.raises(ValueError):
         compare_images(np.zeros((2, 2, 4), np.uint8), np.zeros((2, 3, 4), np.uint8))
+
+
+# --- the golden fixture, run in inner pytest sessions -------------------------------------------
+
+# pytester runs the inner sessions in this process and afterwards forgets the modules imported
+# since the test began; the nanobind extension OpenImageIO aborts when imported twice, hence the
+# import of OpenImageIO at the top of this module.
+pytest_plugins = ["pytester"]
+
+INNER_TEST = """
+from pathlib import Path
+
+import numpy as np
+
+
+def picture():
+    value = int(Path(__file__).with_name("value.txt").read_text())
+    img = np.zeros((4, 6, 4), np.uint8)
+    img[..., 3] = 255
+    img[1:3, 2:5, 0] = value
+    return img
+
+
+def test_exact(golden):
+    golden("demo/pic", picture())
+
+
+def test_tolerant(golden):
+    golden("demo/tolerant", picture(), atol=3 / 255)
+"""
+
+
+@pytest.fixture
+def inner(pytester):
+    """An inner pytest project wired like the real one; run(value, *args) runs it."""
+    pytester.makeini("[pytest]\n")
+    pytester.makeconftest('pytest_plugins = ["softgl.pytest_plugin"]\n')
+    pytester.makepyfile(test_pic=INNER_TEST)
+
+    def run(value, *args):
+        (pytester.path / "value.txt").write_text(str(value))
+        # (hypothesis's plugin would re-import hypothesis on every run: a second each)
+        return pytester.runpytest("-p", "no:cacheprovider", "-p", "no:hypothesispytest", *args)
+    return run
+
+
+def test_golden_missing_then_written_then_compared(inner, pytester):
+    goldens = pytester.path / "tests" / "goldens" / "demo"
+    result = inner(100)
+    result.assert_outcomes(failed=2)
+    result.stdout.fnmatch_lines(["*golden*pic.png does not exist*--update-goldens*"])
+    assert (pytester.path / "test-failures" / "golden-demo-pic" / "actual.png").exists()
+    assert not goldens.exists()
+
+    result = inner(100, "--update-goldens")
+    result.assert_outcomes(passed=2)
+    result.stdout.fnmatch_lines(["*golden images written*", "created *demo*pic.png"])
+    written = load_image(goldens / "pic.png")
+    assert written.shape == (4, 6, 4) and written[1, 2, 0] == 100 and written[0, 0].tolist() == [0, 0, 0, 255]
+
+    inner(100).assert_outcomes(passed=2)
+
+
+def test_golden_catches_a_changed_image(inner, pytester):
+    inner(100, "--update-goldens").assert_outcomes(passed=2)
+    stored = (pytester.path / "tests" / "goldens" / "demo" / "pic.png").read_bytes()
+
+    result = inner(103)             # three 8-bit steps: beyond the default atol, within 3/255
+    result.assert_outcomes(failed=1, passed=1)
+    result.stdout.fnmatch_lines(["*test_exact*", "*images 'golden-demo-pic' differ*6 pixels beyond atol*"])
+    assert (pytester.path / "test-failures" / "golden-demo-pic" / "diff.png").exists()
+
+    # Updating rewrites only the golden that changed beyond its tolerance.
+    result = inner(103, "--update-goldens")
+    result.assert_outcomes(passed=2)
+    result.stdout.fnmatch_lines(["updated *demo*pic.png"])
+    result.stdout.no_fnmatch_line("*tolerant.png*")
+    assert (pytester.path / "tests" / "goldens" / "demo" / "pic.png").read_bytes() != stored
+    inner(103).assert_outcomes(passed=2)
+
+
+def test_golden_names_stay_inside_the_folder(pytester):
+    from softgl.pytest_plugin import _golden_path
+    root = pytester.path
+    assert _golden_path(root, "blend/additive") == root / "blend" / "additive.png"
+    for bad in ["../escape", "/abs", "a//b", "a b", ""]:
+        with pytest.raises(ValueError):
+            _golden_path(root, bad)
