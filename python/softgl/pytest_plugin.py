@@ -14,6 +14,10 @@ must not be the sole expected value for the code that wrote it. ``pytest --updat
 writes the images the tests produce instead of comparing: use it only for a deliberate change,
 then look at every PNG it lists before committing.
 
+Goldens are stored as given, row 0 at the top: pass the context itself (its canvas is read top
+row first) or flip a readPixels result (``[::-1]``) so that reviewers see the picture upright.
+Float images are stored as 8-bit PNGs (within the default atol of one 8-bit step).
+
 The folder is ``tests/goldens`` under pytest's rootdir, or the ``golden_dir`` ini option.
 On a mismatch, ``assert_images_close`` writes actual/expected/diff images into
 ``<rootdir>/test-failures/golden-<name>/``.
@@ -26,7 +30,7 @@ from pathlib import Path
 import pytest
 
 from .io import load_image, save
-from .testing import _image, _to_8bit, assert_images_close, compare_images
+from .testing import _image, _for_png, assert_images_close, compare_images
 
 _written = pytest.StashKey[list]()
 
@@ -71,12 +75,12 @@ def golden(request):
             if (stored is None or stored.shape != actual.shape
                     or compare_images(actual, stored, tolerances.get("atol", 1 / 255)).outliers
                     > tolerances.get("max_outliers", 0)):
-                save(_to_8bit(actual), path)
+                save(_for_png(actual), path)
                 config.stash[_written].append(
                     f"{'updated' if stored is not None else 'created'} {path}")
             return
         if not path.exists():
-            written = save(_to_8bit(actual), failures / label / "actual.png").resolve()
+            written = save(_for_png(actual), failures / label / "actual.png").resolve()
             pytest.fail(f"golden {path} does not exist. This test's image is {written}: "
                         f"review it, then create the golden with pytest --update-goldens",
                         pytrace=False)

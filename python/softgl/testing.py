@@ -93,7 +93,8 @@ def compare_images(actual, expected, atol: float = 1 / 255) -> ImageComparison:
     return ImageComparison(a.shape, max_error, where, mean, rms, psnr, outliers, atol)
 
 
-def _to_8bit(a: np.ndarray) -> np.ndarray:
+def _for_png(a: np.ndarray) -> np.ndarray:
+    """uint8/uint16 as they are; floats clamped and rounded to 8 bits."""
     if a.dtype in (np.uint8, np.uint16):
         return a
     return np.round(np.clip(np.nan_to_num(a.astype(np.float64)), 0, 1) * 255).astype(np.uint8)
@@ -126,8 +127,8 @@ def write_failure_images(folder, actual, expected, atol: float = 1 / 255) -> Pat
     from .io import save
     folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
-    save(_to_8bit(actual), folder / "actual.png")
-    save(_to_8bit(expected), folder / "expected.png")
+    save(_for_png(actual), folder / "actual.png")
+    save(_for_png(expected), folder / "expected.png")
     if actual.shape == expected.shape:
         save(_diff_image(actual, expected, atol), folder / "diff.png")
     return folder.resolve()
@@ -145,7 +146,9 @@ def assert_images_close(actual, expected, *, atol: float = 1 / 255, max_outliers
 
     On failure, actual.png, expected.png and diff.png (gray = error, amplified; red = beyond
     atol) are written into `out_dir/<name>/` (name defaults to the running pytest test) and
-    the AssertionError names the folder.
+    the AssertionError names the folder. The PNGs show row 0 at the top: flip readPixels
+    results (``[::-1]``) or pass the context to see them upright; "row" in the message is the
+    array's row, i.e. GL's y for readPixels results.
     """
     a, b = _image(actual, "actual"), _image(expected, "expected")
     folder = Path(out_dir) / _folder_name(name or _default_name())
