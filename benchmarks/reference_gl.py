@@ -24,10 +24,12 @@ prints the renderer, its threads, and a fill-rate timing table at threads=1 and 
 from __future__ import annotations
 
 import ctypes
-import dataclasses
 import glob
+import hashlib
 import multiprocessing
 import os
+import pickle
+import platform
 import statistics
 import sys
 import time
@@ -223,7 +225,8 @@ _GL_FUNCS = {
     "glPixelStorei": (None, [_u, _i]),
     "glReadPixels": (None, [_i, _i, _i, _i, _u, _u, _vp]),
 }
-# uniform setters: glUniform{1,2,3,4}{f,i,ui}v(loc, count, ptr), glUniformMatrix*fv(loc, count, transpose, ptr)
+# Uniform setters: glUniform{1,2,3,4}{f,i,ui}v(loc, count, ptr) and
+# glUniformMatrix*fv(loc, count, transpose, ptr).
 for _n in "1234":
     _GL_FUNCS[f"glUniform{_n}fv"] = (None, [_i, _i, _vp])
     _GL_FUNCS[f"glUniform{_n}iv"] = (None, [_i, _i, _vp])
@@ -291,7 +294,7 @@ def llvmpipe_thread_names() -> list[str]:
 
 
 class _Prepared:
-    """A scene compiled and uploaded: its per-frame calls are pre-built so timing sees GL, not setup."""
+    """A scene compiled and uploaded; its per-frame calls are pre-built, so timing sees GL only."""
 
     def __init__(self, program: int, vao: int, frame_calls: list, scene: Scene):
         self.program, self.vao, self.frame_calls, self.scene = program, vao, frame_calls, scene
@@ -334,7 +337,7 @@ class LlvmpipeRenderer:
             self.close()
             raise ReferenceUnavailable(f"EGL gave {self.renderer!r}, not llvmpipe")
         self._create_framebuffers()
-        self._prepared: dict[int, _Prepared] = {}
+        self._prepared: dict[bytes, _Prepared] = {}
 
     # -- context and framebuffer ------------------------------------------------------------
     def _create_context(self) -> None:
@@ -349,7 +352,8 @@ class LlvmpipeRenderer:
         # EGL_RENDERABLE_TYPE = EGL_OPENGL_ES3_BIT, EGL_SURFACE_TYPE = 0 (surfaceless), EGL_NONE
         attrs = (_c.c_int * 5)(0x3040, 0x40, 0x3033, 0, 0x3038)
         config, n = _c.c_void_p(), _c.c_int()
-        if not egl.eglChooseConfig(self.display, attrs, _c.byref(config), 1, _c.byref(n)) or not n.value:
+        ok = egl.eglChooseConfig(self.display, attrs, _c.byref(config), 1, _c.byref(n))
+        if not ok or not n.value:
             raise ReferenceUnavailable("no EGL config with OpenGL ES 3 support")
         # EGL_CONTEXT_MAJOR_VERSION 3, EGL_CONTEXT_MINOR_VERSION 0
         ctx_attrs = (_c.c_int * 5)(0x3098, 3, 0x30FB, 0, 0x3038)
@@ -446,7 +450,7 @@ class LlvmpipeRenderer:
         return out
 
     def _uniform_call(self, uniforms: dict, name: str, value) -> tuple:
-        """A pre-built (function, args) setting uniform ``name``; the array is kept alive in args."""
+        """(function, args, data) setting uniform ``name``; ``data`` keeps the array alive."""
         if name not in uniforms:
             raise KeyError(f"uniform {name!r} is not active in the program "
                            f"(active: {sorted(uniforms)})")
@@ -463,9 +467,13 @@ class LlvmpipeRenderer:
         return fn, (loc, data.size // comps, ptr), data
 
     def prepare(self, scene: Scene) -> _Prepared:
-        """Compile, upload and bake the per-frame calls of ``scene`` (cached per scene object)."""
-        key = id(scene)
-        if key in self._prepared and self._prepared[key].scene is scene:
+        """Compile, upload and bake the per-frame calls of ``scene``.
+
+        Cached by content, not identity: a worker process receives a new copy of the scene with
+        every request, and alternating A/B rounds must not compile and upload it again each time.
+        """
+        key = hashlib.blake2b(pickle.dumps(scene, protocol=pickle.HIGHEST_PROTOCOL)).digest()
+        if key in self._prepared:
             return self._prepared[key]
         gl = self.gl
         program = self._link(scene.vertex_shader, scene.fragment_shader)
@@ -784,24 +792,42 @@ def fullscreen_quads(layers: int, blend: bool = True, depth: bool = False) -> Sc
                              depth_test=depth, depth_func="LEQUAL"))
 
 
+def machine_name() -> str:
+    """The CPU model, as /proc/cpuinfo names it (results must name their machine)."""
+    try:
+        with open("/proc/cpuinfo") as f:
+            for line in f:
+                if line.startswith("model name"):
+                    return line.split(":", 1)[1].strip()
+    except OSError:
+        pass
+    return platform.processor() or platform.machine()
+
+
 def _selftest() -> None:
     size, layers, repeats = 1024, 100, 15
+    # Timings are only as quiet as the machine: print what else was running.
+    print(f"machine: {machine_name()}, {os.cpu_count()} CPUs, "
+          f"load average {os.getloadavg()[0]:.2f} (1 min)")
     print(f"memory copy bandwidth: {measure_memory_bandwidth():.1f} GB/s (1 thread), "
           f"{measure_memory_bandwidth(threads=os.cpu_count() or 1):.1f} GB/s "
           f"({os.cpu_count()} threads)")
     print(f"scene: {layers} full-screen quads at {size}x{size}, median of {repeats} frames "
           "(clear + draws + glFinish)\n")
-    print(f"{'threads':>7}  {'raster thr':>10}  {'blend':>5}  {'depth':>5}  {'ms/frame':>9}  "
-          f"{'Gpix/s':>7}  renderer")
+    print(f"{'threads':>7}  {'raster thr':>10}  {'blend':>5}  {'depth':>5}  {'median ms':>9}  "
+          f"{'min..max ms':>15}  {'Gpix/s':>6}")
+    renderer = ""
     for threads in (1, 2):
         with LlvmpipeProcess(size, size, threads) as proc:
             info = proc.info()
-            for blend, depth in ((True, False), (False, False), (True, True)):
-                t = statistics.median(proc.time_draws(fullscreen_quads(layers, blend, depth),
-                                                      repeats))
-                gpix = layers * size * size / t / 1e9
+            renderer = f"{info['renderer']} / {info['version']}"
+            for blend, depth in ((True, False), (False, False), (True, True), (False, True)):
+                times = proc.time_draws(fullscreen_quads(layers, blend, depth), repeats)
+                t = statistics.median(times)
+                span = f"{min(times) * 1e3:.1f}..{max(times) * 1e3:.1f}"
                 print(f"{threads:>7}  {info['raster_threads']:>10}  {blend!s:>5}  {depth!s:>5}  "
-                      f"{t * 1e3:>9.2f}  {gpix:>7.2f}  {info['renderer']} / {info['version']}")
+                      f"{t * 1e3:>9.1f}  {span:>15}  {layers * size * size / t / 1e9:>6.2f}")
+    print(f"\nrenderer: {renderer}")
 
 
 if __name__ == "__main__":
