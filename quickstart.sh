@@ -7,11 +7,13 @@ cd "$(dirname "$0")"
 job="${1:-showcase}"
 shift || true
 
-# System packages: GLM (C++ math headers) for the build.
-if ! dpkg -s libglm-dev >/dev/null 2>&1; then
+# System packages: GLM (C++ math headers) for the build; Mesa's EGL/GLES (llvmpipe), the speed
+# reference the benchmarks and their tests compare against.
+SYSTEM_PACKAGES="libglm-dev g++ cmake python3-venv libegl1 libgles2 libegl-mesa0 libgl1-mesa-dri"
+if ! dpkg -s $SYSTEM_PACKAGES >/dev/null 2>&1; then
     SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
     $SUDO apt-get update -qq
-    $SUDO apt-get install -y -qq libglm-dev g++ cmake python3-venv >/dev/null
+    $SUDO apt-get install -y -qq $SYSTEM_PACKAGES >/dev/null
 fi
 
 # Python packages and the build, in a virtual environment of the repository's own.

@@ -4,6 +4,8 @@ import pytest
 
 import softgl
 
+pytest_plugins = ["softgl.pytest_plugin"]
+
 
 @pytest.fixture(params=[1, 2], ids=["webgl1", "webgl2"])
 def version(request):
