@@ -8,6 +8,7 @@
 
 #include "softgl/api/errors.h"
 #include "softgl/api/objects.h"
+#include "softgl/api/programs.h"
 #include "softgl/api/state.h"
 #include "softgl/api/value.h"
 #include "softgl/pipeline/draw.h"
@@ -161,6 +162,46 @@ public:
     const VertexArray& vertex_array() const { return *vertex_array_; }
     const CurrentAttrib& current_attrib(int index) const { return current_attribs_[size_t(index)]; }
 
+    // Shaders and programs (programs.cpp)
+    std::shared_ptr<Shader> create_shader(GLenum type);
+    void shader_source(const std::shared_ptr<Shader>& shader, const std::string& source);
+    std::string get_shader_source(const std::shared_ptr<Shader>& shader);
+    void compile_shader(const std::shared_ptr<Shader>& shader);
+    Value get_shader_parameter(const std::shared_ptr<Shader>& shader, GLenum pname);
+    std::string get_shader_info_log(const std::shared_ptr<Shader>& shader);
+    void delete_shader(const std::shared_ptr<Shader>& shader);
+    bool is_shader(const std::shared_ptr<Shader>& shader) const;
+    std::shared_ptr<Program> create_program();
+    void attach_shader(const std::shared_ptr<Program>& program, const std::shared_ptr<Shader>& shader);
+    void detach_shader(const std::shared_ptr<Program>& program, const std::shared_ptr<Shader>& shader);
+    std::vector<std::shared_ptr<Shader>> get_attached_shaders(const std::shared_ptr<Program>& program, bool* ok);
+    void bind_attrib_location(const std::shared_ptr<Program>& program, uint32_t index, const std::string& name);
+    void link_program(const std::shared_ptr<Program>& program);
+    void validate_program(const std::shared_ptr<Program>& program);
+    void use_program(const std::shared_ptr<Program>& program);
+    void delete_program(const std::shared_ptr<Program>& program);
+    bool is_program(const std::shared_ptr<Program>& program) const;
+    Value get_program_parameter(const std::shared_ptr<Program>& program, GLenum pname);
+    std::string get_program_info_log(const std::shared_ptr<Program>& program);
+    int32_t get_attrib_location(const std::shared_ptr<Program>& program, const std::string& name);
+    std::shared_ptr<UniformLocation> get_uniform_location(const std::shared_ptr<Program>& program, const std::string& name);
+    std::shared_ptr<ActiveInfo> get_active_attrib(const std::shared_ptr<Program>& program, uint32_t index);
+    std::shared_ptr<ActiveInfo> get_active_uniform(const std::shared_ptr<Program>& program, uint32_t index);
+    std::shared_ptr<PrecisionFormat> get_shader_precision_format(GLenum shader_type, GLenum precision_type);
+    // uniform{1234}{f,i,ui}[v] and uniformMatrix*: `kind` is 'f', 'i' or 'u' (or 'm' for matrices
+    // with `columns` x `rows`); values holds count * components numbers of that kind.
+    void set_uniform(const char* call, const UniformLocation* location, char kind, int columns, int rows,
+                     const void* values, size_t count, bool transpose);
+    // getUniform: the value as WebGL returns it.
+    Value get_uniform(const std::shared_ptr<Program>& program, const UniformLocation* location);
+    const std::shared_ptr<Program>& current_program() const { return current_program_; }
+
+    // Drawing (draw_calls.cpp)
+    void draw_arrays(GLenum mode, int32_t first, int32_t count, int32_t instances, const char* call);
+    void draw_elements(GLenum mode, int32_t count, GLenum type, int64_t offset, int32_t instances,
+                       const char* call);
+    void draw_range_elements(GLenum mode, uint32_t start, uint32_t end, int32_t count, GLenum type, int64_t offset);
+
     // The browser's compositing step: after the canvas is shown, a drawing buffer without
     // preserveDrawingBuffer is cleared to its initial contents (WebGL 1.0 §2.2).
     void present();
@@ -193,6 +234,13 @@ private:
         pixel_pack_buffer_, pixel_unpack_buffer_, uniform_buffer_, transform_feedback_buffer_;
     std::shared_ptr<VertexArray> default_vertex_array_, vertex_array_;
     std::array<CurrentAttrib, kMaxVertexAttribs> current_attribs_;
+
+    std::shared_ptr<Program> current_program_;
+    bool check_program(const char* call, const Program* program);
+    bool check_shader(const char* call, const Shader* shader);
+    void release_shader(const std::shared_ptr<Shader>& shader);
+    bool validate_draw_state(const char* call);
+    void run_draw(const DrawCall& call, uint32_t max_vertex);
 
     std::unique_ptr<ThreadPool> pool_;   // created at the first draw
     DrawStats stats_;
