@@ -241,6 +241,8 @@ private:
         } else if (is_type_name(tok())) {
             spec.type_name = next().text;
         } else {
+            if (tok().kind == TokenKind::Identifier && is_reserved_word(tok().text, version_))
+                fail(tok(), "'" + tok().text + "' : reserved word");
             syntax_error();
         }
         if (at("[")) {

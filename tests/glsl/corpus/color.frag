@@ -1,0 +1,3 @@
+precision mediump float;
+varying vec4 fColor;
+void main() { gl_FragColor = fColor; }
