@@ -25,7 +25,7 @@ function consts(proto) {
   const r = {};
   for (const k of Object.getOwnPropertyNames(proto)) {
     const d = Object.getOwnPropertyDescriptor(proto, k);
-    if (d && typeof d.value === 'number' && /^[A-Z0-9_]+$/.test(k)) r[k] = d.value;
+    if (d && typeof d.value === 'number' && /^[A-Z][A-Z0-9_x]*$/.test(k)) r[k] = d.value;
   }
   return r;
 }
@@ -51,7 +51,7 @@ function dump(version) {
                                {antialias: false, preserveDrawingBuffer: true});
   const proto = version == 1 ? WebGLRenderingContext.prototype : WebGL2RenderingContext.prototype;
   const params = {};
-  for (const k of Object.getOwnPropertyNames(proto).filter(k => /^[A-Z0-9_]+$/.test(k))) {
+  for (const k of Object.getOwnPropertyNames(proto).filter(k => /^[A-Z][A-Z0-9_x]*$/.test(k))) {
     gl.getError();
     let v;
     try { v = gl.getParameter(gl[k]); } catch (e) { params[k] = {t: 'throw'}; continue; }

@@ -157,6 +157,20 @@ void bind_context(py::module_& m) {
     py::class_<Object, std::shared_ptr<Object>>(m, "WebGLObject");
     py::class_<Buffer, Object, std::shared_ptr<Buffer>>(m, "WebGLBuffer");
     py::class_<VertexArray, Object, std::shared_ptr<VertexArray>>(m, "WebGLVertexArrayObject");
+    py::class_<softgl::Shader, Object, std::shared_ptr<softgl::Shader>>(m, "WebGLShader");
+    py::class_<softgl::Program, Object, std::shared_ptr<softgl::Program>>(m, "WebGLProgram");
+    py::class_<softgl::UniformLocation, std::shared_ptr<softgl::UniformLocation>>(m, "WebGLUniformLocation");
+    py::class_<softgl::ActiveInfo, std::shared_ptr<softgl::ActiveInfo>>(m, "WebGLActiveInfo")
+        .def_readonly("size", &softgl::ActiveInfo::size)
+        .def_readonly("type", &softgl::ActiveInfo::type)
+        .def_readonly("name", &softgl::ActiveInfo::name)
+        .def("__repr__", [](const softgl::ActiveInfo& a) {
+            return "<WebGLActiveInfo name='" + a.name + "' size=" + std::to_string(a.size) + " type=" + softgl::enum_name(a.type) + ">";
+        });
+    py::class_<softgl::PrecisionFormat, std::shared_ptr<softgl::PrecisionFormat>>(m, "WebGLShaderPrecisionFormat")
+        .def_readonly("rangeMin", &softgl::PrecisionFormat::range_min)
+        .def_readonly("rangeMax", &softgl::PrecisionFormat::range_max)
+        .def_readonly("precision", &softgl::PrecisionFormat::precision);
 
     py::class_<ContextAttributes>(m, "ContextAttributes")
         .def(py::init<>())
@@ -299,6 +313,161 @@ void bind_context(py::module_& m) {
         .def("bindVertexArray", &Context::bind_vertex_array)
         .def("deleteVertexArray", &Context::delete_vertex_array)
         .def("isVertexArray", &Context::is_vertex_array)
+        // Shaders and programs
+        .def("createShader", webidl(&Context::create_shader))
+        .def("shaderSource", &Context::shader_source)
+        .def("getShaderSource", [](Context& c, const std::shared_ptr<softgl::Shader>& s) -> py::object {
+            std::string src = c.get_shader_source(s);
+            return (s && s->owner == &c && !s->deleted) ? py::object(py::str(src)) : py::object(py::none());
+        })
+        .def("compileShader", [](Context& c, const std::shared_ptr<softgl::Shader>& s) {
+            py::gil_scoped_release release;
+            c.compile_shader(s);
+        })
+        .def("getShaderParameter", [](Context& c, const std::shared_ptr<softgl::Shader>& s, IdlUint32 pname) {
+            return to_python(c.get_shader_parameter(s, pname.value));
+        })
+        .def("getShaderInfoLog", [](Context& c, const std::shared_ptr<softgl::Shader>& s) -> py::object {
+            std::string log = c.get_shader_info_log(s);
+            return (s && s->owner == &c && !s->deleted) ? py::object(py::str(log)) : py::object(py::none());
+        })
+        .def("deleteShader", &Context::delete_shader)
+        .def("isShader", &Context::is_shader)
+        .def("createProgram", &Context::create_program)
+        .def("attachShader", &Context::attach_shader)
+        .def("detachShader", &Context::detach_shader)
+        .def("getAttachedShaders", [](Context& c, const std::shared_ptr<softgl::Program>& p) -> py::object {
+            bool ok = false;
+            auto shaders = c.get_attached_shaders(p, &ok);
+            if (!ok) return py::none();
+            return py::cast(shaders);
+        })
+        .def("bindAttribLocation", [](Context& c, const std::shared_ptr<softgl::Program>& p, IdlUint32 index, const std::string& name) {
+            c.bind_attrib_location(p, index.value, name);
+        })
+        .def("linkProgram", [](Context& c, const std::shared_ptr<softgl::Program>& p) {
+            py::gil_scoped_release release;
+            c.link_program(p);
+        })
+        .def("validateProgram", &Context::validate_program)
+        .def("useProgram", &Context::use_program)
+        .def("deleteProgram", &Context::delete_program)
+        .def("isProgram", &Context::is_program)
+        .def("getProgramParameter", [](Context& c, const std::shared_ptr<softgl::Program>& p, IdlUint32 pname) {
+            return to_python(c.get_program_parameter(p, pname.value));
+        })
+        .def("getProgramInfoLog", [](Context& c, const std::shared_ptr<softgl::Program>& p) -> py::object {
+            std::string log = c.get_program_info_log(p);
+            return (p && p->owner == &c && !p->deleted) ? py::object(py::str(log)) : py::object(py::none());
+        })
+        .def("getAttribLocation", &Context::get_attrib_location)
+        .def("getUniformLocation", &Context::get_uniform_location)
+        .def("getActiveAttrib", [](Context& c, const std::shared_ptr<softgl::Program>& p, IdlUint32 i) { return c.get_active_attrib(p, i.value); })
+        .def("getActiveUniform", [](Context& c, const std::shared_ptr<softgl::Program>& p, IdlUint32 i) { return c.get_active_uniform(p, i.value); })
+        .def("getShaderPrecisionFormat", webidl(&Context::get_shader_precision_format))
+        .def("uniform1f", [](Context& c, const softgl::UniformLocation* l, float x) { float v[] = {x}; c.set_uniform("uniform1f", l, 'f', 1, 0, v, 1, false); })
+        .def("uniform2f", [](Context& c, const softgl::UniformLocation* l, float x, float y) { float v[] = {x, y}; c.set_uniform("uniform2f", l, 'f', 2, 0, v, 1, false); })
+        .def("uniform3f", [](Context& c, const softgl::UniformLocation* l, float x, float y, float z) { float v[] = {x, y, z}; c.set_uniform("uniform3f", l, 'f', 3, 0, v, 1, false); })
+        .def("uniform4f", [](Context& c, const softgl::UniformLocation* l, float x, float y, float z, float w) { float v[] = {x, y, z, w}; c.set_uniform("uniform4f", l, 'f', 4, 0, v, 1, false); })
+        .def("uniform1i", [](Context& c, const softgl::UniformLocation* l, IdlInt32 x) { int32_t v[] = {x.value}; c.set_uniform("uniform1i", l, 'i', 1, 0, v, 1, false); })
+        .def("uniform2i", [](Context& c, const softgl::UniformLocation* l, IdlInt32 x, IdlInt32 y) { int32_t v[] = {x.value, y.value}; c.set_uniform("uniform2i", l, 'i', 2, 0, v, 1, false); })
+        .def("uniform3i", [](Context& c, const softgl::UniformLocation* l, IdlInt32 x, IdlInt32 y, IdlInt32 z) { int32_t v[] = {x.value, y.value, z.value}; c.set_uniform("uniform3i", l, 'i', 3, 0, v, 1, false); })
+        .def("uniform4i", [](Context& c, const softgl::UniformLocation* l, IdlInt32 x, IdlInt32 y, IdlInt32 z, IdlInt32 w) { int32_t v[] = {x.value, y.value, z.value, w.value}; c.set_uniform("uniform4i", l, 'i', 4, 0, v, 1, false); })
+        .def("uniform1ui", [](Context& c, const softgl::UniformLocation* l, IdlUint32 x) { uint32_t v[] = {x.value}; c.set_uniform("uniform1ui", l, 'u', 1, 0, v, 1, false); })
+        .def("uniform2ui", [](Context& c, const softgl::UniformLocation* l, IdlUint32 x, IdlUint32 y) { uint32_t v[] = {x.value, y.value}; c.set_uniform("uniform2ui", l, 'u', 2, 0, v, 1, false); })
+        .def("uniform3ui", [](Context& c, const softgl::UniformLocation* l, IdlUint32 x, IdlUint32 y, IdlUint32 z) { uint32_t v[] = {x.value, y.value, z.value}; c.set_uniform("uniform3ui", l, 'u', 3, 0, v, 1, false); })
+        .def("uniform4ui", [](Context& c, const softgl::UniformLocation* l, IdlUint32 x, IdlUint32 y, IdlUint32 z, IdlUint32 w) { uint32_t v[] = {x.value, y.value, z.value, w.value}; c.set_uniform("uniform4ui", l, 'u', 4, 0, v, 1, false); })
+        .def("getUniform", [](Context& c, const std::shared_ptr<softgl::Program>& p, const softgl::UniformLocation* loc) {
+            return to_python(c.get_uniform(p, loc));
+        })
+        // Drawing
+        .def("drawArrays", [](Context& c, IdlUint32 mode, IdlInt32 first, IdlInt32 count) {
+            py::gil_scoped_release release;
+            c.draw_arrays(mode.value, first.value, count.value, 1, "drawArrays");
+        })
+        .def("drawElements", [](Context& c, IdlUint32 mode, IdlInt32 count, IdlUint32 type, int64_t offset) {
+            py::gil_scoped_release release;
+            c.draw_elements(mode.value, count.value, type.value, offset, 1, "drawElements");
+        })
+        .def("drawArraysInstanced", [](Context& c, IdlUint32 mode, IdlInt32 first, IdlInt32 count, IdlInt32 instances) {
+            py::gil_scoped_release release;
+            c.draw_arrays(mode.value, first.value, count.value, instances.value, "drawArraysInstanced");
+        })
+        .def("drawElementsInstanced", [](Context& c, IdlUint32 mode, IdlInt32 count, IdlUint32 type, int64_t offset, IdlInt32 instances) {
+            py::gil_scoped_release release;
+            c.draw_elements(mode.value, count.value, type.value, offset, instances.value, "drawElementsInstanced");
+        })
+        .def("drawRangeElements", [](Context& c, IdlUint32 mode, IdlUint32 start, IdlUint32 end, IdlInt32 count, IdlUint32 type, int64_t offset) {
+            py::gil_scoped_release release;
+            c.draw_range_elements(mode.value, start.value, end.value, count.value, type.value, offset);
+        })
+        .def("_stats", [](Context& c, bool reset) {
+            const softgl::DrawStats& s = c.stats();
+            py::dict d;
+#define SOFTGL_STAT(name) d[#name] = s.name;
+            SOFTGL_STAT(draws) SOFTGL_STAT(vertices_shaded) SOFTGL_STAT(primitives) SOFTGL_STAT(primitives_culled)
+            SOFTGL_STAT(primitives_clipped) SOFTGL_STAT(primitives_outside) SOFTGL_STAT(primitives_invalid)
+            SOFTGL_STAT(primitives_zero_area) SOFTGL_STAT(primitives_rasterized) SOFTGL_STAT(tiles_touched)
+            SOFTGL_STAT(quads) SOFTGL_STAT(blocks_accepted_whole) SOFTGL_STAT(fragments_shaded)
+            SOFTGL_STAT(fragments_killed_early) SOFTGL_STAT(fragments_killed_late) SOFTGL_STAT(fragments_discarded)
+            SOFTGL_STAT(samples_written) SOFTGL_STAT(samples_blended) SOFTGL_STAT(draws_skipped_no_output)
+            SOFTGL_STAT(draws_early_depth) SOFTGL_STAT(draws_plain_write) SOFTGL_STAT(seconds_vertex)
+            SOFTGL_STAT(seconds_setup) SOFTGL_STAT(seconds_fragment)
+#undef SOFTGL_STAT
+            if (reset) c.stats() = softgl::DrawStats{};
+            return d;
+        }, py::arg("reset") = false)
         .def("readPixels", &read_pixels, py::arg("x"), py::arg("y"), py::arg("width"),
              py::arg("height"), py::arg("format"), py::arg("type"), py::arg("pixels") = py::none());
+}
+
+// The array forms of the uniform setters: uniform{1234}{f,i,ui}v and uniformMatrix*fv, taking
+// any sequence or array (with WebGL 2's srcOffset/srcLength), checked for length like WebGL.
+namespace {
+
+template <class T>
+void uniform_v(Context& c, const char* call, const softgl::UniformLocation* location, char kind, int columns,
+               int rows, py::object data, bool transpose, int64_t src_offset, int64_t src_length) {
+    auto arr = py::array_t<T, py::array::c_style | py::array::forcecast>::ensure(data);
+    if (!arr) throw py::type_error(std::string(call) + ": data must be a sequence of numbers");
+    const int64_t total = int64_t(arr.size());
+    if (src_offset < 0 || src_length < 0 || src_offset > total || (src_length && src_offset + src_length > total))
+        return c.record_error(gl::INVALID_VALUE, call, "srcOffset/srcLength exceed the data");
+    const int64_t n = src_length ? src_length : total - src_offset;
+    const int per = kind == 'm' ? columns * rows : columns;
+    if (n == 0 || n % per != 0)
+        return c.record_error(gl::INVALID_VALUE, call, "the data length must be a positive multiple of " + std::to_string(per));
+    c.set_uniform(call, location, kind, columns, rows, arr.data() + src_offset, size_t(n / per), transpose);
+}
+
+}  // namespace
+
+void bind_uniform_arrays(py::module_& m) {
+    auto cls = py::reinterpret_borrow<py::class_<Context>>(m.attr("Context"));
+    const char* kinds = "fiu";
+    for (int k = 0; k < 3; ++k) {
+        for (int n = 1; n <= 4; ++n) {
+            const char kind = kinds[k];
+            std::string name = "uniform" + std::to_string(n) + (kind == 'f' ? "f" : kind == 'i' ? "i" : "ui") + "v";
+            auto f = [kind, n, name](Context& c, const softgl::UniformLocation* l, py::object data, int64_t off, int64_t len) {
+                static thread_local std::string call;
+                call = name;
+                if (kind == 'f') uniform_v<float>(c, call.c_str(), l, 'f', n, 0, data, false, off, len);
+                else if (kind == 'i') uniform_v<int32_t>(c, call.c_str(), l, 'i', n, 0, data, false, off, len);
+                else uniform_v<uint32_t>(c, call.c_str(), l, 'u', n, 0, data, false, off, len);
+            };
+            cls.def(name.c_str(), f, py::arg("location"), py::arg("data"), py::arg("srcOffset") = 0, py::arg("srcLength") = 0);
+        }
+    }
+    for (int cols = 2; cols <= 4; ++cols)
+        for (int rows = 2; rows <= 4; ++rows) {
+            std::string name = "uniformMatrix" + std::to_string(cols) + (cols == rows ? "" : "x" + std::to_string(rows)) + "fv";
+            cls.def(name.c_str(),
+                    [cols, rows, name](Context& c, const softgl::UniformLocation* l, bool transpose, py::object data, int64_t off, int64_t len) {
+                        static thread_local std::string call;
+                        call = name;
+                        uniform_v<float>(c, call.c_str(), l, 'm', cols, rows, data, transpose, off, len);
+                    },
+                    py::arg("location"), py::arg("transpose"), py::arg("data"), py::arg("srcOffset") = 0, py::arg("srcLength") = 0);
+        }
 }

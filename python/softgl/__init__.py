@@ -10,6 +10,7 @@ from . import _core
 from .errors import GLError, GLWarning
 from .context import Context, WebGLRenderingContext, WebGL2RenderingContext
 from . import display, io
+from .programs import ShaderError, program
 
 __version__ = "0.1.0"
 
@@ -18,4 +19,4 @@ for _name, _value, _version in _core.ENUMS:
     globals()[_name] = _value
 del _name, _value, _version
 
-__all__ = ["Context", "WebGLRenderingContext", "WebGL2RenderingContext", "GLError", "GLWarning"]
+__all__ = ["program", "ShaderError", "Context", "WebGLRenderingContext", "WebGL2RenderingContext", "GLError", "GLWarning"]

@@ -38,6 +38,7 @@ class Extension:
 _EXTENSION_CONSTANTS = {
     "EXT_blend_minmax": {"MIN_EXT": 0x8007, "MAX_EXT": 0x8008},
     "OES_vertex_array_object": {"VERTEX_ARRAY_BINDING_OES": 0x85B5},
+    "ANGLE_instanced_arrays": {"VERTEX_ATTRIB_ARRAY_DIVISOR_ANGLE": 0x88FE},
 }
 
 
@@ -50,13 +51,25 @@ def _extension_functions(name: str, gl) -> dict:
                 "bindVertexArrayOES": lambda vao: core.bindVertexArray(ref(), vao),
                 "deleteVertexArrayOES": lambda vao: core.deleteVertexArray(ref(), vao),
                 "isVertexArrayOES": lambda vao: core.isVertexArray(ref(), vao)}
+    if name == "ANGLE_instanced_arrays":
+        return {"drawArraysInstancedANGLE":
+                lambda mode, first, count, n: core.drawArraysInstanced(ref(), mode, first, count, n),
+                "drawElementsInstancedANGLE":
+                lambda mode, count, type, offset, n: core.drawElementsInstanced(ref(), mode, count, type, offset, n),
+                "vertexAttribDivisorANGLE":
+                lambda index, divisor: core.vertexAttribDivisor(ref(), index, divisor)}
     return {}
 
 
 # Entry points that exist only on WebGL2RenderingContext.
 WEBGL2_ONLY = ["copyBufferSubData", "getBufferSubData", "vertexAttribIPointer", "vertexAttribI4i",
                "vertexAttribI4ui", "vertexAttribI4iv", "vertexAttribI4uiv", "vertexAttribDivisor",
-               "createVertexArray", "bindVertexArray", "deleteVertexArray", "isVertexArray"]
+               "createVertexArray", "bindVertexArray", "deleteVertexArray", "isVertexArray",
+               "drawArraysInstanced", "drawElementsInstanced", "drawRangeElements",
+               "uniform1ui", "uniform2ui", "uniform3ui", "uniform4ui",
+               "uniform1uiv", "uniform2uiv", "uniform3uiv", "uniform4uiv",
+               "uniformMatrix2x3fv", "uniformMatrix2x4fv", "uniformMatrix3x2fv",
+               "uniformMatrix3x4fv", "uniformMatrix4x2fv", "uniformMatrix4x3fv"]
 
 
 class Context(_core.Context):
@@ -125,6 +138,11 @@ class Context(_core.Context):
                         _extension_functions(canonical, self))
         self._extensions[name] = self._extensions[canonical] = ext
         return ext
+
+    def stats(self, reset: bool = False) -> dict:
+        """softgl's counters since the context was made (or last reset): what the draws did and
+        what they skipped (DESIGN §4), with seconds per stage."""
+        return self._stats(reset)
 
     @property
     def canvas(self):

@@ -91,7 +91,9 @@ Context::Context(int32_t width, int32_t height, const ContextAttributes& attribu
 std::vector<std::string> Context::get_supported_extensions() const {
     std::vector<std::string> names;
     if (version() == 1) {   // all three are core in WebGL 2
+        names.push_back("ANGLE_instanced_arrays");
         names.push_back("EXT_blend_minmax");
+        names.push_back("OES_element_index_uint");
         names.push_back("OES_vertex_array_object");
     }
     return names;
@@ -101,6 +103,8 @@ bool Context::enable_extension(const std::string& name) {
     if (version() != 1) return false;
     if (name == "EXT_blend_minmax") return ext_blend_minmax_ = true;
     if (name == "OES_vertex_array_object") return ext_vertex_array_object_ = true;
+    if (name == "ANGLE_instanced_arrays") return ext_instanced_arrays_ = true;
+    if (name == "OES_element_index_uint") return ext_element_index_uint_ = true;
     return false;
 }
 
@@ -108,6 +112,7 @@ bool Context::extension_enabled(const std::string& name) const {
     if (name == "EXT_blend_minmax") return ext_blend_minmax_;
     if (name == "OES_vertex_array_object") return ext_vertex_array_object_;
     if (name == "ANGLE_instanced_arrays") return ext_instanced_arrays_;
+    if (name == "OES_element_index_uint") return ext_element_index_uint_;
     return false;
 }
 

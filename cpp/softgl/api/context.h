@@ -228,6 +228,7 @@ private:
     bool ext_blend_minmax_ = false;
     bool ext_vertex_array_object_ = false;
     bool ext_instanced_arrays_ = false;
+    bool ext_element_index_uint_ = false;
 
     // Object bindings
     std::shared_ptr<Buffer> array_buffer_, copy_read_buffer_, copy_write_buffer_,

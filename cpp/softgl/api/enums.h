@@ -356,6 +356,12 @@ inline constexpr uint32_t DRAW_FRAMEBUFFER_BINDING = 0x8ca6;
 inline constexpr uint32_t DYNAMIC_COPY = 0x88ea;
 inline constexpr uint32_t DYNAMIC_READ = 0x88e9;
 inline constexpr uint32_t FLOAT_32_UNSIGNED_INT_24_8_REV = 0x8dad;
+inline constexpr uint32_t FLOAT_MAT2x3 = 0x8b65;
+inline constexpr uint32_t FLOAT_MAT2x4 = 0x8b66;
+inline constexpr uint32_t FLOAT_MAT3x2 = 0x8b67;
+inline constexpr uint32_t FLOAT_MAT3x4 = 0x8b68;
+inline constexpr uint32_t FLOAT_MAT4x2 = 0x8b69;
+inline constexpr uint32_t FLOAT_MAT4x3 = 0x8b6a;
 inline constexpr uint32_t FRAGMENT_SHADER_DERIVATIVE_HINT = 0x8b8b;
 inline constexpr uint32_t FRAMEBUFFER_ATTACHMENT_ALPHA_SIZE = 0x8215;
 inline constexpr uint32_t FRAMEBUFFER_ATTACHMENT_BLUE_SIZE = 0x8214;
@@ -913,6 +919,12 @@ inline constexpr EnumEntry kEnumTable[] = {
     {"DYNAMIC_COPY", 35050, 2},
     {"DYNAMIC_READ", 35049, 2},
     {"FLOAT_32_UNSIGNED_INT_24_8_REV", 36269, 2},
+    {"FLOAT_MAT2x3", 35685, 2},
+    {"FLOAT_MAT2x4", 35686, 2},
+    {"FLOAT_MAT3x2", 35687, 2},
+    {"FLOAT_MAT3x4", 35688, 2},
+    {"FLOAT_MAT4x2", 35689, 2},
+    {"FLOAT_MAT4x3", 35690, 2},
     {"FRAGMENT_SHADER_DERIVATIVE_HINT", 35723, 2},
     {"FRAMEBUFFER_ATTACHMENT_ALPHA_SIZE", 33301, 2},
     {"FRAMEBUFFER_ATTACHMENT_BLUE_SIZE", 33300, 2},

@@ -104,21 +104,16 @@ GlslFragmentShader::GlslFragmentShader(std::shared_ptr<const glsl::LinkedProgram
         else if (s.name == "gl_FrontFacing") input_builtin_[i] = 4;
         else if (s.name == "gl_PointCoord") input_builtin_[i] = 5 + s.component;
     }
-    // Color output 0: gl_FragColor, gl_FragData[0], or the `out` at location 0.
-    int location0 = -1;
-    for (const auto& o : program_->reflection.outputs)
-        if (o.location == 0 || (o.location < 0 && o.name != "gl_FragDepth")) location0 = location0 < 0 ? 0 : location0;
-    (void)location0;
+    // Color output 0: whichever of gl_FragColor, gl_FragData[0] or the `out` at location 0 the
+    // shader really writes (the IR declares both ES 1.00 outputs; reflection lists the active one).
     color_slot_.assign(4, -1);
     for (size_t i = 0; i < ir.outputs.size(); ++i) {
         const glsl::Slot& s = ir.outputs[i];
         if (s.name == "gl_FragDepth" || s.name == "gl_FragDepthEXT") { depth_slot_ = int(i); continue; }
         if (s.kind != SlotKind::FragmentOutput || s.component > 3) continue;
-        bool is_color0 = s.name == "gl_FragColor" || (s.name == "gl_FragData" && s.element == 0);
-        if (!is_color0)
-            for (const auto& o : program_->reflection.outputs)
-                if (o.name == s.name && (o.location < 0 ? 0 : o.location) + s.element == 0) is_color0 = true;
-        if (is_color0) color_slot_[size_t(s.component)] = int(i);
+        for (const auto& o : program_->reflection.outputs)
+            if (o.name == s.name && o.active && (o.location < 0 ? 0 : o.location) + s.element == 0)
+                color_slot_[size_t(s.component)] = int(i);
     }
 }
 

@@ -1,0 +1,117 @@
+// drawArrays / drawElements and their instanced and ranged forms: WebGL's validation (WebGL 1.0
+// §6.6 ranges, §6.11 stencil consistency, ANGLE_instanced_arrays / WebGL 2), then the pipeline.
+#include <algorithm>
+#include <cstring>
+
+#include "softgl/api/context.h"
+#include "softgl/pipeline/assemble.h"
+#include "softgl/pipeline/vertex_fetch.h"
+
+namespace softgl {
+
+namespace {
+
+int index_size(GLenum type) {
+    switch (type) {
+        case gl::UNSIGNED_BYTE: return 1;
+        case gl::UNSIGNED_SHORT: return 2;
+        case gl::UNSIGNED_INT: return 4;
+        default: return 0;
+    }
+}
+
+}  // namespace
+
+bool Context::validate_draw_state(const char* call) {
+    if (!current_program_ || !current_program_->link_status || !current_program_->vertex_stage) {
+        error(gl::INVALID_OPERATION, call, "no valid program is in use");
+        return false;
+    }
+    // WebGL 1.0 §6.11: front and back stencil reference, value mask and write mask must agree
+    // (compared within the stencil buffer's bits).
+    const uint32_t bits = framebuffer_.config().stencil ? 0xFFu : 0u;
+    const StencilFace &f = state_.stencil_front, &b = state_.stencil_back;
+    if ((uint32_t(f.ref) & bits) != (uint32_t(b.ref) & bits) || (f.value_mask & bits) != (b.value_mask & bits) ||
+        (f.write_mask & bits) != (b.write_mask & bits)) {
+        error(gl::INVALID_OPERATION, call, "front and back stencil ref/masks differ (not allowed in WebGL)");
+        return false;
+    }
+    return true;
+}
+
+void Context::run_draw(const DrawCall& call, uint32_t max_vertex) {
+    (void)max_vertex;
+    Program& p = *current_program_;
+    // gl_DepthRange is a built-in uniform: (near, far, far - near) from the current state.
+    for (const auto& u : p.linked->reflection.uniforms) {
+        if (!u.is_builtin) continue;
+        const float values[3] = {state_.depth_range[0], state_.depth_range[1], state_.depth_range[1] - state_.depth_range[0]};
+        const int field = u.name == "gl_DepthRange.near" ? 0 : u.name == "gl_DepthRange.far" ? 1 : 2;
+        p.uniforms[size_t(u.offset)].f = values[field];
+    }
+    DrawInputs in{state_, *vertex_array_, current_attribs_, *p.vertex_stage, *p.fragment_stage, framebuffer_, pool()};
+    draw(in, call, stats_);
+}
+
+void Context::draw_arrays(GLenum mode, int32_t first, int32_t count, int32_t instances, const char* call) {
+    if (!valid_draw_mode(mode)) return error(gl::INVALID_ENUM, call, enum_name(mode) + " is not a primitive mode");
+    if (first < 0 || count < 0 || instances < 0) return error(gl::INVALID_VALUE, call, "first, count and instance count must not be negative");
+    if (!validate_draw_state(call)) return;
+    if (count == 0 || instances == 0) return;
+    const uint32_t used = current_program_->vertex_stage->used_attributes();
+    const std::string range = check_attribute_ranges(*vertex_array_, used, uint64_t(first) + uint64_t(count) - 1,
+                                                     uint64_t(instances));
+    if (!range.empty()) return error(gl::INVALID_OPERATION, call, range);
+    DrawCall dc;
+    dc.mode = mode;
+    dc.first = uint32_t(first);
+    dc.count = uint32_t(count);
+    dc.instance_count = uint32_t(instances);
+    run_draw(dc, uint32_t(first) + uint32_t(count) - 1);
+}
+
+void Context::draw_elements(GLenum mode, int32_t count, GLenum type, int64_t offset, int32_t instances,
+                            const char* call) {
+    if (!valid_draw_mode(mode)) return error(gl::INVALID_ENUM, call, enum_name(mode) + " is not a primitive mode");
+    const int size = index_size(type);
+    if (!size || (type == gl::UNSIGNED_INT && version() < 2 && !extension_enabled("OES_element_index_uint")))
+        return error(gl::INVALID_ENUM, call, enum_name(type) + " is not an index type here");
+    if (count < 0 || instances < 0) return error(gl::INVALID_VALUE, call, "count and instance count must not be negative");
+    if (offset < 0) return error(gl::INVALID_VALUE, call, "offset must not be negative");
+    if (offset % size != 0) return error(gl::INVALID_OPERATION, call, "offset must be a multiple of the index size");
+    if (!validate_draw_state(call)) return;
+    const std::shared_ptr<Buffer>& elements = vertex_array_->element_buffer;
+    if (!elements) return error(gl::INVALID_OPERATION, call, "no ELEMENT_ARRAY_BUFFER is bound");
+    if (uint64_t(offset) + uint64_t(count) * uint64_t(size) > elements->data.size())
+        return error(gl::INVALID_OPERATION, call, "the indices extend past the end of the element array buffer");
+    if (count == 0 || instances == 0) return;
+    // Read the indices once; WebGL requires every index to address data inside the buffers.
+    std::vector<uint32_t> indices(static_cast<size_t>(count));
+    const uint8_t* src = elements->data.data() + offset;
+    uint32_t max_index = 0;
+    for (int32_t i = 0; i < count; ++i) {
+        uint32_t v = 0;
+        if (size == 1) v = src[i];
+        else if (size == 2) { uint16_t s; std::memcpy(&s, src + 2 * i, 2); v = s; }
+        else std::memcpy(&v, src + 4 * i, 4);
+        indices[size_t(i)] = v;
+        max_index = std::max(max_index, v);
+    }
+    const uint32_t used = current_program_->vertex_stage->used_attributes();
+    const std::string range = check_attribute_ranges(*vertex_array_, used, max_index, uint64_t(instances));
+    if (!range.empty()) return error(gl::INVALID_OPERATION, call, range);
+    DrawCall dc;
+    dc.mode = mode;
+    dc.count = uint32_t(count);
+    dc.indices = indices.data();
+    dc.instance_count = uint32_t(instances);
+    run_draw(dc, max_index);
+}
+
+void Context::draw_range_elements(GLenum mode, uint32_t start, uint32_t end, int32_t count, GLenum type, int64_t offset) {
+    if (end < start) return error(gl::INVALID_VALUE, "drawRangeElements", "end must not be less than start");
+    // The range is a hint (ES 3.0 §2.8.3); indices outside it still draw correctly.
+    draw_elements(mode, count, type, offset, 1, "drawRangeElements");
+}
+
+}  // namespace softgl
