@@ -196,6 +196,8 @@ void bind_context(py::module_& m) {
         .def("_set_error_listener",
              [](Context& c, py::function f) {
                  c.errors().set_listener([f](GLenum code, const char* call, const std::string& why) {
+                     // Draws and compiles run without the GIL; reporting needs it.
+                     py::gil_scoped_acquire gil;
                      f(code, call, why);
                  });
              })
