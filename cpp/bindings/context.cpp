@@ -403,6 +403,12 @@ void bind_context(py::module_& m) {
             py::gil_scoped_release release;
             c.draw_range_elements(mode.value, start.value, end.value, count.value, type.value, offset);
         })
+        .def("_fog", [](Context& c, const std::string& call, IdlUint32 pname, std::vector<float> values) {
+            if (values.empty()) return c.record_error(gl::INVALID_VALUE, "fogfv", "no values");
+            static thread_local std::string name;
+            name = call;
+            c.fog(name.c_str(), pname.value, values.data(), int(values.size()));
+        })
         .def("_stats", [](Context& c, bool reset) {
             const softgl::DrawStats& s = c.stats();
             py::dict d;
