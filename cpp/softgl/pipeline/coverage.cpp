@@ -138,16 +138,31 @@ struct SampledPolygon {
                 threshold[i] = int64_t(std::ceil(-off));
         }
     }
+    // Only edges that cross the pixel square can reject a sample (an edge >= 0 at all four corners
+    // is > 0 at every interior sample), so the count tests those, stepping the edge values
+    // incrementally (exact integers).
     int count(const PrimitiveSetup& p, int64_t X0, int64_t Y0, int g) const {
         const int64_t step = kSubPixel / g, first = step / 2;
+        int m = 0;
+        int64_t e0[4], dx[4], dy[4], t[4];
+        for (int i = 0; i < p.edge_count; ++i) {
+            const int64_t a = p.a[i], b = p.b[i];
+            const int64_t emin = a * (a > 0 ? X0 : X0 + kSubPixel) +
+                                 b * (b > 0 ? Y0 : Y0 + kSubPixel) + p.c[i];
+            if (double(emin) + p.area_offset[i] >= 0) continue;
+            e0[m] = a * (X0 + first) + b * (Y0 + first) + p.c[i];
+            dx[m] = a * step;
+            dy[m] = b * step;
+            t[m] = threshold[i];
+            ++m;
+        }
         int hits = 0;
         for (int j = 0; j < g; ++j) {
-            const int64_t Y = Y0 + first + j * step;
+            int64_t e[4];
+            for (int i = 0; i < m; ++i) e[i] = e0[i] + j * dy[i];
             for (int k = 0; k < g; ++k) {
-                const int64_t X = X0 + first + k * step;
                 bool in = true;
-                for (int i = 0; i < p.edge_count; ++i)
-                    in &= p.a[i] * X + p.b[i] * Y + p.c[i] >= threshold[i];
+                for (int i = 0; i < m; ++i) in &= e[i] + k * dx[i] >= t[i];
                 hits += in;
             }
         }
