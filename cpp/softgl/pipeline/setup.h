@@ -104,8 +104,9 @@ struct PrimitiveSetup {
     //   a[i]*X + b[i]*Y + c[i] + area_offset[i] >= 0.
     // c[i] has the tie rule folded in (an excluded edge has c one less), so for triangles, aliased
     // points and lines area_offset[i] is 1 on tie-excluded edges and 0 otherwise: the area shape is
-    // exactly the snapped polygon. Smooth lines have integer edges rounded outwards (conservative,
-    // for bins and blocks) and area_offset in (-1, 0] carrying the exact irrational width.
+    // exactly the snapped polygon. Smooth lines' sides are irrational: c = floor(C) (so the integer
+    // test is exact at every fixed-point position, and bins/blocks stay exact) and area_offset =
+    // C - floor(C) in [0, 1) carries the exact width.
     double area_offset[4];
     AreaShape area_shape;
 
