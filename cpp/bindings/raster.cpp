@@ -9,6 +9,8 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include "softgl/pipeline/area_probe.h"
+#include "softgl/pipeline/coverage.h"
 #include "softgl/pipeline/coverage_probe.h"
 
 namespace py = pybind11;
@@ -33,7 +35,7 @@ py::dict raster_coverage(int32_t width, int32_t height,
                          int depth_bits, int samples, unsigned threads,
                          std::optional<std::tuple<int32_t, int32_t, int32_t, int32_t>> scissor,
                          std::optional<py::array_t<float, py::array::c_style | py::array::forcecast>> point_sizes,
-                         double line_width, bool record) {
+                         double line_width, bool record, const std::string& line_rule) {
     if (positions.ndim() != 2 || positions.shape(1) != 4)
         throw py::value_error("positions must have shape (N, 4)");
     ProbeInput in;
@@ -69,6 +71,9 @@ py::dict raster_coverage(int32_t width, int32_t height,
     st.depth_bits = depth_bits;
     st.samples = samples;
     st.line_width = line_width;
+    if (line_rule == "diamond_exit") st.line_rule = LineRule::DiamondExit;
+    else if (line_rule == "half_open") st.line_rule = LineRule::HalfOpen;
+    else throw py::value_error("line_rule must be 'diamond_exit' or 'half_open'");
 
     ProbeResult r;
     {
@@ -100,6 +105,69 @@ py::dict raster_coverage(int32_t width, int32_t height,
     return out;
 }
 
+py::dict raster_area(int32_t width, int32_t height,
+                     py::array_t<float, py::array::c_style | py::array::forcecast> positions,
+                     std::optional<py::array_t<uint32_t, py::array::c_style | py::array::forcecast>> indices,
+                     const std::string& primitive, bool sampled, int grid, double line_width,
+                     bool line_smooth, std::optional<py::array_t<float, py::array::c_style | py::array::forcecast>> point_sizes,
+                     const std::string& point_shape, unsigned threads, bool record,
+                     std::optional<std::tuple<int32_t, int32_t, int32_t, int32_t>> scissor) {
+    if (positions.ndim() != 2 || positions.shape(1) != 4)
+        throw py::value_error("positions must have shape (N, 4)");
+    ProbeInput in;
+    in.positions = positions.data();
+    in.vertex_count = size_t(positions.shape(0));
+    int per;
+    if (primitive == "triangles") { in.kind = PrimitiveKind::Triangle; per = 3; }
+    else if (primitive == "lines") { in.kind = PrimitiveKind::Line; per = 2; }
+    else if (primitive == "points") { in.kind = PrimitiveKind::Point; per = 1; }
+    else throw py::value_error("primitive must be 'triangles', 'lines' or 'points'");
+    if (indices) {
+        if (indices->size() % per) throw py::value_error("index count is not a multiple of the primitive size");
+        in.indices = indices->data();
+        in.primitive_count = size_t(indices->size()) / per;
+    } else {
+        in.primitive_count = in.vertex_count / per;
+    }
+    if (point_sizes) {
+        if (size_t(point_sizes->size()) != in.vertex_count) throw py::value_error("one point size per vertex");
+        in.point_sizes = point_sizes->data();
+    }
+    in.record = record;
+    RasterState st = RasterState::for_target(width, height);
+    if (scissor) st.set_scissor(std::get<0>(*scissor), std::get<1>(*scissor), std::get<2>(*scissor), std::get<3>(*scissor));
+    st.line_width = line_width;
+    st.line_smooth = line_smooth;
+    if (point_shape == "disk") { st.point_smooth = true; st.point_smooth_square = false; }
+    else if (point_shape == "square") { st.point_smooth = true; st.point_smooth_square = true; }
+    else throw py::value_error("point_shape must be 'disk' or 'square'");
+    AreaOptions opt;
+    opt.sampled = sampled;
+    opt.grid = grid;
+    AreaProbeResult r;
+    {
+        py::gil_scoped_release release;
+        ThreadPool pool(threads);
+        r = area_probe(in, st, opt, pool);
+    }
+    const py::ssize_t H = record ? height : 0, W = record ? width : 0;
+    py::dict out;
+    out["coverage"] = to_array(r.coverage, {H, W});
+    out["fragments"] = to_array(r.fragments, {H, W});
+    out["total"] = r.total;
+    out["fragment_count"] = r.fragment_count;
+    py::dict setup;
+    setup["primitives"] = r.setup.primitives; setup["outside"] = r.setup.outside;
+    setup["zero_area"] = r.setup.zero_area; setup["emitted"] = r.setup.emitted;
+    out["setup"] = setup;
+    py::dict raster;
+    raster["blocks_rejected"] = r.raster.blocks_rejected; raster["blocks_accepted"] = r.raster.blocks_accepted;
+    raster["blocks_partial"] = r.raster.blocks_partial; raster["quads"] = r.raster.quads;
+    out["raster"] = raster;
+    out["seconds"] = py::make_tuple(r.seconds_setup, r.seconds_bin, r.seconds_raster);
+    return out;
+}
+
 }  // namespace
 
 void bind_raster(py::module_& m) {
@@ -110,7 +178,22 @@ void bind_raster(py::module_& m) {
           py::arg("polygon_offset") = py::none(), py::arg("depth_bits") = 24,
           py::arg("samples") = 1, py::arg("threads") = 1u, py::arg("scissor") = py::none(),
           py::arg("point_sizes") = py::none(), py::arg("line_width") = 1.0, py::arg("record") = true,
+          py::arg("line_rule") = "diamond_exit",
           "Coverage of primitives given in clip coordinates (testing/benchmarks): per-sample hit "
           "counts and depth of the last primitive, per-pixel last primitive, facing, weights. "
           "Arrays are [y][x], row 0 = bottom. Enum arguments take GL values. record=False: only samples_covered and stats (benchmarks).");
+    m.def("raster_area", &raster_area, py::arg("width"), py::arg("height"), py::arg("positions"),
+          py::arg("indices") = py::none(), py::arg("primitive") = "triangles",
+          py::arg("sampled") = false, py::arg("grid") = 8, py::arg("line_width") = 1.0,
+          py::arg("line_smooth") = true, py::arg("point_sizes") = py::none(),
+          py::arg("point_shape") = "disk", py::arg("threads") = 1u, py::arg("record") = true,
+          py::arg("scissor") = py::none(),
+          "Area coverage (SOFTGL_smooth, pipeline/coverage) of primitives in clip coordinates, "
+          "full-target viewport: per-pixel sum of coverage fractions and fragment counts, [y][x], "
+          "row 0 = bottom. sampled=True: grid x grid sample estimate (hint FASTEST). Testing/benchmarks.");
+    m.def("disk_rect_area", &disk_rect_area, py::arg("cx"), py::arg("cy"), py::arg("r"),
+          py::arg("x0"), py::arg("y0"), py::arg("x1"), py::arg("y1"),
+          "Exact area of a disk intersected with a rectangle (pipeline/coverage; testing).");
+    m.def("sampled_error_bound", &sampled_error_bound, py::arg("grid"), py::arg("edges"),
+          "Documented worst-case |sampled - exact| per pixel (edges < 0: a circle).");
 }

@@ -32,6 +32,7 @@ void make_edge(PrimitiveSetup& s, int i, int64_t xj, int64_t yj, int64_t xk, int
     s.a[i] = a;
     s.b[i] = b;
     s.c[i] = -(a * xj + b * yj) - (included ? 0 : 1);
+    s.area_offset[i] = included ? 0.0 : 1.0;   // the area shape is the untied edge
 }
 
 // The plane through (0, 0, v0), (dx1, dy1, v1), (dx2, dy2, v2) (pixel offsets from vertex 0);
@@ -192,6 +193,8 @@ void Setup::emit_triangle(WindowVertex v0, WindowVertex v1, WindowVertex v2, int
         make_edge(s, i, j.X, j.Y, k.X, k.Y);     // edge i is opposite vertex i
     }
     s.a[3] = s.b[3] = s.c[3] = 0;
+    s.area_offset[3] = 0;
+    s.area_shape = AreaShape::Polygon;
     const int64_t xmin = std::min({v0.X, v1.X, v2.X}), xmax = std::max({v0.X, v1.X, v2.X});
     const int64_t ymin = std::min({v0.Y, v1.Y, v2.Y}), ymax = std::max({v0.Y, v1.Y, v2.Y});
     if (!finish_bbox(s, xmin, ymin, xmax, ymax)) { ++stats.outside; return; }
@@ -271,9 +274,98 @@ void Setup::point(const float* p, float size, uint32_t index, uint32_t primitive
     s.point_x = float(double(X) / kSubPixel);
     s.point_y = float(double(Y) / kSubPixel);
     s.point_size = float(double(2 * h) / kSubPixel);
+    s.area_shape = state_.point_smooth && !state_.point_smooth_square ? AreaShape::Disk
+                                                                       : AreaShape::Polygon;
     out.push_back(s);
     ++stats.emitted;
 }
+
+namespace {
+
+// ---- The diamond-exit rule for width-1 lines, ES 3.0 §3.5.1 ----
+// A value c0 + c1*eps + c2*eps^2 for an infinitesimal eps > 0: ES 3.0 §3.5.1 perturbs both end points
+// by (-eps, -eps^2) so that no end point lies on a diamond's boundary; comparing such values
+// lexicographically gives the limit eps -> 0 exactly, in integers.
+struct EpsValue {
+    __int128 c0, c1, c2;
+    int sign() const {
+        if (c0 != 0) return c0 > 0 ? 1 : -1;
+        if (c1 != 0) return c1 > 0 ? 1 : -1;
+        return c2 > 0 ? 1 : (c2 < 0 ? -1 : 0);
+    }
+    EpsValue operator-(const EpsValue& o) const { return {c0 - o.c0, c1 - o.c1, c2 - o.c2}; }
+    EpsValue operator+(const EpsValue& o) const { return {c0 + o.c0, c1 + o.c1, c2 + o.c2}; }
+    EpsValue abs() const { return sign() < 0 ? EpsValue{-c0, -c1, -c2} : *this; }
+};
+
+constexpr int64_t kDiamondRadius = kSubPixel / 2;   // R_f = {|x - x_f| + |y - y_f| < 1/2}
+
+// Does the segment from (ax, ay) to (bx, by) (fixed point, perturbed per §3.5.1) produce the
+// fragment whose centre is (fx, fy)? It does when the segment meets the open diamond R_f and the
+// end point is not inside R_f.
+bool diamond_exit(int64_t ax, int64_t ay, int64_t bx, int64_t by, int64_t fx, int64_t fy) {
+    const EpsValue R{kDiamondRadius, 0, 0};
+    auto inside = [&](int64_t x, int64_t y) {   // |x - eps - fx| + |y - eps^2 - fy| < R
+        const EpsValue u{x - fx, -1, 0}, v{y - fy, 0, -1};
+        return (u.abs() + v.abs() - R).sign() < 0;
+    };
+    if (inside(bx, by)) return false;
+    if (inside(ax, ay)) return true;
+    // The L1 distance to the centre is convex and piecewise linear along the segment: besides the
+    // end points its minimum can only be where the segment crosses x = fx or y = fy.
+    const int64_t dx = bx - ax, dy = by - ay;
+    auto within = [](const EpsValue& num, int64_t den) {   // num / den in [0, 1]
+        const int s0 = num.sign(), s1 = (num - EpsValue{den, 0, 0}).sign();
+        return den > 0 ? (s0 >= 0 && s1 <= 0) : (s0 <= 0 && s1 >= 0);
+    };
+    if (dx != 0 && within(EpsValue{fx - ax, 1, 0}, dx)) {
+        // |dx| * |y(t*) - fy| at the crossing of x = fx.
+        const EpsValue d{__int128(ay - fy) * dx + __int128(dy) * (fx - ax), dy, -dx};
+        if ((d.abs() - EpsValue{__int128(kDiamondRadius) * (dx < 0 ? -dx : dx), 0, 0}).sign() < 0)
+            return true;
+    }
+    if (dy != 0 && within(EpsValue{fy - ay, 0, 1}, dy)) {
+        const EpsValue d{__int128(ax - fx) * dy + __int128(dx) * (fy - ay), -dy, dx};
+        if ((d.abs() - EpsValue{__int128(kDiamondRadius) * (dy < 0 ? -dy : dy), 0, 0}).sign() < 0)
+            return true;
+    }
+    return false;
+}
+
+// Does the segment produce a fragment in major-axis column (x-major) or row (y-major) `m`? A line
+// with |slope| <= 1 meets at most one diamond per column (the one whose centre is within 1/2 of the
+// line), so only the three pixels nearest the line need the exact test.
+bool diamond_exit_in(int64_t ax, int64_t ay, int64_t bx, int64_t by, bool x_major, int64_t m) {
+    const int64_t dx = bx - ax, dy = by - ay;
+    const int64_t centre = m * kSubPixel + kSubPixel / 2;
+    const double minor = x_major ? double(ay) + double(dy) * double(centre - ax) / double(dx)
+                                 : double(ax) + double(dx) * double(centre - ay) / double(dy);
+    const int64_t n0 = int64_t(std::floor(minor / double(kSubPixel)));
+    for (int64_t n = n0 - 1; n <= n0 + 1; ++n) {
+        const int64_t other = n * kSubPixel + kSubPixel / 2;
+        if (x_major ? diamond_exit(ax, ay, bx, by, centre, other)
+                    : diamond_exit(ax, ay, bx, by, other, centre))
+            return true;
+    }
+    return false;
+}
+
+// The first and last major-axis pixel index with a fragment. Every column strictly between them has
+// one (the segment crosses its centre line inside the diamond), so only the ends need the exact
+// test; for long lines each scan stops after at most three columns. False: no fragment at all.
+bool diamond_exit_span(int64_t ax, int64_t ay, int64_t bx, int64_t by, bool x_major,
+                       int64_t& first, int64_t& last) {
+    const int64_t lo = floor_div(std::min(x_major ? ax : ay, x_major ? bx : by), kSubPixel) - 1;
+    const int64_t hi = floor_div(std::max(x_major ? ax : ay, x_major ? bx : by), kSubPixel) + 1;
+    first = lo;
+    while (first <= hi && !diamond_exit_in(ax, ay, bx, by, x_major, first)) ++first;
+    if (first > hi) return false;
+    last = hi;
+    while (last > first && !diamond_exit_in(ax, ay, bx, by, x_major, last)) --last;
+    return true;
+}
+
+}  // namespace
 
 void Setup::line(const float* p0, const float* p1, uint32_t i0, uint32_t i1, uint32_t primitive,
                  std::vector<PrimitiveSetup>& out) {
@@ -289,33 +381,105 @@ void Setup::line(const float* p0, const float* p1, uint32_t i0, uint32_t i1, uin
     const WindowVertex a = project(c[0]), e = project(c[1]);
     const int64_t dx = e.X - a.X, dy = e.Y - a.Y;
     if (dx == 0 && dy == 0) { ++stats.zero_area; return; }
+    const bool x_major = (dx < 0 ? -dx : dx) >= (dy < 0 ? -dy : dy);
 
-    // ES 3.0 §3.5.2: a line of width w is rasterised by offsetting it by w/2 either way in its
-    // minor direction (y for an x-major line), i.e. as the parallelogram with ends perpendicular to
-    // the major axis. For w = 1 this is the diamond-exit rule of §3.5.1 except at the two end
-    // pixels, where this takes the half-open span [start, end) along the major axis (the
-    // tie rule decides which end is closed).
-    const int64_t h = std::max<int64_t>(1, int64_t(std::floor(state_.line_width * (kSubPixel / 2) + 0.5)));
-    int64_t px[4], py[4];
-    if ((dx < 0 ? -dx : dx) >= (dy < 0 ? -dy : dy)) {
-        px[0] = a.X; py[0] = a.Y - h; px[1] = e.X; py[1] = e.Y - h;
-        px[2] = e.X; py[2] = e.Y + h; px[3] = a.X; py[3] = a.Y + h;
-    } else {
-        px[0] = a.X + h; py[0] = a.Y; px[1] = e.X + h; py[1] = e.Y;
-        px[2] = e.X - h; py[2] = e.Y; px[3] = a.X - h; py[3] = a.Y;
-    }
-    __int128 area2 = 0;
-    for (int i = 0; i < 4; ++i) {
-        const int j = (i + 1) & 3;
-        area2 += __int128(px[i]) * py[j] - __int128(px[j]) * py[i];
-    }
     PrimitiveSetup s;
-    for (int i = 0; i < 4; ++i) {     // counter-clockwise order: reverse if the area is negative
-        const int j = area2 > 0 ? i : 3 - i, k = area2 > 0 ? (i + 1) & 3 : (6 - i) & 3;
-        make_edge(s, i, px[j], py[j], px[k], py[k]);
+    for (int i = 0; i < 4; ++i) s.area_offset[i] = 0;
+    s.area_shape = AreaShape::Polygon;
+    int64_t bxmin, bymin, bxmax, bymax;   // fixed-point bounding box of the shape
+    if (state_.line_smooth) {
+        // GL 1.5 §3.4.2 (antialiasing): the rectangle of width w (not rounded) and the segment's
+        // length, centred on the segment. Ends: (P - A).d >= 0 and (B - P).d >= 0, exact integers.
+        // Sides: |(P - A) x d| <= (w/2) |d|, irrational: c = floor(C) keeps the integer test exact
+        // at every fixed-point position (E is an integer there) and area_offset = C - floor(C)
+        // carries the exact side for the area.
+        const double len = std::sqrt(double(dx) * double(dx) + double(dy) * double(dy));
+        const double half = 0.5 * state_.line_width * double(kSubPixel) * len;   // E units
+        const double half_floor = std::floor(half);
+        auto set = [&](int i, int64_t ea, int64_t eb, int64_t ec, double off) {
+            s.a[i] = ea; s.b[i] = eb; s.c[i] = ec; s.area_offset[i] = off;
+        };
+        set(0, dx, dy, -(dx * a.X + dy * a.Y), 0.0);
+        set(1, -dx, -dy, dx * e.X + dy * e.Y, 0.0);
+        set(2, -dy, dx, (dy * a.X - dx * a.Y) + int64_t(half_floor), half - half_floor);
+        set(3, dy, -dx, (dx * a.Y - dy * a.X) + int64_t(half_floor), half - half_floor);
+        // Bounding box of the four corners A, B +- n (w/2), one unit outwards for rounding.
+        const double ox = std::fabs(double(dy)) * (0.5 * state_.line_width * kSubPixel / len);
+        const double oy = std::fabs(double(dx)) * (0.5 * state_.line_width * kSubPixel / len);
+        bxmin = int64_t(std::floor(double(std::min(a.X, e.X)) - ox)) - 1;
+        bxmax = int64_t(std::ceil(double(std::max(a.X, e.X)) + ox)) + 1;
+        bymin = int64_t(std::floor(double(std::min(a.Y, e.Y)) - oy)) - 1;
+        bymax = int64_t(std::ceil(double(std::max(a.Y, e.Y)) + oy)) + 1;
+    } else {
+        // ES 3.0 §3.5.2: the width of non-antialiased lines is rounded to the nearest integer
+        // (0 counts as 1). A line of width w is the width-1 line of the segment offset by
+        // -(w-1)/2 in the minor direction, each fragment replaced by w fragments in the minor
+        // direction. In the minor direction that is the band of half-width w/2 around the segment
+        // with the tie rule (exactly the diamond rule's choice, including centres on the band's
+        // border, which the eps perturbation of §3.5.1 resolves the same way); along the major
+        // axis the diamond-exit rule decides which end pixels the offset segment produces.
+        const int64_t w = std::max<int64_t>(1, int64_t(std::floor(state_.line_width + 0.5)));
+        const int64_t h = w * (kSubPixel / 2);
+        int64_t px[4], py[4];
+        if (x_major) {
+            px[0] = a.X; py[0] = a.Y - h; px[1] = e.X; py[1] = e.Y - h;
+            px[2] = e.X; py[2] = e.Y + h; px[3] = a.X; py[3] = a.Y + h;
+        } else {
+            px[0] = a.X + h; py[0] = a.Y; px[1] = e.X + h; py[1] = e.Y;
+            px[2] = e.X - h; py[2] = e.Y; px[3] = a.X - h; py[3] = a.Y;
+        }
+        __int128 area2 = 0;
+        for (int i = 0; i < 4; ++i) {
+            const int j = (i + 1) & 3;
+            area2 += __int128(px[i]) * py[j] - __int128(px[j]) * py[i];
+        }
+        for (int i = 0; i < 4; ++i) {   // counter-clockwise order: reverse if the area is negative
+            const int j = area2 > 0 ? i : 3 - i, k = area2 > 0 ? (i + 1) & 3 : (6 - i) & 3;
+            make_edge(s, i, px[j], py[j], px[k], py[k]);
+        }
+        bxmin = *std::min_element(px, px + 4); bxmax = *std::max_element(px, px + 4);
+        bymin = *std::min_element(py, py + 4); bymax = *std::max_element(py, py + 4);
+        if (state_.samples == 1 && state_.line_rule == LineRule::DiamondExit) {
+            // Replace the two end edges (perpendicular to the major axis) by pixel-boundary edges
+            // around the first and last major-axis pixel the diamond-exit rule produces.
+            const int64_t shift = (w - 1) * (kSubPixel / 2);
+            const int64_t sax = x_major ? a.X : a.X - shift, say = x_major ? a.Y - shift : a.Y;
+            const int64_t sbx = x_major ? e.X : e.X - shift, sby = x_major ? e.Y - shift : e.Y;
+            int64_t first, last;
+            if (!diamond_exit_span(sax, say, sbx, sby, x_major, first, last)) {
+                ++stats.zero_area;
+                return;
+            }
+            const int64_t lo = first * kSubPixel, hi = (last + 1) * kSubPixel;   // [lo, hi)
+            // Band edges are the ones parallel to the segment: i with (a, b) not along the major axis.
+            int k = 0;
+            PrimitiveSetup band = s;
+            for (int i = 0; i < 4; ++i) {
+                const bool end_edge = x_major ? band.b[i] == 0 : band.a[i] == 0;
+                if (end_edge) continue;
+                s.a[k] = band.a[i]; s.b[k] = band.b[i]; s.c[k] = band.c[i];
+                s.area_offset[k] = band.area_offset[i];
+                ++k;
+            }
+            if (x_major) {
+                make_edge(s, 2, lo, 1, lo, 0);   // runs down: a left edge, x >= lo included
+                make_edge(s, 3, hi, 0, hi, 1);   // runs up: x < hi
+            } else {
+                make_edge(s, 2, 0, lo, 1, lo);   // runs right: a bottom edge, y >= lo included
+                make_edge(s, 3, 1, hi, 0, hi);   // runs left: y < hi
+            }
+            // The end pixels lie within 1/2 pixel (major) of the offset segment's ends, so the
+            // band there lies within 1/2 pixel (minor, |slope| <= 1) of the original bounds.
+            if (x_major) {
+                bxmin = lo; bxmax = hi - 1;
+                bymin -= kSubPixel / 2; bymax += kSubPixel / 2;
+            } else {
+                bymin = lo; bymax = hi - 1;
+                bxmin -= kSubPixel / 2; bxmax += kSubPixel / 2;
+            }
+        }
     }
-    if (!finish_bbox(s, *std::min_element(px, px + 4), *std::min_element(py, py + 4),
-                     *std::max_element(px, px + 4), *std::max_element(py, py + 4))) {
+    if (!finish_bbox(s, bxmin, bymin, bxmax, bymax)) {
         ++stats.outside;
         return;
     }

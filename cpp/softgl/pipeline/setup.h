@@ -23,6 +23,17 @@
 
 namespace softgl {
 
+// Which pixels at the two ends of a non-antialiased line are produced (single-sample targets).
+//  DiamondExit: ES 3.0 §3.5.1 exactly (a fragment for every diamond the segment exits; the start
+//    pixel's diamond counts when the start point is inside it, the end pixel's does not when the end
+//    point is inside it; the spec's (eps, eps^2) perturbation resolved exactly).
+//  HalfOpen: the pixels whose centre's major coordinate is in [start, end) by the tie rule -- what
+//    WebGL in Chromium (SwiftShader) does (tests/pipeline/reference/coverage_chromium.json: it
+//    differs from DiamondExit by one end pixel on 11 of 36 lines). Also allowed by §3.5.1's
+//    "other line segment rasterization algorithms" clause.
+// Both agree on every pixel between the ends (and on the rows/columns within the line's width).
+enum class LineRule : uint8_t { DiamondExit, HalfOpen };
+
 // Fixed-function state that setup and raster read (the lead fills it from the context State).
 struct RasterState {
     int32_t width = 0, height = 0;              // render target size in pixels
@@ -38,6 +49,18 @@ struct RasterState {
     int samples = 1;                            // 1, 2, 4, 8 or 16
     double point_size_min = 1, point_size_max = 1023;   // ALIASED_POINT_SIZE_RANGE (Chromium: 1..1023)
     double line_width = 1;                      // already clamped to ALIASED_LINE_WIDTH_RANGE
+                                                // (or the smooth range when line_smooth)
+    LineRule line_rule = LineRule::DiamondExit;   // single-sample aliased lines, see LineRule
+    // softgl's SOFTGL_smooth extension (OpenGL 1.x LINE_SMOOTH / POINT_SMOOTH semantics; POLYGON_SMOOTH
+    // needs no setup change). These only change the primitive's *shape*; the fraction of each pixel
+    // it covers comes from pipeline/coverage (rasterize_area).
+    //  line_smooth: the line is the exact rectangle of width line_width (not rounded) and the
+    //    segment's length, centred on it (GL 1.5 §3.4.2), instead of the diamond-exit parallelogram.
+    //  point_smooth: the point's area shape is a disk of diameter size (point_smooth_square: keep
+    //    the square). Sample coverage (rasterize) still sees the enclosing square.
+    bool line_smooth = false;
+    bool point_smooth = false;
+    bool point_smooth_square = false;
 
     // Convenience: whole framebuffer, viewport = framebuffer, no scissor.
     static RasterState for_target(int32_t width, int32_t height);
@@ -51,6 +74,10 @@ struct Plane {
 };
 
 enum class PrimitiveKind : uint8_t { Triangle, Line, Point };
+
+// The shape whose exact area pipeline/coverage integrates: the convex polygon of the edges, or (smooth
+// points) the disk of diameter point_size centred on (origin_x, origin_y).
+enum class AreaShape : uint8_t { Polygon, Disk };
 
 struct PrimitiveSetup {
     // Coverage: a sample at fixed-point window position (X, Y) (units of 1/256 pixel) is inside when
@@ -73,6 +100,15 @@ struct PrimitiveSetup {
     uint8_t edge_count;               // 3 or 4
     bool front_facing;                // gl_FrontFacing (points and lines: true)
     float point_x, point_y, point_size;   // points: window centre and size, for gl_PointCoord
+    // Area geometry (pipeline/coverage): the exact half-plane of edge i is
+    //   a[i]*X + b[i]*Y + c[i] + area_offset[i] >= 0.
+    // c[i] has the tie rule folded in (an excluded edge has c one less), so for triangles, aliased
+    // points and lines area_offset[i] is 1 on tie-excluded edges and 0 otherwise: the area shape is
+    // exactly the snapped polygon. Smooth lines' sides are irrational: c = floor(C) (so the integer
+    // test is exact at every fixed-point position, and bins/blocks stay exact) and area_offset =
+    // C - floor(C) in [0, 1) carries the exact width.
+    double area_offset[4];
+    AreaShape area_shape;
 
     // Depth at a fixed-point sample position: plane + offset, clamped to [0, 1] (ES 3.0 §3.6.5).
     double depth_at(int64_t X, int64_t Y) const {
