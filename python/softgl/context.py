@@ -44,6 +44,10 @@ _EXTENSION_CONSTANTS = {
                    "FOG_MODE": 0x0B65, "FOG_COLOR": 0x0B66, "LINEAR": 0x2601, "EXP": 0x0800,
                    "EXP2": 0x0801, "FOG_COORDINATE_SOURCE": 0x8450, "FRAGMENT_DEPTH": 0x8452,
                    "WINDOW_DEPTH_SOFTGL": 0x1D000, "FOG_BLEND_AWARE_SOFTGL": 0x1D001},
+    # softgl's area-averaged antialiasing: OpenGL 1.x smoothing enums.
+    "SOFTGL_smooth": {"POINT_SMOOTH": 0x0B10, "LINE_SMOOTH": 0x0B20, "POLYGON_SMOOTH": 0x0B41,
+                      "POINT_SMOOTH_HINT": 0x0C51, "LINE_SMOOTH_HINT": 0x0C52,
+                      "POLYGON_SMOOTH_HINT": 0x0C53},
 }
 
 

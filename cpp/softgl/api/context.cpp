@@ -96,12 +96,14 @@ std::vector<std::string> Context::get_supported_extensions() const {
         names.push_back("OES_element_index_uint");
         names.push_back("OES_vertex_array_object");
     }
-    names.push_back("SOFTGL_fog");   // softgl's own: never changes pure WebGL code
+    names.push_back("SOFTGL_fog");      // softgl's own: they never change pure WebGL code
+    names.push_back("SOFTGL_smooth");
     return names;
 }
 
 bool Context::enable_extension(const std::string& name) {
     if (name == "SOFTGL_fog") return ext_fog_ = true;
+    if (name == "SOFTGL_smooth") return ext_smooth_ = true;
     if (version() != 1) return false;
     if (name == "EXT_blend_minmax") return ext_blend_minmax_ = true;
     if (name == "OES_vertex_array_object") return ext_vertex_array_object_ = true;
@@ -116,6 +118,7 @@ bool Context::extension_enabled(const std::string& name) const {
     if (name == "ANGLE_instanced_arrays") return ext_instanced_arrays_;
     if (name == "OES_element_index_uint") return ext_element_index_uint_;
     if (name == "SOFTGL_fog") return ext_fog_;
+    if (name == "SOFTGL_smooth") return ext_smooth_;
     return false;
 }
 
@@ -135,6 +138,9 @@ bool* Context::capability(GLenum cap) {
         case gl::RASTERIZER_DISCARD: return version() >= 2 ? &state_.rasterizer_discard : nullptr;
         case gl::FOG: return ext_fog_ ? &state_.fog.enabled : nullptr;
         case gl::FOG_BLEND_AWARE_SOFTGL: return ext_fog_ ? &state_.fog.blend_aware : nullptr;
+        case gl::POLYGON_SMOOTH: return ext_smooth_ ? &state_.smooth.polygon : nullptr;
+        case gl::LINE_SMOOTH: return ext_smooth_ ? &state_.smooth.line : nullptr;
+        case gl::POINT_SMOOTH: return ext_smooth_ ? &state_.smooth.point : nullptr;
         default: return nullptr;
     }
 }
@@ -350,6 +356,9 @@ void Context::hint(GLenum target, GLenum mode) {
     if (target == gl::GENERATE_MIPMAP_HINT) slot = &state_.generate_mipmap_hint;
     else if (target == gl::FRAGMENT_SHADER_DERIVATIVE_HINT && version() >= 2)
         slot = &state_.fragment_shader_derivative_hint;
+    else if (ext_smooth_ && target == gl::POLYGON_SMOOTH_HINT) slot = &state_.smooth.polygon_hint;
+    else if (ext_smooth_ && target == gl::LINE_SMOOTH_HINT) slot = &state_.smooth.line_hint;
+    else if (ext_smooth_ && target == gl::POINT_SMOOTH_HINT) slot = &state_.smooth.point_hint;
     if (!slot) return error(gl::INVALID_ENUM, "hint", quote(target) + " is not a hint target here");
     if (mode != gl::DONT_CARE && mode != gl::FASTEST && mode != gl::NICEST)
         return error(gl::INVALID_ENUM, "hint", quote(mode) + " is not a hint mode");

@@ -233,6 +233,7 @@ private:
     bool ext_instanced_arrays_ = false;
     bool ext_element_index_uint_ = false;
     bool ext_fog_ = false;
+    bool ext_smooth_ = false;
 
     // Object bindings
     std::shared_ptr<Buffer> array_buffer_, copy_read_buffer_, copy_write_buffer_,

@@ -216,6 +216,17 @@ Value Context::get_parameter(GLenum pname) {
         }
     }
     if (ext_vertex_array_object_ && pname == gl::VERTEX_ARRAY_BINDING) return vertex_array_binding();
+    if (ext_smooth_) {
+        switch (pname) {
+            case gl::POLYGON_SMOOTH: return b(s.smooth.polygon);
+            case gl::LINE_SMOOTH: return b(s.smooth.line);
+            case gl::POINT_SMOOTH: return b(s.smooth.point);
+            case gl::POLYGON_SMOOTH_HINT: return i(s.smooth.polygon_hint);
+            case gl::LINE_SMOOTH_HINT: return i(s.smooth.line_hint);
+            case gl::POINT_SMOOTH_HINT: return i(s.smooth.point_hint);
+            default: break;
+        }
+    }
     if (ext_fog_) {
         switch (pname) {
             case gl::FOG: return b(s.fog.enabled);

@@ -52,8 +52,15 @@ struct FogState {
     GLenum coordinate_source = gl::FRAGMENT_DEPTH;
 };
 
+// SOFTGL_smooth: GL 1.x smoothing (area-averaged antialiasing), GL 1.5 §3.3-3.5.
+struct SmoothState {
+    bool polygon = false, line = false, point = false;
+    GLenum polygon_hint = gl::DONT_CARE, line_hint = gl::DONT_CARE, point_hint = gl::DONT_CARE;
+};
+
 struct State {
     FogState fog;
+    SmoothState smooth;
     BlendState blend;
 
     bool cull_face = false;

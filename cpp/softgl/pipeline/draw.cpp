@@ -8,6 +8,7 @@
 
 #include "softgl/pipeline/assemble.h"
 #include "softgl/pipeline/bin.h"
+#include "softgl/pipeline/coverage.h"
 #include "softgl/pipeline/blend.h"
 #include "softgl/pipeline/depth_stencil.h"
 #include "softgl/pipeline/fog.h"
@@ -70,12 +71,16 @@ RasterState raster_state(const State& s, const DefaultFramebuffer& fb) {
     r.point_size_min = 1.0;
     r.point_size_max = 1024.0;   // ALIASED_POINT_SIZE_RANGE (api/context.h limits)
     r.line_width = std::clamp(double(s.line_width), 1.0, 256.0);
+    // SOFTGL_smooth shapes (GL 1.5 §3.4-3.5); smoothing is ignored when multisampling (§3.2.1).
+    r.line_smooth = s.smooth.line && r.samples == 1;
+    r.point_smooth = s.smooth.point && r.samples == 1;
     return r;
 }
 
 // Per-worker scratch, reused across primitives and draws.
 struct Scratch {
     std::vector<Quad> quads;
+    std::vector<QuadArea> areas;      // SOFTGL_smooth: covered fraction per pixel of each quad
     std::vector<uint16_t> masks;      // surviving sample mask per lane
     FragmentBatch batch;
     FragmentResults results;
@@ -211,7 +216,19 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
         for (uint32_t k : list) {
             const PrimitiveSetup& p = prims[k];
             w.quads.clear();
-            rasterize(p, rect, pattern, w.quads, w.raster);
+            w.areas.clear();
+            const bool area = S == 1 && ((p.kind == PrimitiveKind::Triangle && state.smooth.polygon) ||
+                                         (p.kind == PrimitiveKind::Line && state.smooth.line) ||
+                                         (p.kind == PrimitiveKind::Point && state.smooth.point));
+            if (area) {
+                const GLenum hint = p.kind == PrimitiveKind::Triangle ? state.smooth.polygon_hint
+                                  : p.kind == PrimitiveKind::Line ? state.smooth.line_hint : state.smooth.point_hint;
+                AreaOptions options;
+                options.sampled = hint == gl::FASTEST;   // NICEST and DONT_CARE: exact areas
+                rasterize_area(p, rect, pattern, options, w.quads, w.areas, w.raster);
+            } else {
+                rasterize(p, rect, pattern, w.quads, w.raster);
+            }
             if (w.quads.empty()) continue;
 
             // Early depth/stencil (legal when the shader cannot discard or write depth).
@@ -241,7 +258,11 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                     w.masks[q * 4 + size_t(j)] = mask;
                     any |= mask;
                 }
-                if (any) w.quads[kept++] = quad, std::copy_n(&w.masks[q * 4], 4, &w.masks[(kept - 1) * 4]);
+                if (any) {
+                    if (area) w.areas[kept] = w.areas[q];
+                    w.quads[kept++] = quad;
+                    std::copy_n(&w.masks[q * 4], 4, &w.masks[(kept - 1) * 4]);
+                }
             }
             w.quads.resize(kept);
             if (kept == 0) continue;
@@ -304,6 +325,8 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                 const int j = int(lane % 4);
                 const int32_t x = quad.x + (j & 1), y = quad.y + (j >> 1);
                 float color[4] = {r.color[lane], r.color[L + lane], r.color[2 * L + lane], r.color[3 * L + lane]};
+                // SOFTGL_smooth: alpha times the covered fraction of the pixel (GL 1.5 §3.12).
+                if (area) color[3] = float(double(color[3]) * w.areas[lane / 4].fraction[j]);
                 if (coverage_ops) {
                     if (state.sample_alpha_to_coverage) mask = uint16_t(mask & coverage_from_value(color[3], S));
                     mask = uint16_t(mask & coverage_mask);
