@@ -101,3 +101,41 @@ def test_fog_state_and_validation(quiet):
     assert gl.getParameter(ext.FOG_COLOR).tolist() == [1, 0, 0.5, 1]   # clamped, as GL 1.x
     ext.fogfv(ext.FOG_COLOR, [1, 1])
     assert gl.getError() == gl.INVALID_VALUE
+
+
+def test_fog_equals_mesa_fixed_function_fog():
+    """The same scene as tools/regen_mesa_fog_reference.py: Mesa llvmpipe's OpenGL 1.x fog in a
+    compatibility profile, per fragment (FOG_HINT NICEST)."""
+    import sys
+    from pathlib import Path
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "tools"))
+    import regen_mesa_fog_reference as ref
+
+    reference = np.load(Path(__file__).parent / "reference" / "mesa_fog.npz")
+    gl = softgl.Context(ref.W, ref.H, antialias=False)
+    ext = gl.getExtension("SOFTGL_fog")
+    prog = softgl.program(gl, "uniform mat4 P; attribute vec3 aPos; void main() { gl_Position = P * vec4(aPos, 1.0); }",
+                          "precision highp float; uniform vec4 c; void main() { gl_FragColor = c; }")
+    gl.useProgram(prog)
+    gl.uniformMatrix4fv(gl.getUniformLocation(prog, "P"), False, ref.PROJECTION.T.ravel().astype(np.float32))
+    gl.uniform4f(gl.getUniformLocation(prog, "c"), *ref.COLOR)
+    gl.bindBuffer(gl.ARRAY_BUFFER, gl.createBuffer())
+    gl.bufferData(gl.ARRAY_BUFFER, np.array(ref.FLOOR, np.float32).ravel(), gl.STATIC_DRAW)
+    gl.enableVertexAttribArray(0)
+    gl.vertexAttribPointer(0, 3, gl.FLOAT, False, 0, 0)
+    gl.enable(ext.FOG)
+    ext.fogfv(ext.FOG_COLOR, ref.FOG_COLOR)
+    for mode, params in ref.MODES.items():
+        gl.clearColor(0, 0, 0, 1)
+        gl.clear(gl.COLOR_BUFFER_BIT)
+        ext.fogi(ext.FOG_MODE, getattr(ext, mode))
+        for name, value in params.items():
+            ext.fogf({"start": ext.FOG_START, "end": ext.FOG_END, "density": ext.FOG_DENSITY}[name], value)
+        gl.drawArrays(gl.TRIANGLE_FAN, 0, 4)
+        ours = gl.readPixels(0, 0, ref.W, ref.H, gl.RGBA, gl.UNSIGNED_BYTE).astype(int)
+        mesa = reference[mode].astype(int)
+        covered = (ours[..., 3] > 0) & (mesa[..., 0] != 0)
+        assert covered.sum() > 500, mode
+        # Same coverage except possibly along the floor's silhouette, same fogged colors.
+        assert (np.abs(ours - mesa)[covered] <= 1).all(), (mode, np.abs(ours - mesa)[covered].max())
+        assert ((ours[..., 0] > 0) != (mesa[..., 0] > 0)).sum() <= ref.W // 8, mode
