@@ -196,6 +196,8 @@ void bind_context(py::module_& m) {
         .def("_set_error_listener",
              [](Context& c, py::function f) {
                  c.errors().set_listener([f](GLenum code, const char* call, const std::string& why) {
+                     // Draws and compiles run without the GIL; reporting needs it.
+                     py::gil_scoped_acquire gil;
                      f(code, call, why);
                  });
              })
@@ -400,6 +402,12 @@ void bind_context(py::module_& m) {
         .def("drawRangeElements", [](Context& c, IdlUint32 mode, IdlUint32 start, IdlUint32 end, IdlInt32 count, IdlUint32 type, int64_t offset) {
             py::gil_scoped_release release;
             c.draw_range_elements(mode.value, start.value, end.value, count.value, type.value, offset);
+        })
+        .def("_fog", [](Context& c, const std::string& call, IdlUint32 pname, std::vector<float> values) {
+            if (values.empty()) return c.record_error(gl::INVALID_VALUE, "fogfv", "no values");
+            static thread_local std::string name;
+            name = call;
+            c.fog(name.c_str(), pname.value, values.data(), int(values.size()));
         })
         .def("_stats", [](Context& c, bool reset) {
             const softgl::DrawStats& s = c.stats();

@@ -39,6 +39,11 @@ _EXTENSION_CONSTANTS = {
     "EXT_blend_minmax": {"MIN_EXT": 0x8007, "MAX_EXT": 0x8008},
     "OES_vertex_array_object": {"VERTEX_ARRAY_BINDING_OES": 0x85B5},
     "ANGLE_instanced_arrays": {"VERTEX_ATTRIB_ARRAY_DIVISOR_ANGLE": 0x88FE},
+    # softgl's fog: OpenGL 1.x enum values (DESIGN §1).
+    "SOFTGL_fog": {"FOG": 0x0B60, "FOG_DENSITY": 0x0B62, "FOG_START": 0x0B63, "FOG_END": 0x0B64,
+                   "FOG_MODE": 0x0B65, "FOG_COLOR": 0x0B66, "LINEAR": 0x2601, "EXP": 0x0800,
+                   "EXP2": 0x0801, "FOG_COORDINATE_SOURCE": 0x8450, "FRAGMENT_DEPTH": 0x8452,
+                   "WINDOW_DEPTH_SOFTGL": 0x1D000, "FOG_BLEND_AWARE_SOFTGL": 0x1D001},
 }
 
 
@@ -51,6 +56,12 @@ def _extension_functions(name: str, gl) -> dict:
                 "bindVertexArrayOES": lambda vao: core.bindVertexArray(ref(), vao),
                 "deleteVertexArrayOES": lambda vao: core.deleteVertexArray(ref(), vao),
                 "isVertexArrayOES": lambda vao: core.isVertexArray(ref(), vao)}
+    if name == "SOFTGL_fog":
+        def fogfv(pname, values):
+            core._fog(ref(), "fogfv", pname, [float(v) for v in values])
+        return {"fogf": lambda pname, value: core._fog(ref(), "fogf", pname, [float(value)]),
+                "fogi": lambda pname, value: core._fog(ref(), "fogi", pname, [float(value)]),
+                "fogfv": fogfv}
     if name == "ANGLE_instanced_arrays":
         return {"drawArraysInstancedANGLE":
                 lambda mode, first, count, n: core.drawArraysInstanced(ref(), mode, first, count, n),

@@ -149,4 +149,19 @@ def test_ext_blend_minmax(quiet):
 def test_unknown_extension_is_none():
     gl = softgl.Context(2, 2)
     assert gl.getExtension("WEBGL_not_a_thing") is None
-    assert gl.getExtension("SOFTGL_fog") is None   # not built yet: only real extensions are offered
+    assert gl.getExtension("SOFTGL_smooth") is None   # not offered until it works
+
+
+def test_errors_from_calls_that_release_the_gil():
+    # Draws and compiles run without the GIL; their errors must still warn or raise cleanly.
+    gl = softgl.Context(2, 2)
+    with pytest.warns(softgl.GLWarning, match="drawArrays"):
+        gl.drawArrays(gl.TRIANGLES, 0, 3)
+    assert gl.getError() == gl.INVALID_OPERATION
+    strict = softgl.Context(2, 2, strict=True)
+    with pytest.raises(softgl.GLError, match="drawArrays: no valid program"):
+        strict.drawArrays(strict.TRIANGLES, 0, 3)
+    shader = strict.createShader(strict.VERTEX_SHADER)
+    strict.deleteShader(shader)
+    with pytest.raises(softgl.GLError, match="INVALID_VALUE: compileShader"):
+        strict.compileShader(shader)

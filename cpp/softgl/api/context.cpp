@@ -96,10 +96,12 @@ std::vector<std::string> Context::get_supported_extensions() const {
         names.push_back("OES_element_index_uint");
         names.push_back("OES_vertex_array_object");
     }
+    names.push_back("SOFTGL_fog");   // softgl's own: never changes pure WebGL code
     return names;
 }
 
 bool Context::enable_extension(const std::string& name) {
+    if (name == "SOFTGL_fog") return ext_fog_ = true;
     if (version() != 1) return false;
     if (name == "EXT_blend_minmax") return ext_blend_minmax_ = true;
     if (name == "OES_vertex_array_object") return ext_vertex_array_object_ = true;
@@ -113,6 +115,7 @@ bool Context::extension_enabled(const std::string& name) const {
     if (name == "OES_vertex_array_object") return ext_vertex_array_object_;
     if (name == "ANGLE_instanced_arrays") return ext_instanced_arrays_;
     if (name == "OES_element_index_uint") return ext_element_index_uint_;
+    if (name == "SOFTGL_fog") return ext_fog_;
     return false;
 }
 
@@ -130,6 +133,8 @@ bool* Context::capability(GLenum cap) {
         case gl::SCISSOR_TEST: return &state_.scissor_test;
         case gl::STENCIL_TEST: return &state_.stencil_test;
         case gl::RASTERIZER_DISCARD: return version() >= 2 ? &state_.rasterizer_discard : nullptr;
+        case gl::FOG: return ext_fog_ ? &state_.fog.enabled : nullptr;
+        case gl::FOG_BLEND_AWARE_SOFTGL: return ext_fog_ ? &state_.fog.blend_aware : nullptr;
         default: return nullptr;
     }
 }

@@ -202,6 +202,9 @@ public:
                        const char* call);
     void draw_range_elements(GLenum mode, uint32_t start, uint32_t end, int32_t count, GLenum type, int64_t offset);
 
+    // SOFTGL_fog (fog.cpp): glFog{f,i,fv} with `count` values.
+    void fog(const char* call, GLenum pname, const float* values, int count);
+
     // The browser's compositing step: after the canvas is shown, a drawing buffer without
     // preserveDrawingBuffer is cleared to its initial contents (WebGL 1.0 §2.2).
     void present();
@@ -229,6 +232,7 @@ private:
     bool ext_vertex_array_object_ = false;
     bool ext_instanced_arrays_ = false;
     bool ext_element_index_uint_ = false;
+    bool ext_fog_ = false;
 
     // Object bindings
     std::shared_ptr<Buffer> array_buffer_, copy_read_buffer_, copy_write_buffer_,

@@ -216,6 +216,19 @@ Value Context::get_parameter(GLenum pname) {
         }
     }
     if (ext_vertex_array_object_ && pname == gl::VERTEX_ARRAY_BINDING) return vertex_array_binding();
+    if (ext_fog_) {
+        switch (pname) {
+            case gl::FOG: return b(s.fog.enabled);
+            case gl::FOG_BLEND_AWARE_SOFTGL: return b(s.fog.blend_aware);
+            case gl::FOG_MODE: return i(s.fog.mode);
+            case gl::FOG_DENSITY: return f(s.fog.density);
+            case gl::FOG_START: return f(s.fog.start);
+            case gl::FOG_END: return f(s.fog.end);
+            case gl::FOG_COLOR: return floats({s.fog.color.begin(), s.fog.color.end()});
+            case gl::FOG_COORDINATE_SOURCE: return i(s.fog.coordinate_source);
+            default: break;
+        }
+    }
     error(gl::INVALID_ENUM, "getParameter", enum_name(pname) + " is not a parameter name of this context");
     return Value(Null{});
 }

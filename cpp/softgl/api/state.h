@@ -4,6 +4,7 @@
 #include <cstdint>
 
 #include "softgl/api/enums.h"
+#include "softgl/api/softgl_enums.h"
 
 namespace softgl {
 
@@ -41,7 +42,18 @@ struct PixelStore {
             unpack_skip_rows = 0, unpack_skip_images = 0;
 };
 
+// SOFTGL_fog (GL 1.5 §3.10 initial values).
+struct FogState {
+    bool enabled = false;
+    bool blend_aware = false;
+    GLenum mode = gl::EXP;
+    float density = 1, start = 0, end = 1;
+    std::array<float, 4> color{0, 0, 0, 0};
+    GLenum coordinate_source = gl::FRAGMENT_DEPTH;
+};
+
 struct State {
+    FogState fog;
     BlendState blend;
 
     bool cull_face = false;

@@ -10,6 +10,8 @@
 #include "softgl/pipeline/bin.h"
 #include "softgl/pipeline/blend.h"
 #include "softgl/pipeline/depth_stencil.h"
+#include "softgl/pipeline/fog.h"
+#include "softgl/pipeline/sample_mask.h"
 #include "softgl/pipeline/raster.h"
 #include "softgl/pipeline/setup.h"
 #include "softgl/surface/formats.h"
@@ -179,7 +181,13 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
     }
     const bool plain_write = blend.is_plain_write();
     if (plain_write) st.draws_plain_write = 1;
-    const bool early = !fs.may_discard() && !fs.writes_depth() && !state.sample_alpha_to_coverage;
+    // Multisample coverage operations come before the depth and stencil tests (ES 3.0 §4.1.3).
+    const bool coverage_ops = config.samples > 1 && (state.sample_alpha_to_coverage || state.sample_coverage);
+    const uint32_t coverage_mask = !state.sample_coverage ? 0xFFFFu
+        : (coverage_from_value(state.sample_coverage_value, config.samples) ^
+           (state.sample_coverage_invert ? 0xFFFFu : 0u));
+    const FogOp fog = FogOp::from_state(state);
+    const bool early = !fs.may_discard() && !fs.writes_depth() && !coverage_ops;
     if (early && (ds.depth_test || ds.stencil_test)) st.draws_early_depth = 1;
 
     const TileGrid grid(fb.width(), fb.height());
@@ -295,6 +303,12 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                 const Quad& quad = w.quads[lane / 4];
                 const int j = int(lane % 4);
                 const int32_t x = quad.x + (j & 1), y = quad.y + (j >> 1);
+                float color[4] = {r.color[lane], r.color[L + lane], r.color[2 * L + lane], r.color[3 * L + lane]};
+                if (coverage_ops) {
+                    if (state.sample_alpha_to_coverage) mask = uint16_t(mask & coverage_from_value(color[3], S));
+                    mask = uint16_t(mask & coverage_mask);
+                    if (!mask) continue;
+                }
                 if (!early && (ds.depth_test || ds.stencil_test)) {
                     uint32_t* depth = fb.depth_samples(x, y);
                     uint8_t* stencil = fb.stencil_samples(x, y);
@@ -312,7 +326,8 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                     }
                 }
                 if (!writes_color || !mask) continue;
-                const float color[4] = {r.color[lane], r.color[L + lane], r.color[2 * L + lane], r.color[3 * L + lane]};
+                if (fog.enabled)
+                    apply_fog(fog, fog_coordinate(fog, b.frag_coord[2 * L + lane], b.frag_coord[3 * L + lane]), color);
                 for (int s = 0; s < S; ++s) {
                     if (!(mask & (1u << s))) continue;
                     blend_unorm8(blend, color, fb.color_sample(x, y, s));

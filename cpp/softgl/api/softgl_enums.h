@@ -1,0 +1,31 @@
+// softgl's own enums, for its extensions beyond WebGL (DESIGN §1): OpenGL's historical values where
+// OpenGL has the concept (GL 1.x fog, smoothing), new values in an unused range otherwise.
+#pragma once
+#include <cstdint>
+
+namespace softgl::gl {
+
+// SOFTGL_fog: OpenGL 1.x fog (GL 1.5 §3.10) and the GL 1.4 fog coordinate source.
+inline constexpr uint32_t FOG = 0x0B60;
+inline constexpr uint32_t FOG_DENSITY = 0x0B62;
+inline constexpr uint32_t FOG_START = 0x0B63;
+inline constexpr uint32_t FOG_END = 0x0B64;
+inline constexpr uint32_t FOG_MODE = 0x0B65;
+inline constexpr uint32_t FOG_COLOR = 0x0B66;
+inline constexpr uint32_t EXP = 0x0800;
+inline constexpr uint32_t EXP2 = 0x0801;
+// LINEAR (0x2601) is WebGL's texture filter enum, the same value as GL's fog mode.
+inline constexpr uint32_t FOG_COORDINATE_SOURCE = 0x8450;
+inline constexpr uint32_t FRAGMENT_DEPTH = 0x8452;          // eye distance, from clip w
+inline constexpr uint32_t WINDOW_DEPTH_SOFTGL = 0x1D000;    // window z in [0, 1]
+inline constexpr uint32_t FOG_BLEND_AWARE_SOFTGL = 0x1D001; // capability: fade toward what blending leaves unchanged
+
+// SOFTGL_smooth: GL 1.x polygon/line/point smoothing (area-averaged antialiasing).
+inline constexpr uint32_t POINT_SMOOTH = 0x0B10;
+inline constexpr uint32_t LINE_SMOOTH = 0x0B20;
+inline constexpr uint32_t POLYGON_SMOOTH = 0x0B41;
+inline constexpr uint32_t POINT_SMOOTH_HINT = 0x0C51;
+inline constexpr uint32_t LINE_SMOOTH_HINT = 0x0C52;
+inline constexpr uint32_t POLYGON_SMOOTH_HINT = 0x0C53;
+
+}  // namespace softgl::gl
