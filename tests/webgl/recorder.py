@@ -187,11 +187,18 @@ class Ref:
         return f"<result of call #{self.index}>"
 
 
+class CallLog(list):
+    """The recorded calls, plus an expectation waiting for the next call (see `expect`)."""
+    pending = None
+
+
 def _record_call(calls, name, args, target=None):
     # Copy arrays now: the scene may reuse them after the call.
     entry = {"call": name, "args": [_encode_arg(a) for a in args]}
     if target is not None:
         entry["target"] = target
+    if calls.pending is not None:
+        entry["expect"], calls.pending = calls.pending, None
     calls.append(entry)
     return Ref(calls, len(calls) - 1)
 
@@ -201,7 +208,7 @@ class RecordingContext:
 
     def __init__(self, version: int):
         self._constants = ENUMS["webgl1" if version == 1 else "webgl2"]
-        self._calls = []
+        self._calls = CallLog()
         self.version = version
 
     def __getattr__(self, name):
@@ -216,6 +223,12 @@ class RecordingContext:
         def call(*args):
             return _record_call(self._calls, name, args)
         return call
+
+    def expect(self, what: str):
+        """Annotate the next call with a known, documented difference (entry["expect"]); the
+        test decides what it accepts for it. Returns the context: gl.expect(X).drawArrays(...)"""
+        self._calls.pending = what
+        return self
 
     def get_property(self, name: str):
         """Read a context property (drawingBufferWidth, ...) at this point of the scene."""
@@ -237,7 +250,8 @@ def record(scene, version: int) -> list:
         scene(gl, version)
     else:
         scene(gl)
-    return gl._calls
+    assert gl._calls.pending is None, "expect() must be followed by a call"
+    return list(gl._calls)
 
 
 def dump_traces(traces: dict, packed: bool = False) -> str:

@@ -204,6 +204,12 @@ DEPTH_FUNCS = ["NEVER", "LESS", "EQUAL", "LEQUAL", "GREATER", "NOTEQUAL", "GEQUA
 STENCIL_OPS = ["KEEP", "ZERO", "REPLACE", "INCR", "DECR", "INVERT", "INCR_WRAP", "DECR_WRAP"]
 MIN_EXT, MAX_EXT = 0x8007, 0x8008     # EXT_blend_minmax, == WebGL 2's MIN / MAX
 
+# `gl.expect(ROBUST).drawArrays(...)`: a draw that reads out of range. WebGL 1.0 §6.6 / WebGL 2.0
+# §5.? make it INVALID_OPERATION, softgl follows that; Chromium uses robust buffer access instead
+# (no error, out-of-range reads return zeros or values inside the buffer). The test accepts exactly
+# that pair (softgl INVALID_OPERATION, Chromium NO_ERROR) on annotated calls, nothing else.
+ROBUST = "chromium-robust-access"
+
 
 # ================================================================ primitives: triangles
 
@@ -531,11 +537,9 @@ def instanced_draws(gl, version):
     if ext:
         ext.drawArraysInstancedANGLE(gl.TRIANGLES, 0, 3, 8)
         ext.drawElementsInstancedANGLE(gl.TRIANGLES, 6, gl.UNSIGNED_SHORT, 0, 4)   # colors reused
-        ext.drawArraysInstancedANGLE(gl.TRIANGLES, 0, 3, 17)    # offsets hold 16: out of range
     else:
         gl.drawArraysInstanced(gl.TRIANGLES, 0, 3, 8)
         gl.drawElementsInstanced(gl.TRIANGLES, 6, gl.UNSIGNED_SHORT, 0, 4)
-        gl.drawArraysInstanced(gl.TRIANGLES, 0, 3, 17)
     read(gl)
 
 
@@ -863,7 +867,8 @@ def blend_chain(gl, version):
 def depth_every_function(gl, version):
     # es2fDepthTests: 8 functions; in each band a ramp (z -0.9..0.9) is tested against a
     # flat quad at z=0.1 (upper half) and against the same ramp again (lower half: EQUAL holds
-    # exactly because the same geometry gives the same depth)
+    # exactly because the same triangles give the same depth; ES 3.0 appendix A invariance only
+    # promises that for the same geometry, so the lower half is drawn alone both times)
     p = Painter(gl)
     gl.clearColor(0, 0, 0, 1)
     gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT)
@@ -871,7 +876,8 @@ def depth_every_function(gl, version):
     for i, f in enumerate(DEPTH_FUNCS):
         y = 8 * i
         gl.depthFunc(gl.ALWAYS)
-        p.rect(0, y, 64, y + 8, (0.5, 0, 0, 1), z=-0.9, z1=0.9)
+        p.rect(0, y + 4, 64, y + 8, (0.5, 0, 0, 1), z=-0.9, z1=0.9)
+        p.rect(0, y, 64, y + 4, (0.5, 0, 0, 1), z=-0.9, z1=0.9)
         gl.depthFunc(getattr(gl, f))
         p.rect(0, y + 4, 64, y + 8, (0, 1, 0, 1), z=0.1)
         p.rect(0, y, 64, y + 4, (0, 0, 1, 1), z=-0.9, z1=0.9)
@@ -1619,7 +1625,6 @@ def draw_errors_program_and_mode(gl, version):
     # a program that failed to link cannot be used; one deleted while in use still draws
     bad = program(gl, VS_UNIFORM, "precision mediump float; void main() { gl_FragColor = vec4(x); }")
     gl.useProgram(bad)                                 # INVALID_OPERATION, keeps `prog`
-    gl.getParameter(gl.CURRENT_PROGRAM)
     gl.deleteProgram(prog)
     gl.drawArrays(gl.POINTS, 0, 3)
     read(gl, 8, 8)
@@ -1633,15 +1638,16 @@ def draw_errors_attribute_out_of_range(gl, version):
     gl.useProgram(prog)
     attribute(gl, prog, "aPos", f32([[-1, -1, 0, 1], [1, -1, 0, 1], [0, 1, 0, 1]]), 4)
     lc = attribute(gl, prog, "aColor", f32([[1, 0, 0, 1], [0, 1, 0, 1]]), 4)
-    gl.drawArrays(gl.TRIANGLES, 0, 3)                 # color has 2 vertices: out of range
-    gl.drawArrays(gl.TRIANGLES, 0, 2)                 # in range
-    gl.drawArrays(gl.TRIANGLES, 1, 2)                 # out of range
-    gl.drawArrays(gl.TRIANGLES, 2 ** 31 - 2, 3)       # overflow must not wrap
+    gl.expect(ROBUST).drawArrays(gl.TRIANGLES, 0, 3)         # color has 2 vertices
+    gl.drawArrays(gl.TRIANGLES, 0, 2)                        # in range
+    gl.expect(ROBUST).drawArrays(gl.TRIANGLES, 1, 2)
+    gl.expect(ROBUST).drawArrays(gl.TRIANGLES, 2 ** 31 - 2, 3)   # overflow must not wrap
     gl.vertexAttribPointer(lc, 4, gl.FLOAT, False, 0, 16)   # offset past the first vertex
-    gl.drawArrays(gl.TRIANGLES, 0, 2)
+    gl.expect(ROBUST).drawArrays(gl.TRIANGLES, 0, 2)
     gl.vertexAttribPointer(lc, 3, gl.FLOAT, False, 20, 0)   # stride 20: 2 vertices fit in 32 B
     gl.drawArrays(gl.TRIANGLES, 0, 2)
-    gl.drawArrays(gl.TRIANGLES, 0, 3)
+    gl.expect(ROBUST).drawArrays(gl.TRIANGLES, 0, 3)
+    gl.clear(gl.COLOR_BUFFER_BIT)                     # the robust draws above drew in Chromium
     gl.disableVertexAttribArray(lc)                   # a disabled attribute is not checked
     gl.drawArrays(gl.TRIANGLES, 0, 3)
     # an enabled attribute with no buffer bound
@@ -1665,10 +1671,206 @@ def draw_errors_index_out_of_range(gl, version):
     gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, np.array([0, 1, 2, 1, 3, 2, 0, 1, 9], np.uint16),
                   gl.STATIC_DRAW)
     gl.drawElements(gl.TRIANGLES, 6, gl.UNSIGNED_SHORT, 0)    # fine
-    gl.drawElements(gl.TRIANGLES, 3, gl.UNSIGNED_SHORT, 12)   # index 9 >= 4 vertices
+    gl.expect(ROBUST).drawElements(gl.TRIANGLES, 3, gl.UNSIGNED_SHORT, 12)  # index 9 >= 4
     gl.drawElements(gl.TRIANGLES, 6, gl.UNSIGNED_SHORT, 8)    # past the buffer's 18 bytes
-    gl.drawElements(gl.TRIANGLES, 0, gl.UNSIGNED_SHORT, 100)  # count 0: nothing, no error
+    gl.clear(gl.COLOR_BUFFER_BIT)
     gl.bufferSubData(gl.ELEMENT_ARRAY_BUFFER, 16, np.array([3], np.uint16))
     gl.drawElements(gl.TRIANGLES, 3, gl.UNSIGNED_SHORT, 12)   # now in range
     gl.drawElements(gl.POINTS, 1, gl.UNSIGNED_BYTE, 17)       # byte index 0 (high byte of 3)
     read(gl, 8, 8)
+
+
+@scene(width=8, height=8)
+def draw_errors_instanced_out_of_range(gl, version):
+    # an instanced attribute (divisor 1) needs one element per instance: 17 instances of a
+    # 16-element attribute read out of range
+    prog = program(gl, VS_INSTANCED, FS_COLOR)
+    gl.useProgram(prog)
+    ext = gl.getExtension("ANGLE_instanced_arrays") if version == 1 else None
+    divisor = ext.vertexAttribDivisorANGLE if ext else gl.vertexAttribDivisor
+    draw = ext.drawArraysInstancedANGLE if ext else gl.drawArraysInstanced
+    attribute(gl, prog, "aPos", f32([[-1, -1], [1, -1], [0, 1]]), 2)
+    offsets = attribute(gl, prog, "aOffset", f32(np.zeros((16, 2))), 2)
+    colors = attribute(gl, prog, "aColor", f32([[1, 0, 0, 1]] * 8), 4)
+    divisor(offsets, 1)
+    divisor(colors, 2)
+    draw(gl.TRIANGLES, 0, 3, 16)
+    gl.expect(ROBUST)
+    draw(gl.TRIANGLES, 0, 3, 17)
+    gl.clear(gl.COLOR_BUFFER_BIT)
+    divisor(colors, 0)              # per vertex now: 8 colors for 3 vertices, any instance count
+    draw(gl.TRIANGLES, 0, 3, 16)
+    read(gl, 8, 8)
+
+
+# ================================================================ minimal repros of differences
+
+@scene(width=8, height=8)
+def draw_elements_count_zero_offset_past_end(gl, version):
+    # conformance/rendering/draw-elements-out-of-bounds: "drawElements(TRIANGLES, 0,
+    # UNSIGNED_BYTE, 4)" on a 3-byte element buffer is NO_ERROR (nothing is read)
+    prog = program(gl, VS_UNIFORM, FS_UNIFORM)
+    gl.useProgram(prog)
+    attribute(gl, prog, "aPos", f32([[-1, -1], [1, -1], [0, 1]]), 2)
+    ibuf = gl.createBuffer()
+    gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, ibuf)
+    gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, np.array([0, 1, 2], np.uint8), gl.STATIC_DRAW)
+    gl.drawElements(gl.TRIANGLES, 0, gl.UNSIGNED_BYTE, 4)
+
+
+def grid16(rng, n, lo=2, hi=62):
+    """n window positions on the 1/16-pixel grid: SwiftShader snaps to 4 sub-pixel bits
+    (SUBPIXEL_BITS 4), softgl to 8; on this grid both see the same vertices, so what remains
+    is the rasterization rule itself."""
+    return rng.integers(lo * 16, hi * 16, (n, 2)) / 16
+
+
+def to_clip(points, w=64, h=64):
+    return [[2 * x / w - 1, 2 * y / h - 1, 0, 1] for x, y in points]
+
+
+@scene()
+def raster_rules_grid16_triangles(gl, version):
+    # random triangles (both windings) with vertices on the 1/16 grid, added with ONE, ONE:
+    # coverage and the tie rule (top-left) decide every byte
+    prog = program(gl, VS_UNIFORM, FS_UNIFORM)
+    gl.useProgram(prog)
+    rng = np.random.default_rng(21)
+    pts = grid16(rng, 3 * 40)
+    # and triangles whose edges pass exactly through pixel centers (vertices at centers)
+    centers = rng.integers(2, 62, (3 * 10, 2)) + 0.5
+    attribute(gl, prog, "aPos", f32(to_clip(list(pts) + list(centers))), 4)
+    gl.uniform4f(gl.getUniformLocation(prog, "uColor"), *b(20, 20, 20, 20))
+    gl.clear(gl.COLOR_BUFFER_BIT)
+    gl.enable(gl.BLEND)
+    gl.blendFunc(gl.ONE, gl.ONE)
+    gl.drawArrays(gl.TRIANGLES, 0, 120)
+    read(gl)
+    gl.clear(gl.COLOR_BUFFER_BIT)
+    gl.drawArrays(gl.TRIANGLES, 120, 30)
+    read(gl)
+
+
+@scene()
+def raster_rules_grid16_lines(gl, version):
+    # random lines with endpoints on the 1/16 grid: the diamond-exit rule without snapping noise
+    prog = program(gl, VS_UNIFORM, FS_UNIFORM)
+    gl.useProgram(prog)
+    rng = np.random.default_rng(22)
+    attribute(gl, prog, "aPos", f32(to_clip(grid16(rng, 2 * 30))), 4)
+    gl.uniform4f(gl.getUniformLocation(prog, "uColor"), *b(40, 40, 40, 40))
+    gl.clear(gl.COLOR_BUFFER_BIT)
+    gl.enable(gl.BLEND)
+    gl.blendFunc(gl.ONE, gl.ONE)
+    gl.drawArrays(gl.LINES, 0, 60)
+    read(gl)
+
+
+@scene()
+def raster_rules_grid16_points(gl, version):
+    # points of sizes 1..8 with centers on the 1/16 grid (edges on pixel centers included)
+    prog = program(gl, VS_POINTS, FS_COLOR)
+    gl.useProgram(prog)
+    rng = np.random.default_rng(23)
+    n = 40
+    attribute(gl, prog, "aPos", f32(to_clip(grid16(rng, n, 6, 58))), 4)
+    attribute(gl, prog, "aSize", f32(rng.integers(1, 9, n)), 1)
+    attribute(gl, prog, "aColor", f32([b(30, 30, 30, 30)] * n), 4)
+    gl.clear(gl.COLOR_BUFFER_BIT)
+    gl.enable(gl.BLEND)
+    gl.blendFunc(gl.ONE, gl.ONE)
+    gl.drawArrays(gl.POINTS, 0, n)
+    read(gl)
+
+
+def diagonal_lines(gl, segs, w, h):
+    prog = program(gl, VS_UNIFORM, FS_UNIFORM)
+    gl.useProgram(prog)
+    attribute(gl, prog, "aPos", f32(to_clip([p for s_ in segs for p in s_], w, h)), 4)
+    gl.uniform4f(gl.getUniformLocation(prog, "uColor"), 1, 1, 1, 1)
+    gl.clear(gl.COLOR_BUFFER_BIT)
+    gl.drawArrays(gl.LINES, 0, 2 * len(segs))
+    read(gl, w, h)
+
+
+# ES 3.0 §3.5.1 diamond-exit: a segment from pixel center A to pixel center B lights A (it exits
+# A's diamond) but not B (it ends inside B's diamond), whatever the direction.
+
+@scene(width=48, height=16)
+def line_direction_on_pixel_centers(gl, version):
+    # horizontal, vertical and the main diagonal, both ways: both implementations agree
+    diagonal_lines(gl, [((2.5, 2.5), (10.5, 2.5)), ((10.5, 5.5), (2.5, 5.5)),
+                        ((14.5, 2.5), (14.5, 12.5)), ((16.5, 12.5), (16.5, 2.5)),
+                        ((20.5, 2.5), (28.5, 10.5)), ((28.5, 12.5), (20.5, 4.5))], 48, 16)
+
+
+@scene(width=16, height=16)
+def line_anti_diagonal_up_left(gl, version):
+    # (12.5, 2.5) -> (4.5, 10.5): direction (-1, +1) at 45 degrees; diamond-exit lights
+    # (12, 2) and not (4, 10)
+    diagonal_lines(gl, [((12.5, 2.5), (4.5, 10.5))], 16, 16)
+
+
+@scene(width=16, height=16)
+def line_anti_diagonal_down_right(gl, version):
+    # (4.5, 12.5) -> (12.5, 4.5): direction (+1, -1); diamond-exit lights (4, 12), not (12, 4)
+    diagonal_lines(gl, [((4.5, 12.5), (12.5, 4.5))], 16, 16)
+
+
+@scene(width=32, height=32, antialias=True)
+def msaa_grid16_triangles(gl, version):
+    # 4x MSAA with vertices on the 1/16 grid: the sample pattern and per-sample coverage
+    prog = program(gl, VS_UNIFORM, FS_UNIFORM)
+    gl.useProgram(prog)
+    rng = np.random.default_rng(24)
+    attribute(gl, prog, "aPos", f32(to_clip(grid16(rng, 3 * 12, 1, 31), 32, 32)), 4)
+    gl.uniform4f(gl.getUniformLocation(prog, "uColor"), *b(64, 64, 64, 64))
+    gl.clear(gl.COLOR_BUFFER_BIT)
+    gl.enable(gl.BLEND)
+    gl.blendFunc(gl.ONE, gl.ONE)
+    gl.drawArrays(gl.TRIANGLES, 0, 36)
+    read(gl, 32, 32)
+
+
+@scene(width=32, height=32)
+def subpixel_precision_triangle(gl, version):
+    # One triangle from triangle_strip_and_fan; pixel (14, 33) of the 64x64 canvas (here
+    # (14, 1) after shifting by 32 rows): its center is 0.022 px outside the edge with 8
+    # sub-pixel bits (softgl) but inside with the 4 bits SwiftShader snaps to
+    prog = program(gl, VS_UNIFORM, FS_UNIFORM)
+    gl.useProgram(prog)
+    tri = [(17.6, 46.4 - 32), (10.1219, 34.0916 - 32), (21.6806, 32.5903 - 32)]
+    attribute(gl, prog, "aPos", f32(to_clip(tri, 32, 32)), 4)
+    gl.uniform4f(gl.getUniformLocation(prog, "uColor"), 1, 1, 1, 1)
+    gl.clear(gl.COLOR_BUFFER_BIT)
+    gl.drawArrays(gl.TRIANGLES, 0, 3)
+    read(gl, 32, 32)
+
+
+@scene(width=32, height=32)
+def wide_point_outside_viewport(gl, version):
+    # A 16-pixel point at the left edge of an 8..24 viewport: its fragments left of x=8 are
+    # outside the viewport but inside the canvas
+    prog = program(gl, VS_UNIFORM, FS_UNIFORM)
+    gl.useProgram(prog)
+    attribute(gl, prog, "aPos", f32([[-1, 0, 0, 1]]), 4)
+    gl.uniform1f(gl.getUniformLocation(prog, "uPointSize"), 16)
+    gl.uniform4f(gl.getUniformLocation(prog, "uColor"), 1, 0, 0, 1)
+    gl.clear(gl.COLOR_BUFFER_BIT)
+    gl.viewport(8, 8, 16, 16)
+    gl.drawArrays(gl.POINTS, 0, 1)
+    read(gl, 32, 32)
+
+
+@scene(width=8, height=8)
+def current_program_query(gl, version):
+    # getParameter(CURRENT_PROGRAM) is the program useProgram installed (and stays so after a
+    # failed useProgram of an unlinked program)
+    prog = program(gl, VS_UNIFORM, FS_UNIFORM)
+    gl.getParameter(gl.CURRENT_PROGRAM)
+    gl.useProgram(prog)
+    gl.getParameter(gl.CURRENT_PROGRAM)
+    bad = gl.createProgram()
+    gl.linkProgram(bad)
+    gl.useProgram(bad)
+    gl.getParameter(gl.CURRENT_PROGRAM)
