@@ -11,17 +11,28 @@ and both give the same trace: a list of {call, args, error, result, thrown}, whe
 getError() right after the call and `result` is the encoded return value of getters and readPixels.
 `compare(softgl_trace, webgl_trace)` lists readable mismatches.
 
-Scenes must not branch on return values: the proxy returns None for every call. A scene reads a
-property such as drawingBufferWidth with `gl.get_property("drawingBufferWidth")`.
+Scenes must not branch on return values. Every call on the proxy returns a `Ref` to its result
+(a WebGL object, a uniform location, an attribute location, an extension...): passed as an argument
+it becomes {"ref": i} (i = the call's index) and both sides substitute the actual result of call i,
+so `buf = gl.createBuffer(); gl.bindBuffer(gl.ARRAY_BUFFER, buf)` replays in JS with a real
+WebGLBuffer. Calling a method on a Ref (`ext.drawArraysInstancedANGLE(...)`) records the call with
+"target": i. A scene reads a property such as drawingBufferWidth with
+`gl.get_property("drawingBufferWidth")`.
 
 Encoding (shared by both sides, JSON-safe): finite numbers, bools, strings and None as themselves;
 NaN/Infinity/-Infinity as {"num": "NaN"} etc.; typed arrays as {"type": "Float32Array", "values": [...]}
-(NumPy arrays in args become typed arrays of the matching type); dicts and lists recursively.
+(NumPy arrays in args become typed arrays of the matching type); dicts and lists recursively; WebGL
+objects in results as {"object": "WebGLBuffer"} (the class name, the same on both sides).
+
+Reference files keep long typed arrays (readPixels images) as {"type", "n", "zlib": base64 of the
+zlib-compressed little-endian bytes}: `dump_traces` packs them, `load_traces` unpacks them.
 """
 from __future__ import annotations
 
+import base64
 import inspect
 import json
+import zlib
 import math
 import warnings
 from dataclasses import dataclass, field
@@ -40,7 +51,11 @@ DTYPES = {v: np.dtype(k) for k, v in TYPED_ARRAYS.items()}
 
 # Calls whose return value is part of the trace (all others return nothing in WebGL).
 GETTERS = {"getParameter", "isEnabled", "getError", "getContextAttributes",
-           "getSupportedExtensions", "getExtension", "isContextLost", "readPixels"}
+           "getSupportedExtensions", "getExtension", "isContextLost", "readPixels",
+           # drawing scenes: compile/link status, locations and the objects create* returns
+           "getShaderParameter", "getProgramParameter", "getAttribLocation", "getUniformLocation",
+           "createBuffer", "createShader", "createProgram", "createVertexArray",
+           "createVertexArrayOES"}
 
 
 # ---------------------------------------------------------------------------- encoding
@@ -63,6 +78,10 @@ def encode(value):
         return [encode(v) for v in value]
     if isinstance(value, dict):
         return {k: encode(value[k]) for k in sorted(value)}
+    if isinstance(value, Ref):
+        return {"ref": value.index}
+    if type(value).__name__.startswith("WebGL"):
+        return {"object": type(value).__name__}
     raise TypeError(f"cannot encode {type(value).__name__} for WebGL replay")
 
 
@@ -76,18 +95,61 @@ def decode_number(value):
     return value
 
 
-def decode_arg(value):
-    """An encoded argument back to the Python object the scene passed."""
+def decode_arg(value, results=None):
+    """An encoded argument back to the Python object the scene passed; {"ref": i} becomes
+    `results[i]`, the value call i returned."""
     if isinstance(value, dict):
+        if "ref" in value:
+            return results[value["ref"]]
         if "num" in value:
             return decode_number(value)
         if "type" in value:
             arr = np.array([decode_number(v) for v in value["values"]], dtype=DTYPES[value["type"]])
             return arr.reshape(value.get("shape", arr.shape))
-        return {k: decode_arg(v) for k, v in value.items()}
+        return {k: decode_arg(v, results) for k, v in value.items()}
     if isinstance(value, list):
-        return [decode_arg(v) for v in value]
+        return [decode_arg(v, results) for v in value]
     return value
+
+
+# Typed arrays longer than this are stored zlib-compressed in reference files.
+PACK_MIN = 64
+
+
+def pack(value):
+    """Long typed arrays in `value` (recursively) as {"type", "n", "zlib"}; the rest unchanged."""
+    if isinstance(value, dict) and "type" in value and "values" in value \
+            and len(value["values"]) > PACK_MIN \
+            and not any(isinstance(v, dict) for v in value["values"]):
+        raw = np.array(value["values"], dtype=DTYPES[value["type"]]).astype(
+            DTYPES[value["type"]].newbyteorder("<")).tobytes()
+        rest = {k: v for k, v in value.items() if k != "values"}      # type, shape
+        return rest | {"n": len(value["values"]),
+                       "zlib": base64.b64encode(zlib.compress(raw, 9)).decode()}
+    if isinstance(value, dict):
+        return {k: pack(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [pack(v) for v in value]
+    return value
+
+
+def unpack(value):
+    """The inverse of `pack`."""
+    if isinstance(value, dict) and "zlib" in value:
+        raw = zlib.decompress(base64.b64decode(value["zlib"]))
+        arr = np.frombuffer(raw, DTYPES[value["type"]].newbyteorder("<"))
+        assert arr.size == value["n"]
+        rest = {k: v for k, v in value.items() if k not in ("n", "zlib")}
+        return rest | {"values": arr.tolist()}
+    if isinstance(value, dict):
+        return {k: unpack(v) for k, v in value.items()}
+    if isinstance(value, list):
+        return [unpack(v) for v in value]
+    return value
+
+
+def load_traces(path) -> dict:
+    return unpack(json.loads(Path(path).read_text()))
 
 
 # ---------------------------------------------------------------------------- scenes
@@ -107,12 +169,47 @@ class Setup:
                 "attributes": dict(sorted(self.attributes.items()))}
 
 
+class Ref:
+    """What a recorded call returns: its result, to pass on to later calls (see module doc)."""
+
+    def __init__(self, calls: list, index: int):
+        self._calls, self.index = calls, index
+
+    def __getattr__(self, name):
+        if name.startswith("_"):
+            raise AttributeError(name)
+
+        def call(*args):
+            return _record_call(self._calls, name, args, target=self.index)
+        return call
+
+    def __repr__(self):
+        return f"<result of call #{self.index}>"
+
+
+class CallLog(list):
+    """The recorded calls, plus an expectation waiting for the next call (see `expect`)."""
+    pending = None
+
+
+def _record_call(calls, name, args, target=None):
+    # Copy arrays now: the scene may reuse them after the call.
+    entry = {"call": name, "args": [_encode_arg(a) for a in args]}
+    if target is not None:
+        entry["target"] = target
+    if calls.pending is not None:
+        entry["expect"], calls.pending = calls.pending, None
+    calls.append(entry)
+    return Ref(calls, len(calls) - 1)
+
+
 class RecordingContext:
     """Stands in for `gl` while a scene runs: constants come back, method calls are recorded."""
 
     def __init__(self, version: int):
         self._constants = ENUMS["webgl1" if version == 1 else "webgl2"]
-        self._calls = []
+        self._calls = CallLog()
+        self.version = version
 
     def __getattr__(self, name):
         if name.startswith("_"):
@@ -124,9 +221,14 @@ class RecordingContext:
                 raise AttributeError(f"WebGL has no constant {name} in this version") from None
 
         def call(*args):
-            # Copy arrays now: the scene may reuse them after the call.
-            self._calls.append({"call": name, "args": [_encode_arg(a) for a in args]})
+            return _record_call(self._calls, name, args)
         return call
+
+    def expect(self, what: str):
+        """Annotate the next call with a known, documented difference (entry["expect"]); the
+        test decides what it accepts for it. Returns the context: gl.expect(X).drawArrays(...)"""
+        self._calls.pending = what
+        return self
 
     def get_property(self, name: str):
         """Read a context property (drawingBufferWidth, ...) at this point of the scene."""
@@ -148,11 +250,15 @@ def record(scene, version: int) -> list:
         scene(gl, version)
     else:
         scene(gl)
-    return gl._calls
+    assert gl._calls.pending is None, "expect() must be followed by a call"
+    return list(gl._calls)
 
 
-def dump_traces(traces: dict) -> str:
-    """JSON with one trace entry a line: small diffs when a reference is regenerated."""
+def dump_traces(traces: dict, packed: bool = False) -> str:
+    """JSON with one trace entry a line: small diffs when a reference is regenerated. `packed`
+    compresses long typed arrays (see `pack`); read such files with `load_traces`."""
+    if packed:
+        traces = pack(traces)
     lines = ["{"]
     for n, (key, value) in enumerate(traces.items()):
         head = {k: v for k, v in value.items() if k != "trace"}
@@ -176,9 +282,9 @@ def run_softgl(setup: Setup, calls: list) -> list:
     """Execute the recorded calls on a fresh softgl Context; return the trace."""
     import softgl
     gl = softgl.Context(setup.width, setup.height, version=setup.version, **setup.attributes)
-    trace = []
+    trace, results = [], []
     for entry in calls:
-        name, args = entry["call"], [decode_arg(a) for a in entry["args"]]
+        name, args = entry["call"], [decode_arg(a, results) for a in entry["args"]]
         thrown, result = None, None
         with warnings.catch_warnings(record=True) as caught:
             warnings.simplefilter("always")
@@ -186,14 +292,19 @@ def run_softgl(setup: Setup, calls: list) -> list:
                 if name.startswith("@"):
                     result = getattr(gl, name[1:])
                 else:
-                    result = getattr(gl, name)(*args)
+                    target = gl if "target" not in entry else results[entry["target"]]
+                    result = getattr(target, name)(*args)
             except Exception as exc:   # JS would throw too (TypeError ...): compare the name
                 thrown = type(exc).__name__
+        results.append(result)
         error = gl.getError()
         gl_warnings = [str(w.message) for w in caught if issubclass(w.category, softgl.GLWarning)]
-        trace.append({"call": name, "args": entry["args"], "error": error,
-                      "result": _softgl_result(name, args, result), "thrown": thrown,
-                      "warnings": gl_warnings})
+        out = {"call": name, "args": entry["args"], "error": error,
+               "result": _softgl_result(name, args, result), "thrown": thrown,
+               "warnings": gl_warnings}
+        if "target" in entry:
+            out["target"] = entry["target"]
+        trace.append(out)
     return trace
 
 
@@ -213,9 +324,11 @@ REPLAY_JS = r"""
 const TYPES = {Int8Array, Uint8Array, Int16Array, Uint16Array, Int32Array, Uint32Array,
                Float32Array, Float64Array};
 const GETTERS = new Set(%GETTERS%);
+let RESULTS = [];   // raw return value of every call of the current scene, for {ref: i}
 function decodeArg(a) {
   if (a === null || typeof a !== 'object') return a;
   if (Array.isArray(a)) return a.map(decodeArg);
+  if ('ref' in a) return RESULTS[a.ref];
   if ('num' in a) return Number(a.num);
   if ('type' in a) return new TYPES[a.type](a.values.map(decodeArg));
   const o = {};
@@ -272,16 +385,18 @@ function runScene(scene) {
   const gl = canvas.getContext(scene.setup.version == 1 ? 'webgl' : 'webgl2',
                                scene.setup.attributes);
   const trace = [];
+  RESULTS = [];
   for (const c of scene.calls) {
     const args = c.args.map(decodeArg);
-    let result = null, thrown = null;
+    const target = c.target === undefined ? gl : RESULTS[c.target];
+    let result = null, thrown = null, raw = null;
     try {
       if (c.call.startsWith('@')) {
         result = encode(gl[c.call.slice(1)]);
       } else if (c.call == 'readPixels' && args.length == 6) {
         result = readPixelsNew(gl, ...args);
       } else {
-        const r = gl[c.call](...args);
+        const r = raw = target[c.call](...args);
         if (c.call == 'getExtension') result = r !== null;
         else if (c.call == 'readPixels') result = encode(args[6]);
         else if (GETTERS.has(c.call)) result = encode(r);
@@ -289,9 +404,12 @@ function runScene(scene) {
     } catch (e) {
       thrown = e.name;
     }
+    RESULTS.push(raw === undefined ? null : raw);
     const error = gl.getError();
     if (c.call == 'readPixels' && args.length == 6) result = error ? null : encode(result);
-    trace.push({call: c.call, args: c.args, error, result, thrown});
+    const entry = {call: c.call, args: c.args, error, result, thrown};
+    if (c.target !== undefined) entry.target = c.target;
+    trace.push(entry);
   }
   const lose = gl.getExtension('WEBGL_lose_context');   // free it: Chromium caps live contexts
   if (lose) lose.loseContext();
@@ -399,6 +517,41 @@ def pixels_match(a, b, tolerance: int = 1) -> str | None:
     return (f"{np.mean((pixels == 0).all(axis=1)):.1%} of pixels equal, max diff {diff.max():g}, "
             f"{bad.size} beyond {tolerance}; first at element {bad[0]}: "
             f"softgl {x[bad[0]]:g} vs webgl {y[bad[0]]:g}")
+
+
+@dataclass
+class PixelStats:
+    """Agreement of the readPixels results of one trace pair (counted per RGBA pixel)."""
+    pixels: int = 0        # pixels compared
+    equal: int = 0         # all 4 bytes equal
+    within: int = 0        # all 4 bytes within the tolerance
+    max_diff: int = 0      # largest difference of one byte
+
+    def __iadd__(self, other):
+        self.pixels += other.pixels
+        self.equal += other.equal
+        self.within += other.within
+        self.max_diff = max(self.max_diff, other.max_diff)
+        return self
+
+    def share(self, what="within"):
+        return getattr(self, what) / self.pixels if self.pixels else 1.0
+
+
+def pixel_stats(softgl_trace, webgl_trace, tolerance: int = 1) -> PixelStats:
+    """Compare every readPixels image both traces have (same size) pixel by pixel."""
+    out = PixelStats()
+    for s, w in zip(softgl_trace, webgl_trace):
+        a, b = s["result"], w["result"]
+        if s["call"] != "readPixels" or not (isinstance(a, dict) and isinstance(b, dict)) \
+                or len(a["values"]) != len(b["values"]) or len(a["values"]) % 4:
+            continue
+        diff = np.abs(np.array(a["values"], np.int64) - np.array(b["values"], np.int64))
+        per_pixel = diff.reshape(-1, 4).max(axis=1)
+        out += PixelStats(per_pixel.size, int((per_pixel == 0).sum()),
+                          int((per_pixel <= tolerance).sum()),
+                          int(per_pixel.max()) if per_pixel.size else 0)
+    return out
 
 
 @dataclass

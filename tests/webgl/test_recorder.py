@@ -103,3 +103,39 @@ def test_rules_accept_limits_but_not_below_minimum():
     draw_buffer1 = {"call": "getParameter", "args": [0x8826], "error": 0}
     assert RULES[0](setup, draw_buffer1, 0, 0x0405) is None             # spec NONE, Chromium BACK
     assert RULES[0](setup, draw_buffer1, 0x0405, 0x0405)                # copying Chromium is wrong
+
+
+def handle_scene(gl):
+    buf = gl.createBuffer()
+    gl.bindBuffer(gl.ARRAY_BUFFER, buf)
+    gl.getParameter(gl.ARRAY_BUFFER_BINDING)
+    ext = gl.getExtension("OES_vertex_array_object")
+    gl.expect("note").bindVertexArrayOES(None)
+    ext.createVertexArrayOES()
+
+
+def test_results_become_handles_for_later_calls():
+    calls = record(handle_scene, 1)
+    assert calls[1]["args"][1] == {"ref": 0}              # the buffer createBuffer returned
+    assert calls[5] == {"call": "createVertexArrayOES", "args": [], "target": 3}
+    assert calls[4]["expect"] == "note"
+    trace = run_softgl(Setup(version=1, width=4, height=4), calls)
+    assert trace[0]["result"] == {"object": "WebGLBuffer"}
+    assert trace[2]["result"] == {"object": "WebGLBuffer"}   # the same buffer was bound
+    assert trace[5]["result"] == {"object": "WebGLVertexArrayObject"} and not trace[5]["thrown"]
+
+
+def test_packed_arrays_round_trip():
+    value = {"trace": [{"result": {"type": "Uint8Array", "values": list(range(200))}},
+                       {"result": {"type": "Float32Array", "values": [0.5] * 100, "shape": [100]}},
+                       {"result": {"type": "Uint8Array", "values": [1, 2]}}]}
+    packed = recorder.pack(value)
+    assert "zlib" in packed["trace"][0]["result"] and "values" in packed["trace"][2]["result"]
+    assert recorder.unpack(packed) == value
+
+
+def test_pixel_stats_count_pixels_not_bytes():
+    a = [{"call": "readPixels", "result": {"type": "Uint8Array", "values": [0] * 16}}]
+    b = [{"call": "readPixels", "result": {"type": "Uint8Array", "values": [0, 1, 0, 0] + [0] * 8 + [9, 0, 0, 9]}}]
+    st = recorder.pixel_stats(a, b)
+    assert (st.pixels, st.equal, st.within, st.max_diff) == (4, 2, 3, 9)
