@@ -82,9 +82,11 @@ void Context::draw_elements(GLenum mode, int32_t count, GLenum type, int64_t off
     if (!validate_draw_state(call)) return;
     const std::shared_ptr<Buffer>& elements = vertex_array_->element_buffer;
     if (!elements) return error(gl::INVALID_OPERATION, call, "no ELEMENT_ARRAY_BUFFER is bound");
+    // Nothing is read for an empty draw, so its offset is not range-checked (as the WebGL
+    // conformance test draw-elements-out-of-bounds expects).
+    if (count == 0 || instances == 0) return;
     if (uint64_t(offset) + uint64_t(count) * uint64_t(size) > elements->data.size())
         return error(gl::INVALID_OPERATION, call, "the indices extend past the end of the element array buffer");
-    if (count == 0 || instances == 0) return;
     // Read the indices once; WebGL requires every index to address data inside the buffers.
     std::vector<uint32_t> indices(static_cast<size_t>(count));
     const uint8_t* src = elements->data.data() + offset;

@@ -112,8 +112,9 @@ Value Context::get_parameter(GLenum pname) {
         // Object bindings
         case gl::ARRAY_BUFFER_BINDING: return object(array_buffer_);
         case gl::ELEMENT_ARRAY_BUFFER_BINDING: return object(vertex_array_->element_buffer);
-        // Objects softgl does not have yet (programs, framebuffers, textures): always null.
-        case gl::CURRENT_PROGRAM: case gl::FRAMEBUFFER_BINDING: case gl::RENDERBUFFER_BINDING:
+        case gl::CURRENT_PROGRAM: return object(current_program_);
+        // Objects softgl does not have yet (framebuffers, textures): always null.
+        case gl::FRAMEBUFFER_BINDING: case gl::RENDERBUFFER_BINDING:
         case gl::TEXTURE_BINDING_2D: case gl::TEXTURE_BINDING_CUBE_MAP:
             return Value(Null{});
 
