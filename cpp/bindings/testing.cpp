@@ -8,6 +8,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "softgl/api/context.h"
+#include "softgl/pipeline/fragment_ops.h"
 #include "softgl/pipeline/assemble.h"
 #include "softgl/pipeline/draw.h"
 #include "softgl/pipeline/passthrough_shaders.h"
@@ -141,6 +142,41 @@ void bind_testing(py::module_& m) {
             for (int c = 0; c < 4; ++c) m[c][r] = *a.data(r, c);
         return from_glm(glm::transpose(glm::inverse(m)));
     });
+    // The specialised per-fragment colour kernels (pipeline/fragment_ops.h), for the proof that
+    // they equal blend_unorm8: lanes=false runs write_color<K> per pixel, lanes=true the
+    // structure-of-arrays (SSE2) kernel the draw uses for single-sampled targets.
+    t.def("fragment_ops_write",
+          [](const std::array<uint32_t, 6>& fe, const std::array<float, 4>& constant,
+             const std::array<bool, 4>& mask, bool has_alpha,
+             py::array_t<float, py::array::c_style | py::array::forcecast> src,
+             py::array_t<uint8_t, py::array::c_style | py::array::forcecast> dst, bool lanes) {
+              softgl::State state;
+              state.blend.enabled = true;
+              state.blend.src_rgb = fe[0]; state.blend.dst_rgb = fe[1];
+              state.blend.src_alpha = fe[2]; state.blend.dst_alpha = fe[3];
+              state.blend.equation_rgb = fe[4]; state.blend.equation_alpha = fe[5];
+              state.blend.color = constant;
+              state.color_mask = mask;
+              const softgl::BlendOp op = softgl::BlendOp::from_state(state, has_alpha);
+              if (src.ndim() != 2 || src.shape(1) != 4 || dst.ndim() != 2 || dst.shape(1) != 4 ||
+                  src.shape(0) != dst.shape(0))
+                  throw py::value_error("src must be (N, 4) float32 and dst (N, 4) uint8");
+              const size_t n = size_t(src.shape(0));
+              py::array_t<uint8_t> out({dst.shape(0), py::ssize_t(4)});
+              std::memcpy(out.mutable_data(), dst.data(), size_t(dst.nbytes()));
+              if (!lanes) {
+                  softgl::write_colors(op, src.data(), out.mutable_data(), n);
+              } else {
+                  std::vector<float> soa(4 * n);
+                  for (size_t i = 0; i < n; ++i)
+                      for (size_t c = 0; c < 4; ++c) soa[c * n + i] = src.data()[4 * i + c];
+                  std::vector<uint32_t> px(n);
+                  std::memcpy(px.data(), out.data(), 4 * n);
+                  softgl::write_color_lanes(softgl::color_kernel(op), op, soa.data(), n, px.data(), n);
+                  std::memcpy(out.mutable_data(), px.data(), 4 * n);
+              }
+              return std::make_pair(out, int(softgl::color_kernel(op)));
+          });
     t.def("blend_unorm8",
           [](const std::array<uint32_t, 6>& funcs_and_equations, const std::array<float, 4>& constant,
              const std::array<bool, 4>& mask, bool has_alpha,

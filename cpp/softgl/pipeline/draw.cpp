@@ -4,6 +4,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <type_traits>
 #include <unordered_map>
 
 #include "softgl/pipeline/assemble.h"
@@ -12,6 +13,7 @@
 #include "softgl/pipeline/blend.h"
 #include "softgl/pipeline/depth_stencil.h"
 #include "softgl/pipeline/fog.h"
+#include "softgl/pipeline/fragment_ops.h"
 #include "softgl/pipeline/sample_mask.h"
 #include "softgl/pipeline/raster.h"
 #include "softgl/pipeline/setup.h"
@@ -38,17 +40,10 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-uint32_t depth_to_unorm24(double z) { return uint32_t(std::floor(z * 16777215.0 + 0.5)); }
-
 float as_float(uint32_t bits) {
     float f;
     std::memcpy(&f, &bits, 4);
     return f;
-}
-uint32_t as_bits(float f) {
-    uint32_t u;
-    std::memcpy(&u, &f, 4);
-    return u;
 }
 
 RasterState raster_state(const State& s, const DefaultFramebuffer& fb) {
@@ -78,21 +73,55 @@ RasterState raster_state(const State& s, const DefaultFramebuffer& fb) {
 }
 
 // Per-worker scratch, reused across primitives and draws.
+constexpr size_t kChunkQuads = 32;   // 128 lanes: the executor's batch
+
 struct Scratch {
-    std::vector<Quad> quads;
-    std::vector<QuadArea> areas;      // SOFTGL_smooth: covered fraction per pixel of each quad
+    std::vector<Quad> quads, cq;      // the primitive's quads in this tile; the current chunk
+    std::vector<QuadArea> areas, ca;  // SOFTGL_smooth: covered fractions of quads / of the chunk
+    std::vector<uint32_t> pixels;     // per lane: the destination pixel (S == 1 colour path)
     std::vector<uint16_t> masks;      // surviving sample mask per lane
+    std::vector<double> fx, fy;       // per lane: pixel-centre offset from the primitive's origin
+    std::vector<double> q, w[3];      // per lane: 1 / inv_w and perspective-correct weights
     FragmentBatch batch;
     FragmentResults results;
     RasterStats raster;
     DrawStats stats;
 };
 
+// Everything a draw allocates, kept between draws on the calling thread (DESIGN §4: no per-draw
+// allocations for small draws).
+struct DrawScratch {
+    std::vector<uint32_t> ids, slot_of_position, assembled, tiles;
+    std::unordered_map<uint32_t, uint32_t> slot;
+    std::array<AttributeStream, kMaxVertexAttribs> attribs;
+    VertexShaderOutputs shaded, all;
+    std::vector<PrimitiveSetup> prims;
+    Bins bins;
+    std::vector<Scratch> workers;
+};
+
+DrawScratch& draw_scratch() {
+    thread_local DrawScratch scratch;
+    return scratch;
+}
+
+// Depth test alone (no stencil), ES 3.0 §4.1.6: the same decisions as depth_stencil_test.
+inline bool depth_only_test(GLenum func, bool write, uint32_t z, uint32_t* stored) {
+    if (!compare(func, z, *stored)) return false;
+    if (write) *stored = z;
+    return true;
+}
+
+// The pixel-centre window depth as the 24-bit value the buffer stores: floor(z * (2^24-1) + 0.5),
+// z in [0, 1] (truncation is floor for these non-negative values).
+inline uint32_t depth24(double z) { return uint32_t(z * 16777215.0 + 0.5); }
+
 }  // namespace
 
 void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
     DrawStats st;
     st.draws = 1;
+    DrawScratch& ds_ = draw_scratch();
     const State& state = in.state;
     DefaultFramebuffer& fb = in.framebuffer;
     const VertexShader& vs = in.vertex_shader;
@@ -102,10 +131,13 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
 
     // ---- vertex stage: shade each distinct vertex once per instance ----
     auto t0 = Clock::now();
-    std::vector<uint32_t> ids;                  // distinct vertex ids, in first-use order
-    std::vector<uint32_t> slot_of_position(call.count);
+    std::vector<uint32_t>& ids = ds_.ids;       // distinct vertex ids, in first-use order
+    std::vector<uint32_t>& slot_of_position = ds_.slot_of_position;
+    ids.clear();
+    slot_of_position.resize(call.count);
     if (call.indices) {
-        std::unordered_map<uint32_t, uint32_t> slot;
+        std::unordered_map<uint32_t, uint32_t>& slot = ds_.slot;
+        slot.clear();
         slot.reserve(call.count * 2);
         for (uint32_t k = 0; k < call.count; ++k) {
             auto [it, added] = slot.emplace(call.indices[k], uint32_t(ids.size()));
@@ -117,9 +149,13 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
         for (uint32_t k = 0; k < call.count; ++k) ids[k] = call.first + k, slot_of_position[k] = k;
     }
     const size_t n = ids.size();
-    std::array<AttributeStream, kMaxVertexAttribs> attribs;
-    VertexShaderOutputs shaded, all;
+    std::array<AttributeStream, kMaxVertexAttribs>& attribs = ds_.attribs;
+    VertexShaderOutputs& shaded = ds_.shaded;
+    VertexShaderOutputs& all = ds_.all;
     all.count = n * call.instance_count;
+    all.position.clear();
+    all.point_size.clear();
+    all.varyings.clear();
     all.position.reserve(all.count * 4);
     all.point_size.reserve(all.count);
     all.varyings.reserve(all.count * size_t(words));
@@ -147,8 +183,10 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
     t0 = Clock::now();
     const RasterState rs = raster_state(state, fb);
     Setup setup(rs);
-    std::vector<PrimitiveSetup> prims;
-    std::vector<uint32_t> assembled;
+    std::vector<PrimitiveSetup>& prims = ds_.prims;
+    prims.clear();
+    std::vector<uint32_t>& assembled = ds_.assembled;
+    assembled.clear();
     assemble(call.mode, call.count, assembled);
     const int per = vertices_per_primitive(call.mode);
     const size_t prims_per_instance = assembled.size() / size_t(per);
@@ -193,23 +231,49 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
            (state.sample_coverage_invert ? 0xFFFFu : 0u));
     const FogOp fog = FogOp::from_state(state);
     const bool early = !fs.may_discard() && !fs.writes_depth() && !coverage_ops;
-    if (early && (ds.depth_test || ds.stencil_test)) st.draws_early_depth = 1;
+    const bool tests = ds.depth_test || ds.stencil_test;
+    if (early && tests) st.draws_early_depth = 1;
+    if (prims.empty()) {
+        st.seconds_setup = since(t0);
+        total.add(st);
+        return;
+    }
 
     const TileGrid grid(fb.width(), fb.height());
-    Bins bins;
+    Bins& bins = ds_.bins;
     bins.reset(grid);
     bins.add(prims);
+    // Only tiles with work go to the pool (a draw of one small primitive wakes no thread).
+    std::vector<uint32_t>& tiles = ds_.tiles;
+    tiles.clear();
+    for (size_t t = 0; t < grid.count(); ++t)
+        if (!bins.tile(t).empty()) tiles.push_back(uint32_t(t));
     st.seconds_setup = since(t0);
 
     // ---- per tile on the pool: raster, tests, shading, blending ----
     t0 = Clock::now();
     const SamplePattern& pattern = sample_pattern(config.samples);
     const int S = config.samples;
-    std::vector<Scratch> scratch(in.pool.size());
+    std::vector<Scratch>& scratch = ds_.workers;
+    if (scratch.size() < in.pool.size()) scratch.resize(in.pool.size());
+    for (Scratch& w : scratch) w.raster = RasterStats{}, w.stats = DrawStats{};
     fs.prepare(in.pool.size());
-    in.pool.parallel_for(grid.count(), [&](size_t tile, unsigned worker) {
+
+    // What the fragment shader reads: only these inputs are computed per lane.
+    const uint32_t builtins = fs.builtins_read();
+    std::vector<int> smooth_words, flat_words;
+    for (int word = 0; word < words; ++word) {
+        if (size_t(word) < layout.read_by_fragment.size() && !layout.read_by_fragment[size_t(word)]) continue;
+        (layout.flat[size_t(word)] ? flat_words : smooth_words).push_back(word);
+    }
+    const ColorKernel kernel = color_kernel(blend);
+    const bool all_channels = blend.write[0] && blend.write[1] && blend.write[2] && blend.write[3];
+    const float* unorm8_table = unorm8_to_float_table();
+    const bool shader_depth = fs.writes_depth();
+
+    auto run_tile = [&](size_t index, unsigned worker) {
+        const size_t tile = tiles[index];
         const std::vector<uint32_t>& list = bins.tile(tile);
-        if (list.empty()) return;
         Scratch& w = scratch[worker];
         w.stats.tiles_touched++;
         const TileRect rect = grid.rect(tile);
@@ -231,138 +295,280 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
             }
             if (w.quads.empty()) continue;
 
-            // Early depth/stencil (legal when the shader cannot discard or write depth).
-            const size_t lanes = w.quads.size() * 4;
-            w.masks.assign(lanes, 0);
-            size_t kept = 0;
-            for (size_t q = 0; q < w.quads.size(); ++q) {
-                const Quad& quad = w.quads[q];
-                uint16_t any = 0;
-                for (int j = 0; j < 4; ++j) {
-                    uint16_t mask = uint16_t(quad_pixel_mask(quad, j));
-                    if (mask && early && (ds.depth_test || ds.stencil_test)) {
-                        const int32_t x = quad.x + (j & 1), y = quad.y + (j >> 1);
+            // Chunks of kChunkQuads quads keep every per-lane array in L1.
+            for (size_t c0 = 0; c0 < w.quads.size(); c0 += kChunkQuads) {
+                const size_t c1 = std::min(w.quads.size(), c0 + kChunkQuads);
+                w.cq.assign(w.quads.begin() + long(c0), w.quads.begin() + long(c1));
+                if (area) w.ca.assign(w.areas.begin() + long(c0), w.areas.begin() + long(c1));
+                // Early depth/stencil (legal when the shader cannot discard or write depth).
+                const size_t lanes = w.cq.size() * 4;
+                w.masks.resize(lanes);
+                size_t kept = 0;
+                if (early && tests) {
+                    for (size_t qi = 0; qi < w.cq.size(); ++qi) {
+                        const Quad quad = w.cq[qi];
+                        uint16_t m4[4];
+                        uint16_t any = 0;
+                        for (int j = 0; j < 4; ++j) {
+                            uint16_t mask = uint16_t(quad_pixel_mask(quad, j));
+                            if (mask) {
+                                const int32_t x = quad.x + (j & 1), y = quad.y + (j >> 1);
+                                uint32_t* depth = fb.depth_samples(x, y);
+                                if (!ds.stencil_test) {
+                                    for (int s = 0; s < S; ++s) {
+                                        if (!(mask & (1u << s))) continue;
+                                        const uint32_t z = depth24(p.depth_at(int64_t(x) * kSubPixel + pattern.x[s],
+                                                                              int64_t(y) * kSubPixel + pattern.y[s]));
+                                        if (!depth_only_test(ds.depth_func, ds.depth_write, z, depth + s)) {
+                                            mask = uint16_t(mask & ~(1u << s));
+                                            w.stats.fragments_killed_early++;
+                                        }
+                                    }
+                                } else {
+                                    uint8_t* stencil = fb.stencil_samples(x, y);
+                                    for (int s = 0; s < S; ++s) {
+                                        if (!(mask & (1u << s))) continue;
+                                        const uint32_t z = depth24(p.depth_at(int64_t(x) * kSubPixel + pattern.x[s],
+                                                                              int64_t(y) * kSubPixel + pattern.y[s]));
+                                        if (!depth_stencil_test(ds, p.front_facing, z, depth ? depth + s : nullptr,
+                                                                stencil ? stencil + s : nullptr)) {
+                                            mask = uint16_t(mask & ~(1u << s));
+                                            w.stats.fragments_killed_early++;
+                                        }
+                                    }
+                                }
+                            }
+                            m4[j] = mask;
+                            any |= mask;
+                        }
+                        if (any) {
+                            w.cq[kept] = quad;
+                            if (area) w.ca[kept] = w.ca[qi];
+                            std::copy_n(m4, 4, &w.masks[kept * 4]);
+                            ++kept;
+                        }
+                    }
+                } else {
+                    for (size_t qi = 0; qi < w.cq.size(); ++qi)
+                        for (int j = 0; j < 4; ++j) w.masks[qi * 4 + size_t(j)] = uint16_t(quad_pixel_mask(w.cq[qi], j));
+                    kept = w.cq.size();
+                }
+                w.cq.resize(kept);
+                if (kept == 0) continue;
+                w.stats.quads += kept;
+
+                // Build the fragment batch: the inputs the shader reads, per lane, structure of arrays.
+                FragmentBatch& b = w.batch;
+                const size_t L = kept * 4;
+                b.lanes = L;
+                b.varyings.resize(size_t(words) * L);
+                b.frag_coord.resize(4 * L);
+                b.front_facing.resize(L);
+                b.point_coord.resize(2 * L);
+                b.covered.resize(L);
+                for (size_t lane = 0; lane < L; ++lane) b.covered[lane] = w.masks[lane] ? 1 : 0;
+                if (builtins & kFrontFacing) std::fill_n(b.front_facing.data(), L, uint8_t(p.front_facing ? 1 : 0));
+                const uint32_t provoking = p.kind == PrimitiveKind::Triangle ? p.vertex[2]
+                                         : p.kind == PrimitiveKind::Line ? p.vertex[1] : p.vertex[0];
+                const int interpolated = p.kind == PrimitiveKind::Triangle ? 3 : p.kind == PrimitiveKind::Line ? 2 : 0;
+                const bool need_xy = (builtins & (kFragCoordX | kFragCoordY)) || (builtins & (kPointCoordS | kPointCoordT));
+                const bool need_planes = (interpolated && !smooth_words.empty()) || (builtins & (kFragCoordZ | kFragCoordW));
+                if (need_planes) {
+                    // Pixel-centre offsets from the plane origin, exactly PrimitiveSetup::eval's terms.
+                    w.fx.resize(L);
+                    w.fy.resize(L);
+                    for (size_t qi = 0; qi < kept; ++qi) {
+                        const Quad& quad = w.cq[qi];
+                        const double fx0 = double(int64_t(quad.x) * kSubPixel + kSubPixel / 2 - p.origin_x) * (1.0 / kSubPixel);
+                        const double fx1 = double(int64_t(quad.x + 1) * kSubPixel + kSubPixel / 2 - p.origin_x) * (1.0 / kSubPixel);
+                        const double fy0 = double(int64_t(quad.y) * kSubPixel + kSubPixel / 2 - p.origin_y) * (1.0 / kSubPixel);
+                        const double fy1 = double(int64_t(quad.y + 1) * kSubPixel + kSubPixel / 2 - p.origin_y) * (1.0 / kSubPixel);
+                        double* fx = &w.fx[qi * 4];
+                        double* fy = &w.fy[qi * 4];
+                        fx[0] = fx0; fx[1] = fx1; fx[2] = fx0; fx[3] = fx1;
+                        fy[0] = fy0; fy[1] = fy0; fy[2] = fy1; fy[3] = fy1;
+                    }
+                }
+                const double* fx = w.fx.data();
+                const double* fy = w.fy.data();
+                auto eval = [&](const Plane& pl, double* out) {
+                    const double a = pl.a, bb = pl.b, c = pl.c;
+                    for (size_t l = 0; l < L; ++l) out[l] = c + a * fx[l] + bb * fy[l];
+                };
+                if (interpolated && !smooth_words.empty()) {
+                    w.q.resize(L);
+                    double* q = w.q.data();
+                    eval(p.inv_w, q);
+                    for (size_t l = 0; l < L; ++l) q[l] = 1.0 / q[l];
+                    for (int c = 0; c < interpolated; ++c) {
+                        w.w[c].resize(L);
+                        double* wc = w.w[c].data();
+                        eval(p.weight[c], wc);
+                        for (size_t l = 0; l < L; ++l) wc[l] = wc[l] * q[l];
+                    }
+                    for (int word : smooth_words) {
+                        float* dst = reinterpret_cast<float*>(&b.varyings[size_t(word) * L]);
+                        const double v0 = double(as_float(all.varyings[size_t(p.vertex[0]) * size_t(words) + size_t(word)]));
+                        const double v1 = double(as_float(all.varyings[size_t(p.vertex[1]) * size_t(words) + size_t(word)]));
+                        const double* w0 = w.w[0].data();
+                        const double* w1 = w.w[1].data();
+                        if (interpolated == 3) {
+                            const double v2 = double(as_float(all.varyings[size_t(p.vertex[2]) * size_t(words) + size_t(word)]));
+                            const double* w2 = w.w[2].data();
+                            for (size_t l = 0; l < L; ++l) dst[l] = float(((0.0 + w0[l] * v0) + w1[l] * v1) + w2[l] * v2);
+                        } else {
+                            for (size_t l = 0; l < L; ++l) dst[l] = float((0.0 + w0[l] * v0) + w1[l] * v1);
+                        }
+                    }
+                } else {
+                    for (int word : smooth_words)   // points: no interpolation, the vertex's value
+                        std::fill_n(&b.varyings[size_t(word) * L], L,
+                                    all.varyings[size_t(provoking) * size_t(words) + size_t(word)]);
+                }
+                for (int word : flat_words)
+                    std::fill_n(&b.varyings[size_t(word) * L], L, all.varyings[size_t(provoking) * size_t(words) + size_t(word)]);
+                if (need_xy || (builtins & (kFragCoordZ | kFragCoordW))) {
+                    float* fc = b.frag_coord.data();
+                    for (size_t qi = 0; qi < kept; ++qi) {
+                        const Quad& quad = w.cq[qi];
+                        for (int j = 0; j < 4; ++j) {
+                            const size_t lane = qi * 4 + size_t(j);
+                            const int32_t x = quad.x + (j & 1), y = quad.y + (j >> 1);
+                            fc[lane] = float(x) + 0.5f;
+                            fc[L + lane] = float(y) + 0.5f;
+                            float pc[2] = {0, 0};
+                            if (p.kind == PrimitiveKind::Point) p.point_coord(x, y, pc);
+                            b.point_coord[lane] = pc[0];
+                            b.point_coord[L + lane] = pc[1];
+                        }
+                    }
+                    if (builtins & kFragCoordZ) {
+                        // p.depth_at at the pixel centre: plane + offset, clamped to [0, 1].
+                        w.q.resize(L);
+                        eval(p.depth, w.q.data());
+                        for (size_t l = 0; l < L; ++l) {
+                            const double z = w.q[l] + p.depth_offset;
+                            fc[2 * L + l] = float(z < 0 ? 0 : (z > 1 ? 1 : z));
+                        }
+                    }
+                    if (builtins & kFragCoordW) {
+                        w.q.resize(L);
+                        eval(p.inv_w, w.q.data());
+                        for (size_t l = 0; l < L; ++l) fc[3 * L + l] = float(w.q[l]);
+                    }
+                }
+                fs.run(b, w.results, worker);
+                w.stats.fragments_shaded += L;
+
+                // Late tests, blending and the write, per covered sample.
+                const FragmentResults& r = w.results;
+                bool any_killed = false;
+                for (uint8_t kill : r.killed) any_killed |= kill != 0;
+                const float* col = r.color.data();
+                // Per-lane color changes (area alpha, coverage ops, fog) take the general path.
+                const bool per_lane_color = area || coverage_ops || fog.enabled;
+                if (!any_killed && !(!early && tests) && writes_color && !per_lane_color) {
+                    // The common case: tests (if any) already done, nothing discarded.
+                    auto write_all = [&](auto kernel_tag) {
+                        constexpr ColorKernel K = decltype(kernel_tag)::value;
+                        for (size_t lane = 0; lane < L; ++lane) {
+                            const uint16_t mask = w.masks[lane];
+                            if (!mask) continue;
+                            const Quad& quad = w.cq[lane / 4];
+                            const int j = int(lane % 4);
+                            const int32_t x = quad.x + (j & 1), y = quad.y + (j >> 1);
+                            const float color[4] = {col[lane], col[L + lane], col[2 * L + lane], col[3 * L + lane]};
+                            uint8_t* px = fb.color_sample(x, y, 0);
+                            if (S == 1) {
+                                write_color<K>(blend, all_channels, unorm8_table, color, px);
+                                w.stats.samples_written++;
+                            } else {
+                                for (int s = 0; s < S; ++s) {
+                                    if (!(mask & (1u << s))) continue;
+                                    write_color<K>(blend, all_channels, unorm8_table, color, px + 4 * s);
+                                    w.stats.samples_written++;
+                                }
+                            }
+                        }
+                    };
+                    const uint64_t before = w.stats.samples_written;
+                    if (S == 1 && kernel != ColorKernel::Generic) {
+                        // Gather the destination pixels, blend all lanes at once, scatter back.
+                        w.pixels.resize(L);
+                        uint32_t* d = w.pixels.data();
+                        const bool read = kernel != ColorKernel::Plain || !all_channels;
+                        for (size_t lane = 0; lane < L; ++lane) {
+                            if (!w.masks[lane] || !read) { d[lane] = 0; continue; }
+                            const Quad& quad = w.cq[lane / 4];
+                            std::memcpy(&d[lane], fb.color_sample(quad.x + int32_t(lane & 1), quad.y + int32_t((lane >> 1) & 1), 0), 4);
+                        }
+                        write_color_lanes(kernel, blend, col, L, d, L);
+                        for (size_t lane = 0; lane < L; ++lane) {
+                            if (!w.masks[lane]) continue;
+                            const Quad& quad = w.cq[lane / 4];
+                            std::memcpy(fb.color_sample(quad.x + int32_t(lane & 1), quad.y + int32_t((lane >> 1) & 1), 0), &d[lane], 4);
+                            w.stats.samples_written++;
+                        }
+                    } else switch (kernel) {
+                        case ColorKernel::Plain: write_all(std::integral_constant<ColorKernel, ColorKernel::Plain>{}); break;
+                        case ColorKernel::AlphaOver: write_all(std::integral_constant<ColorKernel, ColorKernel::AlphaOver>{}); break;
+                        case ColorKernel::Additive: write_all(std::integral_constant<ColorKernel, ColorKernel::Additive>{}); break;
+                        case ColorKernel::Generic: write_all(std::integral_constant<ColorKernel, ColorKernel::Generic>{}); break;
+                    }
+                    if (!plain_write) w.stats.samples_blended += w.stats.samples_written - before;
+                    continue;
+                }
+                for (size_t lane = 0; lane < L; ++lane) {
+                    uint16_t mask = w.masks[lane];
+                    if (!mask) continue;
+                    if (any_killed && r.killed[lane]) {
+                        w.stats.fragments_discarded++;
+                        continue;
+                    }
+                    const Quad& quad = w.cq[lane / 4];
+                    const int j = int(lane % 4);
+                    const int32_t x = quad.x + (j & 1), y = quad.y + (j >> 1);
+                    if (coverage_ops) {   // before the depth and stencil tests (ES 3.0 §4.1.3)
+                        if (state.sample_alpha_to_coverage) mask = uint16_t(mask & coverage_from_value(col[3 * L + lane], S));
+                        mask = uint16_t(mask & coverage_mask);
+                        if (!mask) continue;
+                    }
+                    if (!early && tests) {
                         uint32_t* depth = fb.depth_samples(x, y);
                         uint8_t* stencil = fb.stencil_samples(x, y);
                         for (int s = 0; s < S; ++s) {
                             if (!(mask & (1u << s))) continue;
-                            const uint32_t z = depth_to_unorm24(
-                                p.depth_at(int64_t(x) * kSubPixel + pattern.x[s], int64_t(y) * kSubPixel + pattern.y[s]));
-                            if (!depth_stencil_test(ds, p.front_facing, z, depth ? depth + s : nullptr,
-                                                    stencil ? stencil + s : nullptr)) {
+                            const double zf = shader_depth ? double(clamp01(r.depth[lane]))
+                                                           : p.depth_at(int64_t(x) * kSubPixel + pattern.x[s],
+                                                                        int64_t(y) * kSubPixel + pattern.y[s]);
+                            if (!depth_stencil_test(ds, p.front_facing, depth24(zf),
+                                                    depth ? depth + s : nullptr, stencil ? stencil + s : nullptr)) {
                                 mask = uint16_t(mask & ~(1u << s));
-                                w.stats.fragments_killed_early++;
+                                w.stats.fragments_killed_late++;
                             }
                         }
                     }
-                    w.masks[q * 4 + size_t(j)] = mask;
-                    any |= mask;
-                }
-                if (any) {
-                    if (area) w.areas[kept] = w.areas[q];
-                    w.quads[kept++] = quad;
-                    std::copy_n(&w.masks[q * 4], 4, &w.masks[(kept - 1) * 4]);
-                }
-            }
-            w.quads.resize(kept);
-            if (kept == 0) continue;
-            w.stats.quads += kept;
-
-            // Build the fragment batch: interpolated varyings and built-ins per lane.
-            FragmentBatch& b = w.batch;
-            const size_t L = kept * 4;
-            b.lanes = L;
-            b.varyings.resize(size_t(words) * L);
-            b.frag_coord.resize(4 * L);
-            b.front_facing.assign(L, p.front_facing ? 1 : 0);
-            b.point_coord.resize(2 * L);
-            b.covered.resize(L);
-            const uint32_t provoking = p.kind == PrimitiveKind::Triangle ? p.vertex[2]
-                                     : p.kind == PrimitiveKind::Line ? p.vertex[1] : p.vertex[0];
-            const int interpolated = p.kind == PrimitiveKind::Triangle ? 3 : p.kind == PrimitiveKind::Line ? 2 : 0;
-            for (size_t lane = 0; lane < L; ++lane) {
-                const Quad& quad = w.quads[lane / 4];
-                const int j = int(lane % 4);
-                const int32_t x = quad.x + (j & 1), y = quad.y + (j >> 1);
-                const int64_t X = int64_t(x) * kSubPixel + kSubPixel / 2, Y = int64_t(y) * kSubPixel + kSubPixel / 2;
-                double weights[3] = {0, 0, 0};
-                if (interpolated) p.weights_at(X, Y, weights);
-                for (int word = 0; word < words; ++word) {
-                    uint32_t value;
-                    if (interpolated && !layout.flat[size_t(word)]) {
-                        double v = 0;
-                        for (int c = 0; c < interpolated; ++c)
-                            v += weights[c] * double(as_float(all.varyings[size_t(p.vertex[c]) * size_t(words) + size_t(word)]));
-                        value = as_bits(float(v));
-                    } else {
-                        value = all.varyings[size_t(provoking) * size_t(words) + size_t(word)];
+                    if (!writes_color || !mask) continue;
+                    float color[4] = {col[lane], col[L + lane], col[2 * L + lane], col[3 * L + lane]};
+                    if (area) color[3] = float(double(color[3]) * w.ca[lane / 4].fraction[j]);
+                    if (fog.enabled) {
+                        const int64_t X = int64_t(x) * kSubPixel + kSubPixel / 2, Y = int64_t(y) * kSubPixel + kSubPixel / 2;
+                        apply_fog(fog, fog_coordinate(fog, float(p.depth_at(X, Y)), float(p.eval(p.inv_w, X, Y))), color);
                     }
-                    b.varyings[size_t(word) * L + lane] = value;
-                }
-                b.frag_coord[lane] = float(x) + 0.5f;
-                b.frag_coord[L + lane] = float(y) + 0.5f;
-                b.frag_coord[2 * L + lane] = float(p.depth_at(X, Y));
-                b.frag_coord[3 * L + lane] = float(p.eval(p.inv_w, X, Y));
-                float pc[2] = {0, 0};
-                if (p.kind == PrimitiveKind::Point) p.point_coord(x, y, pc);
-                b.point_coord[lane] = pc[0];
-                b.point_coord[L + lane] = pc[1];
-                b.covered[lane] = w.masks[lane] ? 1 : 0;
-            }
-            fs.run(b, w.results, worker);
-            w.stats.fragments_shaded += L;
-
-            // Late tests, blending and the write, per covered sample.
-            const FragmentResults& r = w.results;
-            for (size_t lane = 0; lane < L; ++lane) {
-                uint16_t mask = w.masks[lane];
-                if (!mask) continue;
-                if (!r.killed.empty() && r.killed[lane]) {
-                    w.stats.fragments_discarded++;
-                    continue;
-                }
-                const Quad& quad = w.quads[lane / 4];
-                const int j = int(lane % 4);
-                const int32_t x = quad.x + (j & 1), y = quad.y + (j >> 1);
-                float color[4] = {r.color[lane], r.color[L + lane], r.color[2 * L + lane], r.color[3 * L + lane]};
-                // SOFTGL_smooth: alpha times the covered fraction of the pixel (GL 1.5 §3.12).
-                if (area) color[3] = float(double(color[3]) * w.areas[lane / 4].fraction[j]);
-                if (coverage_ops) {
-                    if (state.sample_alpha_to_coverage) mask = uint16_t(mask & coverage_from_value(color[3], S));
-                    mask = uint16_t(mask & coverage_mask);
-                    if (!mask) continue;
-                }
-                if (!early && (ds.depth_test || ds.stencil_test)) {
-                    uint32_t* depth = fb.depth_samples(x, y);
-                    uint8_t* stencil = fb.stencil_samples(x, y);
-                    const bool shader_depth = fs.writes_depth();
                     for (int s = 0; s < S; ++s) {
                         if (!(mask & (1u << s))) continue;
-                        const double zf = shader_depth ? double(clamp01(r.depth[lane]))
-                                                       : p.depth_at(int64_t(x) * kSubPixel + pattern.x[s],
-                                                                    int64_t(y) * kSubPixel + pattern.y[s]);
-                        if (!depth_stencil_test(ds, p.front_facing, depth_to_unorm24(zf),
-                                                depth ? depth + s : nullptr, stencil ? stencil + s : nullptr)) {
-                            mask = uint16_t(mask & ~(1u << s));
-                            w.stats.fragments_killed_late++;
-                        }
+                        blend_unorm8(blend, color, fb.color_sample(x, y, s));
+                        w.stats.samples_written++;
+                        if (!plain_write) w.stats.samples_blended++;
                     }
-                }
-                if (!writes_color || !mask) continue;
-                if (fog.enabled)
-                    apply_fog(fog, fog_coordinate(fog, b.frag_coord[2 * L + lane], b.frag_coord[3 * L + lane]), color);
-                for (int s = 0; s < S; ++s) {
-                    if (!(mask & (1u << s))) continue;
-                    blend_unorm8(blend, color, fb.color_sample(x, y, s));
-                    w.stats.samples_written++;
-                    if (!plain_write) w.stats.samples_blended++;
                 }
             }
         }
-    });
-    for (const Scratch& w : scratch) {
-        st.add(w.stats);
-        st.blocks_accepted_whole += w.raster.blocks_accepted;
+    };
+    in.pool.parallel_for(tiles.size(), run_tile);
+    for (size_t k = 0; k < scratch.size(); ++k) {
+        st.add(scratch[k].stats);
+        st.blocks_accepted_whole += scratch[k].raster.blocks_accepted;
     }
     st.seconds_fragment = since(t0);
     total.add(st);

@@ -1,5 +1,6 @@
 #include "softgl/pipeline/glsl_stages.h"
 
+#include <algorithm>
 #include <cstring>
 
 namespace softgl {
@@ -103,7 +104,13 @@ GlslFragmentShader::GlslFragmentShader(std::shared_ptr<const glsl::LinkedProgram
         if (s.name == "gl_FragCoord") input_builtin_[i] = s.component;
         else if (s.name == "gl_FrontFacing") input_builtin_[i] = 4;
         else if (s.name == "gl_PointCoord") input_builtin_[i] = 5 + s.component;
+        if (input_builtin_[i] >= 0) builtins_read_ |= 1u << input_builtin_[i];   // FragmentBuiltin bits
     }
+    // DESIGN §4: a shader whose outputs depend only on uniforms gives every lane the same values
+    // (lanes are independent; derivatives of uniform values are the same in every lane), so one
+    // quad is shaded and its values are copied to the others.
+    uniform_only_ = program_->reflection.fragment_depends_only_on_uniforms &&
+                    !program_->reflection.fragment_usage.may_discard;
     // Color output 0: whichever of gl_FragColor, gl_FragData[0] or the `out` at location 0 the
     // shader really writes (the IR declares both ES 1.00 outputs; reflection lists the active one).
     color_slot_.assign(4, -1);
@@ -128,8 +135,11 @@ void GlslFragmentShader::run(const FragmentBatch& b, FragmentResults& out, unsig
     Worker& w = workers_[worker];
     const glsl::IrProgram& ir = program_->fragment;
     const size_t L = b.lanes;
-    w.builtins.resize(L);
-    for (size_t lane = 0; lane < L; ++lane) w.builtins[lane].i = b.front_facing[lane];
+    const size_t R = uniform_only_ ? std::min<size_t>(L, 4) : L;   // lanes actually run
+    if (builtins_read_ & kFrontFacing) {
+        w.builtins.resize(R);
+        for (size_t lane = 0; lane < R; ++lane) w.builtins[lane].i = b.front_facing[lane];
+    }
     w.input_ptrs.assign(ir.inputs.size(), nullptr);
     for (size_t i = 0; i < ir.inputs.size(); ++i) {
         const int builtin = input_builtin_[i];
@@ -138,25 +148,34 @@ void GlslFragmentShader::run(const FragmentBatch& b, FragmentResults& out, unsig
         else if (builtin == 4) w.input_ptrs[i] = w.builtins.data();
         else if (builtin >= 5) w.input_ptrs[i] = reinterpret_cast<const Scalar*>(&b.point_coord[size_t(builtin - 5) * L]);
     }
-    w.outputs.assign(ir.outputs.size() * L, Scalar{});
-    w.output_ptrs.resize(ir.outputs.size());
-    for (size_t i = 0; i < ir.outputs.size(); ++i) w.output_ptrs[i] = &w.outputs[i * L];
-    out.killed.assign(L, 0);
+    // Outputs go straight to the results; outputs nobody reads are not copied out.
+    out.color.resize(4 * L);
+    w.output_ptrs.assign(ir.outputs.size(), nullptr);
+    for (int c = 0; c < 4; ++c) {
+        if (color_slot_[size_t(c)] >= 0) w.output_ptrs[size_t(color_slot_[size_t(c)])] = reinterpret_cast<Scalar*>(&out.color[size_t(c) * L]);
+        else std::fill_n(&out.color[size_t(c) * L], L, 0.0f);   // never written: undefined; softgl gives 0
+    }
+    if (depth_slot_ >= 0) {
+        out.depth.resize(L);
+        w.output_ptrs[size_t(depth_slot_)] = reinterpret_cast<Scalar*>(out.depth.data());
+    }
+    if (may_discard()) out.killed.assign(L, 0);
+    else out.killed.clear();
     glsl::StageRun run;
-    run.lane_count = int(L);
+    run.lane_count = int(R);
     run.inputs = w.input_ptrs.data();
     run.outputs = w.output_ptrs.data();
     run.uniforms = uniforms_;
     run.sampler = &w.sampler;
-    run.discarded = out.killed.data();
+    run.discarded = may_discard() ? out.killed.data() : nullptr;
     w.executor->run(run);
-    // An output the shader never writes is undefined; softgl gives 0 (alpha 0 for RGBA8).
-    out.color.assign(4 * L, 0.0f);
-    for (int c = 0; c < 4; ++c)
-        if (color_slot_[size_t(c)] >= 0) std::memcpy(&out.color[size_t(c) * L], w.output_ptrs[size_t(color_slot_[size_t(c)])], L * 4);
-    if (depth_slot_ >= 0) {
-        out.depth.resize(L);
-        std::memcpy(out.depth.data(), w.output_ptrs[size_t(depth_slot_)], L * 4);
+    if (R < L) {
+        for (int c = 0; c < 4; ++c) {
+            float* col = &out.color[size_t(c) * L];
+            for (size_t lane = R; lane < L; ++lane) col[lane] = col[lane & 3];
+        }
+        if (depth_slot_ >= 0)
+            for (size_t lane = R; lane < L; ++lane) out.depth[lane] = out.depth[lane & 3];
     }
 }
 

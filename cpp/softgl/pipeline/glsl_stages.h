@@ -46,6 +46,7 @@ public:
     GlslFragmentShader(std::shared_ptr<const glsl::LinkedProgram> program, const VaryingLayout& layout);
     bool may_discard() const override { return program_->reflection.fragment_usage.may_discard; }
     bool writes_depth() const override { return program_->reflection.fragment_usage.writes_frag_depth; }
+    uint32_t builtins_read() const override { return builtins_read_; }
     void prepare(unsigned workers) const override;
     void run(const FragmentBatch& batch, FragmentResults& out, unsigned worker) const override;
     void set_uniforms(const glsl::Scalar* uniforms) { uniforms_ = uniforms; }
@@ -56,6 +57,8 @@ private:
     std::vector<int> input_builtin_;     // per fragment input slot: 0..3 FragCoord, 4 FrontFacing, 5..6 PointCoord, -1
     std::vector<int> color_slot_;        // output slot of color component c (or -1)
     int depth_slot_ = -1;
+    uint32_t builtins_read_ = 0;         // FragmentBuiltin bits
+    bool uniform_only_ = false;          // outputs depend only on uniforms: run one quad, broadcast
     const glsl::Scalar* uniforms_ = nullptr;
     struct Worker {
         std::unique_ptr<glsl::Executor> executor;

@@ -54,11 +54,21 @@ struct FragmentResults {
     std::vector<uint8_t> killed;       // [lane], 1 where the shader discarded
 };
 
+// Built-in fragment inputs, as bits of FragmentShader::builtins_read().
+enum FragmentBuiltin : uint32_t {
+    kFragCoordX = 1u << 0, kFragCoordY = 1u << 1, kFragCoordZ = 1u << 2, kFragCoordW = 1u << 3,
+    kFrontFacing = 1u << 4, kPointCoordS = 1u << 5, kPointCoordT = 1u << 6,
+};
+
 class FragmentShader {
 public:
     virtual ~FragmentShader() = default;
     virtual bool may_discard() const = 0;
     virtual bool writes_depth() const = 0;
+    // The built-ins run() reads (FragmentBuiltin bits): the pipeline fills only these arrays of
+    // the batch (DESIGN §4: what the shader does not read is not computed). Varyings: the vertex
+    // stage's VaryingLayout::read_by_fragment says which words are filled.
+    virtual uint32_t builtins_read() const { return ~0u; }
     // Called once per draw before run(): `workers` threads will call run() concurrently.
     virtual void prepare(unsigned workers) const { (void)workers; }
     // Runs on worker thread `worker` (< the prepared count), each with its own batch and results.

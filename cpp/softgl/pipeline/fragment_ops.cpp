@@ -1,0 +1,139 @@
+#include "softgl/pipeline/fragment_ops.h"
+
+#include <array>
+
+namespace softgl {
+
+const float* unorm8_to_float_table() {
+    static const std::array<float, 256> table = [] {
+        std::array<float, 256> t{};
+        for (int i = 0; i < 256; ++i) t[size_t(i)] = float(i) / 255.0f;
+        return t;
+    }();
+    return table.data();
+}
+
+ColorKernel color_kernel(const BlendOp& op) {
+    if (op.is_plain_write()) return ColorKernel::Plain;
+    if (op.eq_rgb != gl::FUNC_ADD || op.eq_alpha != gl::FUNC_ADD) return ColorKernel::Generic;
+    if (op.src_rgb == gl::SRC_ALPHA && op.src_alpha == gl::SRC_ALPHA && op.dst_rgb == gl::ONE_MINUS_SRC_ALPHA &&
+        op.dst_alpha == gl::ONE_MINUS_SRC_ALPHA)
+        return ColorKernel::AlphaOver;
+    if (op.src_rgb == gl::ONE && op.src_alpha == gl::ONE && op.dst_rgb == gl::ONE && op.dst_alpha == gl::ONE)
+        return ColorKernel::Additive;
+    return ColorKernel::Generic;
+}
+
+namespace {
+template <ColorKernel K>
+void write_n(const BlendOp& op, const float* src, uint8_t* dst, size_t n) {
+    const bool all = op.write[0] && op.write[1] && op.write[2] && op.write[3];
+    const float* table = unorm8_to_float_table();
+    for (size_t i = 0; i < n; ++i) write_color<K>(op, all, table, src + 4 * i, dst + 4 * i);
+}
+}  // namespace
+
+void write_colors(const BlendOp& op, const float* src, uint8_t* dst, size_t n) {
+    switch (color_kernel(op)) {
+        case ColorKernel::Plain: return write_n<ColorKernel::Plain>(op, src, dst, n);
+        case ColorKernel::AlphaOver: return write_n<ColorKernel::AlphaOver>(op, src, dst, n);
+        case ColorKernel::Additive: return write_n<ColorKernel::Additive>(op, src, dst, n);
+        case ColorKernel::Generic: return write_n<ColorKernel::Generic>(op, src, dst, n);
+    }
+}
+
+}  // namespace softgl
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
+namespace softgl {
+
+namespace {
+
+template <ColorKernel K>
+void lanes_scalar(const BlendOp& op, const float* src, size_t stride, uint32_t* dst, size_t first, size_t n) {
+    const bool all = op.write[0] && op.write[1] && op.write[2] && op.write[3];
+    const float* table = unorm8_to_float_table();
+    for (size_t l = first; l < n; ++l) {
+        const float s[4] = {src[l], src[stride + l], src[2 * stride + l], src[3 * stride + l]};
+        uint8_t px[4];
+        std::memcpy(px, &dst[l], 4);
+        write_color<K>(op, all, table, s, px);
+        std::memcpy(&dst[l], px, 4);
+    }
+}
+
+#if defined(__SSE2__)
+inline __m128 clamp01_ps(__m128 v) {
+    // v > 0 ? (v < 1 ? v : 1) : 0, NaN -> 0, exactly clamp01.
+    const __m128 one = _mm_set1_ps(1.0f);
+    const __m128 lt1 = _mm_cmplt_ps(v, one);
+    const __m128 t = _mm_or_ps(_mm_and_ps(lt1, v), _mm_andnot_ps(lt1, one));
+    return _mm_and_ps(_mm_cmpgt_ps(v, _mm_setzero_ps()), t);
+}
+// unorm8_from_float on four lanes: clamp (same decisions as its branches), then
+// trunc(double(v) * 255 + 0.5) in double precision.
+inline __m128i unorm8_ps(__m128 v) {
+    v = clamp01_ps(v);
+    const __m128d k = _mm_set1_pd(255.0), h = _mm_set1_pd(0.5);
+    const __m128d lo = _mm_add_pd(_mm_mul_pd(_mm_cvtps_pd(v), k), h);
+    const __m128d hi = _mm_add_pd(_mm_mul_pd(_mm_cvtps_pd(_mm_movehl_ps(v, v)), k), h);
+    return _mm_unpacklo_epi64(_mm_cvttpd_epi32(lo), _mm_cvttpd_epi32(hi));
+}
+#endif
+
+template <ColorKernel K>
+void lanes(const BlendOp& op, const float* src, size_t stride, uint32_t* dst, size_t n) {
+    size_t l = 0;
+#if defined(__SSE2__)
+    uint32_t keep = 0;   // destination bits kept by the colour mask
+    for (int c = 0; c < 4; ++c)
+        if (!op.write[size_t(c)]) keep |= 0xFFu << (8 * c);
+    const __m128i keep_v = _mm_set1_epi32(int(keep));
+    const __m128i byte = _mm_set1_epi32(0xFF);
+    const __m128 k255 = _mm_set1_ps(255.0f);
+    for (; l + 4 <= n; l += 4) {
+        const __m128i d32 = _mm_loadu_si128(reinterpret_cast<const __m128i*>(dst + l));
+        __m128 s[4];
+        for (int c = 0; c < 4; ++c) s[c] = clamp01_ps(_mm_loadu_ps(src + size_t(c) * stride + l));
+        __m128i packed = _mm_setzero_si128();
+        for (int c = 0; c < 4; ++c) {
+            __m128 out;
+            if constexpr (K == ColorKernel::Plain) {
+                out = s[c];
+            } else {
+                __m128 d;
+                if (c == 3 && !op.has_alpha) d = _mm_set1_ps(1.0f);
+                else d = _mm_div_ps(_mm_cvtepi32_ps(_mm_and_si128(_mm_srli_epi32(d32, 8 * c), byte)), k255);
+                if constexpr (K == ColorKernel::AlphaOver) {
+                    const __m128 sf = s[3], df = _mm_sub_ps(_mm_set1_ps(1.0f), s[3]);
+                    out = _mm_add_ps(_mm_mul_ps(s[c], sf), _mm_mul_ps(d, df));
+                } else {   // Additive
+                    const __m128 one = _mm_set1_ps(1.0f);
+                    out = _mm_add_ps(_mm_mul_ps(s[c], one), _mm_mul_ps(d, one));
+                }
+            }
+            packed = _mm_or_si128(packed, _mm_slli_epi32(unorm8_ps(out), 8 * c));
+        }
+        if (keep) packed = _mm_or_si128(_mm_andnot_si128(keep_v, packed), _mm_and_si128(keep_v, d32));
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(dst + l), packed);
+    }
+#endif
+    lanes_scalar<K>(op, src, stride, dst, l, n);
+}
+
+}  // namespace
+
+void write_color_lanes(ColorKernel kernel, const BlendOp& op, const float* src, size_t stride, uint32_t* dst,
+                       size_t n) {
+    switch (kernel) {
+        case ColorKernel::Plain: return lanes<ColorKernel::Plain>(op, src, stride, dst, n);
+        case ColorKernel::AlphaOver: return lanes<ColorKernel::AlphaOver>(op, src, stride, dst, n);
+        case ColorKernel::Additive: return lanes<ColorKernel::Additive>(op, src, stride, dst, n);
+        case ColorKernel::Generic: return lanes_scalar<ColorKernel::Generic>(op, src, stride, dst, 0, n);
+    }
+}
+
+}  // namespace softgl

@@ -1,0 +1,91 @@
+// Per-fragment colour operations specialised on the blend state (DESIGN §4): the draw picks one
+// kernel per draw from a canonical key, and every kernel gives exactly the bytes of the reference
+// blend_unorm8 (blend.cpp), which stays the definition. tests/pipeline/test_fragment_ops.py
+// checks the equality over every factor/equation combination, all 256 destination values and
+// out-of-range, NaN and infinite source values.
+//
+// Why they are exact:
+//  * unorm8 -> float uses a table of float(i) / 255.0f, the same division the reference does.
+//  * float -> unorm8 is float_to_unorm8 with floor replaced by truncation, which is the same for
+//    the non-negative values it sees (the argument is clamped first), and avoids a libm call.
+//  * the blend arithmetic is the reference's, operation for operation, in float (no contraction:
+//    the build uses -ffp-contract=off).
+#pragma once
+#include <cstdint>
+#include <cstring>
+
+#include "softgl/pipeline/blend.h"
+#include "softgl/surface/formats.h"
+
+namespace softgl {
+
+// float(i) / 255.0f for every unorm8 value.
+const float* unorm8_to_float_table();
+
+// Identical to float_to_unorm8 for every float (NaN -> 0).
+inline uint8_t unorm8_from_float(float v) {
+    if (!(v > 0.0f)) return 0;
+    if (v >= 1.0f) return 255;
+    return uint8_t(uint32_t(double(v) * 255.0 + 0.5));
+}
+
+enum class ColorKernel : uint8_t {
+    Plain,       // blending off or ONE, ZERO, FUNC_ADD: no destination read
+    AlphaOver,   // SRC_ALPHA, ONE_MINUS_SRC_ALPHA on rgb and alpha, FUNC_ADD on both
+    Additive,    // ONE, ONE, FUNC_ADD on both
+    Generic,     // anything else: the reference blend_unorm8
+};
+
+ColorKernel color_kernel(const BlendOp& op);
+
+// One sample: the shader's colour (any floats) into dst (RGBA8), as blend_unorm8(op, src, dst).
+template <ColorKernel K>
+inline void write_color(const BlendOp& op, bool all_channels, const float* table, const float src[4],
+                        uint8_t dst[4]) {
+    if constexpr (K == ColorKernel::Generic) {
+        (void)all_channels; (void)table;
+        blend_unorm8(op, src, dst);
+    } else {
+        float s[4], out[4];
+        for (int c = 0; c < 4; ++c) s[c] = clamp01(src[c]);
+        if constexpr (K == ColorKernel::Plain) {
+            for (int c = 0; c < 4; ++c) out[c] = s[c];
+        } else if constexpr (K == ColorKernel::AlphaOver) {
+            // factor(SRC_ALPHA) = s[3], factor(ONE_MINUS_SRC_ALPHA) = 1 - s[3]; s*sf + d*df.
+            const float sf = s[3], df = 1.0f - s[3];
+            for (int c = 0; c < 4; ++c) {
+                const float d = (c == 3 && !op.has_alpha) ? 1.0f : table[dst[c]];
+                out[c] = s[c] * sf + d * df;
+            }
+        } else {   // Additive: s*1 + d*1
+            for (int c = 0; c < 4; ++c) {
+                const float d = (c == 3 && !op.has_alpha) ? 1.0f : table[dst[c]];
+                out[c] = s[c] * 1.0f + d * 1.0f;
+            }
+        }
+        if (all_channels) {
+            uint8_t v[4] = {unorm8_from_float(out[0]), unorm8_from_float(out[1]), unorm8_from_float(out[2]),
+                            unorm8_from_float(out[3])};
+            std::memcpy(dst, v, 4);
+        } else {
+            for (int c = 0; c < 4; ++c)
+                if (op.write[size_t(c)]) dst[c] = unorm8_from_float(out[c]);
+        }
+    }
+}
+
+// Runs the kernel chosen for `op` on n colours (src: n x 4 floats, dst: n x 4 bytes); for tests.
+void write_colors(const BlendOp& op, const float* src, uint8_t* dst, size_t n);
+
+}  // namespace softgl
+
+namespace softgl {
+
+// The same kernels over n lanes at once, structure of arrays: red[l] = src[l], green[l] =
+// src[stride + l], ...; dst[l] holds lane l's RGBA8 pixel (byte c = channel c) and receives the
+// result. Bit for bit write_color<K> on every lane (SSE2 where available: the same IEEE
+// operations, four lanes at a time). Generic is not offered here.
+void write_color_lanes(ColorKernel kernel, const BlendOp& op, const float* src, size_t stride, uint32_t* dst,
+                       size_t n);
+
+}  // namespace softgl

@@ -1,0 +1,85 @@
+"""The specialised per-fragment colour kernels (cpp/softgl/pipeline/fragment_ops.h) give exactly
+the bytes of the reference blend_unorm8 (DESIGN §3: a fast path must equal the float path).
+
+Every source/destination factor pair and equation goes through the dispatcher (most fall back to
+the reference itself); the specialised ones (blending off / ONE,ZERO; SRC_ALPHA,
+ONE_MINUS_SRC_ALPHA; ONE,ONE) are checked exhaustively over all 256 destination values in every
+channel against a dense set of source values: every float that rounds to a different unorm8
+boundary neighbourhood, out-of-range values, -0, NaN and infinities, with every colour mask, with
+and without destination alpha, per pixel and in the SSE2 lane kernel.
+"""
+import itertools
+
+import numpy as np
+import pytest
+
+import softgl
+from softgl import _core
+
+e = lambda n: getattr(softgl, n)
+FACTORS = ["ZERO", "ONE", "SRC_COLOR", "ONE_MINUS_SRC_COLOR", "DST_COLOR", "ONE_MINUS_DST_COLOR",
+           "SRC_ALPHA", "ONE_MINUS_SRC_ALPHA", "DST_ALPHA", "ONE_MINUS_DST_ALPHA",
+           "CONSTANT_COLOR", "ONE_MINUS_CONSTANT_COLOR", "CONSTANT_ALPHA",
+           "ONE_MINUS_CONSTANT_ALPHA", "SRC_ALPHA_SATURATE"]
+SPECIAL = {"plain": ("ONE", "ZERO"), "alpha_over": ("SRC_ALPHA", "ONE_MINUS_SRC_ALPHA"),
+           "additive": ("ONE", "ONE")}
+
+
+def sources():
+    """Source channel values: around every k/255 and (k+0.5)/255, plus specials."""
+    k = np.arange(256, dtype=np.float64)
+    centres = np.concatenate([k / 255, (k + 0.5) / 255]).astype(np.float32)
+    near = [np.nextafter(centres, np.float32(-1)), centres, np.nextafter(centres, np.float32(2))]
+    special = np.array([0.0, -0.0, 1.0, -1e-30, 1e-45, 1.0000001, 0.99999994, 2.0, -2.0,
+                        np.inf, -np.inf, np.nan, 1e30, -1e30], np.float32)
+    rng = np.random.default_rng(7)
+    return np.concatenate(near + [special, rng.uniform(-0.2, 1.2, 2000).astype(np.float32)])
+
+
+def check(funcs, eqs, mask, has_alpha, src, dst, constant=(0.1, 0.5, 0.9, 0.3)):
+    fe = [e(funcs[0]), e(funcs[1]), e(funcs[2]), e(funcs[3]), e(eqs[0]), e(eqs[1])]
+    want = _core.testing.blend_unorm8(fe, constant, mask, has_alpha, src, dst)
+    got, kernel = _core.testing.fragment_ops_write(fe, constant, mask, has_alpha, src, dst, False)
+    lanes, _ = _core.testing.fragment_ops_write(fe, constant, mask, has_alpha, src, dst, True)
+    np.testing.assert_array_equal(got, want)
+    np.testing.assert_array_equal(lanes, want)
+    return kernel
+
+
+@pytest.mark.parametrize("name", sorted(SPECIAL))
+@pytest.mark.parametrize("has_alpha", [True, False])
+def test_specialised_kernels_equal_the_reference_exhaustively(name, has_alpha):
+    sf, df = SPECIAL[name]
+    s = sources()
+    rng = np.random.default_rng(11)
+    n = len(s)
+    # Every source value in every channel, with every destination byte in every channel.
+    src = np.stack([s, rng.permutation(s), rng.permutation(s), rng.permutation(s)], axis=1)
+    src = np.concatenate([src, np.repeat(src[:, ::-1], 1, axis=0)])
+    for rep in range(4):
+        dst = np.stack([(np.arange(len(src)) * (c + 1) + 37 * rep + c) % 256 for c in range(4)],
+                       axis=1).astype(np.uint8)
+        for mask in [(True,) * 4, (True, False, True, False), (False, False, False, True)]:
+            kernel = check((sf, df, sf, df), ("FUNC_ADD", "FUNC_ADD"), mask, has_alpha, src, dst)
+            assert kernel == {"plain": 0, "alpha_over": 1, "additive": 2}[name]
+    # All 256 destination values against every alpha at 1/255 steps (the full table for the
+    # alpha-weighted kernels' rgb channels).
+    a = (np.arange(256) / 255).astype(np.float32)
+    d, al = np.meshgrid(np.arange(256), np.arange(256))
+    src = np.stack([al.ravel() / 255, 1 - al.ravel() / 255, np.full(al.size, 0.5), al.ravel() / 255],
+                   axis=1).astype(np.float32)
+    dst = np.stack([d.ravel(), 255 - d.ravel(), d.ravel(), d.ravel()[::-1]], axis=1).astype(np.uint8)
+    check((sf, df, sf, df), ("FUNC_ADD", "FUNC_ADD"), (True,) * 4, has_alpha, src, dst)
+
+
+def test_every_factor_and_equation_dispatches_to_an_equal_kernel():
+    rng = np.random.default_rng(3)
+    src = rng.uniform(-0.25, 1.25, (67, 4)).astype(np.float32)   # odd count: SIMD tail too
+    dst = rng.integers(0, 256, (67, 4)).astype(np.uint8)
+    eqs = ["FUNC_ADD", "FUNC_SUBTRACT", "FUNC_REVERSE_SUBTRACT", "MIN", "MAX"]
+    for sf, df in itertools.product(FACTORS, FACTORS):
+        for eq in ("FUNC_ADD", eqs[hash((sf, df)) % len(eqs)]):
+            check((sf, df, sf, df), (eq, eq), (True,) * 4, True, src, dst)
+    # Separate alpha factors/equations must not be mistaken for a specialised kernel.
+    check(("SRC_ALPHA", "ONE_MINUS_SRC_ALPHA", "ONE", "ZERO"), ("FUNC_ADD", "FUNC_ADD"), (True,) * 4, True, src, dst)
+    check(("ONE", "ONE", "ONE", "ONE"), ("FUNC_ADD", "MAX"), (True,) * 4, True, src, dst)
