@@ -4,7 +4,7 @@ from __future__ import annotations
 import warnings
 import weakref
 
-from . import _core
+from . import _blendlab_ext, _core
 from .errors import GLError, GLWarning
 
 _ATTRIBUTE_DEFAULTS = dict(alpha=True, depth=True, stencil=False, antialias=True,
@@ -44,6 +44,7 @@ _EXTENSION_CONSTANTS = {
                    "FOG_MODE": 0x0B65, "FOG_COLOR": 0x0B66, "LINEAR": 0x2601, "EXP": 0x0800,
                    "EXP2": 0x0801, "FOG_COORDINATE_SOURCE": 0x8450, "FRAGMENT_DEPTH": 0x8452,
                    "WINDOW_DEPTH_SOFTGL": 0x1D000, "FOG_BLEND_AWARE_SOFTGL": 0x1D001},
+    **_blendlab_ext.CONSTANTS,   # SOFTGL_exact_transparency, SOFTGL_introspection
 }
 
 
@@ -62,6 +63,8 @@ def _extension_functions(name: str, gl) -> dict:
         return {"fogf": lambda pname, value: core._fog(ref(), "fogf", pname, [float(value)]),
                 "fogi": lambda pname, value: core._fog(ref(), "fogi", pname, [float(value)]),
                 "fogfv": fogfv}
+    if name in _blendlab_ext.CONSTANTS:
+        return _blendlab_ext.functions(name, gl)
     if name == "ANGLE_instanced_arrays":
         return {"drawArraysInstancedANGLE":
                 lambda mode, first, count, n: core.drawArraysInstanced(ref(), mode, first, count, n),

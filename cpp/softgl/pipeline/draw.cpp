@@ -11,6 +11,7 @@
 #include "softgl/pipeline/blend.h"
 #include "softgl/pipeline/depth_stencil.h"
 #include "softgl/pipeline/fog.h"
+#include "softgl/pipeline/fragment_sink.h"
 #include "softgl/pipeline/sample_mask.h"
 #include "softgl/pipeline/raster.h"
 #include "softgl/pipeline/setup.h"
@@ -89,6 +90,8 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
     DrawStats st;
     st.draws = 1;
     const State& state = in.state;
+    FragmentSink* const sink = in.sink;   // blend lab hooks (`if (sink)` lines); null = off
+    if (sink) sink->begin_draw(state, in.framebuffer);
     DefaultFramebuffer& fb = in.framebuffer;
     const VertexShader& vs = in.vertex_shader;
     const FragmentShader& fs = in.fragment_shader;
@@ -231,6 +234,7 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                             if (!(mask & (1u << s))) continue;
                             const uint32_t z = depth_to_unorm24(
                                 p.depth_at(int64_t(x) * kSubPixel + pattern.x[s], int64_t(y) * kSubPixel + pattern.y[s]));
+                            if (sink) sink->before_depth_stencil(ds, p, x, y, s, z, depth ? depth + s : nullptr, stencil ? stencil + s : nullptr, true);
                             if (!depth_stencil_test(ds, p.front_facing, z, depth ? depth + s : nullptr,
                                                     stencil ? stencil + s : nullptr)) {
                                 mask = uint16_t(mask & ~(1u << s));
@@ -298,15 +302,18 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                 if (!mask) continue;
                 if (!r.killed.empty() && r.killed[lane]) {
                     w.stats.fragments_discarded++;
+                    if (sink) sink->discarded(p, w.quads[lane / 4], int(lane % 4), mask);
                     continue;
                 }
                 const Quad& quad = w.quads[lane / 4];
                 const int j = int(lane % 4);
                 const int32_t x = quad.x + (j & 1), y = quad.y + (j >> 1);
                 float color[4] = {r.color[lane], r.color[L + lane], r.color[2 * L + lane], r.color[3 * L + lane]};
+                if (sink) sink->shaded(p, x, y, mask, color);
                 if (coverage_ops) {
                     if (state.sample_alpha_to_coverage) mask = uint16_t(mask & coverage_from_value(color[3], S));
                     mask = uint16_t(mask & coverage_mask);
+                    if (sink) sink->coverage_ops(p, x, y, w.masks[lane], mask);
                     if (!mask) continue;
                 }
                 if (!early && (ds.depth_test || ds.stencil_test)) {
@@ -318,6 +325,7 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                         const double zf = shader_depth ? double(clamp01(r.depth[lane]))
                                                        : p.depth_at(int64_t(x) * kSubPixel + pattern.x[s],
                                                                     int64_t(y) * kSubPixel + pattern.y[s]);
+                        if (sink) sink->before_depth_stencil(ds, p, x, y, s, depth_to_unorm24(zf), depth ? depth + s : nullptr, stencil ? stencil + s : nullptr, false);
                         if (!depth_stencil_test(ds, p.front_facing, depth_to_unorm24(zf),
                                                 depth ? depth + s : nullptr, stencil ? stencil + s : nullptr)) {
                             mask = uint16_t(mask & ~(1u << s));
@@ -330,7 +338,9 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                     apply_fog(fog, fog_coordinate(fog, b.frag_coord[2 * L + lane], b.frag_coord[3 * L + lane]), color);
                 for (int s = 0; s < S; ++s) {
                     if (!(mask & (1u << s))) continue;
+                    if (sink && sink->before_blend(p, x, y, s, color, fb.color_sample(x, y, s), fs.writes_depth() ? clamp01(r.depth[lane]) : -1.0f)) continue;
                     blend_unorm8(blend, color, fb.color_sample(x, y, s));
+                    if (sink) sink->after_blend(x, y, s, fb.color_sample(x, y, s));
                     w.stats.samples_written++;
                     if (!plain_write) w.stats.samples_blended++;
                 }
