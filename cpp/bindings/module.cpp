@@ -9,6 +9,7 @@ void bind_uniform_arrays(py::module_& m);
 void bind_testing(py::module_& m);
 void bind_raster(py::module_& m);
 void bind_glsl(py::module_& m);
+void bind_blendlab(py::module_& m);
 
 PYBIND11_MODULE(_core, m) {
     m.doc() = "softgl's C++ core (use the softgl package, not this module)";
@@ -18,4 +19,5 @@ PYBIND11_MODULE(_core, m) {
     bind_testing(m);
     bind_raster(m);
     bind_glsl(m);
+    bind_blendlab(m);
 }

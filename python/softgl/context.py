@@ -4,7 +4,7 @@ from __future__ import annotations
 import warnings
 import weakref
 
-from . import _core
+from . import _blendlab_ext, _core
 from .errors import GLError, GLWarning
 
 _ATTRIBUTE_DEFAULTS = dict(alpha=True, depth=True, stencil=False, antialias=True,
@@ -48,6 +48,7 @@ _EXTENSION_CONSTANTS = {
     "SOFTGL_smooth": {"POINT_SMOOTH": 0x0B10, "LINE_SMOOTH": 0x0B20, "POLYGON_SMOOTH": 0x0B41,
                       "POINT_SMOOTH_HINT": 0x0C51, "LINE_SMOOTH_HINT": 0x0C52,
                       "POLYGON_SMOOTH_HINT": 0x0C53},
+    **_blendlab_ext.CONSTANTS,   # SOFTGL_exact_transparency, SOFTGL_introspection
 }
 
 
@@ -66,6 +67,8 @@ def _extension_functions(name: str, gl) -> dict:
         return {"fogf": lambda pname, value: core._fog(ref(), "fogf", pname, [float(value)]),
                 "fogi": lambda pname, value: core._fog(ref(), "fogi", pname, [float(value)]),
                 "fogfv": fogfv}
+    if name in _blendlab_ext.CONSTANTS:
+        return _blendlab_ext.functions(name, gl)
     if name == "ANGLE_instanced_arrays":
         return {"drawArraysInstancedANGLE":
                 lambda mode, first, count, n: core.drawArraysInstanced(ref(), mode, first, count, n),

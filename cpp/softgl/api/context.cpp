@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
+#include "softgl/api/blendlab.h"
 #include "softgl/surface/formats.h"
 
 namespace softgl {
@@ -98,12 +99,16 @@ std::vector<std::string> Context::get_supported_extensions() const {
     }
     names.push_back("SOFTGL_fog");      // softgl's own: they never change pure WebGL code
     names.push_back("SOFTGL_smooth");
+    names.push_back("SOFTGL_exact_transparency");
+    names.push_back("SOFTGL_introspection");
     return names;
 }
 
 bool Context::enable_extension(const std::string& name) {
     if (name == "SOFTGL_fog") return ext_fog_ = true;
     if (name == "SOFTGL_smooth") return ext_smooth_ = true;
+    if (name == "SOFTGL_exact_transparency") return blendlab().ext_exact = true;
+    if (name == "SOFTGL_introspection") return blendlab().ext_introspection = true;
     if (version() != 1) return false;
     if (name == "EXT_blend_minmax") return ext_blend_minmax_ = true;
     if (name == "OES_vertex_array_object") return ext_vertex_array_object_ = true;
@@ -119,6 +124,8 @@ bool Context::extension_enabled(const std::string& name) const {
     if (name == "OES_element_index_uint") return ext_element_index_uint_;
     if (name == "SOFTGL_fog") return ext_fog_;
     if (name == "SOFTGL_smooth") return ext_smooth_;
+    if (name == "SOFTGL_exact_transparency") return blendlab_ && blendlab_->ext_exact;
+    if (name == "SOFTGL_introspection") return blendlab_ && blendlab_->ext_introspection;
     return false;
 }
 
@@ -141,7 +148,7 @@ bool* Context::capability(GLenum cap) {
         case gl::POLYGON_SMOOTH: return ext_smooth_ ? &state_.smooth.polygon : nullptr;
         case gl::LINE_SMOOTH: return ext_smooth_ ? &state_.smooth.line : nullptr;
         case gl::POINT_SMOOTH: return ext_smooth_ ? &state_.smooth.point : nullptr;
-        default: return nullptr;
+        default: return blendlab_ ? blendlab_->capability(cap) : nullptr;   // blend lab capabilities
     }
 }
 
@@ -423,6 +430,7 @@ void Context::clear(uint32_t mask) {
     const Rect region = state_.scissor_test ? state_.scissor
                                             : Rect{0, 0, framebuffer_.width(), framebuffer_.height()};
     if (mask & gl::COLOR_BUFFER_BIT) framebuffer_.clear_color(region, state_.clear_color, state_.color_mask);
+    if (blendlab_) blendlab_->on_clear(region, mask, framebuffer_);   // forget captured/logged fragments
     if ((mask & gl::DEPTH_BUFFER_BIT) && state_.depth_mask) framebuffer_.clear_depth(region, state_.clear_depth);
     if (mask & gl::STENCIL_BUFFER_BIT)
         framebuffer_.clear_stencil(region, state_.clear_stencil, state_.stencil_front.write_mask);
@@ -500,6 +508,7 @@ ThreadPool& Context::pool() {
 void Context::present() {
     if (attributes_.preserve_drawing_buffer) return;
     framebuffer_ = DefaultFramebuffer(framebuffer_.config());
+    if (blendlab_) blendlab_->on_present(framebuffer_);
 }
 
 }  // namespace softgl

@@ -17,6 +17,9 @@
 
 namespace softgl {
 
+class BlendLab;       // blend lab extensions (api/blendlab.h)
+class FragmentSink;
+
 struct ContextAttributes {
     bool alpha = true;
     bool depth = true;
@@ -205,6 +208,11 @@ public:
     // SOFTGL_fog (fog.cpp): glFog{f,i,fv} with `count` values.
     void fog(const char* call, GLenum pname, const float* values, int count);
 
+    // SOFTGL_exact_transparency and SOFTGL_introspection (transparency.cpp, api/blendlab.h):
+    // made at the first getExtension of either; the draw hook is null while both are off.
+    BlendLab& blendlab();
+    FragmentSink* blendlab_sink();
+
     // The browser's compositing step: after the canvas is shown, a drawing buffer without
     // preserveDrawingBuffer is cleared to its initial contents (WebGL 1.0 §2.2).
     void present();
@@ -234,6 +242,7 @@ private:
     bool ext_element_index_uint_ = false;
     bool ext_fog_ = false;
     bool ext_smooth_ = false;
+    std::shared_ptr<BlendLab> blendlab_;   // shared_ptr: deletable where BlendLab is incomplete
 
     // Object bindings
     std::shared_ptr<Buffer> array_buffer_, copy_read_buffer_, copy_write_buffer_,

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cstring>
 
+#include "softgl/api/blendlab.h"
 #include "softgl/api/context.h"
 #include "softgl/pipeline/assemble.h"
 #include "softgl/pipeline/vertex_fetch.h"
@@ -50,7 +51,9 @@ void Context::run_draw(const DrawCall& call, uint32_t max_vertex) {
         p.uniforms[size_t(u.offset)].f = values[field];
     }
     DrawInputs in{state_, *vertex_array_, current_attribs_, *p.vertex_stage, *p.fragment_stage, framebuffer_, pool()};
+    in.sink = blendlab_sink();                  // blend lab hooks; null unless enabled
     draw(in, call, stats_);
+    if (in.sink) blendlab().end_draw();         // reports an A-buffer/log over its memory limit
 }
 
 void Context::draw_arrays(GLenum mode, int32_t first, int32_t count, int32_t instances, const char* call) {

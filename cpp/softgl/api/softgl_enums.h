@@ -29,3 +29,16 @@ inline constexpr uint32_t LINE_SMOOTH_HINT = 0x0C52;
 inline constexpr uint32_t POLYGON_SMOOTH_HINT = 0x0C53;
 
 }  // namespace softgl::gl
+
+namespace softgl::gl {
+
+// SOFTGL_exact_transparency (blend lab): capture blended fragments in an A-buffer, resolve them.
+// No OpenGL equivalent exists, so the values are softgl's own (0x1D1xx).
+inline constexpr uint32_t EXACT_TRANSPARENCY_SOFTGL = 0x1D100;      // capability
+inline constexpr uint32_t TRANSPARENCY_EXACT_SOFTGL = 0x1D110;      // resolve modes
+inline constexpr uint32_t DEPTH_PEELING_SOFTGL = 0x1D111;
+inline constexpr uint32_t WEIGHTED_BLENDED_SOFTGL = 0x1D112;
+// SOFTGL_introspection (blend lab): log every fragment for gl.fragments(x, y).
+inline constexpr uint32_t INTROSPECTION_SOFTGL = 0x1D120;           // capability
+
+}  // namespace softgl::gl

@@ -14,6 +14,7 @@
 #include "softgl/pipeline/depth_stencil.h"
 #include "softgl/pipeline/fog.h"
 #include "softgl/pipeline/fragment_ops.h"
+#include "softgl/pipeline/fragment_sink.h"
 #include "softgl/pipeline/sample_mask.h"
 #include "softgl/pipeline/raster.h"
 #include "softgl/pipeline/setup.h"
@@ -121,6 +122,8 @@ inline uint32_t depth24(double z) { return uint32_t(z * 16777215.0 + 0.5); }
 void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
     DrawStats st;
     st.draws = 1;
+    FragmentSink* const sink = in.sink;   // blend lab hooks (`if (sink)` lines); null = off
+    if (sink) sink->begin_draw(in.state, in.framebuffer);
     DrawScratch& ds_ = draw_scratch();
     const State& state = in.state;
     DefaultFramebuffer& fb = in.framebuffer;
@@ -319,6 +322,7 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                                         if (!(mask & (1u << s))) continue;
                                         const uint32_t z = depth24(p.depth_at(int64_t(x) * kSubPixel + pattern.x[s],
                                                                               int64_t(y) * kSubPixel + pattern.y[s]));
+                                        if (sink) sink->before_depth_stencil(ds, p, x, y, s, z, depth + s, nullptr, true);
                                         if (!depth_only_test(ds.depth_func, ds.depth_write, z, depth + s)) {
                                             mask = uint16_t(mask & ~(1u << s));
                                             w.stats.fragments_killed_early++;
@@ -330,6 +334,7 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                                         if (!(mask & (1u << s))) continue;
                                         const uint32_t z = depth24(p.depth_at(int64_t(x) * kSubPixel + pattern.x[s],
                                                                               int64_t(y) * kSubPixel + pattern.y[s]));
+                                        if (sink) sink->before_depth_stencil(ds, p, x, y, s, z, depth ? depth + s : nullptr, stencil ? stencil + s : nullptr, true);
                                         if (!depth_stencil_test(ds, p.front_facing, z, depth ? depth + s : nullptr,
                                                                 stencil ? stencil + s : nullptr)) {
                                             mask = uint16_t(mask & ~(1u << s));
@@ -466,7 +471,7 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                 for (uint8_t kill : r.killed) any_killed |= kill != 0;
                 const float* col = r.color.data();
                 // Per-lane color changes (area alpha, coverage ops, fog) take the general path.
-                const bool per_lane_color = area || coverage_ops || fog.enabled;
+                const bool per_lane_color = area || coverage_ops || fog.enabled || sink;
                 if (!any_killed && !(!early && tests) && writes_color && !per_lane_color) {
                     // The common case: tests (if any) already done, nothing discarded.
                     auto write_all = [&](auto kernel_tag) {
@@ -523,14 +528,21 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                     if (!mask) continue;
                     if (any_killed && r.killed[lane]) {
                         w.stats.fragments_discarded++;
+                        if (sink) sink->discarded(p, w.cq[lane / 4], int(lane % 4), mask);
                         continue;
                     }
                     const Quad& quad = w.cq[lane / 4];
                     const int j = int(lane % 4);
                     const int32_t x = quad.x + (j & 1), y = quad.y + (j >> 1);
+                    if (sink) {
+                        const float shaded[4] = {col[lane], col[L + lane], col[2 * L + lane], col[3 * L + lane]};
+                        sink->shaded(p, x, y, mask, shaded);
+                    }
                     if (coverage_ops) {   // before the depth and stencil tests (ES 3.0 §4.1.3)
+                        const uint16_t before = mask;
                         if (state.sample_alpha_to_coverage) mask = uint16_t(mask & coverage_from_value(col[3 * L + lane], S));
                         mask = uint16_t(mask & coverage_mask);
+                        if (sink) sink->coverage_ops(p, x, y, before, mask);
                         if (!mask) continue;
                     }
                     if (!early && tests) {
@@ -541,6 +553,7 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                             const double zf = shader_depth ? double(clamp01(r.depth[lane]))
                                                            : p.depth_at(int64_t(x) * kSubPixel + pattern.x[s],
                                                                         int64_t(y) * kSubPixel + pattern.y[s]);
+                            if (sink) sink->before_depth_stencil(ds, p, x, y, s, depth24(zf), depth ? depth + s : nullptr, stencil ? stencil + s : nullptr, false);
                             if (!depth_stencil_test(ds, p.front_facing, depth24(zf),
                                                     depth ? depth + s : nullptr, stencil ? stencil + s : nullptr)) {
                                 mask = uint16_t(mask & ~(1u << s));
@@ -557,7 +570,11 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                     }
                     for (int s = 0; s < S; ++s) {
                         if (!(mask & (1u << s))) continue;
+                        if (sink && sink->before_blend(p, x, y, s, color, fb.color_sample(x, y, s),
+                                                       shader_depth ? clamp01(r.depth[lane]) : -1.0f))
+                            continue;   // the A-buffer keeps the sample instead of blending it
                         blend_unorm8(blend, color, fb.color_sample(x, y, s));
+                        if (sink) sink->after_blend(x, y, s, fb.color_sample(x, y, s));
                         w.stats.samples_written++;
                         if (!plain_write) w.stats.samples_blended++;
                     }

@@ -39,6 +39,8 @@ struct DrawStats {
     void add(const DrawStats& o);
 };
 
+class FragmentSink;
+
 struct DrawInputs {
     const State& state;
     const VertexArray& vertex_array;
@@ -47,6 +49,7 @@ struct DrawInputs {
     const FragmentShader& fragment_shader;
     DefaultFramebuffer& framebuffer;
     ThreadPool& pool;
+    FragmentSink* sink = nullptr;   // blend lab hooks (pipeline/fragment_sink.h); null = off
 };
 
 void draw(const DrawInputs& in, const DrawCall& call, DrawStats& stats);
