@@ -35,8 +35,6 @@ namespace {
 using Clock = std::chrono::steady_clock;
 double since(Clock::time_point t0) { return std::chrono::duration<double>(Clock::now() - t0).count(); }
 
-uint32_t depth_to_unorm24(double z) { return uint32_t(std::floor(z * 16777215.0 + 0.5)); }
-
 float as_float(uint32_t bits) {
     float f;
     std::memcpy(&f, &bits, 4);
@@ -48,7 +46,7 @@ uint32_t as_bits(float f) {
     return u;
 }
 
-RasterState raster_state(const State& s, const DefaultFramebuffer& fb) {
+RasterState raster_state(const State& s, const RenderTarget& fb) {
     RasterState r = RasterState::for_target(fb.width(), fb.height());
     if (s.scissor_test) r.set_scissor(s.scissor.x, s.scissor.y, s.scissor.width, s.scissor.height);
     r.viewport.x = s.viewport.x;
@@ -63,7 +61,7 @@ RasterState raster_state(const State& s, const DefaultFramebuffer& fb) {
     r.polygon_offset_fill = s.polygon_offset_fill;
     r.polygon_offset_factor = s.polygon_offset_factor;
     r.polygon_offset_units = s.polygon_offset_units;
-    r.depth_bits = DefaultFramebuffer::kDepthBits;
+    r.depth_bits = fb.depth_bits();
     r.samples = fb.config().samples;
     r.point_size_min = 1.0;
     r.point_size_max = 1024.0;   // ALIASED_POINT_SIZE_RANGE (api/context.h limits)
@@ -87,7 +85,7 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
     DrawStats st;
     st.draws = 1;
     const State& state = in.state;
-    DefaultFramebuffer& fb = in.framebuffer;
+    RenderTarget& fb = in.target;
     const VertexShader& vs = in.vertex_shader;
     const FragmentShader& fs = in.fragment_shader;
     const VaryingLayout& layout = vs.varying_layout();
@@ -221,7 +219,7 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                         uint8_t* stencil = fb.stencil_samples(x, y);
                         for (int s = 0; s < S; ++s) {
                             if (!(mask & (1u << s))) continue;
-                            const uint32_t z = depth_to_unorm24(
+                            const uint32_t z = fb.depth_word(
                                 p.depth_at(int64_t(x) * kSubPixel + pattern.x[s], int64_t(y) * kSubPixel + pattern.y[s]));
                             if (!depth_stencil_test(ds, p.front_facing, z, depth ? depth + s : nullptr,
                                                     stencil ? stencil + s : nullptr)) {
@@ -304,7 +302,7 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                         const double zf = shader_depth ? double(clamp01(r.depth[lane]))
                                                        : p.depth_at(int64_t(x) * kSubPixel + pattern.x[s],
                                                                     int64_t(y) * kSubPixel + pattern.y[s]);
-                        if (!depth_stencil_test(ds, p.front_facing, depth_to_unorm24(zf),
+                        if (!depth_stencil_test(ds, p.front_facing, fb.depth_word(zf),
                                                 depth ? depth + s : nullptr, stencil ? stencil + s : nullptr)) {
                             mask = uint16_t(mask & ~(1u << s));
                             w.stats.fragments_killed_late++;
@@ -315,7 +313,7 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                 const float color[4] = {r.color[lane], r.color[L + lane], r.color[2 * L + lane], r.color[3 * L + lane]};
                 for (int s = 0; s < S; ++s) {
                     if (!(mask & (1u << s))) continue;
-                    blend_unorm8(blend, color, fb.color_sample(x, y, s));
+                    fb.write_color(blend, color, x, y, s);
                     w.stats.samples_written++;
                     if (!plain_write) w.stats.samples_blended++;
                 }

@@ -69,7 +69,7 @@ void GlslVertexShader::run(const std::array<AttributeStream, kMaxVertexAttribs>&
     run.inputs = inputs.data();
     run.outputs = outputs.data();
     run.uniforms = uniforms_;
-    run.sampler = &sampler_;
+    run.sampler = textures_ ? textures_ : &sampler_;
     executor_->run(run);
 
     out.count = count;
@@ -147,7 +147,7 @@ void GlslFragmentShader::run(const FragmentBatch& b, FragmentResults& out, unsig
     run.inputs = w.input_ptrs.data();
     run.outputs = w.output_ptrs.data();
     run.uniforms = uniforms_;
-    run.sampler = &w.sampler;
+    run.sampler = textures_ ? textures_ : &w.sampler;
     run.discarded = out.killed.data();
     w.executor->run(run);
     // An output the shader never writes is undefined; softgl gives 0 (alpha 0 for RGBA8).
