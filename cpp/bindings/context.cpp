@@ -196,6 +196,8 @@ void bind_context(py::module_& m) {
         .def("_set_error_listener",
              [](Context& c, py::function f) {
                  c.errors().set_listener([f](GLenum code, const char* call, const std::string& why) {
+                     // Draw calls run with the GIL released and may record errors (textures).
+                     py::gil_scoped_acquire acquire;
                      f(code, call, why);
                  });
              })

@@ -456,6 +456,14 @@ void unpack_into(Image& img, int32_t x0, int32_t y0, int32_t z0, int32_t w, int3
                     expand(u.format, px.f, rgba);
                     if (premultiply) for (int c = 0; c < 3; ++c) rgba[c] *= rgba[3];
                     float in[4] = {float(rgba[0]), float(rgba[1]), float(rgba[2]), float(rgba[3])};
+                    if (f.encoding == Encoding::Srgb) {
+                        // Client data of sRGB formats is sRGB-encoded: keep the byte, store its
+                        // linear value (ES 3.0 §3.8.15 decodes each texel before filtering).
+                        float* out = &img.color[t * 4];
+                        for (int c = 0; c < 3; ++c) out[c] = srgb_to_linear(unorm(float_to_unorm(in[c], 8), 8));
+                        out[3] = f.bits[3] ? unorm(float_to_unorm(in[3], 8), 8) : 1.0f;
+                        continue;
+                    }
                     quantize_color(f, in, &img.color[t * 4]);
                 } else if (kind == SampleKind::Int || kind == SampleKind::Uint) {
                     double raw[4] = {double(px.i[0]), double(px.i[1]), double(px.i[2]), double(px.i[3])}, rgba[4];
