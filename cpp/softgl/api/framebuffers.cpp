@@ -669,9 +669,7 @@ void Context::copy_tex_image_2d(GLenum target, int32_t level, GLenum internal_fo
         default:
             if (version() >= 2) {
                 const FormatInfo* fi = format_info(internal_format);
-                if (fi && fi->kind() == SampleKind::Float && internal_format < 0x8816) effective = internal_format;
-                if (fi && (fi->internal_format == ALPHA8 || fi->internal_format == LUMINANCE8 || fi->internal_format == LUMINANCE8_ALPHA8))
-                    effective = 0;
+                if (fi && fi->kind() == SampleKind::Float && !is_pseudo_format(internal_format)) effective = internal_format;
             }
     }
     if (!effective) return error(gl::INVALID_ENUM, call, quote(internal_format) + " cannot be a copyTexImage2D format");

@@ -407,8 +407,7 @@ bool Context::check_tex_format(const char* call, GLenum target, int32_t level, G
                               internal_format == gl::LUMINANCE_ALPHA || internal_format == gl::LUMINANCE ||
                               internal_format == gl::ALPHA;
         const FormatInfo* fi = format_info(internal_format);
-        if (fi && internal_format != gl::STENCIL_INDEX8 && internal_format != ALPHA8 && internal_format != LUMINANCE8 &&
-            internal_format != LUMINANCE8_ALPHA8 && (internal_format < 0x8816 || internal_format > 0x881F))
+        if (fi && internal_format != gl::STENCIL_INDEX8 && !is_pseudo_format(internal_format))
             internal_known = true;
         if (!internal_known) { error(gl::INVALID_VALUE, call, quote(internal_format) + " is not a texture internal format"); return false; }
         for (const Combo& c : kCombosV2)

@@ -38,6 +38,12 @@ inline constexpr GLenum ALPHA8 = 0x803C, LUMINANCE8 = 0x8040, LUMINANCE8_ALPHA8 
 inline constexpr GLenum ALPHA16F = 0x881C, LUMINANCE16F = 0x881E, LUMINANCE_ALPHA16F = 0x881F;
 inline constexpr GLenum ALPHA32F = 0x8816, LUMINANCE32F = 0x8818, LUMINANCE_ALPHA32F = 0x8819;
 inline constexpr GLenum TEXTURE_MAX_ANISOTROPY_EXT = 0x84FE;
+// WebGL 1's luminance/alpha formats under OpenGL's sized names: internal only, never accepted
+// as an internalformat argument.
+inline bool is_pseudo_format(GLenum f) {
+    return f == ALPHA8 || f == LUMINANCE8 || f == LUMINANCE8_ALPHA8 || f == ALPHA16F || f == LUMINANCE16F ||
+           f == LUMINANCE_ALPHA16F || f == ALPHA32F || f == LUMINANCE32F || f == LUMINANCE_ALPHA32F;
+}
 }  // namespace gl_ext
 
 enum class Encoding : uint8_t {
