@@ -86,7 +86,7 @@ py::object read_pixels(Context& ctx, softgl::bindings::IdlInt32 x_, softgl::bind
     if (pixels.is_none()) {
         // Return a new (h, w, 4) array, zero outside the drawing buffer. Negative sizes and bad
         // enums are reported by the core before anything is allocated.
-        if (w < 0 || h < 0 || format != gl::RGBA) {
+        if (w < 0 || h < 0 || (format != gl::RGBA && format != gl::RGBA_INTEGER)) {   // RGBA_INTEGER: integer FBOs
             ctx.read_pixels(x, y, w, h, format, type, type, nullptr, 0, false);
             return py::none();
         }

@@ -6,6 +6,7 @@ namespace py = pybind11;
 void bind_enums(py::module_& m);
 void bind_context(py::module_& m);
 void bind_uniform_arrays(py::module_& m);
+void bind_textures(py::module_& m);
 void bind_testing(py::module_& m);
 void bind_raster(py::module_& m);
 void bind_glsl(py::module_& m);
@@ -16,6 +17,7 @@ PYBIND11_MODULE(_core, m) {
     bind_enums(m);
     bind_context(m);
     bind_uniform_arrays(m);
+    bind_textures(m);
     bind_testing(m);
     bind_raster(m);
     bind_glsl(m);

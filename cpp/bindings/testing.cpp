@@ -82,7 +82,8 @@ void bind_testing(py::module_& m) {
               softgl::DrawStats stats;
               {
                   py::gil_scoped_release release;
-                  softgl::DrawInputs in{ctx.state(), vao, ctx.current_attribs(), vs, fs, ctx.framebuffer(), ctx.pool()};
+                  softgl::RenderTarget target = softgl::RenderTarget::for_default(ctx.framebuffer());
+                  softgl::DrawInputs in{ctx.state(), vao, ctx.current_attribs(), vs, fs, target, ctx.pool()};
                   softgl::draw(in, call, stats);
               }
               py::dict d;

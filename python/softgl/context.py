@@ -49,6 +49,14 @@ _EXTENSION_CONSTANTS = {
                       "POINT_SMOOTH_HINT": 0x0C51, "LINE_SMOOTH_HINT": 0x0C52,
                       "POLYGON_SMOOTH_HINT": 0x0C53},
     **_blendlab_ext.CONSTANTS,   # SOFTGL_exact_transparency, SOFTGL_introspection
+    # Textures and framebuffers
+    "OES_texture_half_float": {"HALF_FLOAT_OES": 0x8D61},
+    "WEBGL_depth_texture": {"UNSIGNED_INT_24_8_WEBGL": 0x84FA},
+    "WEBGL_color_buffer_float": {"RGBA32F_EXT": 0x8814, "FRAMEBUFFER_ATTACHMENT_COMPONENT_TYPE_EXT": 0x8211,
+                                 "UNSIGNED_NORMALIZED_EXT": 0x8C17},
+    "EXT_color_buffer_half_float": {"RGBA16F_EXT": 0x881A, "RGB16F_EXT": 0x881B,
+                                    "FRAMEBUFFER_ATTACHMENT_COMPONENT_TYPE_EXT": 0x8211,
+                                    "UNSIGNED_NORMALIZED_EXT": 0x8C17},
 }
 
 
@@ -87,7 +95,14 @@ WEBGL2_ONLY = ["copyBufferSubData", "getBufferSubData", "vertexAttribIPointer", 
                "uniform1ui", "uniform2ui", "uniform3ui", "uniform4ui",
                "uniform1uiv", "uniform2uiv", "uniform3uiv", "uniform4uiv",
                "uniformMatrix2x3fv", "uniformMatrix2x4fv", "uniformMatrix3x2fv",
-               "uniformMatrix3x4fv", "uniformMatrix4x2fv", "uniformMatrix4x3fv"]
+               "uniformMatrix3x4fv", "uniformMatrix4x2fv", "uniformMatrix4x3fv",
+               # Textures and framebuffers
+               "texImage3D", "texSubImage3D", "texStorage2D", "texStorage3D", "copyTexSubImage3D",
+               "createSampler", "deleteSampler", "isSampler", "bindSampler", "samplerParameteri",
+               "samplerParameterf", "getSamplerParameter", "framebufferTextureLayer",
+               "renderbufferStorageMultisample", "readBuffer", "blitFramebuffer", "clearBufferfv",
+               "clearBufferiv", "clearBufferuiv", "clearBufferfi", "invalidateFramebuffer",
+               "invalidateSubFramebuffer"]
 
 
 class Context(_core.Context):

@@ -91,6 +91,7 @@ Context::Context(int32_t width, int32_t height, const ContextAttributes& attribu
 
 std::vector<std::string> Context::get_supported_extensions() const {
     std::vector<std::string> names;
+    names = texture_extension_names();   // textures.cpp
     if (version() == 1) {   // all three are core in WebGL 2
         names.push_back("ANGLE_instanced_arrays");
         names.push_back("EXT_blend_minmax");
@@ -105,6 +106,7 @@ std::vector<std::string> Context::get_supported_extensions() const {
 }
 
 bool Context::enable_extension(const std::string& name) {
+    if (enable_texture_extension(name)) return true;   // textures.cpp
     if (name == "SOFTGL_fog") return ext_fog_ = true;
     if (name == "SOFTGL_smooth") return ext_smooth_ = true;
     if (name == "SOFTGL_exact_transparency") return blendlab().ext_exact = true;
@@ -118,6 +120,7 @@ bool Context::enable_extension(const std::string& name) {
 }
 
 bool Context::extension_enabled(const std::string& name) const {
+    if (texture_extension_enabled(name)) return true;   // textures.cpp
     if (name == "EXT_blend_minmax") return ext_blend_minmax_;
     if (name == "OES_vertex_array_object") return ext_vertex_array_object_;
     if (name == "ANGLE_instanced_arrays") return ext_instanced_arrays_;
@@ -425,6 +428,7 @@ void Context::clear(uint32_t mask) {
     if (mask & ~all)
         return error(gl::INVALID_VALUE, "clear", "mask has bits other than COLOR, DEPTH and STENCIL_BUFFER_BIT");
     if (state_.rasterizer_discard) return;  // ES 3.0 §4.2.3: clears are discarded too
+    if (clear_framebuffer_object(mask)) return;   // a bound framebuffer object (framebuffers.cpp)
     // ES 2.0 §4.2.3: clear honours the scissor, the color mask, depth mask and stencil write mask,
     // and ignores the viewport.
     const Rect region = state_.scissor_test ? state_.scissor
@@ -451,6 +455,8 @@ size_t Context::pack_size(int32_t width, int32_t height) const {
 bool Context::read_pixels(int32_t x, int32_t y, int32_t width, int32_t height, GLenum format,
                           GLenum type, GLenum dst_type, uint8_t* dst, size_t dst_bytes, bool packed) {
     const char* call = "readPixels";
+    if (reading_framebuffer_object())   // framebuffers.cpp: any readable attachment format
+        return read_pixels_framebuffer_object(x, y, width, height, format, type, dst_type, dst, dst_bytes, packed);
     const bool format_known = format == gl::RGBA || format == gl::RGB || format == gl::ALPHA ||
                               (version() >= 2 && (format == gl::RED || format == gl::RG ||
                                                   format == gl::RED_INTEGER || format == gl::RG_INTEGER ||

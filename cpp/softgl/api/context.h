@@ -3,6 +3,7 @@
 #pragma once
 #include <cstdint>
 #include <memory>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -10,10 +11,12 @@
 #include "softgl/api/objects.h"
 #include "softgl/api/programs.h"
 #include "softgl/api/state.h"
+#include "softgl/api/textures.h"
 #include "softgl/api/value.h"
 #include "softgl/pipeline/draw.h"
 #include "softgl/runtime/thread_pool.h"
 #include "softgl/surface/framebuffer.h"
+#include "softgl/surface/sampler.h"
 
 namespace softgl {
 
@@ -213,6 +216,74 @@ public:
     BlendLab& blendlab();
     FragmentSink* blendlab_sink();
 
+    // ---- Textures and framebuffers (textures.cpp, framebuffers.cpp) --------------------------
+    std::shared_ptr<Texture> create_texture();
+    void bind_texture(GLenum target, const std::shared_ptr<Texture>& texture);
+    void delete_texture(const std::shared_ptr<Texture>& texture);
+    bool is_texture(const std::shared_ptr<Texture>& texture) const;
+    void tex_parameter(const char* call, GLenum target, GLenum pname, double value);
+    Value get_tex_parameter(GLenum target, GLenum pname);
+    // texImage2D/3D (depth = 1 for 2D), texSubImage2D/3D, texStorage2D/3D.
+    void tex_image(const char* call, GLenum target, int32_t level, GLenum internal_format, int32_t width,
+                   int32_t height, int32_t depth, int32_t border, GLenum format, GLenum type, const TexSource& source);
+    void tex_sub_image(const char* call, GLenum target, int32_t level, int32_t x, int32_t y, int32_t z,
+                       int32_t width, int32_t height, int32_t depth, GLenum format, GLenum type, const TexSource& source);
+    void tex_storage(const char* call, GLenum target, int32_t levels, GLenum internal_format, int32_t width,
+                     int32_t height, int32_t depth);
+    void generate_mipmap(GLenum target);
+    void copy_tex_image_2d(GLenum target, int32_t level, GLenum internal_format, int32_t x, int32_t y,
+                           int32_t width, int32_t height, int32_t border);
+    void copy_tex_sub_image(const char* call, GLenum target, int32_t level, int32_t xoffset, int32_t yoffset,
+                            int32_t zoffset, int32_t x, int32_t y, int32_t width, int32_t height);
+    std::shared_ptr<Sampler> create_sampler();
+    void delete_sampler(const std::shared_ptr<Sampler>& sampler);
+    bool is_sampler(const std::shared_ptr<Sampler>& sampler) const;
+    void bind_sampler(uint32_t unit, const std::shared_ptr<Sampler>& sampler);
+    void sampler_parameter(const char* call, const std::shared_ptr<Sampler>& sampler, GLenum pname, double value);
+    Value get_sampler_parameter(const std::shared_ptr<Sampler>& sampler, GLenum pname);
+    std::vector<std::string> texture_extension_names() const;
+    bool enable_texture_extension(const std::string& name);   // false: not one of these
+    bool texture_extension_enabled(const std::string& name) const;
+    // getParameter for the texture and framebuffer state; nullopt for other names.
+    std::optional<Value> texture_framebuffer_parameter(GLenum pname);
+    // At a draw: builds the units' sampler view and checks WebGL's draw-time rules for textures
+    // and framebuffers (records the error and returns false when the draw must not happen).
+    bool prepare_textures_and_targets(const char* call);
+    glsl::TextureSampler* draw_sampler() { return &draw_sampler_; }
+    RenderTarget draw_target();                               // framebuffers.cpp
+    std::shared_ptr<Framebuffer> create_framebuffer();
+    void bind_framebuffer(GLenum target, const std::shared_ptr<Framebuffer>& framebuffer);
+    void delete_framebuffer(const std::shared_ptr<Framebuffer>& framebuffer);
+    bool is_framebuffer(const std::shared_ptr<Framebuffer>& framebuffer) const;
+    std::shared_ptr<Renderbuffer> create_renderbuffer();
+    void bind_renderbuffer(GLenum target, const std::shared_ptr<Renderbuffer>& renderbuffer);
+    void delete_renderbuffer(const std::shared_ptr<Renderbuffer>& renderbuffer);
+    bool is_renderbuffer(const std::shared_ptr<Renderbuffer>& renderbuffer) const;
+    // renderbufferStorage (samples 0) and renderbufferStorageMultisample.
+    void renderbuffer_storage(const char* call, GLenum target, int32_t samples, GLenum internal_format,
+                              int32_t width, int32_t height);
+    Value get_renderbuffer_parameter(GLenum target, GLenum pname);
+    // framebufferTexture2D (textarget != 0) and framebufferTextureLayer (textarget 0).
+    void framebuffer_texture(const char* call, GLenum target, GLenum attachment, GLenum textarget,
+                             const std::shared_ptr<Texture>& texture, int32_t level, int32_t layer);
+    void framebuffer_renderbuffer(GLenum target, GLenum attachment, GLenum renderbuffer_target,
+                                  const std::shared_ptr<Renderbuffer>& renderbuffer);
+    GLenum check_framebuffer_status(GLenum target);
+    Value get_framebuffer_attachment_parameter(GLenum target, GLenum attachment, GLenum pname);
+    void read_buffer(GLenum src);
+    // clearBuffer{fv,iv,uiv} (kind 'f', 'i', 'u'; `count` values) and clearBufferfi (kind 's').
+    void clear_buffer(const char* call, GLenum buffer, int32_t drawbuffer, char kind, const void* values,
+                      size_t count, float depth, int32_t stencil);
+    void blit_framebuffer(int32_t sx0, int32_t sy0, int32_t sx1, int32_t sy1, int32_t dx0, int32_t dy0,
+                          int32_t dx1, int32_t dy1, uint32_t mask, GLenum filter);
+    void invalidate_framebuffer(const char* call, GLenum target, const std::vector<GLenum>& attachments);
+    // Hooks for clear() and readPixels(): handle a bound framebuffer object (true / the result).
+    bool clear_framebuffer_object(uint32_t mask);
+    bool reading_framebuffer_object() const { return read_framebuffer_ != nullptr; }
+    bool read_pixels_framebuffer_object(int32_t x, int32_t y, int32_t width, int32_t height, GLenum format,
+                                        GLenum type, GLenum dst_type, uint8_t* dst, size_t dst_bytes, bool packed);
+    // ---- end textures and framebuffers ------------------------------------------------------
+
     // The browser's compositing step: after the canvas is shown, a drawing buffer without
     // preserveDrawingBuffer is cleared to its initial contents (WebGL 1.0 §2.2).
     void present();
@@ -256,6 +327,34 @@ private:
     void release_shader(const std::shared_ptr<Shader>& shader);
     bool validate_draw_state(const char* call);
     void run_draw(const DrawCall& call, uint32_t max_vertex);
+
+    // ---- Textures and framebuffers (textures.cpp, framebuffers.cpp) --------------------------
+    struct TextureUnit {
+        std::shared_ptr<Texture> tex_2d, cube, tex_3d, array_2d;
+        std::shared_ptr<Sampler> sampler;
+    };
+    std::array<TextureUnit, limits::kMaxCombinedTextureImageUnits> texture_units_;
+    std::vector<std::string> texture_extensions_;     // enabled by getExtension
+    TextureUnitSampler draw_sampler_;
+    std::shared_ptr<Texture>* texture_binding(GLenum target);
+    Texture* bound_texture(const char* call, GLenum target, int* face);
+    bool check_tex_format(const char* call, GLenum target, int32_t level, GLenum internal_format,
+                          GLenum format, GLenum type, const FormatInfo** info);
+    bool check_tex_source(const char* call, const TexSource& source, GLenum format, GLenum type,
+                          int32_t width, int32_t height, int32_t depth, PixelUnpack& unpack);
+    CompletenessRules completeness_rules() const;
+    std::shared_ptr<Framebuffer> draw_framebuffer_, read_framebuffer_;
+    std::shared_ptr<Renderbuffer> renderbuffer_;
+    GLenum default_read_buffer_ = gl::BACK;
+    std::shared_ptr<Framebuffer>* framebuffer_binding(GLenum target);
+    Attachment* attachment_slot(Framebuffer& fb, GLenum attachment, bool* both);
+    GLenum framebuffer_status(const Framebuffer& fb, std::string* why) const;
+    bool color_renderable(const FormatInfo& f) const;
+    bool check_draw_framebuffer(const char* call, const uint32_t used_units[4]);
+    std::optional<Value> framebuffer_parameter(GLenum pname);
+    void detach_from_framebuffers(const Texture* texture, const Renderbuffer* renderbuffer);
+    bool read_source(const char* call, ColorReadSource& out);
+    // ---- end textures and framebuffers ------------------------------------------------------
 
     std::unique_ptr<ThreadPool> pool_;   // created at the first draw
     DrawStats stats_;

@@ -37,7 +37,7 @@ bool Context::validate_draw_state(const char* call) {
         error(gl::INVALID_OPERATION, call, "front and back stencil ref/masks differ (not allowed in WebGL)");
         return false;
     }
-    return true;
+    return prepare_textures_and_targets(call);   // textures.cpp: units, completeness, framebuffer
 }
 
 void Context::run_draw(const DrawCall& call, uint32_t max_vertex) {
@@ -50,7 +50,11 @@ void Context::run_draw(const DrawCall& call, uint32_t max_vertex) {
         const int field = u.name == "gl_DepthRange.near" ? 0 : u.name == "gl_DepthRange.far" ? 1 : 2;
         p.uniforms[size_t(u.offset)].f = values[field];
     }
-    DrawInputs in{state_, *vertex_array_, current_attribs_, *p.vertex_stage, *p.fragment_stage, framebuffer_, pool()};
+    // Textures and framebuffers: the units' textures and the bound framebuffer (textures.cpp).
+    p.vertex_stage->set_sampler(draw_sampler());
+    p.fragment_stage->set_sampler(draw_sampler());
+    RenderTarget target = draw_target();
+    DrawInputs in{state_, *vertex_array_, current_attribs_, *p.vertex_stage, *p.fragment_stage, target, pool()};
     in.sink = blendlab_sink();                  // blend lab hooks; null unless enabled
     draw(in, call, stats_);
     if (in.sink) blendlab().end_draw();         // reports an A-buffer/log over its memory limit

@@ -40,6 +40,8 @@ Value Context::get_parameter(GLenum pname) {
     const State& s = state_;
     const auto& fb = framebuffer_.config();
     const bool v2 = version() >= 2;
+    // Texture, sampler, framebuffer and renderbuffer state (textures.cpp, framebuffers.cpp).
+    if (std::optional<Value> v = texture_framebuffer_parameter(pname)) return *std::move(v);
     switch (pname) {
         // Capabilities
         case gl::BLEND: return b(s.blend.enabled);

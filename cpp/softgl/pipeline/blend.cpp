@@ -82,4 +82,26 @@ void blend_unorm8(const BlendOp& op, const float src[4], uint8_t dst[4]) {
         if (op.write[size_t(c)]) dst[c] = float_to_unorm8(out[c]);
 }
 
+// Textures and framebuffers (render targets stored as floats).
+void blend_float(const BlendOp& op, const float src[4], const float dst[4], bool clamp, float out[4]) {
+    float s[4], d[4], k[4], r[4];
+    for (int c = 0; c < 4; ++c) {
+        s[c] = clamp ? clamp01(src[c]) : src[c];
+        d[c] = clamp ? clamp01(dst[c]) : dst[c];
+        k[c] = op.constant[size_t(c)];
+    }
+    if (!op.has_alpha) d[3] = 1.0f;
+    if (op.is_plain_write()) {
+        for (int c = 0; c < 4; ++c) r[c] = s[c];
+    } else {
+        for (int c = 0; c < 4; ++c) {
+            const bool alpha = c == 3;
+            const float sf = factor(alpha ? op.src_alpha : op.src_rgb, c, s, d, k);
+            const float df = factor(alpha ? op.dst_alpha : op.dst_rgb, c, s, d, k);
+            r[c] = equation(alpha ? op.eq_alpha : op.eq_rgb, s[c], sf, d[c], df);
+        }
+    }
+    for (int c = 0; c < 4; ++c) out[c] = op.write[size_t(c)] ? r[c] : dst[c];
+}
+
 }  // namespace softgl

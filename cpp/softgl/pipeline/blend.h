@@ -24,4 +24,10 @@ struct BlendOp {
 // Blends the shader's color `src` (any float values) into `dst` (RGBA8) in place.
 void blend_unorm8(const BlendOp& op, const float src[4], uint8_t dst[4]);
 
+// Textures and framebuffers: blending into a colour attachment stored as floats (render targets of
+// any format). With `clamp` (fixed-point and sRGB formats, ES 3.0 §4.1.7) the source and
+// destination are clamped to [0, 1] first; float formats blend unclamped. `out` is the blended,
+// unquantized colour; channels the colour mask disables keep `dst`.
+void blend_float(const BlendOp& op, const float src[4], const float dst[4], bool clamp, float out[4]);
+
 }  // namespace softgl

@@ -47,7 +47,7 @@ float as_float(uint32_t bits) {
     return f;
 }
 
-RasterState raster_state(const State& s, const DefaultFramebuffer& fb) {
+RasterState raster_state(const State& s, const RenderTarget& fb) {
     RasterState r = RasterState::for_target(fb.width(), fb.height());
     if (s.scissor_test) r.set_scissor(s.scissor.x, s.scissor.y, s.scissor.width, s.scissor.height);
     r.viewport.x = s.viewport.x;
@@ -62,7 +62,7 @@ RasterState raster_state(const State& s, const DefaultFramebuffer& fb) {
     r.polygon_offset_fill = s.polygon_offset_fill;
     r.polygon_offset_factor = s.polygon_offset_factor;
     r.polygon_offset_units = s.polygon_offset_units;
-    r.depth_bits = DefaultFramebuffer::kDepthBits;
+    r.depth_bits = fb.depth_bits();
     r.samples = fb.config().samples;
     r.point_size_min = 1.0;
     r.point_size_max = 1024.0;   // ALIASED_POINT_SIZE_RANGE (api/context.h limits)
@@ -115,18 +115,19 @@ inline bool depth_only_test(GLenum func, bool write, uint32_t z, uint32_t* store
 
 // The pixel-centre window depth as the 24-bit value the buffer stores: floor(z * (2^24-1) + 0.5),
 // z in [0, 1] (truncation is floor for these non-negative values).
-inline uint32_t depth24(double z) { return uint32_t(z * 16777215.0 + 0.5); }
 
 }  // namespace
 
 void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
     DrawStats st;
     st.draws = 1;
-    FragmentSink* const sink = in.sink;   // blend lab hooks (`if (sink)` lines); null = off
-    if (sink) sink->begin_draw(in.state, in.framebuffer);
     DrawScratch& ds_ = draw_scratch();
     const State& state = in.state;
-    DefaultFramebuffer& fb = in.framebuffer;
+    RenderTarget& fb = in.target;
+    DefaultFramebuffer* const drawing_buffer = fb.default_framebuffer();   // null for framebuffer objects
+    // Blend lab hooks (`if (sink)` lines): on the drawing buffer only; null = off.
+    FragmentSink* const sink = drawing_buffer ? in.sink : nullptr;
+    if (sink) sink->begin_draw(in.state, *drawing_buffer);
     const VertexShader& vs = in.vertex_shader;
     const FragmentShader& fs = in.fragment_shader;
     const VaryingLayout& layout = vs.varying_layout();
@@ -320,7 +321,7 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                                 if (!ds.stencil_test) {
                                     for (int s = 0; s < S; ++s) {
                                         if (!(mask & (1u << s))) continue;
-                                        const uint32_t z = depth24(p.depth_at(int64_t(x) * kSubPixel + pattern.x[s],
+                                        const uint32_t z = fb.depth_word(p.depth_at(int64_t(x) * kSubPixel + pattern.x[s],
                                                                               int64_t(y) * kSubPixel + pattern.y[s]));
                                         if (sink) sink->before_depth_stencil(ds, p, x, y, s, z, depth + s, nullptr, true);
                                         if (!depth_only_test(ds.depth_func, ds.depth_write, z, depth + s)) {
@@ -332,7 +333,7 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                                     uint8_t* stencil = fb.stencil_samples(x, y);
                                     for (int s = 0; s < S; ++s) {
                                         if (!(mask & (1u << s))) continue;
-                                        const uint32_t z = depth24(p.depth_at(int64_t(x) * kSubPixel + pattern.x[s],
+                                        const uint32_t z = fb.depth_word(p.depth_at(int64_t(x) * kSubPixel + pattern.x[s],
                                                                               int64_t(y) * kSubPixel + pattern.y[s]));
                                         if (sink) sink->before_depth_stencil(ds, p, x, y, s, z, depth ? depth + s : nullptr, stencil ? stencil + s : nullptr, true);
                                         if (!depth_stencil_test(ds, p.front_facing, z, depth ? depth + s : nullptr,
@@ -471,7 +472,8 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                 for (uint8_t kill : r.killed) any_killed |= kill != 0;
                 const float* col = r.color.data();
                 // Per-lane color changes (area alpha, coverage ops, fog) take the general path.
-                const bool per_lane_color = area || coverage_ops || fog.enabled || sink;
+                // Framebuffer objects (any format) also write through RenderTarget::write_color.
+                const bool per_lane_color = area || coverage_ops || fog.enabled || sink || !drawing_buffer;
                 if (!any_killed && !(!early && tests) && writes_color && !per_lane_color) {
                     // The common case: tests (if any) already done, nothing discarded.
                     auto write_all = [&](auto kernel_tag) {
@@ -483,7 +485,7 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                             const int j = int(lane % 4);
                             const int32_t x = quad.x + (j & 1), y = quad.y + (j >> 1);
                             const float color[4] = {col[lane], col[L + lane], col[2 * L + lane], col[3 * L + lane]};
-                            uint8_t* px = fb.color_sample(x, y, 0);
+                            uint8_t* px = drawing_buffer->color_sample(x, y, 0);
                             if (S == 1) {
                                 write_color<K>(blend, all_channels, unorm8_table, color, px);
                                 w.stats.samples_written++;
@@ -505,13 +507,13 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                         for (size_t lane = 0; lane < L; ++lane) {
                             if (!w.masks[lane] || !read) { d[lane] = 0; continue; }
                             const Quad& quad = w.cq[lane / 4];
-                            std::memcpy(&d[lane], fb.color_sample(quad.x + int32_t(lane & 1), quad.y + int32_t((lane >> 1) & 1), 0), 4);
+                            std::memcpy(&d[lane], drawing_buffer->color_sample(quad.x + int32_t(lane & 1), quad.y + int32_t((lane >> 1) & 1), 0), 4);
                         }
                         write_color_lanes(kernel, blend, col, L, d, L);
                         for (size_t lane = 0; lane < L; ++lane) {
                             if (!w.masks[lane]) continue;
                             const Quad& quad = w.cq[lane / 4];
-                            std::memcpy(fb.color_sample(quad.x + int32_t(lane & 1), quad.y + int32_t((lane >> 1) & 1), 0), &d[lane], 4);
+                            std::memcpy(drawing_buffer->color_sample(quad.x + int32_t(lane & 1), quad.y + int32_t((lane >> 1) & 1), 0), &d[lane], 4);
                             w.stats.samples_written++;
                         }
                     } else switch (kernel) {
@@ -553,8 +555,8 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                             const double zf = shader_depth ? double(clamp01(r.depth[lane]))
                                                            : p.depth_at(int64_t(x) * kSubPixel + pattern.x[s],
                                                                         int64_t(y) * kSubPixel + pattern.y[s]);
-                            if (sink) sink->before_depth_stencil(ds, p, x, y, s, depth24(zf), depth ? depth + s : nullptr, stencil ? stencil + s : nullptr, false);
-                            if (!depth_stencil_test(ds, p.front_facing, depth24(zf),
+                            if (sink) sink->before_depth_stencil(ds, p, x, y, s, fb.depth_word(zf), depth ? depth + s : nullptr, stencil ? stencil + s : nullptr, false);
+                            if (!depth_stencil_test(ds, p.front_facing, fb.depth_word(zf),
                                                     depth ? depth + s : nullptr, stencil ? stencil + s : nullptr)) {
                                 mask = uint16_t(mask & ~(1u << s));
                                 w.stats.fragments_killed_late++;
@@ -570,11 +572,11 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                     }
                     for (int s = 0; s < S; ++s) {
                         if (!(mask & (1u << s))) continue;
-                        if (sink && sink->before_blend(p, x, y, s, color, fb.color_sample(x, y, s),
+                        if (sink && sink->before_blend(p, x, y, s, color, drawing_buffer->color_sample(x, y, s),
                                                        shader_depth ? clamp01(r.depth[lane]) : -1.0f))
                             continue;   // the A-buffer keeps the sample instead of blending it
-                        blend_unorm8(blend, color, fb.color_sample(x, y, s));
-                        if (sink) sink->after_blend(x, y, s, fb.color_sample(x, y, s));
+                        fb.write_color(blend, color, x, y, s);
+                        if (sink) sink->after_blend(x, y, s, drawing_buffer->color_sample(x, y, s));
                         w.stats.samples_written++;
                         if (!plain_write) w.stats.samples_blended++;
                     }

@@ -9,7 +9,7 @@
 #include "softgl/api/state.h"
 #include "softgl/pipeline/shader_stage.h"
 #include "softgl/runtime/thread_pool.h"
-#include "softgl/surface/framebuffer.h"
+#include "softgl/surface/render_target.h"
 
 namespace softgl {
 
@@ -47,7 +47,7 @@ struct DrawInputs {
     const std::array<CurrentAttrib, kMaxVertexAttribs>& current_attribs;
     const VertexShader& vertex_shader;
     const FragmentShader& fragment_shader;
-    DefaultFramebuffer& framebuffer;
+    RenderTarget& target;             // the drawing buffer or a framebuffer object's attachments
     ThreadPool& pool;
     FragmentSink* sink = nullptr;   // blend lab hooks (pipeline/fragment_sink.h); null = off
 };

@@ -70,7 +70,7 @@ void GlslVertexShader::run(const std::array<AttributeStream, kMaxVertexAttribs>&
     run.inputs = inputs.data();
     run.outputs = outputs.data();
     run.uniforms = uniforms_;
-    run.sampler = &sampler_;
+    run.sampler = textures_ ? textures_ : &sampler_;
     executor_->run(run);
 
     out.count = count;
@@ -166,7 +166,7 @@ void GlslFragmentShader::run(const FragmentBatch& b, FragmentResults& out, unsig
     run.inputs = w.input_ptrs.data();
     run.outputs = w.output_ptrs.data();
     run.uniforms = uniforms_;
-    run.sampler = &w.sampler;
+    run.sampler = textures_ ? textures_ : &w.sampler;
     run.discarded = may_discard() ? out.killed.data() : nullptr;
     w.executor->run(run);
     if (R < L) {

@@ -27,8 +27,11 @@ public:
     void run(const std::array<AttributeStream, kMaxVertexAttribs>& attribs, size_t count,
              const uint32_t* vertex_ids, uint32_t instance_id, VertexShaderOutputs& out) const override;
     void set_uniforms(const glsl::Scalar* uniforms) { uniforms_ = uniforms; }
+    // The bound textures for this draw (null: every lookup reads an incomplete texture).
+    void set_sampler(glsl::TextureSampler* sampler) { textures_ = sampler; }
 
 private:
+    glsl::TextureSampler* textures_ = nullptr;
     std::shared_ptr<const glsl::LinkedProgram> program_;
     std::vector<int> input_location_;    // per vertex input slot: attribute location, -1 built-in
     std::vector<int> output_word_;       // per vertex output slot: varying word, -1 otherwise
@@ -50,8 +53,12 @@ public:
     void prepare(unsigned workers) const override;
     void run(const FragmentBatch& batch, FragmentResults& out, unsigned worker) const override;
     void set_uniforms(const glsl::Scalar* uniforms) { uniforms_ = uniforms; }
+    // The bound textures for this draw (null: every lookup reads an incomplete texture). The
+    // sampler must be safe to call from several workers at once (TextureUnitSampler is).
+    void set_sampler(glsl::TextureSampler* sampler) { textures_ = sampler; }
 
 private:
+    glsl::TextureSampler* textures_ = nullptr;
     std::shared_ptr<const glsl::LinkedProgram> program_;
     std::vector<int> input_word_;        // per fragment input slot: varying word, or -1
     std::vector<int> input_builtin_;     // per fragment input slot: 0..3 FragCoord, 4 FrontFacing, 5..6 PointCoord, -1

@@ -1,0 +1,305 @@
+// Bindings of textures, samplers, framebuffers and renderbuffers: conversions only (WebGL's
+// overloads dispatched on the argument count; NumPy arrays as ArrayBufferViews and as image
+// sources). Added to the existing Context class.
+#include <cstring>
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <pybind11/stl.h>
+
+#include "softgl/api/context.h"
+#include "webidl.h"
+
+namespace py = pybind11;
+using softgl::Context;
+using softgl::GLenum;
+using softgl::TexSource;
+using softgl::bindings::IdlInt32;
+using softgl::bindings::IdlUint32;
+using softgl::bindings::webidl;
+namespace gl = softgl::gl;
+
+namespace {
+
+py::object value_to_python(const softgl::Value& value) {
+    struct Visitor {
+        py::object operator()(const softgl::Null&) const { return py::none(); }
+        py::object operator()(bool v) const { return py::bool_(v); }
+        py::object operator()(int64_t v) const { return py::int_(v); }
+        py::object operator()(double v) const { return py::float_(v); }
+        py::object operator()(const std::string& v) const { return py::str(v); }
+        py::object operator()(const softgl::Int32Array& v) const { return py::array_t<int32_t>(py::ssize_t(v.values.size()), v.values.data()); }
+        py::object operator()(const softgl::Uint32Array& v) const { return py::array_t<uint32_t>(py::ssize_t(v.values.size()), v.values.data()); }
+        py::object operator()(const softgl::Float32Array& v) const { return py::array_t<float>(py::ssize_t(v.values.size()), v.values.data()); }
+        py::object operator()(const std::shared_ptr<softgl::Object>& v) const { return py::cast(v); }
+        py::object operator()(const softgl::BoolList& v) const {
+            py::list out;
+            for (bool b : v.values) out.append(py::bool_(b));
+            return out;
+        }
+    };
+    return std::visit(Visitor{}, value);
+}
+
+// The typed-array kind of a NumPy dtype (Uint8Array <-> uint8, ...); 0 if WebGL has none that fits.
+GLenum typed_array_kind(const py::dtype& dt) {
+    const char kind = dt.kind();
+    const auto size = dt.itemsize();
+    if (kind == 'u' && size == 1) return gl::UNSIGNED_BYTE;
+    if (kind == 'i' && size == 1) return gl::BYTE;
+    if (kind == 'u' && size == 2) return gl::UNSIGNED_SHORT;
+    if (kind == 'i' && size == 2) return gl::SHORT;
+    if (kind == 'u' && size == 4) return gl::UNSIGNED_INT;
+    if (kind == 'i' && size == 4) return gl::INT;
+    if (kind == 'f' && size == 4) return gl::FLOAT;
+    return 0;
+}
+
+uint32_t as_u32(const py::handle& h, const char* call) {
+    uint64_t v;
+    if (!softgl::bindings::load_wrapped_u64(h, v)) throw py::type_error(std::string(call) + ": expected an integer");
+    return uint32_t(v);
+}
+int32_t as_i32(const py::handle& h, const char* call) { return int32_t(as_u32(h, call)); }
+
+// Holds the converted pixels of one call.
+struct Pixels {
+    TexSource source;
+    py::array keep;                 // the array the source points into
+    std::vector<uint8_t> rgba8;     // image sources, converted to RGBA rows
+    std::vector<float> rgba32f;
+};
+
+// An ArrayBufferView argument: None, or a C-contiguous NumPy array (from element src_offset).
+void view_source(Context& c, const char* call, py::handle obj, int64_t src_offset, Pixels& px, bool* ok) {
+    *ok = true;
+    if (obj.is_none()) return;
+    if (!py::isinstance<py::array>(obj))
+        throw py::type_error(std::string(call) + ": pixels must be a NumPy array (the ArrayBufferView) or None");
+    py::array arr = py::reinterpret_borrow<py::array>(obj);
+    if (!(arr.flags() & py::array::c_style)) throw py::type_error(std::string(call) + ": pixels must be C-contiguous");
+    const int64_t count = int64_t(arr.size());
+    if (src_offset < 0 || src_offset > count) {
+        c.record_error(gl::INVALID_VALUE, call, "srcOffset exceeds the array");
+        *ok = false;
+        return;
+    }
+    px.keep = arr;
+    px.source.kind = TexSource::Kind::View;
+    px.source.data = static_cast<const uint8_t*>(arr.data()) + src_offset * int64_t(arr.itemsize());
+    px.source.bytes = size_t((count - src_offset) * int64_t(arr.itemsize()));
+    px.source.array_type = typed_array_kind(arr.dtype());
+}
+
+// An image source: an H x W (grey) or H x W x C array (C = 1 grey, 2 grey + alpha, 3 RGB, 4 RGBA)
+// of uint8 (0..255) or floats (any float dtype, taken as float32). Row 0 is the image's first row,
+// which WebGL uploads to texel row 0.
+void image_source(const char* call, py::handle obj, Pixels& px) {
+    if (!py::isinstance<py::array>(obj))
+        throw py::type_error(std::string(call) + ": the image source must be a NumPy array of shape (H, W) or (H, W, C)");
+    py::array arr = py::reinterpret_borrow<py::array>(obj);
+    if (arr.ndim() != 2 && arr.ndim() != 3) throw py::type_error(std::string(call) + ": the image must have shape (H, W) or (H, W, C)");
+    const py::ssize_t h = arr.shape(0), w = arr.shape(1), ch = arr.ndim() == 3 ? arr.shape(2) : 1;
+    if (ch < 1 || ch > 4) throw py::type_error(std::string(call) + ": the image must have 1 to 4 channels");
+    const char kind = arr.dtype().kind();
+    const bool bytes = kind == 'u' && arr.itemsize() == 1;
+    if (!bytes && kind != 'f') throw py::type_error(std::string(call) + ": the image must be uint8 or floating point");
+    const size_t n = size_t(h) * size_t(w);
+    auto expand = [&](auto* out, auto get, auto one) {
+        for (size_t i = 0; i < n; ++i) {
+            auto v = [&](py::ssize_t c) { return get(i * size_t(ch) + size_t(c)); };
+            if (ch == 1) out[i * 4] = out[i * 4 + 1] = out[i * 4 + 2] = v(0), out[i * 4 + 3] = one;
+            else if (ch == 2) out[i * 4] = out[i * 4 + 1] = out[i * 4 + 2] = v(0), out[i * 4 + 3] = v(1);
+            else for (int c = 0; c < 4; ++c) out[i * 4 + size_t(c)] = c < ch ? v(c) : one;
+        }
+    };
+    if (bytes) {
+        auto a = py::array_t<uint8_t, py::array::c_style | py::array::forcecast>::ensure(arr);
+        const uint8_t* d = a.data();
+        px.rgba8.resize(n * 4);
+        expand(px.rgba8.data(), [&](size_t k) { return d[k]; }, uint8_t(255));
+        px.source.data = px.rgba8.data();
+        px.source.bytes = px.rgba8.size();
+        px.source.image_type = gl::UNSIGNED_BYTE;
+    } else {
+        auto a = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(arr);
+        const float* d = a.data();
+        px.rgba32f.resize(n * 4);
+        expand(px.rgba32f.data(), [&](size_t k) { return d[k]; }, 1.0f);
+        px.source.data = reinterpret_cast<const uint8_t*>(px.rgba32f.data());
+        px.source.bytes = px.rgba32f.size() * 4;
+        px.source.image_type = gl::FLOAT;
+    }
+    px.source.kind = TexSource::Kind::Image;
+    px.source.width = int32_t(w);
+    px.source.height = int32_t(h);
+}
+
+}  // namespace
+
+void bind_textures(py::module_& m) {
+    using softgl::Framebuffer;
+    using softgl::Object;
+    using softgl::Renderbuffer;
+    using softgl::Sampler;
+    using softgl::Texture;
+    py::class_<Texture, Object, std::shared_ptr<Texture>>(m, "WebGLTexture");
+    py::class_<Sampler, Object, std::shared_ptr<Sampler>>(m, "WebGLSampler");
+    py::class_<Framebuffer, Object, std::shared_ptr<Framebuffer>>(m, "WebGLFramebuffer");
+    py::class_<Renderbuffer, Object, std::shared_ptr<Renderbuffer>>(m, "WebGLRenderbuffer");
+
+    auto cls = py::reinterpret_borrow<py::class_<Context>>(m.attr("Context"));
+    cls.def("createTexture", &Context::create_texture)
+        .def("bindTexture", webidl(&Context::bind_texture))
+        .def("deleteTexture", &Context::delete_texture)
+        .def("isTexture", &Context::is_texture)
+        .def("texParameteri", [](Context& c, IdlUint32 t, IdlUint32 p, IdlInt32 v) { c.tex_parameter("texParameteri", t.value, p.value, double(v.value)); })
+        .def("texParameterf", [](Context& c, IdlUint32 t, IdlUint32 p, float v) { c.tex_parameter("texParameterf", t.value, p.value, double(v)); })
+        .def("getTexParameter", [](Context& c, IdlUint32 t, IdlUint32 p) { return value_to_python(c.get_tex_parameter(t.value, p.value)); })
+        .def("generateMipmap", webidl(&Context::generate_mipmap))
+        .def("texImage2D", [](Context& c, IdlUint32 target, IdlInt32 level, IdlInt32 internal, py::args a) {
+            const char* call = "texImage2D";
+            Pixels px;
+            if (a.size() == 3) {   // (format, type, source)
+                image_source(call, a[2], px);
+                return c.tex_image(call, target.value, level.value, GLenum(internal.value), 0, 0, 1, 0,
+                                   as_u32(a[0], call), as_u32(a[1], call), px.source);
+            }
+            if (a.size() != 6 && a.size() != 7)
+                throw py::type_error("texImage2D(target, level, internalformat, format, type, source) or "
+                                     "texImage2D(target, level, internalformat, width, height, border, format, type, pixels[, srcOffset])");
+            if (a.size() == 7 && c.version() < 2) throw py::type_error("texImage2D: srcOffset needs WebGL 2");
+            bool ok;
+            view_source(c, call, a[5], a.size() == 7 ? a[6].cast<int64_t>() : 0, px, &ok);
+            if (!ok) return;
+            c.tex_image(call, target.value, level.value, GLenum(internal.value), as_i32(a[0], call), as_i32(a[1], call), 1,
+                        as_i32(a[2], call), as_u32(a[3], call), as_u32(a[4], call), px.source);
+        })
+        .def("texSubImage2D", [](Context& c, IdlUint32 target, IdlInt32 level, IdlInt32 x, IdlInt32 y, py::args a) {
+            const char* call = "texSubImage2D";
+            Pixels px;
+            if (a.size() == 3) {   // (format, type, source)
+                image_source(call, a[2], px);
+                return c.tex_sub_image(call, target.value, level.value, x.value, y.value, 0, 0, 0, 1,
+                                       as_u32(a[0], call), as_u32(a[1], call), px.source);
+            }
+            if (a.size() != 5 && a.size() != 6)
+                throw py::type_error("texSubImage2D(target, level, x, y, format, type, source) or "
+                                     "texSubImage2D(target, level, x, y, width, height, format, type, pixels[, srcOffset])");
+            bool ok;
+            view_source(c, call, a[4], a.size() == 6 ? a[5].cast<int64_t>() : 0, px, &ok);
+            if (!ok) return;
+            c.tex_sub_image(call, target.value, level.value, x.value, y.value, 0, as_i32(a[0], call), as_i32(a[1], call), 1,
+                            as_u32(a[2], call), as_u32(a[3], call), px.source);
+        })
+        .def("texImage3D", [](Context& c, IdlUint32 target, IdlInt32 level, IdlInt32 internal, IdlInt32 w, IdlInt32 h,
+                              IdlInt32 d, IdlInt32 border, IdlUint32 format, IdlUint32 type, py::object pixels, int64_t src_offset) {
+            Pixels px;
+            bool ok;
+            view_source(c, "texImage3D", pixels, src_offset, px, &ok);
+            if (ok) c.tex_image("texImage3D", target.value, level.value, GLenum(internal.value), w.value, h.value, d.value,
+                                border.value, format.value, type.value, px.source);
+        }, py::arg("target"), py::arg("level"), py::arg("internalformat"), py::arg("width"), py::arg("height"),
+           py::arg("depth"), py::arg("border"), py::arg("format"), py::arg("type"), py::arg("srcData"), py::arg("srcOffset") = 0)
+        .def("texSubImage3D", [](Context& c, IdlUint32 target, IdlInt32 level, IdlInt32 x, IdlInt32 y, IdlInt32 z, IdlInt32 w,
+                                 IdlInt32 h, IdlInt32 d, IdlUint32 format, IdlUint32 type, py::object pixels, int64_t src_offset) {
+            Pixels px;
+            bool ok;
+            view_source(c, "texSubImage3D", pixels, src_offset, px, &ok);
+            if (ok) c.tex_sub_image("texSubImage3D", target.value, level.value, x.value, y.value, z.value, w.value, h.value,
+                                    d.value, format.value, type.value, px.source);
+        }, py::arg("target"), py::arg("level"), py::arg("xoffset"), py::arg("yoffset"), py::arg("zoffset"), py::arg("width"),
+           py::arg("height"), py::arg("depth"), py::arg("format"), py::arg("type"), py::arg("srcData"), py::arg("srcOffset") = 0)
+        .def("texStorage2D", [](Context& c, IdlUint32 target, IdlInt32 levels, IdlUint32 internal, IdlInt32 w, IdlInt32 h) {
+            c.tex_storage("texStorage2D", target.value, levels.value, internal.value, w.value, h.value, 1);
+        })
+        .def("texStorage3D", [](Context& c, IdlUint32 target, IdlInt32 levels, IdlUint32 internal, IdlInt32 w, IdlInt32 h, IdlInt32 d) {
+            c.tex_storage("texStorage3D", target.value, levels.value, internal.value, w.value, h.value, d.value);
+        })
+        .def("copyTexImage2D", webidl(&Context::copy_tex_image_2d))
+        .def("copyTexSubImage2D", [](Context& c, IdlUint32 target, IdlInt32 level, IdlInt32 xo, IdlInt32 yo, IdlInt32 x,
+                                     IdlInt32 y, IdlInt32 w, IdlInt32 h) {
+            c.copy_tex_sub_image("copyTexSubImage2D", target.value, level.value, xo.value, yo.value, 0, x.value, y.value, w.value, h.value);
+        })
+        .def("copyTexSubImage3D", [](Context& c, IdlUint32 target, IdlInt32 level, IdlInt32 xo, IdlInt32 yo, IdlInt32 zo,
+                                     IdlInt32 x, IdlInt32 y, IdlInt32 w, IdlInt32 h) {
+            c.copy_tex_sub_image("copyTexSubImage3D", target.value, level.value, xo.value, yo.value, zo.value, x.value, y.value, w.value, h.value);
+        })
+        // Sampler objects (WebGL 2)
+        .def("createSampler", &Context::create_sampler)
+        .def("deleteSampler", &Context::delete_sampler)
+        .def("isSampler", &Context::is_sampler)
+        .def("bindSampler", [](Context& c, IdlUint32 unit, const std::shared_ptr<Sampler>& s) { c.bind_sampler(unit.value, s); })
+        .def("samplerParameteri", [](Context& c, const std::shared_ptr<Sampler>& s, IdlUint32 p, IdlInt32 v) {
+            c.sampler_parameter("samplerParameteri", s, p.value, double(v.value));
+        })
+        .def("samplerParameterf", [](Context& c, const std::shared_ptr<Sampler>& s, IdlUint32 p, float v) {
+            c.sampler_parameter("samplerParameterf", s, p.value, double(v));
+        })
+        .def("getSamplerParameter", [](Context& c, const std::shared_ptr<Sampler>& s, IdlUint32 p) {
+            return value_to_python(c.get_sampler_parameter(s, p.value));
+        })
+        // Framebuffers and renderbuffers
+        .def("createFramebuffer", &Context::create_framebuffer)
+        .def("bindFramebuffer", webidl(&Context::bind_framebuffer))
+        .def("deleteFramebuffer", &Context::delete_framebuffer)
+        .def("isFramebuffer", &Context::is_framebuffer)
+        .def("createRenderbuffer", &Context::create_renderbuffer)
+        .def("bindRenderbuffer", webidl(&Context::bind_renderbuffer))
+        .def("deleteRenderbuffer", &Context::delete_renderbuffer)
+        .def("isRenderbuffer", &Context::is_renderbuffer)
+        .def("renderbufferStorage", [](Context& c, IdlUint32 target, IdlUint32 internal, IdlInt32 w, IdlInt32 h) {
+            c.renderbuffer_storage("renderbufferStorage", target.value, 0, internal.value, w.value, h.value);
+        })
+        .def("renderbufferStorageMultisample", [](Context& c, IdlUint32 target, IdlInt32 samples, IdlUint32 internal, IdlInt32 w, IdlInt32 h) {
+            c.renderbuffer_storage("renderbufferStorageMultisample", target.value, samples.value, internal.value, w.value, h.value);
+        })
+        .def("getRenderbufferParameter", [](Context& c, IdlUint32 t, IdlUint32 p) { return value_to_python(c.get_renderbuffer_parameter(t.value, p.value)); })
+        .def("framebufferTexture2D", [](Context& c, IdlUint32 target, IdlUint32 attachment, IdlUint32 textarget,
+                                        const std::shared_ptr<Texture>& t, IdlInt32 level) {
+            c.framebuffer_texture("framebufferTexture2D", target.value, attachment.value, textarget.value, t, level.value, 0);
+        })
+        .def("framebufferTextureLayer", [](Context& c, IdlUint32 target, IdlUint32 attachment, const std::shared_ptr<Texture>& t,
+                                           IdlInt32 level, IdlInt32 layer) {
+            c.framebuffer_texture("framebufferTextureLayer", target.value, attachment.value, 0, t, level.value, layer.value);
+        })
+        .def("framebufferRenderbuffer", webidl(&Context::framebuffer_renderbuffer))
+        .def("checkFramebufferStatus", webidl(&Context::check_framebuffer_status))
+        .def("getFramebufferAttachmentParameter", [](Context& c, IdlUint32 t, IdlUint32 a, IdlUint32 p) {
+            return value_to_python(c.get_framebuffer_attachment_parameter(t.value, a.value, p.value));
+        })
+        .def("readBuffer", webidl(&Context::read_buffer))
+        .def("blitFramebuffer", [](Context& c, IdlInt32 sx0, IdlInt32 sy0, IdlInt32 sx1, IdlInt32 sy1, IdlInt32 dx0, IdlInt32 dy0,
+                                   IdlInt32 dx1, IdlInt32 dy1, IdlUint32 mask, IdlUint32 filter) {
+            py::gil_scoped_release release;
+            c.blit_framebuffer(sx0.value, sy0.value, sx1.value, sy1.value, dx0.value, dy0.value, dx1.value, dy1.value, mask.value, filter.value);
+        })
+        .def("clearBufferfv", [](Context& c, IdlUint32 buffer, IdlInt32 drawbuffer, py::object values, int64_t off) {
+            auto a = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(values);
+            if (!a) throw py::type_error("clearBufferfv: values must be a sequence of numbers");
+            if (off < 0 || off > int64_t(a.size())) return c.record_error(gl::INVALID_VALUE, "clearBufferfv", "srcOffset exceeds the values");
+            c.clear_buffer("clearBufferfv", buffer.value, drawbuffer.value, 'f', a.data() + off, size_t(a.size() - off), 0, 0);
+        }, py::arg("buffer"), py::arg("drawbuffer"), py::arg("values"), py::arg("srcOffset") = 0)
+        .def("clearBufferiv", [](Context& c, IdlUint32 buffer, IdlInt32 drawbuffer, py::object values, int64_t off) {
+            auto a = py::array_t<int32_t, py::array::c_style | py::array::forcecast>::ensure(values);
+            if (!a) throw py::type_error("clearBufferiv: values must be a sequence of integers");
+            if (off < 0 || off > int64_t(a.size())) return c.record_error(gl::INVALID_VALUE, "clearBufferiv", "srcOffset exceeds the values");
+            c.clear_buffer("clearBufferiv", buffer.value, drawbuffer.value, 'i', a.data() + off, size_t(a.size() - off), 0, 0);
+        }, py::arg("buffer"), py::arg("drawbuffer"), py::arg("values"), py::arg("srcOffset") = 0)
+        .def("clearBufferuiv", [](Context& c, IdlUint32 buffer, IdlInt32 drawbuffer, py::object values, int64_t off) {
+            auto a = py::array_t<uint32_t, py::array::c_style | py::array::forcecast>::ensure(values);
+            if (!a) throw py::type_error("clearBufferuiv: values must be a sequence of integers");
+            if (off < 0 || off > int64_t(a.size())) return c.record_error(gl::INVALID_VALUE, "clearBufferuiv", "srcOffset exceeds the values");
+            c.clear_buffer("clearBufferuiv", buffer.value, drawbuffer.value, 'u', a.data() + off, size_t(a.size() - off), 0, 0);
+        }, py::arg("buffer"), py::arg("drawbuffer"), py::arg("values"), py::arg("srcOffset") = 0)
+        .def("clearBufferfi", [](Context& c, IdlUint32 buffer, IdlInt32 drawbuffer, float depth, IdlInt32 stencil) {
+            c.clear_buffer("clearBufferfi", buffer.value, drawbuffer.value, 's', nullptr, 0, depth, stencil.value);
+        })
+        .def("invalidateFramebuffer", [](Context& c, IdlUint32 target, std::vector<uint32_t> attachments) {
+            c.invalidate_framebuffer("invalidateFramebuffer", target.value, attachments);
+        })
+        .def("invalidateSubFramebuffer", [](Context& c, IdlUint32 target, std::vector<uint32_t> attachments, IdlInt32 x,
+                                            IdlInt32 y, IdlInt32 w, IdlInt32 h) {
+            if (w.value < 0 || h.value < 0) return c.record_error(gl::INVALID_VALUE, "invalidateSubFramebuffer", "width and height must not be negative");
+            c.invalidate_framebuffer("invalidateSubFramebuffer", target.value, attachments);
+        });
+}

@@ -1,0 +1,1055 @@
+// Framebuffer and renderbuffer objects: WebGL 1.0 §5.14.6-7 / §6.6 and WebGL 2.0 §3.7.4-5 over
+// ES 2.0 §4.4 and ES 3.0 §4.4 (attachments, completeness), with drawing into attachments
+// (render targets), clear/clearBuffer*, readPixels of any readable attachment, copyTexImage2D,
+// copyTexSubImage2D/3D and blitFramebuffer (ES 3.0 §4.3.3).
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#include "softgl/api/context.h"
+#include "softgl/surface/formats.h"
+
+namespace softgl {
+
+using namespace gl_ext;
+
+namespace {
+
+std::string quote(GLenum v) { return enum_name(v); }
+
+template <class T>
+Value object_value(const std::shared_ptr<T>& p) {
+    if (!p) return Value(Null{});
+    return Value(std::shared_ptr<Object>(p));
+}
+
+bool is_cube_face(GLenum target) {
+    return target >= gl::TEXTURE_CUBE_MAP_POSITIVE_X && target <= gl::TEXTURE_CUBE_MAP_NEGATIVE_Z;
+}
+
+// Reads pixel (x, y) of a colour source as float RGBA, multisample resolved by the mean.
+struct ColorSource {
+    DefaultFramebuffer* fb = nullptr;
+    const Image* img = nullptr;
+    size_t offset = 0;
+    int32_t width = 0, height = 0;
+    void read(int32_t x, int32_t y, float out[4]) const {
+        if (fb) {
+            const int S = fb->config().samples;
+            for (int c = 0; c < 4; ++c) {
+                uint32_t sum = 0;
+                for (int s = 0; s < S; ++s) sum += fb->color_sample(x, y, s)[c];
+                out[c] = S == 1 ? float(sum) / 255.0f : float(double(sum) / (255.0 * S));
+            }
+            if (!fb->config().alpha) out[3] = 1.0f;
+            return;
+        }
+        const size_t S = size_t(img->samples);
+        const size_t t = offset + (size_t(y) * size_t(img->width) + size_t(x)) * S;
+        for (int c = 0; c < 4; ++c) {
+            if (!img->integer.empty()) {
+                std::memcpy(&out[c], &img->integer[t * 4 + size_t(c)], 4);   // bit patterns (no resolve)
+                continue;
+            }
+            double sum = 0;
+            for (size_t s = 0; s < S; ++s) sum += double(img->color[(t + s) * 4 + size_t(c)]);
+            out[c] = float(sum / double(S));
+        }
+    }
+};
+
+// Writes float RGBA into every sample of pixel (x, y) of a colour destination (no blending).
+void write_plain(DefaultFramebuffer* fb, Image* img, size_t offset, int32_t x, int32_t y, const float rgba[4],
+                 const std::array<bool, 4>& mask) {
+    if (fb) {
+        for (int s = 0; s < fb->config().samples; ++s) {
+            uint8_t* p = fb->color_sample(x, y, s);
+            for (int c = 0; c < 4; ++c)
+                if (mask[size_t(c)] && (c < 3 || fb->config().alpha)) p[c] = float_to_unorm8(rgba[c]);
+        }
+        return;
+    }
+    BlendOp op;
+    op.write = mask;
+    for (int s = 0; s < img->samples; ++s) write_image_color(*img, offset, op, rgba, x, y, s);
+}
+
+size_t layer_offset(const Image& img, int32_t layer) {
+    return size_t(layer) * size_t(img.width) * size_t(img.height) * size_t(img.samples);
+}
+
+}  // namespace
+
+Image* Attachment::image() const {
+    if (renderbuffer) return renderbuffer->image.defined() ? &renderbuffer->image : nullptr;
+    if (texture) {
+        Image* img = const_cast<Image*>(texture->find(face, level));
+        return img;
+    }
+    return nullptr;
+}
+
+// ---------------------------------------------------------------------------- objects
+
+std::shared_ptr<Framebuffer> Context::create_framebuffer() {
+    auto f = std::make_shared<Framebuffer>();
+    f->owner = this;
+    return f;
+}
+
+std::shared_ptr<Framebuffer>* Context::framebuffer_binding(GLenum target) {
+    if (target == gl::FRAMEBUFFER || (version() >= 2 && target == gl::DRAW_FRAMEBUFFER)) return &draw_framebuffer_;
+    if (version() >= 2 && target == gl::READ_FRAMEBUFFER) return &read_framebuffer_;
+    return nullptr;
+}
+
+void Context::bind_framebuffer(GLenum target, const std::shared_ptr<Framebuffer>& fb) {
+    const char* call = "bindFramebuffer";
+    if (!framebuffer_binding(target)) return error(gl::INVALID_ENUM, call, quote(target) + " is not a framebuffer target here");
+    if (!check_object(call, fb.get())) return;
+    if (fb) fb->ever_bound = true;
+    if (target == gl::FRAMEBUFFER) draw_framebuffer_ = read_framebuffer_ = fb;
+    else *framebuffer_binding(target) = fb;
+}
+
+void Context::delete_framebuffer(const std::shared_ptr<Framebuffer>& fb) {
+    if (!fb) return;
+    if (fb->owner != this) return error(gl::INVALID_OPERATION, "deleteFramebuffer", "the object belongs to another context");
+    if (fb->deleted) return;
+    fb->deleted = true;
+    if (draw_framebuffer_ == fb) draw_framebuffer_.reset();   // ES 3.0 §4.4.1: reverts to the default
+    if (read_framebuffer_ == fb) read_framebuffer_.reset();
+}
+
+bool Context::is_framebuffer(const std::shared_ptr<Framebuffer>& fb) const {
+    return fb && fb->owner == this && !fb->deleted && fb->ever_bound;
+}
+
+std::shared_ptr<Renderbuffer> Context::create_renderbuffer() {
+    auto r = std::make_shared<Renderbuffer>();
+    r->owner = this;
+    return r;
+}
+
+void Context::bind_renderbuffer(GLenum target, const std::shared_ptr<Renderbuffer>& rb) {
+    const char* call = "bindRenderbuffer";
+    if (target != gl::RENDERBUFFER) return error(gl::INVALID_ENUM, call, quote(target) + " is not RENDERBUFFER");
+    if (!check_object(call, rb.get())) return;
+    if (rb) rb->ever_bound = true;
+    renderbuffer_ = rb;
+}
+
+void Context::delete_renderbuffer(const std::shared_ptr<Renderbuffer>& rb) {
+    if (!rb) return;
+    if (rb->owner != this) return error(gl::INVALID_OPERATION, "deleteRenderbuffer", "the object belongs to another context");
+    if (rb->deleted) return;
+    rb->deleted = true;
+    if (renderbuffer_ == rb) renderbuffer_.reset();
+    detach_from_framebuffers(nullptr, rb.get());
+}
+
+bool Context::is_renderbuffer(const std::shared_ptr<Renderbuffer>& rb) const {
+    return rb && rb->owner == this && !rb->deleted && rb->ever_bound;
+}
+
+void Context::detach_from_framebuffers(const Texture* t, const Renderbuffer* r) {
+    // ES 3.0 §4.4.2.3 / §3.8.1: deleting an image object detaches it from the bound framebuffers.
+    for (const auto& fb : {draw_framebuffer_, read_framebuffer_}) {
+        if (!fb) continue;
+        auto detach = [&](Attachment& a) {
+            if ((t && a.texture.get() == t) || (r && a.renderbuffer.get() == r)) a = Attachment{};
+        };
+        for (Attachment& a : fb->color) detach(a);
+        detach(fb->depth);
+        detach(fb->stencil);
+    }
+}
+
+// ---------------------------------------------------------------------------- renderbuffers
+
+bool Context::color_renderable(const FormatInfo& f) const {
+    const GLenum i = f.internal_format;
+    if (version() == 1) {
+        if (i == gl::RGBA8 || i == gl::RGB8 || i == gl::RGBA4 || i == gl::RGB5_A1 || i == gl::RGB565) return true;
+        // WEBGL_color_buffer_float (implied by OES_texture_float, WebGL 1 extension registry) and
+        // EXT_color_buffer_half_float.
+        if (i == gl::RGBA32F || i == gl::RGB32F)
+            return texture_extension_enabled("WEBGL_color_buffer_float") || texture_extension_enabled("OES_texture_float");
+        if (i == gl::RGBA16F || i == gl::RGB16F)
+            return texture_extension_enabled("EXT_color_buffer_half_float") || texture_extension_enabled("OES_texture_half_float");
+        return false;
+    }
+    switch (i) {
+        // ES 3.0 table 3.13
+        case gl::R8: case gl::RG8: case gl::RGB8: case gl::RGB565: case gl::RGBA4: case gl::RGB5_A1:
+        case gl::RGBA8: case gl::RGB10_A2: case gl::RGB10_A2UI: case gl::SRGB8_ALPHA8:
+        case gl::R8I: case gl::R8UI: case gl::R16I: case gl::R16UI: case gl::R32I: case gl::R32UI:
+        case gl::RG8I: case gl::RG8UI: case gl::RG16I: case gl::RG16UI: case gl::RG32I: case gl::RG32UI:
+        case gl::RGBA8I: case gl::RGBA8UI: case gl::RGBA16I: case gl::RGBA16UI: case gl::RGBA32I: case gl::RGBA32UI:
+            return true;
+        // EXT_color_buffer_float
+        case gl::R16F: case gl::RG16F: case gl::RGBA16F: case gl::R32F: case gl::RG32F: case gl::RGBA32F:
+        case gl::R11F_G11F_B10F:
+            return texture_extension_enabled("EXT_color_buffer_float");
+        default: return false;
+    }
+}
+
+void Context::renderbuffer_storage(const char* call, GLenum target, int32_t samples, GLenum internal_format,
+                                   int32_t width, int32_t height) {
+    if (target != gl::RENDERBUFFER) return error(gl::INVALID_ENUM, call, quote(target) + " is not RENDERBUFFER");
+    if (!renderbuffer_) return error(gl::INVALID_OPERATION, call, "no renderbuffer is bound");
+    GLenum effective = internal_format;
+    if (internal_format == gl::DEPTH_STENCIL) effective = gl::DEPTH24_STENCIL8;   // WebGL's DEPTH_STENCIL
+    const FormatInfo* f = format_info(effective);
+    bool ok = false;
+    if (f) {
+        if (version() == 1)
+            ok = effective == gl::RGBA4 || effective == gl::RGB565 || effective == gl::RGB5_A1 ||
+                 effective == gl::DEPTH_COMPONENT16 || effective == gl::STENCIL_INDEX8 ||
+                 (internal_format == gl::DEPTH_STENCIL) ||
+                 ((effective == gl::RGBA32F || effective == gl::RGBA16F || effective == gl::RGB16F) && color_renderable(*f));
+        else
+            ok = color_renderable(*f) || f->kind() == SampleKind::Depth;
+    }
+    if (!ok) return error(gl::INVALID_ENUM, call, quote(internal_format) + " is not a renderbuffer format here");
+    if (width < 0 || height < 0 || samples < 0) return error(gl::INVALID_VALUE, call, "sizes and samples must not be negative");
+    if (width > limits::kMaxRenderbufferSize || height > limits::kMaxRenderbufferSize)
+        return error(gl::INVALID_VALUE, call, "the size exceeds MAX_RENDERBUFFER_SIZE");
+    if (samples > limits::kMaxSamples) return error(gl::INVALID_OPERATION, call, "samples exceeds MAX_SAMPLES");
+    if (samples > 0 && f->is_integer()) return error(gl::INVALID_OPERATION, call, "integer formats cannot be multisampled");
+    // The smallest supported count >= the request (ES 3.0 §4.4.2.1).
+    int32_t actual = 1;
+    if (samples > 0) for (int32_t n : {2, 4, 8, 16}) if (n >= samples) { actual = n; break; }
+    Renderbuffer& rb = *renderbuffer_;
+    rb.internal_format = internal_format;
+    rb.samples = samples > 0 ? actual : 0;
+    rb.image.allocate(f, width, height, 1, actual);
+    ++rb.generation;
+}
+
+Value Context::get_renderbuffer_parameter(GLenum target, GLenum pname) {
+    const char* call = "getRenderbufferParameter";
+    if (target != gl::RENDERBUFFER) { error(gl::INVALID_ENUM, call, quote(target) + " is not RENDERBUFFER"); return Value(Null{}); }
+    if (!renderbuffer_) { error(gl::INVALID_OPERATION, call, "no renderbuffer is bound"); return Value(Null{}); }
+    const Renderbuffer& rb = *renderbuffer_;
+    const FormatInfo* f = rb.image.format;
+    auto bits = [&](int c) -> int64_t { return f && f->kind() != SampleKind::Depth ? f->bits[size_t(c)] : 0; };
+    switch (pname) {
+        case gl::RENDERBUFFER_WIDTH: return Value(int64_t(rb.image.width));
+        case gl::RENDERBUFFER_HEIGHT: return Value(int64_t(rb.image.height));
+        case gl::RENDERBUFFER_INTERNAL_FORMAT: return Value(int64_t(rb.internal_format));
+        case gl::RENDERBUFFER_RED_SIZE: return Value(bits(0));
+        case gl::RENDERBUFFER_GREEN_SIZE: return Value(bits(1));
+        case gl::RENDERBUFFER_BLUE_SIZE: return Value(bits(2));
+        case gl::RENDERBUFFER_ALPHA_SIZE: return Value(bits(3));
+        case gl::RENDERBUFFER_DEPTH_SIZE: return Value(int64_t(f ? f->depth_bits() : 0));
+        case gl::RENDERBUFFER_STENCIL_SIZE: return Value(int64_t(f && f->has_stencil ? 8 : 0));
+        default: break;
+    }
+    if (version() >= 2 && pname == gl::RENDERBUFFER_SAMPLES) return Value(int64_t(rb.samples));
+    error(gl::INVALID_ENUM, call, quote(pname) + " is not a renderbuffer parameter");
+    return Value(Null{});
+}
+
+// ---------------------------------------------------------------------------- attachments
+
+Attachment* Context::attachment_slot(Framebuffer& fb, GLenum attachment, bool* both) {
+    *both = false;
+    if (attachment == gl::DEPTH_ATTACHMENT) return &fb.depth;
+    if (attachment == gl::STENCIL_ATTACHMENT) return &fb.stencil;
+    if (attachment == gl::DEPTH_STENCIL_ATTACHMENT) { *both = true; return &fb.depth; }
+    const int max_color = version() >= 2 ? kMaxColorAttachments : 1;
+    if (attachment >= gl::COLOR_ATTACHMENT0 && attachment < gl::COLOR_ATTACHMENT0 + uint32_t(max_color))
+        return &fb.color[attachment - gl::COLOR_ATTACHMENT0];
+    return nullptr;
+}
+
+void Context::framebuffer_texture(const char* call, GLenum target, GLenum attachment, GLenum textarget,
+                                  const std::shared_ptr<Texture>& texture, int32_t level, int32_t layer) {
+    std::shared_ptr<Framebuffer>* slot = framebuffer_binding(target);
+    if (!slot) return error(gl::INVALID_ENUM, call, quote(target) + " is not a framebuffer target here");
+    const bool layered = textarget == 0;   // framebufferTextureLayer
+    if (!layered && textarget != gl::TEXTURE_2D && !is_cube_face(textarget))
+        return error(gl::INVALID_ENUM, call, quote(textarget) + " is not a texture target for attachments");
+    Framebuffer* fb = (target == gl::READ_FRAMEBUFFER ? read_framebuffer_ : draw_framebuffer_).get();
+    if (!fb) return error(gl::INVALID_OPERATION, call, "the default framebuffer cannot have attachments");
+    bool both = false;
+    Attachment* a = attachment_slot(*fb, attachment, &both);
+    if (!a) return error(gl::INVALID_ENUM, call, quote(attachment) + " is not an attachment point here");
+    if (!check_object(call, texture.get())) return;
+    Attachment value;
+    if (texture) {
+        if (layered) {
+            if (texture->target != gl::TEXTURE_3D && texture->target != gl::TEXTURE_2D_ARRAY)
+                return error(gl::INVALID_OPERATION, call, "the texture is not a 3D or 2D array texture");
+            if (layer < 0 || layer >= 2048) return error(gl::INVALID_VALUE, call, "layer is out of range");
+        } else {
+            const GLenum wanted = textarget == gl::TEXTURE_2D ? gl::TEXTURE_2D : gl::TEXTURE_CUBE_MAP;
+            if (texture->target != wanted)
+                return error(gl::INVALID_OPERATION, call, "textarget does not match the texture's target");
+        }
+        const int32_t max_level = version() == 1 ? 0 : 14;   // WebGL 1.0 §6.? level must be 0
+        if (level < 0 || level > max_level) return error(gl::INVALID_VALUE, call, "level is out of range");
+        value.texture = texture;
+        value.face = is_cube_face(textarget) ? int(textarget - gl::TEXTURE_CUBE_MAP_POSITIVE_X) : 0;
+        value.level = level;
+        value.layer = layered ? layer : 0;
+    }
+    *a = value;
+    if (both) fb->stencil = value;
+}
+
+void Context::framebuffer_renderbuffer(GLenum target, GLenum attachment, GLenum rb_target,
+                                       const std::shared_ptr<Renderbuffer>& rb) {
+    const char* call = "framebufferRenderbuffer";
+    if (!framebuffer_binding(target)) return error(gl::INVALID_ENUM, call, quote(target) + " is not a framebuffer target here");
+    if (rb_target != gl::RENDERBUFFER) return error(gl::INVALID_ENUM, call, quote(rb_target) + " is not RENDERBUFFER");
+    Framebuffer* fb = (target == gl::READ_FRAMEBUFFER ? read_framebuffer_ : draw_framebuffer_).get();
+    if (!fb) return error(gl::INVALID_OPERATION, call, "the default framebuffer cannot have attachments");
+    bool both = false;
+    Attachment* a = attachment_slot(*fb, attachment, &both);
+    if (!a) return error(gl::INVALID_ENUM, call, quote(attachment) + " is not an attachment point here");
+    if (!check_object(call, rb.get())) return;
+    Attachment value;
+    value.renderbuffer = rb;
+    *a = value;
+    if (both) fb->stencil = value;
+}
+
+GLenum Context::framebuffer_status(const Framebuffer& fb, std::string* why) const {
+    auto fail = [&](GLenum code, const std::string& reason) { if (why) *why = reason; return code; };
+    int32_t w = -1, h = -1, samples = -1;
+    bool any = false, sizes_differ = false;
+    auto check = [&](const Attachment& a, int kind) -> GLenum {   // kind 0 colour, 1 depth, 2 stencil
+        if (a.empty()) return 0;
+        const Image* img = a.image();
+        if (!img || img->width == 0 || img->height == 0)
+            return fail(gl::FRAMEBUFFER_INCOMPLETE_ATTACHMENT, "an attachment has no image (or a zero size)");
+        const FormatInfo& f = *img->format;
+        if (kind == 0 && !color_renderable(f)) return fail(gl::FRAMEBUFFER_INCOMPLETE_ATTACHMENT, "a colour attachment's format is not colour-renderable");
+        if (kind == 1 && !f.is_depth()) return fail(gl::FRAMEBUFFER_INCOMPLETE_ATTACHMENT, "the depth attachment has no depth");
+        if (kind == 2 && !f.has_stencil) return fail(gl::FRAMEBUFFER_INCOMPLETE_ATTACHMENT, "the stencil attachment has no stencil");
+        if (a.texture && a.layer >= img->depth) return fail(gl::FRAMEBUFFER_INCOMPLETE_ATTACHMENT, "the attached layer does not exist");
+        const int32_t s = a.renderbuffer ? a.renderbuffer->samples : 0;
+        if (any && (img->width != w || img->height != h)) sizes_differ = true;
+        if (any && s != samples) return fail(gl::FRAMEBUFFER_INCOMPLETE_MULTISAMPLE, "the attachments have different sample counts");
+        w = any ? std::min(w, img->width) : img->width;
+        h = any ? std::min(h, img->height) : img->height;
+        samples = s;
+        any = true;
+        return 0;
+    };
+    for (const Attachment& a : fb.color) if (GLenum e = check(a, 0)) return e;
+    if (GLenum e = check(fb.depth, 1)) return e;
+    if (GLenum e = check(fb.stencil, 2)) return e;
+    if (!any) return fail(gl::FRAMEBUFFER_INCOMPLETE_MISSING_ATTACHMENT, "nothing is attached");
+    if (version() == 1 && sizes_differ) return fail(gl::FRAMEBUFFER_INCOMPLETE_DIMENSIONS, "the attachments have different sizes");
+    // WebGL 1.0 §6.6 / WebGL 2.0 §5.? : depth and stencil must be one image when both are attached.
+    if (!fb.depth.empty() && !fb.stencil.empty() &&
+        (fb.depth.texture != fb.stencil.texture || fb.depth.renderbuffer != fb.stencil.renderbuffer ||
+         fb.depth.level != fb.stencil.level || fb.depth.layer != fb.stencil.layer))
+        return fail(gl::FRAMEBUFFER_UNSUPPORTED, "separate depth and stencil images are not supported");
+    if (version() == 1) {
+        // WebGL 1.0 §6.6: a DEPTH_STENCIL image must go to DEPTH_STENCIL_ATTACHMENT and vice versa.
+        const Image* d = fb.depth.image();
+        if (d && d->format->has_stencil && fb.stencil.empty())
+            return fail(gl::FRAMEBUFFER_INCOMPLETE_ATTACHMENT, "a depth-stencil image is attached to DEPTH_ATTACHMENT only");
+    }
+    return gl::FRAMEBUFFER_COMPLETE;
+}
+
+GLenum Context::check_framebuffer_status(GLenum target) {
+    std::shared_ptr<Framebuffer>* slot = framebuffer_binding(target);
+    if (!slot) { error(gl::INVALID_ENUM, "checkFramebufferStatus", quote(target) + " is not a framebuffer target here"); return 0; }
+    const std::shared_ptr<Framebuffer>& fb = target == gl::READ_FRAMEBUFFER ? read_framebuffer_ : draw_framebuffer_;
+    if (!fb) return gl::FRAMEBUFFER_COMPLETE;
+    return framebuffer_status(*fb, nullptr);
+}
+
+Value Context::get_framebuffer_attachment_parameter(GLenum target, GLenum attachment, GLenum pname) {
+    const char* call = "getFramebufferAttachmentParameter";
+    if (!framebuffer_binding(target)) { error(gl::INVALID_ENUM, call, quote(target) + " is not a framebuffer target here"); return Value(Null{}); }
+    const std::shared_ptr<Framebuffer>& fb = target == gl::READ_FRAMEBUFFER ? read_framebuffer_ : draw_framebuffer_;
+    if (!fb) {
+        if (version() == 1) { error(gl::INVALID_OPERATION, call, "the default framebuffer has no attachment objects"); return Value(Null{}); }
+        // WebGL 2: BACK, DEPTH, STENCIL of the drawing buffer.
+        const bool ok = attachment == gl::BACK || attachment == gl::DEPTH || attachment == gl::STENCIL;
+        if (!ok) { error(gl::INVALID_ENUM, call, quote(attachment) + " is not an attachment of the default framebuffer"); return Value(Null{}); }
+        const auto& c = framebuffer_.config();
+        const bool present = attachment == gl::BACK || (attachment == gl::DEPTH && c.depth) || (attachment == gl::STENCIL && c.stencil);
+        if (pname == gl::FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE) return Value(int64_t(present ? gl::FRAMEBUFFER_DEFAULT : gl::NONE));
+        if (!present) { error(gl::INVALID_OPERATION, call, "the attachment does not exist"); return Value(Null{}); }
+        switch (pname) {
+            case gl::FRAMEBUFFER_ATTACHMENT_RED_SIZE: case gl::FRAMEBUFFER_ATTACHMENT_GREEN_SIZE:
+            case gl::FRAMEBUFFER_ATTACHMENT_BLUE_SIZE: return Value(int64_t(attachment == gl::BACK ? 8 : 0));
+            case gl::FRAMEBUFFER_ATTACHMENT_ALPHA_SIZE: return Value(int64_t(attachment == gl::BACK && c.alpha ? 8 : 0));
+            case gl::FRAMEBUFFER_ATTACHMENT_DEPTH_SIZE: return Value(int64_t(attachment == gl::DEPTH ? 24 : 0));
+            case gl::FRAMEBUFFER_ATTACHMENT_STENCIL_SIZE: return Value(int64_t(attachment == gl::STENCIL ? 8 : 0));
+            case gl::FRAMEBUFFER_ATTACHMENT_COMPONENT_TYPE: return Value(int64_t(attachment == gl::STENCIL ? gl::UNSIGNED_INT : gl::UNSIGNED_NORMALIZED));
+            case gl::FRAMEBUFFER_ATTACHMENT_COLOR_ENCODING: return Value(int64_t(gl::LINEAR));
+            default: break;
+        }
+        error(gl::INVALID_ENUM, call, quote(pname) + " is not an attachment parameter here");
+        return Value(Null{});
+    }
+    bool both = false;
+    Attachment* a = attachment_slot(*fb, attachment, &both);
+    if (!a) { error(gl::INVALID_ENUM, call, quote(attachment) + " is not an attachment point here"); return Value(Null{}); }
+    if (both && (fb->depth.texture != fb->stencil.texture || fb->depth.renderbuffer != fb->stencil.renderbuffer)) {
+        error(gl::INVALID_OPERATION, call, "depth and stencil attachments differ"); return Value(Null{});
+    }
+    const GLenum type = a->texture ? gl::TEXTURE : a->renderbuffer ? gl::RENDERBUFFER : gl::NONE;
+    if (pname == gl::FRAMEBUFFER_ATTACHMENT_OBJECT_TYPE) return Value(int64_t(type));
+    if (type == gl::NONE) {
+        if (pname == gl::FRAMEBUFFER_ATTACHMENT_OBJECT_NAME) return Value(Null{});
+        error(version() >= 2 ? gl::INVALID_OPERATION : gl::INVALID_ENUM, call, "nothing is attached there");
+        return Value(Null{});
+    }
+    if (pname == gl::FRAMEBUFFER_ATTACHMENT_OBJECT_NAME)
+        return a->texture ? object_value(a->texture) : object_value(a->renderbuffer);
+    if (a->texture) {
+        switch (pname) {
+            case gl::FRAMEBUFFER_ATTACHMENT_TEXTURE_LEVEL: return Value(int64_t(a->level));
+            case gl::FRAMEBUFFER_ATTACHMENT_TEXTURE_CUBE_MAP_FACE:
+                return Value(int64_t(a->texture->target == gl::TEXTURE_CUBE_MAP ? gl::TEXTURE_CUBE_MAP_POSITIVE_X + uint32_t(a->face) : 0));
+            default: break;
+        }
+        if (version() >= 2 && pname == gl::FRAMEBUFFER_ATTACHMENT_TEXTURE_LAYER) return Value(int64_t(a->layer));
+    }
+    if (version() >= 2) {
+        const Image* img = a->image();
+        const FormatInfo* f = img ? img->format : nullptr;
+        auto bits = [&](int c) -> int64_t { return f && f->kind() != SampleKind::Depth ? f->bits[size_t(c)] : 0; };
+        switch (pname) {
+            case gl::FRAMEBUFFER_ATTACHMENT_RED_SIZE: return Value(bits(0));
+            case gl::FRAMEBUFFER_ATTACHMENT_GREEN_SIZE: return Value(bits(1));
+            case gl::FRAMEBUFFER_ATTACHMENT_BLUE_SIZE: return Value(bits(2));
+            case gl::FRAMEBUFFER_ATTACHMENT_ALPHA_SIZE: return Value(bits(3));
+            case gl::FRAMEBUFFER_ATTACHMENT_DEPTH_SIZE: return Value(int64_t(f ? f->depth_bits() : 0));
+            case gl::FRAMEBUFFER_ATTACHMENT_STENCIL_SIZE: return Value(int64_t(f && f->has_stencil ? 8 : 0));
+            case gl::FRAMEBUFFER_ATTACHMENT_COMPONENT_TYPE: {
+                if (both) { error(gl::INVALID_OPERATION, call, "ask DEPTH or STENCIL for the component type"); return Value(Null{}); }
+                if (!f) return Value(int64_t(gl::NONE));
+                GLenum t = gl::UNSIGNED_NORMALIZED;
+                if (f->encoding == Encoding::Int) t = gl::INT;
+                else if (f->encoding == Encoding::Uint || (attachment == gl::STENCIL_ATTACHMENT)) t = gl::UNSIGNED_INT;
+                else if (f->is_float() || f->encoding == Encoding::Depth32F) t = gl::FLOAT;
+                else if (f->encoding == Encoding::Snorm) t = gl::SIGNED_NORMALIZED;
+                return Value(int64_t(t));
+            }
+            case gl::FRAMEBUFFER_ATTACHMENT_COLOR_ENCODING:
+                return Value(int64_t(f && f->encoding == Encoding::Srgb ? gl::SRGB : gl::LINEAR));
+            default: break;
+        }
+    }
+    error(gl::INVALID_ENUM, call, quote(pname) + " is not an attachment parameter here");
+    return Value(Null{});
+}
+
+// ---------------------------------------------------------------------------- drawing into FBOs
+
+RenderTarget Context::draw_target() {
+    if (!draw_framebuffer_) return RenderTarget::for_default(framebuffer_);
+    Framebuffer& fb = *draw_framebuffer_;
+    std::array<RenderTarget::Color, RenderTarget::kMaxColors> colors{};
+    int32_t w = -1, h = -1, samples = 1;
+    auto extent = [&](const Attachment& a) {
+        const Image* img = a.image();
+        if (!img) return;
+        w = w < 0 ? img->width : std::min(w, img->width);
+        h = h < 0 ? img->height : std::min(h, img->height);
+        samples = img->samples;
+    };
+    for (const Attachment& a : fb.color) extent(a);
+    extent(fb.depth);
+    extent(fb.stencil);
+    for (int i = 0; i < RenderTarget::kMaxColors; ++i) {
+        const GLenum b = fb.draw_buffers[size_t(i)];
+        if (b < gl::COLOR_ATTACHMENT0 || b >= gl::COLOR_ATTACHMENT0 + uint32_t(kMaxColorAttachments)) continue;
+        const Attachment& a = fb.color[b - gl::COLOR_ATTACHMENT0];
+        if (Image* img = a.image()) colors[size_t(i)] = {img, layer_offset(*img, a.layer)};
+    }
+    Image* depth = fb.depth.image();
+    Image* stencil = fb.stencil.image();
+    return RenderTarget::for_images(std::max(w, 0), std::max(h, 0), samples, colors, depth,
+                                    depth ? layer_offset(*depth, fb.depth.layer) : 0, stencil,
+                                    stencil ? layer_offset(*stencil, fb.stencil.layer) : 0);
+}
+
+bool Context::check_draw_framebuffer(const char* call, const uint32_t used_units[4]) {
+    if (!draw_framebuffer_) return true;
+    std::string why;
+    if (framebuffer_status(*draw_framebuffer_, &why) != gl::FRAMEBUFFER_COMPLETE) {
+        error(gl::INVALID_FRAMEBUFFER_OPERATION, call, "the draw framebuffer is incomplete: " + why);
+        return false;
+    }
+    // WebGL 1.0 §6.26: a texture level that is both sampled and attached is a feedback loop.
+    const Framebuffer& fb = *draw_framebuffer_;
+    for (int dim = 0; dim < 4; ++dim)
+        for (int unit = 0; unit < kSamplerUnits; ++unit) {
+            if (!(used_units[dim] & (1u << unit))) continue;
+            const BoundTexture& bt = draw_sampler_.units[size_t(unit)][size_t(dim)];
+            if (!bt.texture) continue;
+            auto loops = [&](const Attachment& a) {
+                return a.texture.get() == bt.texture && a.level >= bt.base && a.level <= bt.q;
+            };
+            bool loop = loops(fb.depth) || loops(fb.stencil);
+            for (const Attachment& a : fb.color) loop = loop || loops(a);
+            if (loop) {
+                error(gl::INVALID_OPERATION, call, "feedback loop: texture unit " + std::to_string(unit) +
+                      " samples a texture attached to the draw framebuffer");
+                return false;
+            }
+        }
+    return true;
+}
+
+bool Context::clear_framebuffer_object(uint32_t mask) {
+    if (!draw_framebuffer_) return false;
+    std::string why;
+    if (framebuffer_status(*draw_framebuffer_, &why) != gl::FRAMEBUFFER_COMPLETE) {
+        error(gl::INVALID_FRAMEBUFFER_OPERATION, "clear", "the draw framebuffer is incomplete: " + why);
+        return true;
+    }
+    RenderTarget target = draw_target();
+    Framebuffer& fb = *draw_framebuffer_;
+    Rect r{0, 0, target.width(), target.height()};
+    if (state_.scissor_test) {
+        const int64_t x0 = std::max<int64_t>(state_.scissor.x, 0), y0 = std::max<int64_t>(state_.scissor.y, 0);
+        const int64_t x1 = std::min<int64_t>(int64_t(state_.scissor.x) + state_.scissor.width, target.width());
+        const int64_t y1 = std::min<int64_t>(int64_t(state_.scissor.y) + state_.scissor.height, target.height());
+        r = Rect{int32_t(x0), int32_t(y0), int32_t(std::max<int64_t>(0, x1 - x0)), int32_t(std::max<int64_t>(0, y1 - y0))};
+    }
+    if (mask & gl::COLOR_BUFFER_BIT) {
+        for (int i = 0; i < kMaxColorAttachments; ++i) {
+            const GLenum b = fb.draw_buffers[size_t(i)];
+            if (b < gl::COLOR_ATTACHMENT0 || b >= gl::COLOR_ATTACHMENT0 + uint32_t(kMaxColorAttachments)) continue;
+            const Attachment& a = fb.color[b - gl::COLOR_ATTACHMENT0];
+            Image* img = a.image();
+            // ES 3.0 §4.2.3: clearing integer buffers with clear() is undefined; softgl leaves them.
+            if (!img || img->format->is_integer()) continue;
+            for (int32_t y = r.y; y < r.y + r.height; ++y)
+                for (int32_t x = r.x; x < r.x + r.width; ++x)
+                    write_plain(nullptr, img, layer_offset(*img, a.layer), x, y, state_.clear_color.data(), state_.color_mask);
+            ++(a.texture ? a.texture->generation : a.renderbuffer->generation);
+        }
+    }
+    const int S = target.config().samples;
+    if ((mask & gl::DEPTH_BUFFER_BIT) && state_.depth_mask && target.config().depth) {
+        const uint32_t word = target.depth_word(state_.clear_depth);
+        for (int32_t y = r.y; y < r.y + r.height; ++y)
+            for (int32_t x = r.x; x < r.x + r.width; ++x) std::fill_n(target.depth_samples(x, y), S, word);
+    }
+    if ((mask & gl::STENCIL_BUFFER_BIT) && target.config().stencil) {
+        const uint8_t bits = uint8_t(uint32_t(state_.clear_stencil) & 0xFFu), wm = uint8_t(state_.stencil_front.write_mask & 0xFFu);
+        for (int32_t y = r.y; y < r.y + r.height; ++y)
+            for (int32_t x = r.x; x < r.x + r.width; ++x) {
+                uint8_t* p = target.stencil_samples(x, y);
+                for (int s = 0; s < S; ++s) p[s] = uint8_t((p[s] & ~wm) | (bits & wm));
+            }
+    }
+    return true;
+}
+
+// ---------------------------------------------------------------------------- reading
+
+// The colour buffer readPixels / copyTexImage / blit read from: false (error recorded) if none.
+bool Context::read_source(const char* call, ColorReadSource& out) {
+    out = ColorReadSource{};
+    if (!read_framebuffer_) {
+        out.fb = &framebuffer_;
+        out.width = framebuffer_.width();
+        out.height = framebuffer_.height();
+        return true;
+    }
+    std::string why;
+    if (framebuffer_status(*read_framebuffer_, &why) != gl::FRAMEBUFFER_COMPLETE) {
+        error(gl::INVALID_FRAMEBUFFER_OPERATION, call, "the read framebuffer is incomplete: " + why);
+        return false;
+    }
+    const GLenum rb = read_framebuffer_->read_buffer;
+    if (rb == gl::NONE) { error(gl::INVALID_OPERATION, call, "the read buffer is NONE"); return false; }
+    const Attachment& a = read_framebuffer_->color[rb - gl::COLOR_ATTACHMENT0];
+    Image* img = a.image();
+    if (!img) { error(gl::INVALID_OPERATION, call, "nothing is attached to the read buffer"); return false; }
+    out.img = img;
+    out.offset = layer_offset(*img, a.layer);
+    out.width = img->width;
+    out.height = img->height;
+    return true;
+}
+
+bool Context::read_pixels_framebuffer_object(int32_t x, int32_t y, int32_t width, int32_t height, GLenum format,
+                                             GLenum type, GLenum dst_type, uint8_t* dst, size_t dst_bytes, bool packed) {
+    const char* call = "readPixels";
+    ColorReadSource src;
+    if (!read_source(call, src)) return false;
+    if (width < 0 || height < 0) { error(gl::INVALID_VALUE, call, "width and height must not be negative"); return false; }
+    const Image& img = *src.img;
+    if (img.samples > 1) { error(gl::INVALID_OPERATION, call, "the read framebuffer is multisampled"); return false; }
+    const FormatInfo& f = *img.format;
+    // ES 3.0 §4.3.2: RGBA with UNSIGNED_BYTE (normalized), FLOAT (float), INT/UNSIGNED_INT (integer).
+    GLenum want_format = gl::RGBA, want_type = gl::UNSIGNED_BYTE;
+    if (f.is_float()) want_type = gl::FLOAT;
+    if (f.encoding == Encoding::Int) want_format = gl::RGBA_INTEGER, want_type = gl::INT;
+    if (f.encoding == Encoding::Uint) want_format = gl::RGBA_INTEGER, want_type = gl::UNSIGNED_INT;
+    if (format != want_format || type != want_type) {
+        error(gl::INVALID_OPERATION, call, quote(format) + "/" + quote(type) + " cannot be read from a " +
+              quote(f.internal_format) + " attachment; use " + quote(want_format) + "/" + quote(want_type));
+        return false;
+    }
+    const GLenum array_type = type == gl::FLOAT ? gl::FLOAT : type == gl::INT ? gl::INT : type == gl::UNSIGNED_INT ? gl::UNSIGNED_INT : gl::UNSIGNED_BYTE;
+    if (dst_type != array_type) { error(gl::INVALID_OPERATION, call, "the destination array's element type does not match " + quote(type)); return false; }
+    const PixelStore& ps = state_.pixel_store;
+    const int64_t pixel = type == gl::UNSIGNED_BYTE ? 4 : 16;
+    const int64_t row_pixels = packed && ps.pack_row_length > 0 ? ps.pack_row_length : width;
+    const int64_t align = packed ? ps.pack_alignment : 1;
+    const int64_t stride = (row_pixels * pixel + align - 1) / align * align;
+    const int64_t skip_rows = packed ? ps.pack_skip_rows : 0, skip_pixels = packed ? ps.pack_skip_pixels : 0;
+    if (packed && ps.pack_row_length > 0 && skip_pixels + width > ps.pack_row_length) {
+        error(gl::INVALID_OPERATION, call, "PACK_SKIP_PIXELS + width exceeds PACK_ROW_LENGTH"); return false;
+    }
+    const uint64_t needed = width && height ? uint64_t((skip_rows + height - 1) * stride + (skip_pixels + width) * pixel) : 0;
+    if (dst_bytes < needed) {
+        error(gl::INVALID_OPERATION, call, "the destination holds " + std::to_string(dst_bytes) + " bytes, " +
+              std::to_string(needed) + " are needed");
+        return false;
+    }
+    for (int32_t row = 0; row < height; ++row) {
+        const int64_t sy = int64_t(y) + row;
+        if (sy < 0 || sy >= src.height) continue;
+        for (int32_t col = 0; col < width; ++col) {
+            const int64_t sx = int64_t(x) + col;
+            if (sx < 0 || sx >= src.width) continue;   // outside the buffer: left as it is
+            uint8_t* out = dst + (skip_rows + row) * stride + (skip_pixels + col) * pixel;
+            const size_t t = src.offset + size_t(sy) * size_t(img.width) + size_t(sx);
+            if (f.is_integer()) {
+                std::memcpy(out, &img.integer[t * 4], 16);
+            } else if (type == gl::FLOAT) {
+                std::memcpy(out, &img.color[t * 4], 16);
+            } else {
+                for (int c = 0; c < 4; ++c) {
+                    float v = img.color[t * 4 + size_t(c)];
+                    // ES 3.0 §4.3.2: sRGB values are returned encoded (no conversion on read).
+                    if (f.encoding == Encoding::Srgb && c < 3) v = linear_to_srgb(v);
+                    out[c] = float_to_unorm8(v);
+                }
+            }
+        }
+    }
+    return true;
+}
+
+// ---------------------------------------------------------------------------- copyTexImage
+
+void Context::copy_tex_image_2d(GLenum target, int32_t level, GLenum internal_format, int32_t x, int32_t y,
+                                int32_t width, int32_t height, int32_t border) {
+    const char* call = "copyTexImage2D";
+    if (target != gl::TEXTURE_2D && !is_cube_face(target)) return error(gl::INVALID_ENUM, call, quote(target) + " is not a 2D image target");
+    int face = 0;
+    Texture* t = bound_texture(call, target, &face);
+    if (!t) return;
+    if (level < 0 || level > 14) return error(gl::INVALID_VALUE, call, "level is out of range");
+    if (width < 0 || height < 0 || width > (limits::kMaxTextureSize >> level) || height > (limits::kMaxTextureSize >> level))
+        return error(gl::INVALID_VALUE, call, "the size is out of range");
+    if (border != 0) return error(gl::INVALID_VALUE, call, "border must be 0");
+    if (is_cube_face(target) && width != height) return error(gl::INVALID_VALUE, call, "cube map faces must be square");
+    if (version() == 1 && level > 0 && (!is_power_of_two(width) || !is_power_of_two(height)))
+        return error(gl::INVALID_VALUE, call, "levels above 0 must have power-of-two sizes in WebGL 1");
+    if (t->immutable) return error(gl::INVALID_OPERATION, call, "the texture is immutable");
+    // ES 3.0 table 3.15: the internal format from the read buffer (unsized: by base format).
+    GLenum effective = 0;
+    switch (internal_format) {
+        case gl::RGBA: effective = gl::RGBA8; break;
+        case gl::RGB: effective = gl::RGB8; break;
+        case gl::LUMINANCE_ALPHA: effective = LUMINANCE8_ALPHA8; break;
+        case gl::LUMINANCE: effective = LUMINANCE8; break;
+        case gl::ALPHA: effective = ALPHA8; break;
+        default:
+            if (version() >= 2) {
+                const FormatInfo* fi = format_info(internal_format);
+                if (fi && fi->kind() == SampleKind::Float && !is_pseudo_format(internal_format)) effective = internal_format;
+            }
+    }
+    if (!effective) return error(gl::INVALID_ENUM, call, quote(internal_format) + " cannot be a copyTexImage2D format");
+    ColorReadSource src;
+    if (!read_source(call, src)) return;
+    if (src.img && src.img->samples > 1) return error(gl::INVALID_OPERATION, call, "the read framebuffer is multisampled");
+    if (src.img && src.img->format->is_integer()) return error(gl::INVALID_OPERATION, call, "integer read buffers cannot be copied");
+    const FormatInfo* fi = format_info(effective);
+    // ES 2.0 §3.7.2: the new format's components must exist in the read buffer (alpha).
+    const bool src_alpha = src.fb ? src.fb->config().alpha : src.img->format->bits[3] != 0;
+    if (fi->bits[3] && !src_alpha) return error(gl::INVALID_OPERATION, call, "the read buffer has no alpha");
+    Image fresh;
+    fresh.allocate(fi, width, height, 1);
+    ColorSource cs{src.fb, src.img, src.offset, src.width, src.height};
+    for (int32_t row = 0; row < height; ++row)
+        for (int32_t col = 0; col < width; ++col) {
+            const int64_t sx = int64_t(x) + col, sy = int64_t(y) + row;
+            // WebGL 1.0 §5.14.8: texels outside the read buffer are 0.
+            float rgba[4] = {0, 0, 0, 0};
+            if (sx >= 0 && sy >= 0 && sx < src.width && sy < src.height) cs.read(int32_t(sx), int32_t(sy), rgba);
+            else if (!fi->bits[3]) rgba[3] = 1;
+            float stored[4];
+            if (fi->base_format == gl::LUMINANCE || fi->base_format == gl::LUMINANCE_ALPHA) rgba[1] = rgba[2] = rgba[0];
+            if (fi->base_format == gl::ALPHA) rgba[0] = rgba[1] = rgba[2] = 0;
+            quantize_color(*fi, rgba, stored);
+            std::copy(stored, stored + 4, &fresh.color[(size_t(row) * size_t(width) + size_t(col)) * 4]);
+        }
+    t->image(face, level) = std::move(fresh);
+    ++t->generation;
+}
+
+void Context::copy_tex_sub_image(const char* call, GLenum target, int32_t level, int32_t xoffset, int32_t yoffset,
+                                 int32_t zoffset, int32_t x, int32_t y, int32_t width, int32_t height) {
+    const bool three_d = std::string(call).find("3D") != std::string::npos;
+    const bool target_ok = three_d ? (target == gl::TEXTURE_3D || target == gl::TEXTURE_2D_ARRAY)
+                                   : (target == gl::TEXTURE_2D || is_cube_face(target));
+    if (!target_ok) return error(gl::INVALID_ENUM, call, quote(target) + " is not a target of " + call);
+    int face = 0;
+    Texture* t = bound_texture(call, target, &face);
+    if (!t) return;
+    if (level < 0 || xoffset < 0 || yoffset < 0 || zoffset < 0 || width < 0 || height < 0)
+        return error(gl::INVALID_VALUE, call, "level, offsets and sizes must not be negative");
+    Image* img = const_cast<Image*>(t->find(face, level));
+    if (!img) return error(gl::INVALID_OPERATION, call, "the level has no image");
+    if (int64_t(xoffset) + width > img->width || int64_t(yoffset) + height > img->height || zoffset >= img->depth)
+        return error(gl::INVALID_VALUE, call, "the region extends past the image");
+    if (img->format->kind() != SampleKind::Float) return error(gl::INVALID_OPERATION, call, "the texture format cannot be copied into");
+    ColorReadSource src;
+    if (!read_source(call, src)) return;
+    if (src.img && src.img->samples > 1) return error(gl::INVALID_OPERATION, call, "the read framebuffer is multisampled");
+    if (src.img && src.img->format->is_integer()) return error(gl::INVALID_OPERATION, call, "integer read buffers cannot be copied");
+    if (src.img && src.img == img) {
+        // Copying a level into itself is a feedback loop (WebGL 1.0 §6.26).
+        return error(gl::INVALID_OPERATION, call, "the texture level is the read buffer");
+    }
+    ColorSource cs{src.fb, src.img, src.offset, src.width, src.height};
+    const FormatInfo& fi = *img->format;
+    for (int32_t row = 0; row < height; ++row)
+        for (int32_t col = 0; col < width; ++col) {
+            const int64_t sx = int64_t(x) + col, sy = int64_t(y) + row;
+            // WebGL 1.0 §5.14.8: texels whose source lies outside the read buffer are left unchanged... in
+            // WebGL they are set to 0; softgl does the same.
+            float rgba[4] = {0, 0, 0, 0};
+            if (sx >= 0 && sy >= 0 && sx < src.width && sy < src.height) cs.read(int32_t(sx), int32_t(sy), rgba);
+            if (fi.base_format == gl::LUMINANCE || fi.base_format == gl::LUMINANCE_ALPHA) rgba[1] = rgba[2] = rgba[0];
+            const size_t tt = (size_t(zoffset) * size_t(img->height) + size_t(yoffset + row)) * size_t(img->width) + size_t(xoffset + col);
+            quantize_color(fi, rgba, &img->color[tt * 4]);
+        }
+    ++t->generation;
+}
+
+// ---------------------------------------------------------------------------- WebGL 2 framebuffer ops
+
+void Context::read_buffer(GLenum src) {
+    const char* call = "readBuffer";
+    if (!read_framebuffer_) {
+        if (src != gl::BACK && src != gl::NONE) {
+            const bool attachment = src >= gl::COLOR_ATTACHMENT0 && src < gl::COLOR_ATTACHMENT0 + 32;
+            return error(attachment ? gl::INVALID_OPERATION : gl::INVALID_ENUM, call, "the default framebuffer reads BACK or NONE");
+        }
+        default_read_buffer_ = src;
+        return;
+    }
+    if (src == gl::BACK) return error(gl::INVALID_OPERATION, call, "BACK is for the default framebuffer");
+    if (src != gl::NONE && (src < gl::COLOR_ATTACHMENT0 || src >= gl::COLOR_ATTACHMENT0 + uint32_t(kMaxColorAttachments)))
+        return error(gl::INVALID_ENUM, call, quote(src) + " is not a read buffer");
+    read_framebuffer_->read_buffer = src;
+}
+
+void Context::clear_buffer(const char* call, GLenum buffer, int32_t drawbuffer, char kind, const void* values,
+                           size_t count, float depth, int32_t stencil) {
+    // ES 3.0 §4.2.3: ClearBuffer* clear one buffer, with the scissor and masks, no other ops.
+    RenderTarget target = draw_target();
+    size_t needed = buffer == gl::COLOR ? 4 : 1;
+    if (buffer == gl::DEPTH_STENCIL) needed = 0;
+    switch (buffer) {
+        case gl::COLOR:
+            if (kind == 's') return error(gl::INVALID_ENUM, call, "COLOR is not a buffer of clearBufferfi");
+            if (drawbuffer < 0 || drawbuffer >= kMaxColorAttachments) return error(gl::INVALID_VALUE, call, "drawbuffer is out of range");
+            break;
+        case gl::DEPTH:
+            if (kind != 'f') return error(gl::INVALID_ENUM, call, "DEPTH is cleared with clearBufferfv");
+            if (drawbuffer != 0) return error(gl::INVALID_VALUE, call, "drawbuffer must be 0");
+            break;
+        case gl::STENCIL:
+            if (kind != 'i') return error(gl::INVALID_ENUM, call, "STENCIL is cleared with clearBufferiv");
+            if (drawbuffer != 0) return error(gl::INVALID_VALUE, call, "drawbuffer must be 0");
+            break;
+        case gl::DEPTH_STENCIL:
+            if (kind != 's') return error(gl::INVALID_ENUM, call, "DEPTH_STENCIL is cleared with clearBufferfi");
+            if (drawbuffer != 0) return error(gl::INVALID_VALUE, call, "drawbuffer must be 0");
+            break;
+        default: return error(gl::INVALID_ENUM, call, quote(buffer) + " is not a clearBuffer buffer");
+    }
+    if (count < needed) return error(gl::INVALID_VALUE, call, "needs " + std::to_string(needed) + " values");
+    if (draw_framebuffer_) {
+        std::string why;
+        if (framebuffer_status(*draw_framebuffer_, &why) != gl::FRAMEBUFFER_COMPLETE)
+            return error(gl::INVALID_FRAMEBUFFER_OPERATION, call, "the draw framebuffer is incomplete: " + why);
+    }
+    if (state_.rasterizer_discard) return;
+    Rect r{0, 0, target.width(), target.height()};
+    if (state_.scissor_test) {
+        const int64_t x0 = std::max<int64_t>(state_.scissor.x, 0), y0 = std::max<int64_t>(state_.scissor.y, 0);
+        const int64_t x1 = std::min<int64_t>(int64_t(state_.scissor.x) + state_.scissor.width, target.width());
+        const int64_t y1 = std::min<int64_t>(int64_t(state_.scissor.y) + state_.scissor.height, target.height());
+        r = Rect{int32_t(x0), int32_t(y0), int32_t(std::max<int64_t>(0, x1 - x0)), int32_t(std::max<int64_t>(0, y1 - y0))};
+    }
+    const int S = target.config().samples;
+    if (buffer == gl::COLOR) {
+        if (!draw_framebuffer_) {
+            if (drawbuffer != 0) return;   // only draw buffer 0 (BACK) exists
+            if (kind != 'f') return error(gl::INVALID_OPERATION, call, "the drawing buffer is cleared with clearBufferfv");
+            const float* v = static_cast<const float*>(values);
+            return framebuffer_.clear_color(r, {v[0], v[1], v[2], v[3]}, state_.color_mask);
+        }
+        const GLenum b = draw_framebuffer_->draw_buffers[size_t(drawbuffer)];
+        if (b < gl::COLOR_ATTACHMENT0 || b >= gl::COLOR_ATTACHMENT0 + uint32_t(kMaxColorAttachments)) return;
+        const Attachment& a = draw_framebuffer_->color[b - gl::COLOR_ATTACHMENT0];
+        Image* img = a.image();
+        if (!img) return;
+        const FormatInfo& f = *img->format;
+        const char wanted = f.encoding == Encoding::Int ? 'i' : f.encoding == Encoding::Uint ? 'u' : 'f';
+        if (kind != wanted)
+            return error(gl::INVALID_OPERATION, call, "the buffer's format needs clearBuffer" + std::string(wanted == 'f' ? "fv" : wanted == 'i' ? "iv" : "uiv"));
+        float rgba[4];
+        std::memcpy(rgba, values, 16);   // float values, or integer bits for write_image_color
+        for (int32_t y = r.y; y < r.y + r.height; ++y)
+            for (int32_t x = r.x; x < r.x + r.width; ++x)
+                write_plain(nullptr, img, layer_offset(*img, a.layer), x, y, rgba, state_.color_mask);
+        ++(a.texture ? a.texture->generation : a.renderbuffer->generation);
+        return;
+    }
+    const bool do_depth = buffer == gl::DEPTH || buffer == gl::DEPTH_STENCIL;
+    const bool do_stencil = buffer == gl::STENCIL || buffer == gl::DEPTH_STENCIL;
+    if (do_depth && state_.depth_mask && target.config().depth) {
+        const float d = buffer == gl::DEPTH ? static_cast<const float*>(values)[0] : depth;
+        const uint32_t word = target.depth_word(clamp01(d));
+        for (int32_t y = r.y; y < r.y + r.height; ++y)
+            for (int32_t x = r.x; x < r.x + r.width; ++x) std::fill_n(target.depth_samples(x, y), S, word);
+    }
+    if (do_stencil && target.config().stencil) {
+        const int32_t sv = buffer == gl::STENCIL ? static_cast<const int32_t*>(values)[0] : stencil;
+        const uint8_t bits = uint8_t(uint32_t(sv) & 0xFFu), wm = uint8_t(state_.stencil_front.write_mask & 0xFFu);
+        for (int32_t y = r.y; y < r.y + r.height; ++y)
+            for (int32_t x = r.x; x < r.x + r.width; ++x) {
+                uint8_t* p = target.stencil_samples(x, y);
+                for (int s = 0; s < S; ++s) p[s] = uint8_t((p[s] & ~wm) | (bits & wm));
+            }
+    }
+}
+
+void Context::blit_framebuffer(int32_t sx0, int32_t sy0, int32_t sx1, int32_t sy1, int32_t dx0, int32_t dy0,
+                               int32_t dx1, int32_t dy1, uint32_t mask, GLenum filter) {
+    const char* call = "blitFramebuffer";
+    const uint32_t all = gl::COLOR_BUFFER_BIT | gl::DEPTH_BUFFER_BIT | gl::STENCIL_BUFFER_BIT;
+    if (mask & ~all) return error(gl::INVALID_VALUE, call, "mask has unknown bits");
+    if (filter != gl::NEAREST && filter != gl::LINEAR) return error(gl::INVALID_ENUM, call, quote(filter) + " is not a blit filter");
+    if (filter == gl::LINEAR && (mask & (gl::DEPTH_BUFFER_BIT | gl::STENCIL_BUFFER_BIT)))
+        return error(gl::INVALID_OPERATION, call, "depth and stencil blits must use NEAREST");
+    std::string why;
+    if (read_framebuffer_ && framebuffer_status(*read_framebuffer_, &why) != gl::FRAMEBUFFER_COMPLETE)
+        return error(gl::INVALID_FRAMEBUFFER_OPERATION, call, "the read framebuffer is incomplete: " + why);
+    if (draw_framebuffer_ && framebuffer_status(*draw_framebuffer_, &why) != gl::FRAMEBUFFER_COMPLETE)
+        return error(gl::INVALID_FRAMEBUFFER_OPERATION, call, "the draw framebuffer is incomplete: " + why);
+    RenderTarget dst = draw_target();
+    const bool read_default = !read_framebuffer_;
+    const int32_t read_samples = read_default ? framebuffer_.config().samples : [&] {
+        for (const Attachment& a : read_framebuffer_->color) if (const Image* i = a.image()) return i->samples;
+        if (const Image* i = read_framebuffer_->depth.image()) return i->samples;
+        return 1;
+    }();
+    const bool scaled = std::abs(int64_t(sx1) - sx0) != std::abs(int64_t(dx1) - dx0) ||
+                        std::abs(int64_t(sy1) - sy0) != std::abs(int64_t(dy1) - dy0);
+    if (dst.config().samples > 1) return error(gl::INVALID_OPERATION, call, "the draw framebuffer is multisampled");
+    if (read_samples > 1 && (scaled || sx0 != dx0 || sy0 != dy0 || sx1 != dx1 || sy1 != dy1))
+        return error(gl::INVALID_OPERATION, call, "a multisample resolve needs identical rectangles");
+
+    // Colour sources and destinations.
+    ColorReadSource src{};
+    std::vector<std::pair<Image*, size_t>> dst_images;
+    bool dst_default = false;
+    if (mask & gl::COLOR_BUFFER_BIT) {
+        bool have_source = true;
+        if (read_framebuffer_) {
+            const GLenum rb = read_framebuffer_->read_buffer;
+            const Attachment* a = rb == gl::NONE ? nullptr : &read_framebuffer_->color[rb - gl::COLOR_ATTACHMENT0];
+            Image* img = a ? a->image() : nullptr;
+            if (!img) have_source = false;
+            else src = ColorReadSource{nullptr, img, layer_offset(*img, a->layer), img->width, img->height};
+        } else {
+            src = ColorReadSource{&framebuffer_, nullptr, 0, framebuffer_.width(), framebuffer_.height()};
+        }
+        if (!draw_framebuffer_) {
+            dst_default = true;
+        } else {
+            for (GLenum b : draw_framebuffer_->draw_buffers) {
+                if (b < gl::COLOR_ATTACHMENT0 || b >= gl::COLOR_ATTACHMENT0 + uint32_t(kMaxColorAttachments)) continue;
+                const Attachment& a = draw_framebuffer_->color[b - gl::COLOR_ATTACHMENT0];
+                if (Image* img = a.image()) dst_images.push_back({img, layer_offset(*img, a.layer)});
+            }
+        }
+        if (have_source) {
+            const bool src_int = src.img && src.img->format->is_integer();
+            for (auto& d : dst_images) {
+                if (d.first->format->is_integer() != src_int)
+                    return error(gl::INVALID_OPERATION, call, "integer and non-integer colour buffers cannot be blitted together");
+                if (d.first == src.img) return error(gl::INVALID_OPERATION, call, "the source and destination images are the same");
+            }
+            if (dst_default && src_int) return error(gl::INVALID_OPERATION, call, "integer buffers cannot be blitted to the drawing buffer");
+            if (src_int && filter == gl::LINEAR) return error(gl::INVALID_OPERATION, call, "integer buffers must be blitted with NEAREST");
+        } else {
+            dst_images.clear();
+            dst_default = false;
+        }
+    }
+    // Depth / stencil: formats must match (ES 3.0 §4.3.3).
+    Image* src_depth = nullptr; Image* dst_depth = nullptr;
+    const bool ds = (mask & (gl::DEPTH_BUFFER_BIT | gl::STENCIL_BUFFER_BIT)) != 0;
+    if (ds) {
+        if (read_default || !draw_framebuffer_) {
+            if (read_default != !draw_framebuffer_)
+                return error(gl::INVALID_OPERATION, call, "depth/stencil blits between the drawing buffer and a framebuffer object are not supported by softgl");
+        } else {
+            src_depth = (mask & gl::DEPTH_BUFFER_BIT) ? read_framebuffer_->depth.image() : read_framebuffer_->stencil.image();
+            dst_depth = (mask & gl::DEPTH_BUFFER_BIT) ? draw_framebuffer_->depth.image() : draw_framebuffer_->stencil.image();
+            if (src_depth && dst_depth && src_depth->format != dst_depth->format)
+                return error(gl::INVALID_OPERATION, call, "the depth/stencil formats differ");
+            if (src_depth && src_depth == dst_depth) return error(gl::INVALID_OPERATION, call, "the source and destination images are the same");
+        }
+    }
+
+    // ES 3.0 §4.3.3: each destination pixel centre maps linearly into the source rectangle.
+    const int64_t x_lo = std::min(dx0, dx1), x_hi = std::max(dx0, dx1), y_lo = std::min(dy0, dy1), y_hi = std::max(dy0, dy1);
+    const double scale_x = double(int64_t(sx1) - sx0) / double(int64_t(dx1) - dx0 == 0 ? 1 : int64_t(dx1) - dx0);
+    const double scale_y = double(int64_t(sy1) - sy0) / double(int64_t(dy1) - dy0 == 0 ? 1 : int64_t(dy1) - dy0);
+    if (x_lo == x_hi || y_lo == y_hi || sx0 == sx1 || sy0 == sy1) return;
+    int64_t cx0 = std::max<int64_t>(x_lo, 0), cy0 = std::max<int64_t>(y_lo, 0);
+    int64_t cx1 = std::min<int64_t>(x_hi, dst.width()), cy1 = std::min<int64_t>(y_hi, dst.height());
+    if (state_.scissor_test) {
+        cx0 = std::max<int64_t>(cx0, state_.scissor.x);
+        cy0 = std::max<int64_t>(cy0, state_.scissor.y);
+        cx1 = std::min<int64_t>(cx1, int64_t(state_.scissor.x) + state_.scissor.width);
+        cy1 = std::min<int64_t>(cy1, int64_t(state_.scissor.y) + state_.scissor.height);
+    }
+    ColorSource cs{src.fb, src.img, src.offset, src.width, src.height};
+    const std::array<bool, 4> all_channels{true, true, true, true};
+    for (int64_t y = cy0; y < cy1; ++y)
+        for (int64_t x = cx0; x < cx1; ++x) {
+            const double u = double(sx0) + (double(x) + 0.5 - double(dx0)) * scale_x;
+            const double v = double(sy0) + (double(y) + 0.5 - double(dy0)) * scale_y;
+            if (!dst_images.empty() || dst_default) {
+                float rgba[4];
+                bool inside = true;
+                if (filter == gl::NEAREST) {
+                    const int64_t ix = int64_t(std::floor(u)), iy = int64_t(std::floor(v));
+                    inside = ix >= 0 && iy >= 0 && ix < src.width && iy < src.height;
+                    if (inside) cs.read(int32_t(ix), int32_t(iy), rgba);
+                } else {
+                    // Bilinear with the source clamped to its edges.
+                    const double uu = u - 0.5, vv = v - 0.5;
+                    const int64_t i0 = int64_t(std::floor(uu)), j0 = int64_t(std::floor(vv));
+                    const float a = float(uu - std::floor(uu)), b = float(vv - std::floor(vv));
+                    inside = std::floor(u) >= 0 && std::floor(v) >= 0 && std::floor(u) < src.width && std::floor(v) < src.height;
+                    float t[4][4];
+                    for (int k = 0; k < 4; ++k) {
+                        const int32_t ix = int32_t(std::clamp<int64_t>(i0 + (k & 1), 0, src.width - 1));
+                        const int32_t iy = int32_t(std::clamp<int64_t>(j0 + (k >> 1), 0, src.height - 1));
+                        cs.read(ix, iy, t[k]);
+                    }
+                    for (int c = 0; c < 4; ++c)
+                        rgba[c] = (1 - a) * (1 - b) * t[0][c] + a * (1 - b) * t[1][c] + (1 - a) * b * t[2][c] + a * b * t[3][c];
+                }
+                if (inside) {
+                    if (dst_default) write_plain(&framebuffer_, nullptr, 0, int32_t(x), int32_t(y), rgba, all_channels);
+                    for (auto& d : dst_images) write_plain(nullptr, d.first, d.second, int32_t(x), int32_t(y), rgba, all_channels);
+                }
+            }
+            if (ds) {
+                const int64_t ix = int64_t(std::floor(u)), iy = int64_t(std::floor(v));
+                if (read_default) {
+                    if (ix < 0 || iy < 0 || ix >= framebuffer_.width() || iy >= framebuffer_.height()) continue;
+                    // Drawing buffer to itself (both default): copy per sample.
+                    const int S = framebuffer_.config().samples;
+                    if (mask & gl::DEPTH_BUFFER_BIT)
+                        if (uint32_t* d = framebuffer_.depth_samples(int32_t(x), int32_t(y)))
+                            for (int s = 0; s < S; ++s) d[s] = framebuffer_.depth_sample(int32_t(ix), int32_t(iy), s);
+                    if (mask & gl::STENCIL_BUFFER_BIT)
+                        if (uint8_t* st = framebuffer_.stencil_samples(int32_t(x), int32_t(y)))
+                            for (int s = 0; s < S; ++s) st[s] = framebuffer_.stencil_sample(int32_t(ix), int32_t(iy), s);
+                    continue;
+                }
+                const Image* sd = read_framebuffer_->depth.image();
+                const Image* ss = read_framebuffer_->stencil.image();
+                Image* dd = draw_framebuffer_->depth.image();
+                Image* dsn = draw_framebuffer_->stencil.image();
+                if ((mask & gl::DEPTH_BUFFER_BIT) && sd && dd && ix >= 0 && iy >= 0 && ix < sd->width && iy < sd->height) {
+                    const size_t S = size_t(sd->samples);
+                    uint32_t w = sd->depth_words[(size_t(iy) * size_t(sd->width) + size_t(ix)) * S];
+                    dd->depth_words[size_t(y) * size_t(dd->width) + size_t(x)] = w;
+                }
+                if ((mask & gl::STENCIL_BUFFER_BIT) && ss && dsn && ix >= 0 && iy >= 0 && ix < ss->width && iy < ss->height) {
+                    const size_t S = size_t(ss->samples);
+                    dsn->stencil[size_t(y) * size_t(dsn->width) + size_t(x)] = ss->stencil[(size_t(iy) * size_t(ss->width) + size_t(ix)) * S];
+                }
+            }
+        }
+}
+
+void Context::invalidate_framebuffer(const char* call, GLenum target, const std::vector<GLenum>& attachments) {
+    if (!framebuffer_binding(target)) return error(gl::INVALID_ENUM, call, quote(target) + " is not a framebuffer target here");
+    const bool is_default = !(target == gl::READ_FRAMEBUFFER ? read_framebuffer_ : draw_framebuffer_);
+    for (GLenum a : attachments) {
+        const bool ok = is_default ? (a == gl::COLOR || a == gl::DEPTH || a == gl::STENCIL)
+                                   : (a == gl::DEPTH_ATTACHMENT || a == gl::STENCIL_ATTACHMENT || a == gl::DEPTH_STENCIL_ATTACHMENT ||
+                                      (a >= gl::COLOR_ATTACHMENT0 && a < gl::COLOR_ATTACHMENT0 + uint32_t(kMaxColorAttachments)));
+        if (!ok) return error(gl::INVALID_ENUM, call, quote(a) + " is not an attachment to invalidate here");
+    }
+    // ES 3.0 §4.5: invalidation is a hint that the contents may be discarded; keeping them is
+    // a valid implementation, and softgl does so.
+}
+
+// ---------------------------------------------------------------------------- getParameter
+
+std::optional<Value> Context::framebuffer_parameter(GLenum pname) {
+    switch (pname) {
+        case gl::FRAMEBUFFER_BINDING: return object_value(draw_framebuffer_);   // == DRAW_FRAMEBUFFER_BINDING
+        case gl::RENDERBUFFER_BINDING: return object_value(renderbuffer_);
+        default: break;
+    }
+    if (version() >= 2) {
+        switch (pname) {
+            case gl::READ_FRAMEBUFFER_BINDING: return object_value(read_framebuffer_);
+            case gl::READ_BUFFER: return Value(int64_t(read_framebuffer_ ? read_framebuffer_->read_buffer : default_read_buffer_));
+            default: break;
+        }
+    }
+    if (!draw_framebuffer_) return std::nullopt;   // the drawing buffer's values (parameters.cpp)
+    // The bound framebuffer object's bit depths and read format (ES 3.0 §6.1.? state tables).
+    RenderTarget t = draw_target();
+    const Attachment& c0 = draw_framebuffer_->color[0];
+    const Image* img = c0.image();
+    const FormatInfo* f = img ? img->format : nullptr;
+    auto bits = [&](int c) -> int64_t { return f && f->kind() != SampleKind::Depth ? f->bits[size_t(c)] : 0; };
+    switch (pname) {
+        case gl::RED_BITS: return Value(bits(0));
+        case gl::GREEN_BITS: return Value(bits(1));
+        case gl::BLUE_BITS: return Value(bits(2));
+        case gl::ALPHA_BITS: return Value(bits(3));
+        case gl::DEPTH_BITS: return Value(int64_t(t.config().depth ? t.depth_bits() : 0));
+        case gl::STENCIL_BITS: return Value(int64_t(t.config().stencil ? 8 : 0));
+        case gl::SAMPLE_BUFFERS: return Value(int64_t(t.config().samples > 1 ? 1 : 0));
+        case gl::SAMPLES: return Value(int64_t(t.config().samples > 1 ? t.config().samples : 0));
+        case gl::IMPLEMENTATION_COLOR_READ_FORMAT:
+            return Value(int64_t(f && f->is_integer() ? gl::RGBA_INTEGER : gl::RGBA));
+        case gl::IMPLEMENTATION_COLOR_READ_TYPE:
+            return Value(int64_t(!f ? gl::UNSIGNED_BYTE : f->encoding == Encoding::Int ? gl::INT : f->encoding == Encoding::Uint ? gl::UNSIGNED_INT
+                                 : f->is_float() ? gl::FLOAT : gl::UNSIGNED_BYTE));
+        default: return std::nullopt;
+    }
+}
+
+}  // namespace softgl

@@ -1,0 +1,83 @@
+#include "softgl/surface/render_target.h"
+
+#include <cstring>
+
+namespace softgl {
+
+RenderTarget RenderTarget::for_default(DefaultFramebuffer& fb) {
+    RenderTarget t;
+    t.config_ = fb.config();
+    t.default_ = &fb;
+    return t;
+}
+
+RenderTarget RenderTarget::for_images(int32_t width, int32_t height, int32_t samples,
+                                      const std::array<Color, kMaxColors>& colors, Image* depth, size_t depth_offset,
+                                      Image* stencil, size_t stencil_offset) {
+    RenderTarget t;
+    t.config_.width = width;
+    t.config_.height = height;
+    t.config_.samples = samples;
+    t.config_.alpha = true;
+    t.config_.depth = depth != nullptr && !depth->depth_words.empty();
+    t.config_.stencil = stencil != nullptr && !stencil->stencil.empty();
+    t.colors_ = colors;
+    t.depth_ = t.config_.depth ? depth : nullptr;
+    t.stencil_ = t.config_.stencil ? stencil : nullptr;
+    t.depth_offset_ = depth_offset;
+    t.stencil_offset_ = stencil_offset;
+    return t;
+}
+
+int RenderTarget::depth_bits() const {
+    if (default_) return DefaultFramebuffer::kDepthBits;
+    return depth_ ? depth_->format->depth_bits() : 0;
+}
+
+uint32_t RenderTarget::depth_word(double z) const {
+    return softgl::depth_word(depth_ ? depth_->format->encoding : Encoding::Depth24, z);
+}
+
+uint32_t* RenderTarget::depth_samples(int32_t x, int32_t y) {
+    if (default_) return default_->depth_samples(x, y);
+    if (!depth_) return nullptr;
+    return &depth_->depth_words[depth_offset_ + (size_t(y) * size_t(depth_->width) + size_t(x)) * size_t(depth_->samples)];
+}
+
+uint8_t* RenderTarget::stencil_samples(int32_t x, int32_t y) {
+    if (default_) return default_->stencil_samples(x, y);
+    if (!stencil_) return nullptr;
+    return &stencil_->stencil[stencil_offset_ + (size_t(y) * size_t(stencil_->width) + size_t(x)) * size_t(stencil_->samples)];
+}
+
+void write_image_color(Image& img, size_t offset, const BlendOp& op, const float src[4], int32_t x, int32_t y, int s) {
+    const FormatInfo& f = *img.format;
+    const size_t t = offset + (size_t(y) * size_t(img.width) + size_t(x)) * size_t(img.samples) + size_t(s);
+    if (f.is_integer()) {
+        // ES 3.0 §4.1.7: no blending for integer buffers; the shader's integer bits are written.
+        uint32_t in[4], out[4];
+        std::memcpy(in, src, 16);
+        quantize_integer(f, in, out);
+        for (int c = 0; c < 4; ++c)
+            if (op.write[size_t(c)]) img.integer[t * 4 + size_t(c)] = out[c];
+        return;
+    }
+    float* dst = &img.color[t * 4];
+    float blended[4], stored[4];
+    BlendOp o = op;
+    o.has_alpha = true;
+    blend_float(o, src, dst, !f.is_float(), blended);
+    quantize_color(f, blended, stored);
+    for (int c = 0; c < 4; ++c)
+        if (op.write[size_t(c)]) dst[c] = stored[c];
+}
+
+void RenderTarget::write_color(const BlendOp& op, const float src[4], int32_t x, int32_t y, int s) {
+    if (default_) {
+        blend_unorm8(op, src, default_->color_sample(x, y, s));
+        return;
+    }
+    if (Image* img = colors_[0].image) write_image_color(*img, colors_[0].offset, op, src, x, y, s);
+}
+
+}  // namespace softgl

@@ -1,0 +1,58 @@
+// What a draw renders into: the default framebuffer (RGBA8 drawing buffer) or the attachments of
+// a framebuffer object (texture images and renderbuffers of any renderable format). The
+// pipeline sees one interface: size, samples, depth/stencil words per sample and a colour
+// write that blends and quantizes for the attachment's format.
+#pragma once
+#include <array>
+#include <cstdint>
+
+#include "softgl/pipeline/blend.h"
+#include "softgl/surface/framebuffer.h"
+#include "softgl/surface/texture.h"
+
+namespace softgl {
+
+class RenderTarget {
+public:
+    static constexpr int kMaxColors = 8;
+    struct Color {
+        Image* image = nullptr;     // null: nothing drawn for this fragment output
+        size_t offset = 0;          // first texel of the attached layer
+    };
+
+    // The drawing buffer.
+    static RenderTarget for_default(DefaultFramebuffer& fb);
+    // A framebuffer object of w x h (the smallest attachment), `samples` per pixel; colors[i]
+    // receives fragment output i (after drawBuffers), depth/stencil may be null.
+    static RenderTarget for_images(int32_t width, int32_t height, int32_t samples,
+                                   const std::array<Color, kMaxColors>& colors, Image* depth, size_t depth_offset,
+                                   Image* stencil, size_t stencil_offset);
+
+    int32_t width() const { return config_.width; }
+    int32_t height() const { return config_.height; }
+    // alpha: whether destination alpha exists (the drawing buffer's `alpha`; always for FBOs).
+    const FramebufferConfig& config() const { return config_; }
+    bool is_default() const { return default_ != nullptr; }
+    DefaultFramebuffer* default_framebuffer() const { return default_; }   // null for FBOs
+    int depth_bits() const;
+    // The word the depth test compares for window depth z in [0, 1].
+    uint32_t depth_word(double z) const;
+    uint32_t* depth_samples(int32_t x, int32_t y);
+    uint8_t* stencil_samples(int32_t x, int32_t y);
+    // Blends `src` (fragment output 0) into sample s of pixel (x, y) of every colour buffer bound
+    // to output 0, quantizing to the buffer's format.
+    void write_color(const BlendOp& op, const float src[4], int32_t x, int32_t y, int s);
+
+private:
+    FramebufferConfig config_;
+    DefaultFramebuffer* default_ = nullptr;
+    std::array<Color, kMaxColors> colors_{};
+    Image* depth_ = nullptr;
+    Image* stencil_ = nullptr;
+    size_t depth_offset_ = 0, stencil_offset_ = 0;
+};
+
+// Writes a colour into sample s of texel (x, y) of an image at `offset` (blending with `op`).
+void write_image_color(Image& img, size_t offset, const BlendOp& op, const float src[4], int32_t x, int32_t y, int s);
+
+}  // namespace softgl

@@ -1,0 +1,388 @@
+#include "softgl/surface/sampler.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+namespace softgl {
+
+using glsl::BaseType;
+using glsl::SamplerDim;
+using glsl::TextureKind;
+using glsl::TextureLod;
+
+int dim_index(SamplerDim dim) {
+    switch (dim) {
+        case SamplerDim::Tex3D: return 1;
+        case SamplerDim::Cube: return 2;
+        case SamplerDim::Tex2DArray: return 3;
+        default: return 0;
+    }
+}
+
+int cube_face(float rx, float ry, float rz, float& sc, float& tc, float& ma) {
+    const float ax = std::fabs(rx), ay = std::fabs(ry), az = std::fabs(rz);
+    // Ties go to x, then y (as SwiftShader and ANGLE do).
+    if (ax >= ay && ax >= az) {
+        ma = ax;
+        if (rx >= 0) { sc = -rz; tc = -ry; return 0; }
+        sc = rz; tc = -ry; return 1;
+    }
+    if (ay >= az) {
+        ma = ay;
+        if (ry >= 0) { sc = rx; tc = rz; return 2; }
+        sc = rx; tc = -rz; return 3;
+    }
+    ma = az;
+    if (rz >= 0) { sc = rx; tc = -ry; return 4; }
+    sc = -rx; tc = -ry; return 5;
+}
+
+namespace {
+
+// The direction of face coordinates (sc, tc) on `face` at |ma| = 1 (inverse of table 3.21).
+void cube_direction(int face, float sc, float tc, float r[3]) {
+    switch (face) {
+        case 0: r[0] = 1, r[1] = -tc, r[2] = -sc; break;
+        case 1: r[0] = -1, r[1] = -tc, r[2] = sc; break;
+        case 2: r[0] = sc, r[1] = 1, r[2] = tc; break;
+        case 3: r[0] = sc, r[1] = -1, r[2] = -tc; break;
+        case 4: r[0] = sc, r[1] = -tc, r[2] = 1; break;
+        default: r[0] = -sc, r[1] = -tc, r[2] = -1; break;
+    }
+}
+
+// ES 3.0 table 3.19 applied to integer texel coordinates.
+int32_t wrap(GLenum mode, int32_t i, int32_t size) {
+    switch (mode) {
+        case gl::REPEAT: {
+            const int32_t m = i % size;
+            return m < 0 ? m + size : m;
+        }
+        case gl::MIRRORED_REPEAT: {
+            const int64_t period = 2 * int64_t(size);
+            const int64_t m = ((int64_t(i) % period) + period) % period;
+            const int64_t a = m - size;
+            const int64_t mirror = a >= 0 ? a : -(1 + a);
+            return int32_t(size - 1 - mirror);
+        }
+        default: return std::clamp(i, 0, size - 1);   // CLAMP_TO_EDGE
+    }
+}
+
+// floor(u) as an int, saturated so that huge or NaN coordinates stay defined.
+int32_t ifloor(float u) {
+    if (!(u == u)) return 0;
+    return int32_t(std::clamp(std::floor(double(u)), -1073741824.0, 1073741823.0));
+}
+
+bool compare_passes(GLenum func, float ref, float d) {
+    // ES 3.0 table 3.22: the reference is compared with the texel's depth.
+    switch (func) {
+        case gl::LEQUAL: return ref <= d;
+        case gl::GEQUAL: return ref >= d;
+        case gl::LESS: return ref < d;
+        case gl::GREATER: return ref > d;
+        case gl::EQUAL: return ref == d;
+        case gl::NOTEQUAL: return ref != d;
+        case gl::ALWAYS: return true;
+        default: return false;   // NEVER
+    }
+}
+
+// Filtering one level of one bound texture.
+struct Level {
+    const BoundTexture* bt;
+    const Texture* tex;
+    int level;
+    int face;              // cube maps: the selected face
+    const Image* img;      // the face's image at this level
+    bool cube, is3d;
+    bool compare;
+    float ref;
+
+    // The texel at (i, j, k); i, j may be outside the image (wrapped here, or on a cube map,
+    // taken from the adjacent face when filtering is seamless).
+    void texel(int32_t i, int32_t j, int32_t k, float out[4]) const {
+        const int32_t w = img->width, h = img->height;
+        if (cube) {
+            const bool out_i = i < 0 || i >= w, out_j = j < 0 || j >= h;
+            if ((out_i || out_j) && bt->seamless_cube) {
+                if (out_i && out_j) {
+                    // ES 3.0 §3.8.9.1: at a corner, average the three texels that meet there.
+                    float a[4], b[4], c[4];
+                    fetch(face, std::clamp(i, 0, w - 1), std::clamp(j, 0, h - 1), 0, a);
+                    neighbour(i, std::clamp(j, 0, h - 1), b);
+                    neighbour(std::clamp(i, 0, w - 1), j, c);
+                    for (int n = 0; n < 4; ++n) out[n] = (a[n] + b[n] + c[n]) / 3.0f;
+                    return;
+                }
+                neighbour(i, j, out);
+                return;
+            }
+            fetch(face, std::clamp(i, 0, w - 1), std::clamp(j, 0, h - 1), 0, out);
+            return;
+        }
+        const SamplerParams& p = bt->params;
+        i = wrap(p.wrap_s, i, w);
+        j = wrap(p.wrap_t, j, h);
+        if (is3d) k = wrap(p.wrap_r, k, img->depth);
+        fetch(face, i, j, k, out);
+    }
+
+    // A texel just outside `face`: the texel of the adjacent face at the same direction.
+    void neighbour(int32_t i, int32_t j, float out[4]) const {
+        const int32_t n = img->width;
+        const float sc = 2.0f * (float(i) + 0.5f) / float(n) - 1.0f, tc = 2.0f * (float(j) + 0.5f) / float(n) - 1.0f;
+        float r[3];
+        cube_direction(face, sc, tc, r);
+        float s2, t2, ma;
+        const int f2 = cube_face(r[0], r[1], r[2], s2, t2, ma);
+        const Image* other = tex->find(f2, level);
+        const int32_t x = std::clamp(ifloor(0.5f * (s2 / ma + 1.0f) * float(n)), 0, n - 1);
+        const int32_t y = std::clamp(ifloor(0.5f * (t2 / ma + 1.0f) * float(n)), 0, n - 1);
+        fetch_image(other ? other : img, x, y, 0, out);
+    }
+
+    void fetch(int f, int32_t i, int32_t j, int32_t k, float out[4]) const {
+        fetch_image(f == face ? img : tex->find(f, level), i, j, k, out);
+    }
+
+    void fetch_image(const Image* im, int32_t i, int32_t j, int32_t k, float out[4]) const {
+        if (!im->integer.empty()) {
+            // Integer texels travel as their bit patterns (only NEAREST filters reach them).
+            const size_t n = (size_t(k) * size_t(im->height) + size_t(j)) * size_t(im->width) + size_t(i);
+            std::memcpy(out, &im->integer[n * 4], 16);
+            return;
+        }
+        im->texel(i, j, k, out);
+        if (im->format->kind() == SampleKind::Depth) {
+            if (compare) {
+                // ES 3.0 §3.8.16: fixed-point depth compares with the reference clamped to [0, 1].
+                const float r = im->format->encoding == Encoding::Depth32F ? ref : std::clamp(ref, 0.0f, 1.0f);
+                out[0] = compare_passes(bt->params.compare_func, r, out[0]) ? 1.0f : 0.0f;
+            }
+            if (bt->depth_as_luminance || compare) out[1] = out[2] = out[0];
+        }
+    }
+
+    // One filtered value at normalized (s, t, r) of this level (r: 3D coordinate, or the array layer).
+    void filter(bool linear, float s, float t, float r, const int off[3], float out[4]) const {
+        const int32_t w = img->width, h = img->height;
+        const float u = s * float(w) + float(off[0]), v = t * float(h) + float(off[1]);
+        int32_t layer = 0;
+        float wz = 0.0f;
+        if (is3d) wz = r * float(img->depth) + float(off[2]);
+        else if (!cube) layer = std::clamp(ifloor(r + 0.5f), 0, img->depth - 1);   // ES 3.0 §3.8.10: layer
+        if (!linear) {
+            texel(ifloor(u), ifloor(v), is3d ? ifloor(wz) : layer, out);
+            return;
+        }
+        // ES 3.0 §3.8.11, eq. 3.20: i0 = floor(u - 1/2), weights from the fractional parts.
+        const float u0 = u - 0.5f, v0 = v - 0.5f;
+        const int32_t i0 = ifloor(u0), j0 = ifloor(v0);
+        const float a = u0 - std::floor(u0), b = v0 - std::floor(v0);
+        float t00[4], t10[4], t01[4], t11[4];
+        if (!is3d) {
+            texel(i0, j0, layer, t00);
+            texel(i0 + 1, j0, layer, t10);
+            texel(i0, j0 + 1, layer, t01);
+            texel(i0 + 1, j0 + 1, layer, t11);
+            for (int c = 0; c < 4; ++c)
+                out[c] = (1 - a) * (1 - b) * t00[c] + a * (1 - b) * t10[c] + (1 - a) * b * t01[c] + a * b * t11[c];
+            return;
+        }
+        const float w0 = wz - 0.5f;
+        const int32_t k0 = ifloor(w0);
+        const float g = w0 - std::floor(w0);
+        float lo[4], hi[4];
+        for (int plane = 0; plane < 2; ++plane) {
+            float* dst = plane ? hi : lo;
+            texel(i0, j0, k0 + plane, t00);
+            texel(i0 + 1, j0, k0 + plane, t10);
+            texel(i0, j0 + 1, k0 + plane, t01);
+            texel(i0 + 1, j0 + 1, k0 + plane, t11);
+            for (int c = 0; c < 4; ++c)
+                dst[c] = (1 - a) * (1 - b) * t00[c] + a * (1 - b) * t10[c] + (1 - a) * b * t01[c] + a * b * t11[c];
+        }
+        for (int c = 0; c < 4; ++c) out[c] = (1 - g) * lo[c] + g * hi[c];
+    }
+};
+
+void incomplete_result(const glsl::TextureQuery& q, int l) {
+    for (int c = 0; c < 4; ++c) {
+        if (!q.out[c]) continue;
+        glsl::Scalar v{};
+        if (q.kind == TextureKind::Size) v.i = 0;
+        else if (q.result == BaseType::Float) v.f = c == 3 ? 1.0f : 0.0f;
+        else v.i = c == 3 ? 1 : 0;
+        q.out[c][l] = v;
+    }
+}
+
+}  // namespace
+
+void TextureUnitSampler::sample(const glsl::TextureQuery& q) {
+    const int dim = dim_index(q.dim);
+    const bool cube = q.dim == SamplerDim::Cube, is3d = q.dim == SamplerDim::Tex3D;
+    for (int l = 0; l < q.lane_count; ++l) {
+        const int32_t unit = q.unit[l].i;
+        const BoundTexture* bt = unit >= 0 && unit < kSamplerUnits ? &units[size_t(unit)][size_t(dim)] : nullptr;
+        if (!bt || !bt->texture || (q.active && !q.active[l])) {
+            incomplete_result(q, l);
+            continue;
+        }
+        const Texture& tex = *bt->texture;
+
+        if (q.kind == TextureKind::Size) {
+            // ES 3.00 §8.8: the size of level base + lod (lod outside the levels: undefined, 0 here).
+            const int32_t level = bt->base + q.lod[l].i;
+            const Image* img = tex.find(0, level);
+            const bool ok = img && q.lod[l].i >= 0;
+            const int32_t size[3] = {ok ? img->width : 0, ok ? img->height : 0, ok ? img->depth : 0};
+            for (int c = 0; c < 3; ++c)
+                if (q.out[c]) q.out[c][l].i = size[c];
+            continue;
+        }
+
+        if (q.kind == TextureKind::Fetch) {
+            // texelFetch: no filtering or wrapping; out-of-range coordinates give zeros
+            // (undefined in ES 3.0 §3.8.? and WebGL 2 §5.? leaves it so; zero is what ANGLE gives).
+            const int32_t level = bt->base + q.lod[l].i;
+            const Image* img = tex.find(0, level);
+            int32_t c3[3] = {0, 0, 0};
+            for (int k = 0; k < 3; ++k)
+                if (q.coord[k]) c3[k] = q.coord[k][l].i + q.offset[k];
+            const bool inside = img && q.lod[l].i >= 0 && level <= bt->q && c3[0] >= 0 && c3[1] >= 0 && c3[2] >= 0 &&
+                                c3[0] < img->width && c3[1] < img->height && c3[2] < img->depth;
+            if (!inside) {
+                for (int c = 0; c < 4; ++c) if (q.out[c]) q.out[c][l].u = 0;
+                continue;
+            }
+            const size_t t = (size_t(c3[2]) * size_t(img->height) + size_t(c3[1])) * size_t(img->width) + size_t(c3[0]);
+            if (q.result != BaseType::Float) {
+                for (int c = 0; c < 4; ++c)
+                    if (q.out[c]) q.out[c][l].u = img->integer.empty() ? 0u : img->integer[t * 4 + size_t(c)];
+            } else {
+                float texel[4];
+                img->texel(c3[0], c3[1], c3[2], texel);
+                if (img->format->kind() == SampleKind::Depth && bt->depth_as_luminance) texel[1] = texel[2] = texel[0];
+                for (int c = 0; c < 4; ++c) if (q.out[c]) q.out[c][l].f = texel[c];
+            }
+            continue;
+        }
+
+        // ---- a filtered lookup ----
+        float s = q.coord[0] ? q.coord[0][l].f : 0.0f, t = q.coord[1] ? q.coord[1][l].f : 0.0f;
+        float r = q.coord[2] ? q.coord[2][l].f : 0.0f;
+        float dx[3] = {0, 0, 0}, dy[3] = {0, 0, 0};
+        for (int k = 0; k < 3; ++k) {
+            if (q.ddx[k]) dx[k] = q.ddx[k][l].f;
+            if (q.ddy[k]) dy[k] = q.ddy[k][l].f;
+        }
+        int face = 0;
+        if (cube) {
+            // ES 3.0 §3.8.10 eq. 3.18: s = (sc/|ma| + 1)/2; derivatives by the quotient rule.
+            float sc, tc, ma;
+            face = cube_face(s, t, r, sc, tc, ma);
+            const int major = face / 2;
+            const float sign = (face % 2) ? -1.0f : 1.0f;
+            float dsc[2], dtc[2], dma[2];
+            const float* d2[2] = {dx, dy};
+            for (int n = 0; n < 2; ++n) {
+                const float* d = d2[n];
+                switch (face) {
+                    case 0: dsc[n] = -d[2]; dtc[n] = -d[1]; break;
+                    case 1: dsc[n] = d[2]; dtc[n] = -d[1]; break;
+                    case 2: dsc[n] = d[0]; dtc[n] = d[2]; break;
+                    case 3: dsc[n] = d[0]; dtc[n] = -d[2]; break;
+                    case 4: dsc[n] = d[0]; dtc[n] = -d[1]; break;
+                    default: dsc[n] = -d[0]; dtc[n] = -d[1]; break;
+                }
+                dma[n] = sign * d[major];
+            }
+            const float inv = ma > 0 ? 1.0f / ma : 0.0f;
+            s = 0.5f * (sc * inv + 1.0f);
+            t = 0.5f * (tc * inv + 1.0f);
+            for (int n = 0; n < 2; ++n) {
+                float* d = n ? dy : dx;
+                d[0] = 0.5f * (dsc[n] * ma - sc * dma[n]) * inv * inv;
+                d[1] = 0.5f * (dtc[n] * ma - tc * dma[n]) * inv * inv;
+                d[2] = 0.0f;
+            }
+        }
+        const Image* base_img = tex.find(face, bt->base);
+        if (!base_img) { incomplete_result(q, l); continue; }
+
+        // ES 3.0 §3.8.10.1-2: the level of detail.
+        float lambda;
+        if (q.lod_mode == TextureLod::Explicit) {
+            lambda = q.lod ? q.lod[l].f : 0.0f;
+        } else {
+            const float w = float(base_img->width), h = float(base_img->height), d = is3d ? float(base_img->depth) : 0.0f;
+            const double lx = std::sqrt(double(dx[0] * w) * (dx[0] * w) + double(dx[1] * h) * (dx[1] * h) + double(dx[2] * d) * (dx[2] * d));
+            const double ly = std::sqrt(double(dy[0] * w) * (dy[0] * w) + double(dy[1] * h) * (dy[1] * h) + double(dy[2] * d) * (dy[2] * d));
+            const double rho = std::max(lx, ly);
+            lambda = rho > 0 ? float(std::log2(rho)) : -INFINITY;
+            if (q.lod_mode == TextureLod::Bias && q.lod) lambda += q.lod[l].f;
+        }
+        const SamplerParams& p = bt->params;
+        lambda = std::clamp(lambda, p.min_lod, p.max_lod);   // NaN stays NaN: treated as magnification
+
+        Level lv{bt, &tex, bt->base, face, base_img, cube, is3d, false, 0.0f};
+        if (q.shadow && p.compare_mode == gl::COMPARE_REF_TO_TEXTURE) {
+            lv.compare = true;
+            lv.ref = q.compare ? q.compare[l].f : 0.0f;
+        }
+        float result[4] = {0, 0, 0, 1};
+        // ES 3.0 §3.8.11: lambda <= c (c = 0) magnifies.
+        if (!(lambda > 0.0f)) {
+            lv.filter(p.mag_filter == gl::LINEAR, s, t, r, q.offset, result);
+        } else {
+            const GLenum f = p.min_filter;
+            const bool linear = f == gl::LINEAR || f == gl::LINEAR_MIPMAP_NEAREST || f == gl::LINEAR_MIPMAP_LINEAR;
+            const int32_t base = bt->base, top = bt->q;
+            if (f == gl::NEAREST || f == gl::LINEAR || top == base) {
+                lv.filter(linear, s, t, r, q.offset, result);
+            } else if (f == gl::NEAREST_MIPMAP_NEAREST || f == gl::LINEAR_MIPMAP_NEAREST) {
+                // ES 3.0 eq. 3.21: the nearest level.
+                int32_t level;
+                if (lambda <= 0.5f) level = base;
+                else if (float(base) + lambda <= float(top) + 0.5f) level = int32_t(std::ceil(float(base) + lambda + 0.5f)) - 1;
+                else level = top;
+                lv.level = level;
+                lv.img = tex.find(face, level);
+                lv.filter(linear, s, t, r, q.offset, result);
+            } else {
+                // ES 3.0 §3.8.11.2: the two nearest levels, blended by the fraction of lambda.
+                int32_t d1, d2;
+                if (lambda >= float(top - base)) d1 = d2 = top;
+                else d1 = base + int32_t(std::floor(lambda)), d2 = d1 + 1;
+                const float frac = lambda - std::floor(lambda);
+                float a[4], b[4];
+                lv.level = d1;
+                lv.img = tex.find(face, d1);
+                lv.filter(linear, s, t, r, q.offset, a);
+                if (d2 == d1) {
+                    std::copy(a, a + 4, result);
+                } else {
+                    lv.level = d2;
+                    lv.img = tex.find(face, d2);
+                    lv.filter(linear, s, t, r, q.offset, b);
+                    for (int c = 0; c < 4; ++c) result[c] = (1 - frac) * a[c] + frac * b[c];
+                }
+            }
+        }
+        if (q.result == BaseType::Float) {
+            for (int c = 0; c < 4; ++c) if (q.out[c]) q.out[c][l].f = result[c];
+        } else {
+            // Integer textures are only complete with NEAREST filters: the texel is exact.
+            for (int c = 0; c < 4; ++c)
+                if (q.out[c]) {
+                    std::memcpy(&q.out[c][l].u, &result[c], 4);
+                }
+        }
+    }
+}
+
+}  // namespace softgl

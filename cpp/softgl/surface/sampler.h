@@ -1,0 +1,42 @@
+// Texture lookups for the GLSL executor (glsl::TextureSampler) over the textures bound to the
+// context's units at draw time: ES 3.0 §3.8.10 (coordinates, wrap modes, LOD from derivatives,
+// mipmap selection), §3.8.11-12 (nearest, linear, mipmap filters), §3.8.9 (cube map face
+// selection, seamless filtering in WebGL 2), §3.8.15 (sRGB, decoded at upload), §3.8.16 (depth
+// comparison), texelFetch and textureSize (ES 3.00 GLSL §8.8).
+//
+// Everything is computed in float32 per lane, in a fixed order: the same inputs give the same
+// bits whatever the batch size or thread.
+#pragma once
+#include <array>
+#include <cstdint>
+
+#include "softgl/glsl/executor.h"
+#include "softgl/surface/texture.h"
+
+namespace softgl {
+
+// What one unit gives one sampler dimension during a draw.
+struct BoundTexture {
+    const Texture* texture = nullptr;   // null: no texture or incomplete (samples as (0,0,0,1))
+    SamplerParams params;               // the sampler object's, or the texture's own
+    int32_t base = 0, q = 0;            // levels used: [base, q] (q = base without mipmapping)
+    bool seamless_cube = true;          // ES 3.0 §3.8.9.1 (WebGL 2); WebGL 1 clamps per face
+    bool depth_as_luminance = false;    // WEBGL_depth_texture: depth samples as (d, d, d, 1)
+};
+
+inline constexpr int kSamplerUnits = 32;
+
+class TextureUnitSampler : public glsl::TextureSampler {
+public:
+    // units[unit][dim]: dim 0 = 2D, 1 = 3D, 2 = cube, 3 = 2D array.
+    std::array<std::array<BoundTexture, 4>, kSamplerUnits> units;
+    void sample(const glsl::TextureQuery& query) override;
+};
+
+int dim_index(glsl::SamplerDim dim);
+
+// ES 3.0 table 3.21: the face (0..5, TEXTURE_CUBE_MAP_POSITIVE_X order) a direction selects and
+// the face coordinates sc, tc and |ma|.
+int cube_face(float rx, float ry, float rz, float& sc, float& tc, float& ma);
+
+}  // namespace softgl

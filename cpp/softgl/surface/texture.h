@@ -1,0 +1,181 @@
+// Texture images and their formats: what each internal format stores, how client pixels
+// (format, type) unpack into it (ES 3.0 §3.7.2, tables 3.2-3.5), how values are quantized to the
+// format's precision, mipmap generation, and the completeness rules (ES 3.0 §3.8.14, ES 2.0 §3.8.2,
+// WebGL 1.0 §5.13.8 for NPOT).
+//
+// Storage is one representation per sampling kind, so that sampling and rendering are
+// format-agnostic:
+//   - colour formats that sample as float: 4 floats per texel, the values a lookup returns
+//     (already quantized to the format: an RGBA8 texel holds k/255; sRGB texels hold the
+//     decoded linear value, which is what ES 3.0 §3.8.15 decodes to before filtering; LUMINANCE,
+//     ALPHA and friends are stored expanded to RGBA as ES 3.0 table 3.24 defines them);
+//   - integer formats: 4 x 32-bit (int or uint bits) per texel;
+//   - depth formats: one 32-bit word per texel (unorm16/unorm24 integers, or float32 bits: all
+//     non-negative, so the unsigned order of the words is the order of the depths) plus a stencil
+//     byte per texel for depth-stencil formats.
+// The depth words are what the pipeline's depth test compares, so depth textures and
+// renderbuffers are drawn into directly.
+#pragma once
+#include <array>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "softgl/api/objects.h"
+
+namespace softgl {
+
+// Enums of extensions (not on the WebGL context objects, so not in enums.h).
+namespace gl_ext {
+inline constexpr GLenum HALF_FLOAT_OES = 0x8D61;
+inline constexpr GLenum UNSIGNED_INT_24_8_WEBGL = 0x84FA;
+inline constexpr GLenum SRGB_EXT = 0x8C40;
+inline constexpr GLenum SRGB_ALPHA_EXT = 0x8C42;
+// Internal formats of WebGL 1's unsized LUMINANCE/ALPHA formats (OpenGL's sized names, never
+// returned to users; ES has no sized names for them).
+inline constexpr GLenum ALPHA8 = 0x803C, LUMINANCE8 = 0x8040, LUMINANCE8_ALPHA8 = 0x8045;
+inline constexpr GLenum ALPHA16F = 0x881C, LUMINANCE16F = 0x881E, LUMINANCE_ALPHA16F = 0x881F;
+inline constexpr GLenum ALPHA32F = 0x8816, LUMINANCE32F = 0x8818, LUMINANCE_ALPHA32F = 0x8819;
+inline constexpr GLenum TEXTURE_MAX_ANISOTROPY_EXT = 0x84FE;
+// WebGL 1's luminance/alpha formats under OpenGL's sized names: internal only, never accepted
+// as an internalformat argument.
+inline bool is_pseudo_format(GLenum f) {
+    return f == ALPHA8 || f == LUMINANCE8 || f == LUMINANCE8_ALPHA8 || f == ALPHA16F || f == LUMINANCE16F ||
+           f == LUMINANCE_ALPHA16F || f == ALPHA32F || f == LUMINANCE32F || f == LUMINANCE_ALPHA32F;
+}
+}  // namespace gl_ext
+
+enum class Encoding : uint8_t {
+    Unorm,        // bits[c] bits per channel
+    Snorm,        // 8 bits
+    Srgb,         // 8-bit sRGB colour, linear alpha
+    Float16, Float32, Float11_11_10, Rgb9e5,
+    Int, Uint,    // bits[c] bits per channel
+    Depth16, Depth24, Depth32F,
+    Stencil8,     // renderbuffer STENCIL_INDEX8
+};
+
+enum class SampleKind : uint8_t { Float, Int, Uint, Depth };
+
+struct FormatInfo {
+    GLenum internal_format = 0;
+    GLenum base_format = 0;        // RGBA, RGB, RG, RED, ALPHA, LUMINANCE, LUMINANCE_ALPHA,
+                                   // DEPTH_COMPONENT, DEPTH_STENCIL, STENCIL_INDEX8
+    Encoding encoding = Encoding::Unorm;
+    std::array<uint8_t, 4> bits{0, 0, 0, 0};   // per RGBA channel (0: absent); what getParameter reports
+    bool has_stencil = false;
+    SampleKind kind() const;
+    bool is_depth() const { return encoding == Encoding::Depth16 || encoding == Encoding::Depth24 || encoding == Encoding::Depth32F; }
+    bool is_integer() const { return encoding == Encoding::Int || encoding == Encoding::Uint; }
+    bool is_float() const {
+        return encoding == Encoding::Float16 || encoding == Encoding::Float32 ||
+               encoding == Encoding::Float11_11_10 || encoding == Encoding::Rgb9e5;
+    }
+    int depth_bits() const { return encoding == Encoding::Depth16 ? 16 : encoding == Encoding::Depth24 ? 24 : encoding == Encoding::Depth32F ? 32 : 0; }
+};
+
+// The format of a sized (or WebGL 1 pseudo-sized) internal format; null if unknown.
+const FormatInfo* format_info(GLenum internal_format);
+
+// Quantizes a float colour to what a texel of this format holds (clamping for normalized
+// formats, rounding to the format's precision, sRGB encode-then-decode). Float formats only.
+void quantize_color(const FormatInfo& f, const float in[4], float out[4]);
+// Quantizes to an integer format's channel range (ES 3.0 §4.3.2: values are clamped when
+// converted; clearBuffer and blits of integers take the low bits).
+void quantize_integer(const FormatInfo& f, const uint32_t in[4], uint32_t out[4]);
+// A depth in [0, 1] as the 32-bit word the format stores.
+uint32_t depth_word(Encoding e, double depth);
+float depth_value(Encoding e, uint32_t word);
+
+float srgb_to_linear(float c);   // ES 3.0 §3.8.15 eq. 3.24
+float linear_to_srgb(float c);   // ES 3.0 §4.1.8 eq. 4.1
+float half_to_float(uint16_t h);
+uint16_t float_to_half(float f); // round to nearest even
+
+// One image: a mipmap level of one face (or all layers of a 3D / array level), or a renderbuffer.
+struct Image {
+    int32_t width = 0, height = 0, depth = 1;   // depth: layers of 3D / 2D array images
+    int32_t samples = 1;                         // renderbuffers only
+    const FormatInfo* format = nullptr;          // null: no image
+    std::vector<float> color;                    // Float kind: 4 per texel (sample)
+    std::vector<uint32_t> integer;               // Int/Uint kind: 4 per texel (sample)
+    std::vector<uint32_t> depth_words;           // Depth kind: 1 per texel (sample)
+    std::vector<uint8_t> stencil;                // depth-stencil and stencil formats
+
+    bool defined() const { return format != nullptr; }
+    size_t texel_count() const { return size_t(width) * size_t(height) * size_t(depth) * size_t(samples); }
+    // Allocates storage for `fmt` and fills it with zeros (transparent black, depth 0).
+    void allocate(const FormatInfo* fmt, int32_t w, int32_t h, int32_t d, int32_t s = 1);
+    void clear() { *this = Image{}; }
+    // Texel (x, y, z) as RGBA float, as sampled (integer formats: converted; depth: (d, 0, 0, 1)).
+    void texel(int32_t x, int32_t y, int32_t z, float out[4]) const;
+};
+
+// Client pixel data for texImage*/texSubImage*: `format`/`type` describe the data layout,
+// rows follow the UNPACK_* rules (or are tight, for image sources).
+struct PixelUnpack {
+    const uint8_t* data = nullptr;
+    size_t bytes = 0;
+    GLenum format = 0, type = 0;
+    int32_t alignment = 4, row_length = 0, image_height = 0, skip_pixels = 0, skip_rows = 0, skip_images = 0;
+    bool flip_y = false, premultiply = false;
+};
+
+// Bytes per pixel of (format, type), 0 if the pair is unknown.
+int pixel_bytes(GLenum format, GLenum type);
+// Bytes a w x h x d block needs with these unpack parameters (ES 3.0 §3.7.2: last row unpadded).
+uint64_t unpack_size(const PixelUnpack& u, int32_t w, int32_t h, int32_t d);
+
+// Writes the w x h x d block of `u` at (x, y, z) into `img` (converted to its format).
+void unpack_into(Image& img, int32_t x, int32_t y, int32_t z, int32_t w, int32_t h, int32_t d,
+                 const PixelUnpack& u);
+
+struct SamplerParams {
+    GLenum min_filter = gl::NEAREST_MIPMAP_LINEAR, mag_filter = gl::LINEAR;
+    GLenum wrap_s = gl::REPEAT, wrap_t = gl::REPEAT, wrap_r = gl::REPEAT;
+    float min_lod = -1000.0f, max_lod = 1000.0f;
+    GLenum compare_mode = gl::NONE, compare_func = gl::LEQUAL;
+};
+
+class Texture : public Object {
+public:
+    GLenum target = 0;                  // fixed by the first bindTexture (ES 3.0 §3.8.1)
+    SamplerParams sampler;
+    int32_t base_level = 0, max_level = 1000;
+    bool immutable = false;
+    int32_t immutable_levels = 0;
+    float max_anisotropy = 1.0f;
+    // images[face][level]; one face except for cube maps (faces in TEXTURE_CUBE_MAP_POSITIVE_X order).
+    std::vector<std::vector<Image>> images;
+    uint64_t generation = 0;            // bumps on every change (render targets, caches)
+
+    int faces() const { return target == gl::TEXTURE_CUBE_MAP ? 6 : 1; }
+    Image& image(int face, int level);  // grows the arrays as needed
+    const Image* find(int face, int level) const;
+};
+
+class Sampler : public Object {
+public:
+    SamplerParams params;
+};
+
+// Texture completeness (ES 3.0 §3.8.14 with WebGL 1's NPOT rules when webgl1): the empty string
+// when complete, else why not. `params` are the effective sampler parameters (a sampler object's
+// when one is bound to the unit). `float_linear`/`half_float_linear`: whether 32F/16F formats are
+// filterable (OES_texture_float_linear; 16F always in WebGL 2).
+struct CompletenessRules {
+    bool webgl1 = false;
+    bool float_linear = false;
+    bool half_float_linear = true;
+};
+std::string incompleteness(const Texture& t, const SamplerParams& params, const CompletenessRules& rules);
+// Number of the last level used by sampling (q in ES 3.0 §3.8.10.4).
+int32_t max_sampled_level(const Texture& t);
+bool needs_mipmaps(GLenum min_filter);
+bool is_power_of_two(int32_t v);
+
+// generateMipmap's box filter: levels base+1 .. q from the base level, per face.
+void generate_mipmaps(Texture& t);
+
+}  // namespace softgl

@@ -1,0 +1,143 @@
+"""Shared helpers of the texture tests: a full-viewport quad whose texture coordinates map
+linearly to pixel centres, float render targets, and a float64 NumPy reference sampler
+(ES 3.0 §3.8.10-11)."""
+from __future__ import annotations
+
+import numpy as np
+
+import softgl
+
+QUAD = np.array([-1, -1, 1, -1, -1, 1, -1, 1, 1, -1, 1, 1], np.float32)
+
+VS3 = """#version 300 es
+in vec2 pos;
+uniform vec3 c0, cx, cy;   // coordinate at the bottom-left corner and per viewport width/height
+out vec3 uvw;
+void main() {
+    vec2 f = pos * 0.5 + 0.5;
+    uvw = c0 + f.x * cx + f.y * cy;
+    gl_Position = vec4(pos, 0.0, 1.0);
+}
+"""
+
+
+def fs3(sampler="sampler2D", lookup="texture(tex, uvw.xy)", extra=""):
+    return f"""#version 300 es
+precision highp float;
+precision highp sampler2D;
+uniform highp {sampler} tex;
+uniform float lod;
+{extra}
+in vec3 uvw;
+out vec4 color;
+void main() {{ color = vec4({lookup}); }}
+"""
+
+
+def draw_quad(gl, prog, c0=(0, 0, 0), cx=(1, 0, 0), cy=(0, 1, 0)):
+    gl.useProgram(prog)
+    buf = gl.createBuffer()
+    gl.bindBuffer(gl.ARRAY_BUFFER, buf)
+    gl.bufferData(gl.ARRAY_BUFFER, QUAD, gl.STATIC_DRAW)
+    loc = gl.getAttribLocation(prog, "pos")
+    gl.enableVertexAttribArray(loc)
+    gl.vertexAttribPointer(loc, 2, gl.FLOAT, False, 0, 0)
+    for name, v in (("c0", c0), ("cx", cx), ("cy", cy)):
+        u = gl.getUniformLocation(prog, name)
+        if u is not None:
+            gl.uniform3f(u, *[float(x) for x in v])
+    gl.drawArrays(gl.TRIANGLES, 0, 6)
+
+
+def float_target(gl, w, h):
+    """A bound RGBA32F framebuffer (WebGL 2 + EXT_color_buffer_float) of w x h."""
+    assert gl.getExtension("EXT_color_buffer_float") is not None
+    tex = gl.createTexture()
+    gl.activeTexture(gl.TEXTURE15)
+    gl.bindTexture(gl.TEXTURE_2D, tex)
+    gl.texStorage2D(gl.TEXTURE_2D, 1, gl.RGBA32F, w, h)
+    fb = gl.createFramebuffer()
+    gl.bindFramebuffer(gl.FRAMEBUFFER, fb)
+    gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, tex, 0)
+    assert gl.checkFramebufferStatus(gl.FRAMEBUFFER) == gl.FRAMEBUFFER_COMPLETE
+    gl.viewport(0, 0, w, h)
+    gl.activeTexture(gl.TEXTURE0)
+    return fb, tex
+
+
+def render_float(gl, fs, w, h, c0, cx, cy, setup=None):
+    """Draws the quad with fragment shader `fs` into a float target; returns (h, w, 4) float32."""
+    float_target(gl, w, h)
+    prog = softgl.program(gl, VS3, fs)
+    gl.useProgram(prog)
+    if setup:
+        setup(prog)
+    draw_quad(gl, prog, c0, cx, cy)
+    return gl.readPixels(0, 0, w, h, gl.RGBA, gl.FLOAT)
+
+
+def pixel_coords(w, h, c0, cx, cy):
+    """float64 coordinates at the pixel centres, as the quad interpolates them."""
+    y, x = np.mgrid[0:h, 0:w].astype(np.float64)
+    fx, fy = (x + 0.5) / w, (y + 0.5) / h
+    c0, cx, cy = (np.asarray(v, np.float64) for v in (c0, cx, cy))
+    return [c0[k] + fx * cx[k] + fy * cy[k] for k in range(3)]
+
+
+# ---------------------------------------------------------------------------- float64 reference
+
+def wrap(i, size, mode):
+    if mode == "REPEAT":
+        return np.mod(i, size)
+    if mode == "MIRRORED_REPEAT":
+        m = np.mod(i, 2 * size)
+        return np.where(m < size, m, 2 * size - 1 - m)
+    return np.clip(i, 0, size - 1)
+
+
+def sample_level(img, s, t, linear, wrap_s="REPEAT", wrap_t="REPEAT"):
+    """img: (h, w, 4) float64; s, t arrays; returns (..., 4)."""
+    h, w = img.shape[:2]
+    u, v = s * w, t * h
+    if not linear:
+        return img[wrap(np.floor(v).astype(np.int64), h, wrap_t), wrap(np.floor(u).astype(np.int64), w, wrap_s)]
+    u0, v0 = u - 0.5, v - 0.5
+    i0, j0 = np.floor(u0).astype(np.int64), np.floor(v0).astype(np.int64)
+    a, b = (u0 - np.floor(u0))[..., None], (v0 - np.floor(v0))[..., None]
+    i1, j1 = wrap(i0 + 1, w, wrap_s), wrap(j0 + 1, h, wrap_t)
+    i0, j0 = wrap(i0, w, wrap_s), wrap(j0, h, wrap_t)
+    return ((1 - a) * (1 - b) * img[j0, i0] + a * (1 - b) * img[j0, i1] +
+            (1 - a) * b * img[j1, i0] + a * b * img[j1, i1])
+
+
+def sample_mipmapped(levels, s, t, lam, min_filter, mag_filter="NEAREST", wrap_s="REPEAT", wrap_t="REPEAT"):
+    """ES 3.0 §3.8.11 with c = 0; `lam` per pixel."""
+    q = len(levels) - 1
+    out = np.zeros(s.shape + (4,))
+    mag = lam <= 0
+    out[mag] = sample_level(levels[0], s[mag], t[mag], mag_filter == "LINEAR", wrap_s, wrap_t)
+    m = ~mag
+    lin = min_filter.startswith("LINEAR")
+    if min_filter in ("NEAREST", "LINEAR"):
+        out[m] = sample_level(levels[0], s[m], t[m], lin, wrap_s, wrap_t)
+        return out
+    L = lam[m]
+    if min_filter.endswith("MIPMAP_NEAREST"):
+        d = np.where(L <= 0.5, 0, np.where(L <= q + 0.5, np.ceil(L + 0.5) - 1, q)).astype(int)
+        res = np.zeros(L.shape + (4,))
+        for level in range(q + 1):
+            k = d == level
+            res[k] = sample_level(levels[level], s[m][k], t[m][k], lin, wrap_s, wrap_t)
+        out[m] = res
+        return out
+    d1 = np.where(L >= q, q, np.floor(L)).astype(int)
+    d2 = np.where(L >= q, q, d1 + 1)
+    frac = (L - np.floor(L))[..., None]
+    res = np.zeros(L.shape + (4,))
+    for level in range(q + 1):
+        k1 = d1 == level
+        res[k1] += np.where(d2[k1, None] == d1[k1, None], 1.0, 1 - frac[k1]) * sample_level(levels[level], s[m][k1], t[m][k1], lin, wrap_s, wrap_t)
+        k2 = (d2 == level) & (d2 != d1)
+        res[k2] += frac[k2] * sample_level(levels[level], s[m][k2], t[m][k2], lin, wrap_s, wrap_t)
+    out[m] = res
+    return out
