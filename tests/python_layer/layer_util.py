@@ -1,9 +1,7 @@
 """Helpers for the Python layer's tests: bytes as WebGL stores them, drawing with a stock
 program through the raw API."""
 import numpy as np
-import pytest
 
-import softgl
 
 
 def unorm(x):
