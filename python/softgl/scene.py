@@ -429,6 +429,14 @@ class _Renderer:
 _RENDERERS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()
 
 
+def draw_mesh(gl, prog: programs.Program, mesh, model=None, **uniforms):
+    """Draw a geometry.Mesh with a programs.Program (its buffers are uploaded once per context
+    and reused), after setting `uniforms`; the current WebGL state (depth, blending, ...) applies.
+    The mesh's positions, normals and colors feed ``aPosition``, ``aNormal`` and ``aColor``."""
+    node = Node(mesh, model=T.identity() if model is None else np.asarray(model))
+    _renderer(gl).draw(prog, node, node.model, uniforms)
+
+
 def _renderer(gl) -> _Renderer:
     r = _RENDERERS.get(gl)
     if r is None:
