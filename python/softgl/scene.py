@@ -2,12 +2,13 @@
 passes and projection shadows.
 
     from softgl import geometry, scene
+    from softgl.transforms import translate
     s = scene.Scene(camera=scene.Camera(eye=(0, 2, 5)))
     s.add(geometry.plane(6, 6), color=(0.8, 0.8, 0.8), receives_shadow=True)
     s.add(geometry.cube(), color=(1, 0, 0), alpha=0.5, model=translate(0, 1, 0))
     s.lights.append(scene.Light(position=(2, 4, 2)))
     s.shadows = scene.ProjectedShadows(light=0, alpha=0.5)
-    s.render(gl)
+    s.render(gl)                        # gl = softgl.Context(w, h, stencil=True)
 
 ``render`` only calls the WebGL API (so ``gl.stats()`` counts what it did) and draws in this
 order:
@@ -36,6 +37,8 @@ canvas alpha follows ONE, ONE_MINUS_SRC_ALPHA so an opaque canvas stays opaque),
 "premultiplied" (ONE, ONE_MINUS_SRC_ALPHA with the shader's rgb multiplied by alpha), "min" and
 "max" (MIN/MAX equations; EXT_blend_minmax in WebGL 1), or a ``Blend`` of explicit factors.
 The render leaves depth test on, blending, culling and stencil off, and depth writes on.
+Programs and mesh buffers are made once per context and reused: a mesh's arrays are uploaded on
+its first render, so give a changed mesh as a new Mesh.
 """
 from __future__ import annotations
 
