@@ -10,7 +10,8 @@ from . import _core
 from .errors import GLError, GLWarning
 from .context import Context, WebGLRenderingContext, WebGL2RenderingContext
 from . import display, io
-from .programs import ShaderError, program
+from . import geometry, transforms, programs, scene, experiments, testing, transparency
+from .programs import Program, ShaderError, program
 
 __version__ = "0.1.0"
 
@@ -19,4 +20,4 @@ for _name, _value, _version in _core.ENUMS:
     globals()[_name] = _value
 del _name, _value, _version
 
-__all__ = ["program", "ShaderError", "Context", "WebGLRenderingContext", "WebGL2RenderingContext", "GLError", "GLWarning"]
+__all__ = ["program", "Program", "ShaderError", "Context", "WebGLRenderingContext", "WebGL2RenderingContext", "GLError", "GLWarning"]
