@@ -4,6 +4,7 @@
 #include <pybind11/stl.h>
 
 #include "softgl/api/context.h"
+#include "convert.h"
 #include "webidl.h"
 
 namespace py = pybind11;
@@ -11,49 +12,13 @@ using softgl::Context;
 using softgl::ContextAttributes;
 using softgl::GLenum;
 using softgl::bindings::webidl;
+using softgl::bindings::to_python;
+using softgl::bindings::array_type_of;
 namespace gl = softgl::gl;
 
 namespace {
 
-py::object to_python(const softgl::Value& value) {
-    struct Visitor {
-        py::object operator()(const softgl::Null&) const { return py::none(); }
-        py::object operator()(bool v) const { return py::bool_(v); }
-        py::object operator()(int64_t v) const { return py::int_(v); }
-        py::object operator()(double v) const { return py::float_(v); }
-        py::object operator()(const std::string& v) const { return py::str(v); }
-        py::object operator()(const softgl::Int32Array& v) const {
-            return py::array_t<int32_t>(py::ssize_t(v.values.size()), v.values.data());
-        }
-        py::object operator()(const softgl::Uint32Array& v) const {
-            return py::array_t<uint32_t>(py::ssize_t(v.values.size()), v.values.data());
-        }
-        py::object operator()(const softgl::Float32Array& v) const {
-            return py::array_t<float>(py::ssize_t(v.values.size()), v.values.data());
-        }
-        py::object operator()(const std::shared_ptr<softgl::Object>& v) const { return py::cast(v); }
-        py::object operator()(const softgl::BoolList& v) const {
-            py::list out;
-            for (bool b : v.values) out.append(py::bool_(b));
-            return out;
-        }
-    };
-    return std::visit(Visitor{}, value);
-}
 
-// The WebGL typed-array kind of a NumPy dtype (Uint8Array <-> uint8, ...); 0 if none.
-GLenum array_type_of(const py::dtype& dt) {
-    const char kind = dt.kind();
-    const auto size = dt.itemsize();
-    if (kind == 'u' && size == 1) return gl::UNSIGNED_BYTE;
-    if (kind == 'i' && size == 1) return gl::BYTE;
-    if (kind == 'u' && size == 2) return gl::UNSIGNED_SHORT;
-    if (kind == 'i' && size == 2) return gl::SHORT;
-    if (kind == 'u' && size == 4) return gl::UNSIGNED_INT;
-    if (kind == 'i' && size == 4) return gl::INT;
-    if (kind == 'f' && size == 4) return gl::FLOAT;
-    return 0;
-}
 
 py::dtype dtype_for(GLenum type) {
     switch (type) {

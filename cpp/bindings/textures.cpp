@@ -6,6 +6,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include "convert.h"
 #include "softgl/api/context.h"
 #include "webidl.h"
 
@@ -20,39 +21,10 @@ namespace gl = softgl::gl;
 
 namespace {
 
-py::object value_to_python(const softgl::Value& value) {
-    struct Visitor {
-        py::object operator()(const softgl::Null&) const { return py::none(); }
-        py::object operator()(bool v) const { return py::bool_(v); }
-        py::object operator()(int64_t v) const { return py::int_(v); }
-        py::object operator()(double v) const { return py::float_(v); }
-        py::object operator()(const std::string& v) const { return py::str(v); }
-        py::object operator()(const softgl::Int32Array& v) const { return py::array_t<int32_t>(py::ssize_t(v.values.size()), v.values.data()); }
-        py::object operator()(const softgl::Uint32Array& v) const { return py::array_t<uint32_t>(py::ssize_t(v.values.size()), v.values.data()); }
-        py::object operator()(const softgl::Float32Array& v) const { return py::array_t<float>(py::ssize_t(v.values.size()), v.values.data()); }
-        py::object operator()(const std::shared_ptr<softgl::Object>& v) const { return py::cast(v); }
-        py::object operator()(const softgl::BoolList& v) const {
-            py::list out;
-            for (bool b : v.values) out.append(py::bool_(b));
-            return out;
-        }
-    };
-    return std::visit(Visitor{}, value);
-}
+using softgl::bindings::array_type_of;
+using softgl::bindings::to_python;
 
-// The typed-array kind of a NumPy dtype (Uint8Array <-> uint8, ...); 0 if WebGL has none that fits.
-GLenum typed_array_kind(const py::dtype& dt) {
-    const char kind = dt.kind();
-    const auto size = dt.itemsize();
-    if (kind == 'u' && size == 1) return gl::UNSIGNED_BYTE;
-    if (kind == 'i' && size == 1) return gl::BYTE;
-    if (kind == 'u' && size == 2) return gl::UNSIGNED_SHORT;
-    if (kind == 'i' && size == 2) return gl::SHORT;
-    if (kind == 'u' && size == 4) return gl::UNSIGNED_INT;
-    if (kind == 'i' && size == 4) return gl::INT;
-    if (kind == 'f' && size == 4) return gl::FLOAT;
-    return 0;
-}
+
 
 uint32_t as_u32(const py::handle& h, const char* call) {
     uint64_t v;
@@ -87,7 +59,7 @@ void view_source(Context& c, const char* call, py::handle obj, int64_t src_offse
     px.source.kind = TexSource::Kind::View;
     px.source.data = static_cast<const uint8_t*>(arr.data()) + src_offset * int64_t(arr.itemsize());
     px.source.bytes = size_t((count - src_offset) * int64_t(arr.itemsize()));
-    px.source.array_type = typed_array_kind(arr.dtype());
+    px.source.array_type = array_type_of(arr.dtype());
 }
 
 // An image source: an H x W (grey) or H x W x C array (C = 1 grey, 2 grey + alpha, 3 RGB, 4 RGBA)
@@ -154,7 +126,7 @@ void bind_textures(py::module_& m) {
         .def("isTexture", &Context::is_texture)
         .def("texParameteri", [](Context& c, IdlUint32 t, IdlUint32 p, IdlInt32 v) { c.tex_parameter("texParameteri", t.value, p.value, double(v.value)); })
         .def("texParameterf", [](Context& c, IdlUint32 t, IdlUint32 p, float v) { c.tex_parameter("texParameterf", t.value, p.value, double(v)); })
-        .def("getTexParameter", [](Context& c, IdlUint32 t, IdlUint32 p) { return value_to_python(c.get_tex_parameter(t.value, p.value)); })
+        .def("getTexParameter", [](Context& c, IdlUint32 t, IdlUint32 p) { return to_python(c.get_tex_parameter(t.value, p.value)); })
         .def("generateMipmap", webidl(&Context::generate_mipmap))
         .def("texImage2D", [](Context& c, IdlUint32 target, IdlInt32 level, IdlInt32 internal, py::args a) {
             const char* call = "texImage2D";
@@ -236,7 +208,7 @@ void bind_textures(py::module_& m) {
             c.sampler_parameter("samplerParameterf", s, p.value, double(v));
         })
         .def("getSamplerParameter", [](Context& c, const std::shared_ptr<Sampler>& s, IdlUint32 p) {
-            return value_to_python(c.get_sampler_parameter(s, p.value));
+            return to_python(c.get_sampler_parameter(s, p.value));
         })
         // Framebuffers and renderbuffers
         .def("createFramebuffer", &Context::create_framebuffer)
@@ -253,7 +225,7 @@ void bind_textures(py::module_& m) {
         .def("renderbufferStorageMultisample", [](Context& c, IdlUint32 target, IdlInt32 samples, IdlUint32 internal, IdlInt32 w, IdlInt32 h) {
             c.renderbuffer_storage("renderbufferStorageMultisample", target.value, samples.value, internal.value, w.value, h.value);
         })
-        .def("getRenderbufferParameter", [](Context& c, IdlUint32 t, IdlUint32 p) { return value_to_python(c.get_renderbuffer_parameter(t.value, p.value)); })
+        .def("getRenderbufferParameter", [](Context& c, IdlUint32 t, IdlUint32 p) { return to_python(c.get_renderbuffer_parameter(t.value, p.value)); })
         .def("framebufferTexture2D", [](Context& c, IdlUint32 target, IdlUint32 attachment, IdlUint32 textarget,
                                         const std::shared_ptr<Texture>& t, IdlInt32 level) {
             c.framebuffer_texture("framebufferTexture2D", target.value, attachment.value, textarget.value, t, level.value, 0);
@@ -265,7 +237,7 @@ void bind_textures(py::module_& m) {
         .def("framebufferRenderbuffer", webidl(&Context::framebuffer_renderbuffer))
         .def("checkFramebufferStatus", webidl(&Context::check_framebuffer_status))
         .def("getFramebufferAttachmentParameter", [](Context& c, IdlUint32 t, IdlUint32 a, IdlUint32 p) {
-            return value_to_python(c.get_framebuffer_attachment_parameter(t.value, a.value, p.value));
+            return to_python(c.get_framebuffer_attachment_parameter(t.value, a.value, p.value));
         })
         .def("readBuffer", webidl(&Context::read_buffer))
         .def("blitFramebuffer", [](Context& c, IdlInt32 sx0, IdlInt32 sy0, IdlInt32 sx1, IdlInt32 sy1, IdlInt32 dx0, IdlInt32 dy0,

@@ -296,6 +296,8 @@ private:
     bool check_blend_factors(const char* call, GLenum src_rgb, GLenum dst_rgb, GLenum src_alpha,
                              GLenum dst_alpha);
     std::shared_ptr<Buffer>* buffer_binding(GLenum target);
+    void set_attrib_pointer(const char* call, uint32_t index, int32_t size, GLenum type, bool normalized,
+                            bool integer, int32_t stride, int64_t offset);
     Value vertex_array_binding() const;
     Buffer* bound_buffer(const char* call, GLenum target);
     bool check_object(const char* call, const Object* object) const;

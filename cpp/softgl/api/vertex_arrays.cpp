@@ -42,12 +42,26 @@ static std::string index_message(uint32_t index) {
            std::to_string(kMaxVertexAttribs) + ")";
 }
 
+// The shared rules of vertexAttribPointer and vertexAttribIPointer (type validity differs).
+static bool valid_attrib_type(GLenum type, bool integer, int version) {
+    return integer ? valid_integer_attrib_type(type) : valid_float_attrib_type(type, version);
+}
+
 void Context::vertex_attrib_pointer(uint32_t index, int32_t size, GLenum type, bool normalized,
                                     int32_t stride, int64_t offset) {
-    const char* call = "vertexAttribPointer";
+    set_attrib_pointer("vertexAttribPointer", index, size, type, normalized, false, stride, offset);
+}
+
+void Context::vertex_attrib_i_pointer(uint32_t index, int32_t size, GLenum type, int32_t stride, int64_t offset) {
+    set_attrib_pointer("vertexAttribIPointer", index, size, type, false, true, stride, offset);
+}
+
+void Context::set_attrib_pointer(const char* call, uint32_t index, int32_t size, GLenum type, bool normalized,
+                                 bool integer, int32_t stride, int64_t offset) {
     if (index >= uint32_t(kMaxVertexAttribs)) return error(gl::INVALID_VALUE, call, index_message(index));
     if (size < 1 || size > 4) return error(gl::INVALID_VALUE, call, "size must be 1, 2, 3 or 4");
-    if (!valid_float_attrib_type(type, version())) return error(gl::INVALID_ENUM, call, enum_name(type) + " is not a vertex attribute type here");
+    if (!valid_attrib_type(type, integer, version()))
+        return error(gl::INVALID_ENUM, call, enum_name(type) + " is not a vertex attribute type here");
     if ((type == gl::INT_2_10_10_10_REV || type == gl::UNSIGNED_INT_2_10_10_10_REV) && size != 4)
         return error(gl::INVALID_OPERATION, call, "packed 2_10_10_10 attributes need size 4");
     if (stride < 0 || stride > 255) return error(gl::INVALID_VALUE, call, "stride must be in [0, 255]");
@@ -61,29 +75,7 @@ void Context::vertex_attrib_pointer(uint32_t index, int32_t size, GLenum type, b
     a.size = size;
     a.type = type;
     a.normalized = normalized;
-    a.integer = false;
-    a.stride = stride;
-    a.offset = offset;
-    a.buffer = array_buffer_;
-}
-
-void Context::vertex_attrib_i_pointer(uint32_t index, int32_t size, GLenum type, int32_t stride, int64_t offset) {
-    const char* call = "vertexAttribIPointer";
-    if (index >= uint32_t(kMaxVertexAttribs)) return error(gl::INVALID_VALUE, call, index_message(index));
-    if (size < 1 || size > 4) return error(gl::INVALID_VALUE, call, "size must be 1, 2, 3 or 4");
-    if (!valid_integer_attrib_type(type)) return error(gl::INVALID_ENUM, call, enum_name(type) + " is not an integer attribute type");
-    if (stride < 0 || stride > 255) return error(gl::INVALID_VALUE, call, "stride must be in [0, 255]");
-    if (offset < 0) return error(gl::INVALID_VALUE, call, "offset must not be negative");
-    const int bytes = type_size(type);
-    if (offset % bytes != 0 || stride % bytes != 0)
-        return error(gl::INVALID_OPERATION, call, "offset and stride must be multiples of the type's size");
-    if (!array_buffer_ && offset != 0)
-        return error(gl::INVALID_OPERATION, call, "no ARRAY_BUFFER is bound and offset is not 0");
-    VertexAttribPointer& a = vertex_array_->attribs[index];
-    a.size = size;
-    a.type = type;
-    a.normalized = false;
-    a.integer = true;
+    a.integer = integer;
     a.stride = stride;
     a.offset = offset;
     a.buffer = array_buffer_;

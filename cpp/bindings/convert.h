@@ -1,0 +1,53 @@
+// Conversions shared by the binding files: WebGL values to Python, NumPy dtypes to typed arrays.
+#pragma once
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+
+#include "softgl/api/context.h"
+
+namespace softgl::bindings {
+
+namespace py = pybind11;
+
+// A getParameter-style value in the Python form WebGL's JS value maps to (DESIGN §1).
+inline py::object to_python(const softgl::Value& value) {
+    struct Visitor {
+        py::object operator()(const softgl::Null&) const { return py::none(); }
+        py::object operator()(bool v) const { return py::bool_(v); }
+        py::object operator()(int64_t v) const { return py::int_(v); }
+        py::object operator()(double v) const { return py::float_(v); }
+        py::object operator()(const std::string& v) const { return py::str(v); }
+        py::object operator()(const softgl::Int32Array& v) const {
+            return py::array_t<int32_t>(py::ssize_t(v.values.size()), v.values.data());
+        }
+        py::object operator()(const softgl::Uint32Array& v) const {
+            return py::array_t<uint32_t>(py::ssize_t(v.values.size()), v.values.data());
+        }
+        py::object operator()(const softgl::Float32Array& v) const {
+            return py::array_t<float>(py::ssize_t(v.values.size()), v.values.data());
+        }
+        py::object operator()(const std::shared_ptr<softgl::Object>& v) const { return py::cast(v); }
+        py::object operator()(const softgl::BoolList& v) const {
+            py::list out;
+            for (bool b : v.values) out.append(py::bool_(b));
+            return out;
+        }
+    };
+    return std::visit(Visitor{}, value);
+}
+
+// The WebGL typed-array kind of a NumPy dtype (Uint8Array <-> uint8, ...); 0 if none.
+inline GLenum array_type_of(const py::dtype& dt) {
+    const char kind = dt.kind();
+    const auto size = dt.itemsize();
+    if (kind == 'u' && size == 1) return softgl::gl::UNSIGNED_BYTE;
+    if (kind == 'i' && size == 1) return softgl::gl::BYTE;
+    if (kind == 'u' && size == 2) return softgl::gl::UNSIGNED_SHORT;
+    if (kind == 'i' && size == 2) return softgl::gl::SHORT;
+    if (kind == 'u' && size == 4) return softgl::gl::UNSIGNED_INT;
+    if (kind == 'i' && size == 4) return softgl::gl::INT;
+    if (kind == 'f' && size == 4) return softgl::gl::FLOAT;
+    return 0;
+}
+
+}  // namespace softgl::bindings
