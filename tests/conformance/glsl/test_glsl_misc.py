@@ -57,7 +57,7 @@ RESERVED = ["asm", "class", "union", "enum", "typedef", "template", "this", "pac
             "output", "hvec2", "fvec3", "sizeof", "cast", "namespace", "using"]
 
 
-@pytest.mark.parametrize("name,stage,src,ok", CASES, ids=[c[0] if isinstance(c, tuple) else c.values[0] for c in CASES])
+@pytest.mark.parametrize("name,stage,src,ok", CASES, ids=[c.values[0] if hasattr(c, "marks") else c[0] for c in CASES])
 def test_compile_expectation(name, stage, src, ok):
     gl = context(version=1)
     kind = gl.VERTEX_SHADER if stage == V else gl.FRAGMENT_SHADER
