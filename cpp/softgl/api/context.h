@@ -326,6 +326,7 @@ private:
     std::shared_ptr<Program> current_program_;
     bool check_program(const char* call, const Program* program);
     bool check_shader(const char* call, const Shader* shader);
+    bool check_name_length(const char* call, const std::string& name);
     void release_shader(const std::shared_ptr<Shader>& shader);
     bool validate_draw_state(const char* call);
     void run_draw(const DrawCall& call, uint32_t max_vertex);

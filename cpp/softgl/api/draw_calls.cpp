@@ -24,7 +24,8 @@ int index_size(GLenum type) {
 }  // namespace
 
 bool Context::validate_draw_state(const char* call) {
-    if (!current_program_ || !current_program_->link_status || !current_program_->vertex_stage) {
+    // A program in use keeps its last good executable through a failed relink (ES 2.0 §2.10.3).
+    if (!current_program_ || !current_program_->vertex_stage) {
         error(gl::INVALID_OPERATION, call, "no valid program is in use");
         return false;
     }
@@ -95,23 +96,46 @@ void Context::draw_elements(GLenum mode, int32_t count, GLenum type, int64_t off
     if (uint64_t(offset) + uint64_t(count) * uint64_t(size) > elements->data.size())
         return error(gl::INVALID_OPERATION, call, "the indices extend past the end of the element array buffer");
     // Read the indices once; WebGL requires every index to address data inside the buffers.
+    // WebGL 2.0 §5.18: primitive restart with the type's maximum index is always on; that index
+    // ends the current strip, fan or loop and is never a vertex.
+    const uint32_t restart = size == 1 ? 0xFFu : size == 2 ? 0xFFFFu : 0xFFFFFFFFu;
+    const bool restart_enabled = version() >= 2;
     std::vector<uint32_t> indices(static_cast<size_t>(count));
     const uint8_t* src = elements->data.data() + offset;
     uint32_t max_index = 0;
+    bool restarts = false;
     for (int32_t i = 0; i < count; ++i) {
         uint32_t v = 0;
         if (size == 1) v = src[i];
         else if (size == 2) { uint16_t s; std::memcpy(&s, src + 2 * i, 2); v = s; }
         else std::memcpy(&v, src + 4 * i, 4);
         indices[size_t(i)] = v;
-        max_index = std::max(max_index, v);
+        if (restart_enabled && v == restart) restarts = true;
+        else max_index = std::max(max_index, v);
     }
     const uint32_t used = current_program_->vertex_stage->used_attributes();
     const std::string range = check_attribute_ranges(*vertex_array_, used, max_index, uint64_t(instances));
     if (!range.empty()) return error(gl::INVALID_OPERATION, call, range);
     DrawCall dc;
     dc.mode = mode;
-    dc.count = uint32_t(count);
+    if (restarts) {
+        // Assemble each run between restart indices on its own, as an independent list of points,
+        // lines or triangles (the provoking vertex stays last, strips keep their winding).
+        std::vector<uint32_t> expanded, positions;
+        size_t begin = 0;
+        for (size_t i = 0; i <= indices.size(); ++i) {
+            if (i < indices.size() && indices[i] != restart) continue;
+            positions.clear();
+            assemble(mode, uint32_t(i - begin), positions);
+            for (uint32_t k : positions) expanded.push_back(indices[begin + k]);
+            begin = i + 1;
+        }
+        const int per = vertices_per_primitive(mode);
+        dc.mode = per == 1 ? gl::POINTS : per == 2 ? gl::LINES : gl::TRIANGLES;
+        indices.swap(expanded);
+        if (indices.empty()) return;
+    }
+    dc.count = uint32_t(indices.size());
     dc.indices = indices.data();
     dc.instance_count = uint32_t(instances);
     run_draw(dc, max_index);

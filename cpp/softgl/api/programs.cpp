@@ -59,6 +59,15 @@ bool Context::check_shader(const char* call, const Shader* shader) {
     return true;
 }
 
+bool Context::check_name_length(const char* call, const std::string& name) {
+    // WebGL 1.0 §6.21 / WebGL 2.0 §5.19: names longer than 256 (WebGL 2: 1024) characters are
+    // INVALID_VALUE, checked before anything else.
+    const size_t limit = version() >= 2 ? 1024 : 256;
+    if (name.size() <= limit) return true;
+    error(gl::INVALID_VALUE, call, "names longer than " + std::to_string(limit) + " characters are not allowed");
+    return false;
+}
+
 bool Context::check_program(const char* call, const Program* program) {
     if (!program) { error(gl::INVALID_VALUE, call, "the program is null"); return false; }
     if (program->owner != this) { error(gl::INVALID_OPERATION, call, "the program belongs to another context"); return false; }
@@ -168,9 +177,8 @@ std::vector<std::shared_ptr<Shader>> Context::get_attached_shaders(const std::sh
 
 void Context::bind_attrib_location(const std::shared_ptr<Program>& program, uint32_t index, const std::string& name) {
     const char* call = "bindAttribLocation";
-    if (!check_program(call, program.get())) return;
+    if (!check_name_length(call, name) || !check_program(call, program.get())) return;
     if (index >= uint32_t(kMaxVertexAttribs)) return error(gl::INVALID_VALUE, call, "index is not below MAX_VERTEX_ATTRIBS");
-    if (name.size() > 256) return error(gl::INVALID_VALUE, call, "names longer than 256 characters are not allowed in WebGL");
     if (starts_with(name, "gl_") || starts_with(name, "webgl_") || starts_with(name, "_webgl_"))
         return error(gl::INVALID_OPERATION, call, "'" + name + "' uses a reserved prefix");
     program->attribute_bindings[name] = int(index);
@@ -213,14 +221,22 @@ void Context::link_program(const std::shared_ptr<Program>& program) {
     p.linked = result.program;
     const glsl::ProgramReflection& r = p.linked->reflection;
     p.uniforms.assign(size_t(r.uniform_words) + 1, glsl::Scalar{});
-    // Per vertex input slot: the attribute location of its variable.
+    // Per vertex input slot: the attribute location and component it reads. A matrix takes one
+    // location per column (ES 3.0 §2.11.5); its slots are numbered column-major.
     const glsl::IrProgram& vertex_ir = p.linked->vertex;
-    std::vector<int> slot_location(vertex_ir.inputs.size(), -1);
-    for (size_t i = 0; i < vertex_ir.inputs.size(); ++i)
-        for (const auto& a : r.attributes)
-            if (a.name == vertex_ir.inputs[i].name && vertex_ir.inputs[i].kind == glsl::SlotKind::Attribute)
-                slot_location[i] = a.location;
-    p.vertex_stage = std::make_unique<GlslVertexShader>(p.linked, slot_location);
+    std::vector<int> slot_location(vertex_ir.inputs.size(), -1), slot_component(vertex_ir.inputs.size(), 0);
+    for (size_t i = 0; i < vertex_ir.inputs.size(); ++i) {
+        const glsl::Slot& slot = vertex_ir.inputs[i];
+        if (slot.kind != glsl::SlotKind::Attribute) continue;
+        for (const auto& a : r.attributes) {
+            if (a.name != slot.name) continue;
+            const UniformShape shape = uniform_shape(a.gl_type);
+            const int rows = shape.kind == 'm' ? shape.rows : 4;
+            slot_location[i] = a.location + slot.component / rows;
+            slot_component[i] = slot.component % rows;
+        }
+    }
+    p.vertex_stage = std::make_unique<GlslVertexShader>(p.linked, slot_location, slot_component);
     p.fragment_stage = std::make_unique<GlslFragmentShader>(p.linked, p.vertex_stage->varying_layout());
     p.vertex_stage->set_uniforms(p.uniforms.data());
     p.fragment_stage->set_uniforms(p.uniforms.data());
@@ -303,9 +319,8 @@ std::string Context::get_program_info_log(const std::shared_ptr<Program>& progra
 
 int32_t Context::get_attrib_location(const std::shared_ptr<Program>& program, const std::string& name) {
     const char* call = "getAttribLocation";
-    if (!check_program(call, program.get())) return -1;
+    if (!check_name_length(call, name) || !check_program(call, program.get())) return -1;
     if (!program->link_status) { error(gl::INVALID_OPERATION, call, "the program is not linked"); return -1; }
-    if (name.size() > 256) { error(gl::INVALID_VALUE, call, "name longer than 256 characters"); return -1; }
     for (const auto& a : program->linked->reflection.attributes)
         if (a.name == name && a.active) return a.location;
     return -1;
@@ -314,9 +329,8 @@ int32_t Context::get_attrib_location(const std::shared_ptr<Program>& program, co
 std::shared_ptr<UniformLocation> Context::get_uniform_location(const std::shared_ptr<Program>& program,
                                                                const std::string& name) {
     const char* call = "getUniformLocation";
-    if (!check_program(call, program.get())) return nullptr;
+    if (!check_name_length(call, name) || !check_program(call, program.get())) return nullptr;
     if (!program->link_status) { error(gl::INVALID_OPERATION, call, "the program is not linked"); return nullptr; }
-    if (name.size() > 256) { error(gl::INVALID_VALUE, call, "name longer than 256 characters"); return nullptr; }
     if (starts_with(name, "gl_") || starts_with(name, "webgl_") || starts_with(name, "_webgl_")) return nullptr;
     const auto& uniforms = program->linked->reflection.uniforms;
     // "u", "u[0]" and "s.f" name element 0; "u[N]" names element N of an array.

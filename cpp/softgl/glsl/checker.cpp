@@ -470,6 +470,10 @@ private:
         }
         if (type.is_void()) { error(v.line, "'" + v.name + "' : illegal use of type 'void'"); return; }
         const StorageQualifier q = spec.storage;
+        // GLSL ES 1.00 §4.3.3 and ES 3.00 §4.3.4: vertex shader inputs cannot be arrays (the
+        // declarator form `attribute vec4 a[2]` is caught here, the type form in check_qualifiers).
+        if (v.is_array && (q == StorageQualifier::Attribute || (q == StorageQualifier::In && is_vertex())))
+            error(v.line, "'" + v.name + "' : vertex shader inputs cannot be arrays");
         if (v.initializer) {
             if (q == StorageQualifier::Uniform || q == StorageQualifier::Attribute || q == StorageQualifier::Varying ||
                 q == StorageQualifier::In || q == StorageQualifier::Out) {

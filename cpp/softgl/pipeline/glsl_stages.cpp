@@ -22,8 +22,8 @@ void IncompleteTextureSampler::sample(const glsl::TextureQuery& q) {
 }
 
 GlslVertexShader::GlslVertexShader(std::shared_ptr<const glsl::LinkedProgram> program,
-                                   const std::vector<int>& attribute_locations_by_input_slot)
-    : program_(std::move(program)), input_location_(attribute_locations_by_input_slot) {
+                                   const std::vector<int>& input_location, const std::vector<int>& input_component)
+    : program_(std::move(program)), input_location_(input_location), input_component_(input_component) {
     for (int loc : input_location_)
         if (loc >= 0 && loc < kMaxVertexAttribs) used_ |= 1u << loc;
     const auto& outputs = program_->vertex.outputs;
@@ -54,11 +54,9 @@ void GlslVertexShader::run(const std::array<AttributeStream, kMaxVertexAttribs>&
         const glsl::Slot& s = ir.inputs[i];
         if (s.name == "gl_VertexID") inputs[i] = ids.data();
         else if (s.name == "gl_InstanceID") inputs[i] = instances.data();
-        else if (input_location_[i] >= 0) {
-            // Matrix attributes take one location per column (ES 3.0 §2.11.5).
-            const int location = input_location_[i] + s.component / 4;
-            if (location < kMaxVertexAttribs)
-                inputs[i] = reinterpret_cast<const Scalar*>(attribs[size_t(location)].comp[size_t(s.component % 4)].data());
+        else if (input_location_[i] >= 0 && input_location_[i] < kMaxVertexAttribs) {
+            const auto& stream = attribs[size_t(input_location_[i])].comp[size_t(input_component_[i])];
+            inputs[i] = reinterpret_cast<const Scalar*>(stream.data());
         }
     }
     std::vector<std::vector<Scalar>> results(ir.outputs.size(), std::vector<Scalar>(count));

@@ -20,8 +20,9 @@ public:
 
 class GlslVertexShader : public VertexShader {
 public:
-    GlslVertexShader(std::shared_ptr<const glsl::LinkedProgram> program,
-                     const std::vector<int>& attribute_locations_by_input_slot);
+    // Per vertex input slot: the attribute location and component it reads (-1: built-in).
+    GlslVertexShader(std::shared_ptr<const glsl::LinkedProgram> program, const std::vector<int>& input_location,
+                     const std::vector<int>& input_component);
     uint32_t used_attributes() const override { return used_; }
     const VaryingLayout& varying_layout() const override { return layout_; }
     void run(const std::array<AttributeStream, kMaxVertexAttribs>& attribs, size_t count,
@@ -34,6 +35,7 @@ private:
     glsl::TextureSampler* textures_ = nullptr;
     std::shared_ptr<const glsl::LinkedProgram> program_;
     std::vector<int> input_location_;    // per vertex input slot: attribute location, -1 built-in
+    std::vector<int> input_component_;   // per vertex input slot: component of that location
     std::vector<int> output_word_;       // per vertex output slot: varying word, -1 otherwise
     int position_slot_[4] = {-1, -1, -1, -1};
     int point_size_slot_ = -1;

@@ -86,7 +86,6 @@ MATRIX_ATTRIB_BUG = ("softgl reads every column of a matrix attribute from the f
                      "from location L + c (ES 2.0 §2.7 / GLSL ES 1.00 §4.3.3)")
 
 
-@pytest.mark.xfail(strict=True, reason=MATRIX_ATTRIB_BUG)
 def test_matrix_attribute_minimal_repro():
     gl = context(version=2)
     vs = """attribute vec4 aPos; attribute mat2 aM; varying vec4 v;
@@ -99,7 +98,6 @@ def test_matrix_attribute_minimal_repro():
     assert pixel(gl, 5, 5) == (153, 102, 77, 255)  # softgl: (0, 0, 77, 255)
 
 
-@pytest.mark.xfail(strict=True, reason=MATRIX_ATTRIB_BUG)
 @pytest.mark.parametrize("mat,cols", [("mat2", 2), ("mat3", 3), ("mat4", 4)])
 def test_matrix_attributes_take_columns_from_consecutive_locations(version, mat, cols):
     # gl-matrix-attributes: getAttribLocation gives the first column's location, column c reads

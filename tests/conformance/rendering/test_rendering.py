@@ -130,7 +130,7 @@ RESTART_BUG = ("softgl treats the maximum index (0xFF / 0xFFFF / 0xFFFFFFFF) as 
                "(ES 3.0 §2.8.1): the index must end the primitive and is not range-checked")
 
 
-@pytest.mark.parametrize("version", [1, pytest.param(2, marks=pytest.mark.xfail(strict=True, reason=RESTART_BUG))],
+@pytest.mark.parametrize("version", [1, pytest.param(2)],
                          ids=["webgl1", "webgl2"])
 def test_index_0xffff(version):
     # negative-one-index: in WebGL 1 index 0xFFFF is an ordinary vertex (triangle drawn); WebGL 2
@@ -152,7 +152,6 @@ def test_index_0xffff(version):
         assert not img.any()
 
 
-@pytest.mark.xfail(strict=True, reason=RESTART_BUG)
 def test_primitive_restart_in_strips_webgl2():
     # es3fPrimitiveRestartTests (WebGL 2 subset): the maximum index of each type ends a strip and
     # starts a new one; the restart index itself is never range-checked as a vertex.
