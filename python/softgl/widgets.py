@@ -61,9 +61,10 @@ def build_scene(settings: dict) -> scene.Scene:
            model=T.translate(0.9, 0.45, -1.2) @ T.rotate(0.5, (0, 1, 0)))
     a = float(s["opacity"])
     for name, color, model in (
-            ("blue sphere", (0.1, 0.3, 1.0), T.translate(-1.0, 0.8, -0.6)),
-            ("yellow cube", (1.0, 0.85, 0.1), T.translate(0.2, 0.7, 0.4) @ T.rotate(0.7, (1, 1, 0))),
-            ("green torus", (0.1, 0.9, 0.3), T.translate(0.9, 1.1, 0.6) @ T.rotate(1.2, (1, 0, 0)))):
+            # nearest first, so that "unsorted" shows the classic ordering error
+            ("green torus", (0.1, 0.9, 0.3), T.translate(0.5, 1.0, 0.9) @ T.rotate(1.2, (1, 0, 0))),
+            ("yellow cube", (1.0, 0.85, 0.1), T.translate(0.0, 0.8, 0.1) @ T.rotate(0.7, (1, 1, 0))),
+            ("blue sphere", (0.1, 0.3, 1.0), T.translate(-0.6, 0.8, -0.7))):
         mesh = (geometry.sphere(0.7, 32, 16) if "sphere" in name else
                 geometry.cube(1.0) if "cube" in name else geometry.torus(0.6, 0.2, 48, 16))
         sc.add(mesh, color=color, alpha=a, blend=blend, name=name, model=model)
