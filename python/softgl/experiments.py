@@ -363,3 +363,170 @@ def sweep(fn, grid, client=None, processes: int | None = None, progress: bool = 
                 bar.update()
     bar.close()
     return pd.DataFrame([{**p, **_as_row(r)} for p, r in zip(points, results)])
+
+
+# -- Fog --------------------------------------------------------------------------------------------
+
+FOG_MODES = ["LINEAR", "EXP", "EXP2"]
+
+
+def fog_test_scene(fog: "scene.Fog | None", background=(0.75, 0.78, 0.82, 1.0)) -> scene.Scene:
+    """A row of lit cubes receding along a ground plane (eye depths about 3 to 22), for fog."""
+    s = scene.Scene(camera=scene.Camera(eye=(0, 1.6, 4), target=(0, 0.4, -6), fovy=50),
+                    background=background, fog=fog)
+    s.lights = [scene.Light((4, 8, 6), (1, 1, 1))]
+    s.ambient = (0.3, 0.3, 0.3)
+    s.add(geometry.plane(12, 40, 1, 1), color=(0.35, 0.55, 0.3), model=T.translate(0, 0, -14))
+    colors = [(0.9, 0.2, 0.2), (0.95, 0.75, 0.1), (0.2, 0.5, 0.95)]
+    for i in range(8):
+        x = -1.6 if i % 2 == 0 else 1.6
+        s.add(geometry.cube(1.2), color=colors[i % 3],
+              model=T.translate(x, 0.6, 1.0 - 2.6 * i) @ T.rotate(0.4 * i, (0, 1, 0)))
+    return s
+
+
+def render_fog(mode=None, density=0.1, start=1.0, end=20.0, size=(160, 100), color=None):
+    """The fog test scene with SOFTGL_fog (mode None: no fog), as a context."""
+    background = (0.75, 0.78, 0.82, 1.0)
+    fog = None if mode is None else scene.Fog(mode, density, start, end,
+                                              color=color or background[:3])
+    gl = Context(*size, antialias=False, preserveDrawingBuffer=True)
+    return fog_test_scene(fog, background).render(gl)
+
+
+def fog_modes(densities=(0.04, 0.08, 0.16), ends=(30.0, 20.0, 10.0), size=(160, 100)):
+    """Grid of fog mode (rows) x density (columns); LINEAR's columns use fog end `ends` (start 1)."""
+    images, notes = [], []
+    for mode in FOG_MODES:
+        if mode == "LINEAR":
+            images.append([render_fog(mode, start=1.0, end=e, size=size) for e in ends])
+        else:
+            images.append([render_fog(mode, density=d, size=size) for d in densities])
+    cols = [f"density {d}\n(LINEAR: end {e:g})" for d, e in zip(densities, ends)]
+    return image_grid(images, FOG_MODES, cols, cell_inches=2.0,
+                      title="SOFTGL_fog: mode x density (fog color = background)")
+
+
+# -- Antialiasing ----------------------------------------------------------------------------------
+
+AA_METHODS = ["aliased", "smooth (exact area)", "smooth FASTEST", "MSAA 2", "MSAA 4", "MSAA 16"]
+
+
+def aa_test_triangles(width: int, height: int) -> np.ndarray:
+    """Disjoint thin triangles at many slopes (NDC, (n, 3, 2)), a fan of slivers around a centre."""
+    tris = []
+    n = 12
+    for i in range(n):
+        a0 = 2 * np.pi * i / n + 0.05
+        a1 = a0 + 2 * np.pi / n * 0.45
+        r0, r1 = 0.12, 0.95
+        p = [(r0 * np.cos(a0), r0 * np.sin(a0)), (r1 * np.cos(a0), r1 * np.sin(a0)),
+             (r1 * np.cos(a1), r1 * np.sin(a1))]
+        tris.append(p)
+    return np.array(tris, np.float64)
+
+
+def _aa_program(gl):
+    prog = programs.constant_color(gl)
+    buf = gl.createBuffer()
+    gl.bindBuffer(gl.ARRAY_BUFFER, buf)
+    loc = prog.attributes["aPosition"]
+    gl.enableVertexAttribArray(loc)
+    gl.vertexAttribPointer(loc, 2, gl.FLOAT, False, 0, 0)
+    return prog
+
+
+def render_coverage(method: str, triangles=None, width=64, height=64) -> np.ndarray:
+    """White triangles on black with an antialiasing method; the red channel / 255 as float64
+    (h, w), top row first: the covered fraction each method estimates."""
+    if method not in AA_METHODS:
+        raise ValueError(f"method is one of {AA_METHODS}")
+    samples = int(method.split()[1]) if method.startswith("MSAA") else 0
+    attrs = dict(samples=samples) if samples else dict(antialias=False)
+    gl = Context(width, height, preserveDrawingBuffer=True, **attrs)
+    tris = aa_test_triangles(width, height) if triangles is None else np.asarray(triangles)
+    prog = _aa_program(gl)
+    gl.clearColor(0, 0, 0, 1)
+    gl.clear(gl.COLOR_BUFFER_BIT)
+    if method.startswith("smooth"):
+        ext = gl.getExtension("SOFTGL_smooth")
+        gl.enable(ext.POLYGON_SMOOTH)
+        gl.hint(ext.POLYGON_SMOOTH_HINT, gl.FASTEST if "FASTEST" in method else gl.NICEST)
+        gl.enable(gl.BLEND)
+        gl.blendFunc(gl.SRC_ALPHA, gl.ONE_MINUS_SRC_ALPHA)
+    prog.set(uMaterialDiffuse=(1, 1, 1, 1))
+    gl.bufferData(gl.ARRAY_BUFFER, tris.astype(np.float32).ravel(), gl.STATIC_DRAW)
+    gl.drawArrays(gl.TRIANGLES, 0, 3 * len(tris))
+    img = gl.readPixels(0, 0, width, height, gl.RGBA, gl.UNSIGNED_BYTE)
+    return img[::-1, :, 0].astype(np.float64) / 255
+
+
+def coverage_reference(triangles, width, height, n: int = 32) -> np.ndarray:
+    """Covered fraction of every pixel by disjoint triangles (NDC), estimated in NumPy with an
+    n x n grid of samples per pixel (error below about 2 / n on an edge pixel), float64 (h, w),
+    top row first. Vertices are snapped to 1/256 pixel as the rasterizer does."""
+    tris = np.asarray(triangles, np.float64)
+    win = np.empty_like(tris)
+    win[..., 0] = np.round((tris[..., 0] + 1) * width / 2 * 256) / 256
+    win[..., 1] = np.round((tris[..., 1] + 1) * height / 2 * 256) / 256
+    offsets = (np.arange(n) + 0.5) / n
+    cover = np.zeros((height, width))
+    for row in range(height):            # one row of pixels at a time keeps memory small
+        sy = row + offsets                                    # (n,)
+        sx = (np.arange(width)[:, None] + offsets[None, :]).ravel()   # (w n,)
+        X, Y = np.meshgrid(sx, sy)                           # (n, w n)
+        inside = np.zeros(X.shape, bool)
+        for (x0, y0), (x1, y1), (x2, y2) in win:
+            area = (x1 - x0) * (y2 - y0) - (x2 - x0) * (y1 - y0)
+            s = np.sign(area)
+            e0 = ((x1 - x0) * (Y - y0) - (y1 - y0) * (X - x0)) * s
+            e1 = ((x2 - x1) * (Y - y1) - (y2 - y1) * (X - x1)) * s
+            e2 = ((x0 - x2) * (Y - y2) - (y0 - y2) * (X - x2)) * s
+            inside |= (e0 >= 0) & (e1 >= 0) & (e2 >= 0)
+        cover[height - 1 - row] = inside.reshape(n, width, n).mean(axis=(0, 2))
+    return cover
+
+
+def antialiasing_methods(width=64, height=64, crop=(slice(4, 28), slice(36, 60)), zoom=6,
+                         methods=None, repeat=3):
+    """For each method: a zoomed crop of its coverage image and its error map against the exact
+    area coverage ("smooth (exact area)", itself checked against coverage_reference).
+    Returns (figure, table) where the table (pandas) has the RMS and max error and the run time."""
+    import time
+    import pandas as pd
+    methods = methods or AA_METHODS
+    exact = render_coverage("smooth (exact area)", width=width, height=height)
+    crops, errors, rows = [], [], []
+    for m in methods:
+        times = []
+        for _ in range(repeat):
+            t = time.perf_counter()
+            img = render_coverage(m, width=width, height=height)
+            times.append(time.perf_counter() - t)
+        err = img - exact
+        crops.append(_zoom(img[crop], zoom))
+        errors.append(_zoom(_error_colors(err[crop]), zoom))
+        rows.append(dict(method=m, rms_error=float(np.sqrt(np.mean(err ** 2))),
+                         max_error=float(np.abs(err).max()), seconds=float(min(times))))
+    fig = image_grid([crops, errors], ["coverage", "error\n(red +, blue -)"], methods,
+                     cell_inches=1.7, title="Antialiasing: zoomed crops and error against the exact area")
+    return fig, pd.DataFrame(rows)
+
+
+def _zoom(image, k):
+    image = np.asarray(image)
+    if image.ndim == 2:
+        image = np.repeat(np.clip(image, 0, 1)[..., None], 3, 2)
+        image = np.floor(image * 255 + 0.5).astype(np.uint8)
+    return np.repeat(np.repeat(image, k, 0), k, 1)
+
+
+def _error_colors(err, scale=0.5):
+    """Signed error as white (0), red (coverage too high) and blue (too low); full color at
+    |err| = scale."""
+    e = np.clip(np.asarray(err) / scale, -1, 1)
+    rgb = np.ones(e.shape + (3,))
+    rgb[..., 1] -= np.abs(e)
+    rgb[..., 2] -= np.clip(e, 0, 1)
+    rgb[..., 0] -= np.clip(-e, 0, 1)
+    return np.floor(rgb * 255 + 0.5).astype(np.uint8)

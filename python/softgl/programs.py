@@ -26,12 +26,17 @@ output                 ``uVisibility`` (1: normal, 0: a black projected shadow; 
                        for premultiplied blending), ``uPointSize``
 =====================  ======================================================================
 
+The textured programs add ``aTexCoord`` (vec2, the mesh's uvs) and samplers ``uTexture0`` /
+``uTexture1`` (texture units, default 0 and 1) with ``uTexScale0`` / ``uTexScale1`` (vec2: how
+many times each texture repeats). The fogged program and the GLSL snippets in ``FOG_GLSL`` fog in
+the shader, as one does without softgl's SOFTGL_fog extension (see ``fog_factor`` for the same
+formulas in float64).
+
 Lighting is computed per fragment in eye space. The spot lights follow the course notes: the
 normal is bent away from the light's direction, ``N' = normalize(N - D)``, the Lambert term is
 ``lambert = dot(N', -L)`` with ``L`` the ray from the light to the fragment, and a light
 contributes ``color * diffuse * pow(lambert, 10 * cutoff)`` where ``lambert > cutoff``. A point
 light (``D = 0``) contributes ``color * diffuse * lambert`` where ``lambert > cutoff``.
-Textured, multitextured and fog shaders come with textures and fog in the core.
 """
 from __future__ import annotations
 
@@ -304,6 +309,86 @@ void main() {
 }
 """
 
+_VERTEX_TEXTURED = _VERTEX.replace(
+    "attribute vec4 aColor;", "attribute vec4 aColor;\nattribute vec2 aTexCoord;\nvarying vec2 vTexCoord;"
+).replace("vColor = aColor;", "vColor = aColor;\n    vTexCoord = aTexCoord;")
+
+_TEXTURED = """
+uniform sampler2D uTexture0;
+uniform vec2 uTexScale0;
+uniform vec4 uMaterialDiffuse;
+varying vec2 vTexCoord;
+void main() { gl_FragColor = finish(texture2D(uTexture0, vTexCoord * uTexScale0) * uMaterialDiffuse); }
+"""
+
+# uCombine: 0 modulate (t0 * t1), 1 add (t0 + t1, clamped), 2 interpolate (mix(t0, t1, uMix)),
+# 3 decal (t1 over t0 by t1's alpha; the alpha is t0's).
+MULTITEXTURE_COMBINE = {"modulate": 0, "add": 1, "interpolate": 2, "decal": 3}
+_MULTITEXTURED = """
+uniform sampler2D uTexture0;
+uniform sampler2D uTexture1;
+uniform vec2 uTexScale0;
+uniform vec2 uTexScale1;
+uniform int uCombine;
+uniform float uMix;
+uniform vec4 uMaterialDiffuse;
+varying vec2 vTexCoord;
+void main() {
+    vec4 t0 = texture2D(uTexture0, vTexCoord * uTexScale0);
+    vec4 t1 = texture2D(uTexture1, vTexCoord * uTexScale1);
+    vec4 c;
+    if (uCombine == 0) c = t0 * t1;
+    else if (uCombine == 1) c = min(t0 + t1, vec4(1.0));
+    else if (uCombine == 2) c = mix(t0, t1, uMix);
+    else c = vec4(mix(t0.rgb, t1.rgb, t1.a), t0.a);
+    gl_FragColor = finish(c * uMaterialDiffuse);
+}
+"""
+
+# Fog in GLSL (the OpenGL 1.x formulas, GL 1.5 §3.10): f is the fraction of the fragment's own
+# color that remains, c the fog coordinate (the eye distance).
+FOG_GLSL = """
+float fogLinear(float c, float start, float end) { return clamp((end - c) / (end - start), 0.0, 1.0); }
+float fogExp(float c, float density) { return clamp(exp(-density * c), 0.0, 1.0); }
+float fogExp2(float c, float density) { float d = density * c; return clamp(exp(-d * d), 0.0, 1.0); }
+vec3 applyFog(vec3 color, vec3 fogColor, float f) { return mix(fogColor, color, f); }
+"""
+FOG_MODES = {"LINEAR": 0, "EXP": 1, "EXP2": 2}
+
+# Lambert light, then fog. uFogCoordinate 0: the eye depth -z (what SOFTGL_fog's FRAGMENT_DEPTH
+# and OpenGL's usual approximation use), 1: the radial distance |eye position|.
+_FOGGED = FOG_GLSL + """
+uniform mat4 uView;
+uniform vec3 uLightDirection;
+uniform vec4 uLightDiffuse;
+uniform vec4 uLightAmbient;
+uniform vec4 uMaterialDiffuse;
+uniform vec4 uMaterialAmbient;
+uniform bool uLit;
+uniform int uFogMode;
+uniform int uFogCoordinate;
+uniform float uFogDensity;
+uniform float uFogStart;
+uniform float uFogEnd;
+uniform vec4 uFogColor;
+varying vec3 vEyePosition;
+varying vec3 vEyeNormal;
+void main() {
+    vec4 color = uMaterialDiffuse;
+    if (uLit) {
+        vec3 N = normalize(vEyeNormal);
+        vec3 L = normalize((uView * vec4(uLightDirection, 0.0)).xyz);
+        float lambert = max(dot(N, -L), 0.0);
+        color = vec4((uLightAmbient * uMaterialAmbient + uLightDiffuse * uMaterialDiffuse * lambert).rgb,
+                     uMaterialDiffuse.a);
+    }
+    float c = uFogCoordinate == 0 ? -vEyePosition.z : length(vEyePosition);
+    float f = uFogMode == 0 ? fogLinear(c, uFogStart, uFogEnd)
+            : uFogMode == 1 ? fogExp(c, uFogDensity) : fogExp2(c, uFogDensity);
+    gl_FragColor = finish(vec4(applyFog(color.rgb, uFogColor.rgb, f), color.a));
+}
+"""
+
 _IDENTITY = np.eye(4)
 COMMON_DEFAULTS = dict(uModel=_IDENTITY, uView=_IDENTITY, uProjection=_IDENTITY,
                        uNormalMatrix=_IDENTITY, uPointSize=1.0, uVisibility=1.0,
@@ -314,8 +399,9 @@ LIGHT_DEFAULTS = dict(uLightDirection=(0.0, -1.0, -1.0), uLightDiffuse=(1.0, 1.0
                       uShininess=32.0)
 
 
-def _stock(gl, name: str, fragment_body: str, defaults: dict | None = None) -> Program:
-    return Program(gl, _VERTEX, _HEADER + _OUTPUT + fragment_body,
+def _stock(gl, name: str, fragment_body: str, defaults: dict | None = None,
+           vertex: str = _VERTEX) -> Program:
+    return Program(gl, vertex, _HEADER + _OUTPUT + fragment_body,
                    {**COMMON_DEFAULTS, **LIGHT_DEFAULTS, **(defaults or {})}, name=name)
 
 
@@ -355,8 +441,55 @@ def lights(gl, count: int = 3) -> Program:
     return _stock(gl, f"lights({count})", _LIGHTS.replace("{n}", str(count)), defaults)
 
 
+def textured(gl) -> Program:
+    """``texture2D(uTexture0, vTexCoord * uTexScale0) * uMaterialDiffuse`` (unit 0, unlit)."""
+    return _stock(gl, "textured", _TEXTURED, {"uTexture0": 0, "uTexScale0": (1.0, 1.0)},
+                  vertex=_VERTEX_TEXTURED)
+
+
+def multitextured(gl, combine: str = "modulate") -> Program:
+    """Two samplers, ``uTexture0`` (unit 0) and ``uTexture1`` (unit 1), combined by `combine`
+    (see MULTITEXTURE_COMBINE; change it later with ``uCombine``), times ``uMaterialDiffuse``."""
+    if combine not in MULTITEXTURE_COMBINE:
+        raise ValueError(f"multitextured: combine is one of {sorted(MULTITEXTURE_COMBINE)}")
+    return _stock(gl, "multitextured", _MULTITEXTURED,
+                  {"uTexture0": 0, "uTexture1": 1, "uTexScale0": (1.0, 1.0), "uTexScale1": (1.0, 1.0),
+                   "uCombine": MULTITEXTURE_COMBINE[combine], "uMix": 0.5}, vertex=_VERTEX_TEXTURED)
+
+
+def fogged(gl, mode: str = "EXP", density: float = 1.0, start: float = 0.0, end: float = 1.0,
+           color=(0.5, 0.5, 0.5, 1.0), lit: bool = True, radial: bool = False) -> Program:
+    """Lambert light (or the plain ``uMaterialDiffuse`` when `lit` is False), then fog computed
+    in the fragment shader with the FOG_GLSL functions: ``uFogMode`` (FOG_MODES), ``uFogDensity``,
+    ``uFogStart``, ``uFogEnd``, ``uFogColor``; the coordinate is the eye depth -z, or the radial
+    distance when `radial`."""
+    if mode not in FOG_MODES:
+        raise ValueError(f"fogged: mode is one of {sorted(FOG_MODES)}")
+    return _stock(gl, f"fogged({mode})", _FOGGED,
+                  {"uFogMode": FOG_MODES[mode], "uFogDensity": density, "uFogStart": start,
+                   "uFogEnd": end, "uFogColor": color, "uLit": int(lit),
+                   "uFogCoordinate": int(radial)})
+
+
+def fog_factor(mode: str, c, density: float = 1.0, start: float = 0.0, end: float = 1.0) -> np.ndarray:
+    """The fog factor f (the fraction of the fragment's color that remains) in float64 for fog
+    coordinates `c`: LINEAR (end - c) / (end - start), EXP exp(-density c), EXP2
+    exp(-(density c)^2), clamped to [0, 1] (GL 1.5 §3.10)."""
+    c = np.asarray(c, np.float64)
+    if mode == "LINEAR":
+        f = (end - c) / (end - start)
+    elif mode == "EXP":
+        f = np.exp(-density * c)
+    elif mode == "EXP2":
+        f = np.exp(-(density * c) ** 2)
+    else:
+        raise ValueError(f"fog_factor: mode is one of {sorted(FOG_MODES)}")
+    return np.clip(f, 0.0, 1.0)
+
+
 STOCK = {"constant": constant_color, "vertex": vertex_color, "random": random_color,
-         "lambert": lambert, "phong": phong, "lights": lights}
+         "lambert": lambert, "phong": phong, "lights": lights, "textured": textured,
+         "multitextured": multitextured, "fogged": fogged}
 
 
 def random_color_reference(x, y, seed: float = 0.0) -> np.ndarray:

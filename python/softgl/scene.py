@@ -28,7 +28,9 @@ order:
    ``"sorted"`` (default)  whole objects back to front by the eye depth of their centres;
    ``"unsorted"``          in the order they were added;
    ``"two_pass"``          sorted, and each object's back faces before its front faces;
-   ``"depth_write"``       in the order added with depth writes on (the classic mistake).
+   ``"depth_write"``       in the order added with depth writes on (the classic mistake);
+   ``"exact"``             through SOFTGL_exact_transparency: every blended fragment is kept
+                           and composited per pixel in depth order (the A-buffer reference).
 
 Blend modes by name, as in the course notes: "opaque" (blending off), "additive" (ONE, ONE),
 "subtractive" (ONE, ONE, FUNC_SUBTRACT: S - D), "reverse_subtractive" (D - S),
@@ -36,7 +38,9 @@ Blend modes by name, as in the course notes: "opaque" (blending off), "additive"
 canvas alpha follows ONE, ONE_MINUS_SRC_ALPHA so an opaque canvas stays opaque),
 "premultiplied" (ONE, ONE_MINUS_SRC_ALPHA with the shader's rgb multiplied by alpha), "min" and
 "max" (MIN/MAX equations; EXT_blend_minmax in WebGL 1), or a ``Blend`` of explicit factors.
-The render leaves depth test on, blending, culling and stencil off, and depth writes on.
+A scene's ``fog`` (a Fog) turns on SOFTGL_fog for the whole render; a material's ``texture``
+draws the object with the stock textured program.
+The render leaves depth test on, blending, culling, stencil and fog off, and depth writes on.
 Programs and mesh buffers are made once per context and reused: a mesh's arrays are uploaded on
 its first render, so give a changed mesh as a new Mesh.
 """
@@ -114,7 +118,7 @@ def blend_mode(mode) -> Blend | None:
     return Blend(*mode)
 
 
-SHADINGS = ("constant", "vertex", "random", "lit")
+SHADINGS = ("constant", "vertex", "random", "lit", "textured")
 
 
 @dataclass
@@ -123,14 +127,30 @@ class Material:
     ``blend`` (name, Blend or tuple; default "interpolative" when alpha < 1, else "opaque"),
     ``shading``: "constant" (the color), "vertex" (the mesh's per-vertex colors), "random"
     (a random color per pixel) or "lit" (ambient + the scene's point/spot lights, default);
-    ``cull``: cull back faces of opaque objects."""
+    ``cull``: cull back faces of opaque objects.
+    ``texture``: an image (h, w, 3|4) uint8 (or float in [0, 1]) in texImage2D's row order (row 0
+    is v = 0, the bottom as geometry's uvs see it); giving one makes the shading "textured" (the
+    texture times the color, unlit), repeated ``texture_repeat`` times, mipmapped and filtered
+    with ``texture_filter`` ("linear": LINEAR_MIPMAP_LINEAR / LINEAR, "nearest": NEAREST)."""
     color: tuple = (0.8, 0.8, 0.8)
     alpha: float | None = None
     blend: object = None
     shading: str = "lit"
     cull: bool = False
+    texture: object = None
+    texture_repeat: tuple = (1.0, 1.0)
+    texture_filter: str = "linear"
 
     def __post_init__(self):
+        if self.texture is not None:
+            self.shading = "textured"
+            image = np.asarray(self.texture)
+            if image.ndim != 3 or image.shape[2] not in (3, 4):
+                raise ValueError("Material.texture must be an (h, w, 3|4) image")
+        elif self.shading == "textured":
+            raise ValueError("shading 'textured' needs a texture")
+        if self.texture_filter not in ("linear", "nearest"):
+            raise ValueError("texture_filter is 'linear' or 'nearest'")
         if self.shading not in SHADINGS:
             raise ValueError(f"unknown shading {self.shading!r}; choose one of {SHADINGS}")
         blend_mode(self.blend)   # validate now, not at render time
@@ -218,7 +238,50 @@ class ProjectedShadows:
         return T.shadow_matrix(position, self.plane_y, -side * self.epsilon)
 
 
-TRANSPARENCY_MODES = ("sorted", "unsorted", "two_pass", "depth_write")
+@dataclass
+class Fog:
+    """Fixed-function fog through softgl's SOFTGL_fog extension (OpenGL 1.x fog): `mode` is
+    "LINEAR" (start, end), "EXP" or "EXP2" (density); the fog coordinate is the eye depth.
+    `blend_aware` fogs blended geometry toward what adds nothing (black for additive blending)
+    instead of toward the fog color (FOG_BLEND_AWARE_SOFTGL)."""
+    mode: str = "EXP"
+    density: float = 0.3
+    start: float = 0.0
+    end: float = 10.0
+    color: tuple = (0.6, 0.65, 0.7)
+    blend_aware: bool = False
+
+    def apply(self, gl):
+        ext = gl.getExtension("SOFTGL_fog")
+        if self.mode not in ("LINEAR", "EXP", "EXP2"):
+            raise ValueError(f"unknown fog mode {self.mode!r}")
+        gl.enable(ext.FOG)
+        ext.fogi(ext.FOG_MODE, getattr(ext, self.mode))
+        ext.fogf(ext.FOG_DENSITY, float(self.density))
+        ext.fogf(ext.FOG_START, float(self.start))
+        ext.fogf(ext.FOG_END, float(self.end))
+        ext.fogfv(ext.FOG_COLOR, [float(v) for v in tuple(self.color[:3]) + (1.0,)])
+        (gl.enable if self.blend_aware else gl.disable)(ext.FOG_BLEND_AWARE_SOFTGL)
+
+    @staticmethod
+    def disable(gl):
+        ext = gl.getExtension("SOFTGL_fog")
+        gl.disable(ext.FOG)
+        gl.disable(ext.FOG_BLEND_AWARE_SOFTGL)
+
+
+@dataclass
+class PassState:
+    """WebGL state for the transparent pass, to experiment with: ``depth_func`` (a name like
+    "LESS"), ``depth_mask`` (None: what the transparency mode says), ``color_mask`` (r, g, b, a)
+    and ``cull`` (None, "BACK", "FRONT" or "FRONT_AND_BACK"; the "two_pass" mode culls itself)."""
+    depth_func: str = "LESS"
+    depth_mask: bool | None = None
+    color_mask: tuple = (True, True, True, True)
+    cull: str | None = None
+
+
+TRANSPARENCY_MODES = ("sorted", "unsorted", "two_pass", "depth_write", "exact")
 
 
 @dataclass
@@ -230,6 +293,8 @@ class Scene:
     ambient: tuple = (0.15, 0.15, 0.15)
     transparency: str = "sorted"
     shadows: ProjectedShadows | None = None
+    fog: Fog | None = None
+    transparent_pass: PassState = field(default_factory=PassState)
 
     def add(self, mesh, material: Material | None = None, *, model=None, name: str = "",
             casts_shadow: bool = True, receives_shadow: bool = False, **material_args) -> Node:
@@ -267,7 +332,7 @@ class _MeshBuffers:
         self.mesh = mesh   # held so that id(mesh) stays unique while cached
         self.buffers = {}
         for name, data in (("aPosition", mesh.positions), ("aNormal", mesh.normals),
-                           ("aColor", mesh.colors)):
+                           ("aColor", mesh.colors), ("aTexCoord", mesh.uvs)):
             if data is not None:
                 buf = gl.createBuffer()
                 gl.bindBuffer(gl.ARRAY_BUFFER, buf)
@@ -287,6 +352,7 @@ class _Renderer:
         self.gl = weakref.proxy(gl)
         self.programs = {}
         self.meshes = {}
+        self.textures = {}
         self.enabled = set()
 
     def program(self, shading: str, light_count: int) -> programs.Program:
@@ -294,9 +360,47 @@ class _Renderer:
         if key not in self.programs:
             gl = self.gl
             self.programs[key] = {"constant": programs.constant_color, "vertex": programs.vertex_color,
-                                  "random": programs.random_color}[shading](gl) \
+                                  "random": programs.random_color, "textured": programs.textured,
+                                  }[shading](gl) \
                 if shading != "lit" else programs.lights(gl, light_count)
         return self.programs[key]
+
+    def bind_texture(self, material: Material, unit: int = 0):
+        """Upload the material's texture once per context (keyed by the array's identity) and
+        bind it to `unit`."""
+        gl = self.gl
+        image = material.texture
+        key = (id(image), material.texture_filter)
+        entry = self.textures.get(key)
+        gl.activeTexture(gl.TEXTURE0 + unit)
+        if entry is None:
+            data = np.asarray(image)
+            if data.dtype != np.uint8:
+                data = np.floor(np.clip(data.astype(np.float64), 0, 1) * 255 + 0.5).astype(np.uint8)
+            data = np.ascontiguousarray(data)
+            h, w, n = data.shape
+            fmt = gl.RGBA if n == 4 else gl.RGB
+            tex = gl.createTexture()
+            gl.bindTexture(gl.TEXTURE_2D, tex)
+            gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1)
+            gl.texImage2D(gl.TEXTURE_2D, 0, fmt, w, h, 0, fmt, gl.UNSIGNED_BYTE, data)
+            pot = (w & (w - 1)) == 0 and (h & (h - 1)) == 0
+            linear = material.texture_filter == "linear"
+            if pot or gl.version == 2:
+                if linear:
+                    gl.generateMipmap(gl.TEXTURE_2D)
+                wrap = gl.REPEAT
+            else:
+                wrap = gl.CLAMP_TO_EDGE   # WebGL 1: NPOT textures only clamp, without mipmaps
+            gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_S, wrap)
+            gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_T, wrap)
+            mipmapped = linear and (pot or gl.version == 2)
+            gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER,
+                             gl.LINEAR_MIPMAP_LINEAR if mipmapped else gl.LINEAR if linear else gl.NEAREST)
+            gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.LINEAR if linear else gl.NEAREST)
+            entry = self.textures[key] = (tex, image)   # hold the image so that its id stays unique
+        else:
+            gl.bindTexture(gl.TEXTURE_2D, entry[0])
 
     def draw(self, prog, node: Node, model, uniforms: dict):
         gl = self.gl
@@ -360,6 +464,9 @@ class _Renderer:
         gl.disable(gl.STENCIL_TEST)
         gl.disable(gl.CULL_FACE)
 
+        if scene.fog is not None:
+            scene.fog.apply(gl)
+
         def draw_node(node, model=None, shading=None, **extra):
             m = node.material
             blend = m.blending
@@ -367,7 +474,11 @@ class _Renderer:
                             uNormalMatrix=T.normal_matrix(view @ node.model),
                             uPremultiply=int(bool(blend and blend.premultiply)))
             uniforms.update(extra)
-            prog = self.program(shading or m.shading, n_lights)
+            shading = shading or m.shading
+            if shading == "textured":
+                self.bind_texture(m)
+                uniforms.update(uTexture0=0, uTexScale0=m.texture_repeat)
+            prog = self.program(shading, n_lights)
             self.draw(prog, node, node.model if model is None else model, uniforms)
 
         def set_cull(enabled, face=None):
@@ -413,7 +524,15 @@ class _Renderer:
         set_cull(False)
 
         transparent = scene.transparent_order(view)
-        gl.depthMask(scene.transparency == "depth_write")
+        state = scene.transparent_pass
+        gl.depthMask(scene.transparency == "depth_write" if state.depth_mask is None
+                     else bool(state.depth_mask))
+        gl.depthFunc(_enum(state.depth_func))
+        gl.colorMask(*(bool(v) for v in state.color_mask))
+        set_cull(state.cull is not None, None if state.cull is None else _enum(state.cull))
+        exact = gl.getExtension("SOFTGL_exact_transparency") if scene.transparency == "exact" else None
+        if exact is not None:
+            gl.enable(exact.EXACT_TRANSPARENCY_SOFTGL)
         for node in transparent:
             node.material.blending.apply(gl)
             if scene.transparency == "two_pass":
@@ -421,12 +540,20 @@ class _Renderer:
                 draw_node(node)
                 set_cull(True, gl.BACK)
                 draw_node(node)
-                set_cull(False)
+                set_cull(state.cull is not None, None if state.cull is None else _enum(state.cull))
             else:
                 draw_node(node)
+        if exact is not None:
+            exact.resolve()
+            gl.disable(exact.EXACT_TRANSPARENCY_SOFTGL)
+        set_cull(False)
+        gl.colorMask(True, True, True, True)
+        gl.depthFunc(gl.LESS)
         gl.disable(gl.BLEND)
         gl.blendEquation(gl.FUNC_ADD)
         gl.depthMask(True)
+        if scene.fog is not None:
+            Fog.disable(gl)
 
 
 _RENDERERS: "weakref.WeakKeyDictionary" = weakref.WeakKeyDictionary()

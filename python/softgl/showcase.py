@@ -4,8 +4,7 @@ and an index.html contact sheet) and prints where it is.
     python -m softgl.showcase [folder]        (default: ./showcase)
 
 Each picture is drawn with the WebGL API, through softgl.scene, softgl.programs and
-softgl.experiments; see the notebooks for the same topics explained step by step. Textures,
-fog and area antialiasing join the gallery when the core has them.
+softgl.experiments; see the notebooks for the same topics explained step by step.
 """
 from __future__ import annotations
 
@@ -201,6 +200,94 @@ def translucent_canvas():
     return gl
 
 
+def fog():
+    """SOFTGL_fog: none, LINEAR, EXP, EXP2 on receding cubes."""
+    return _row([experiments.render_fog(None, size=(200, 125)),
+                 experiments.render_fog("LINEAR", start=1, end=20, size=(200, 125)),
+                 experiments.render_fog("EXP", density=0.1, size=(200, 125)),
+                 experiments.render_fog("EXP2", density=0.1, size=(200, 125))])
+
+
+def antialiasing():
+    """Zoomed crops and error maps: aliased, exact area (SOFTGL_smooth), sampled, MSAA 2/4/16."""
+    fig, _ = experiments.antialiasing_methods(repeat=1)
+    return fig
+
+
+def _checkerboard(n=64, checks=8):
+    i, j = np.meshgrid(np.arange(n), np.arange(n), indexing="ij")
+    img = np.zeros((n, n, 4), np.uint8)
+    img[((i // (n // checks)) + (j // (n // checks))) % 2 == 0] = 255
+    img[..., 3] = 255
+    return img
+
+
+def multitexturing():
+    """A mipmapped checkerboard on a plane with a red 1x1 texture on two quads, then two
+    textures combined in one shader (modulate, interpolate)."""
+    checker = _checkerboard()
+    s = scene.Scene(camera=scene.Camera(eye=(0, 0, 0), target=(0, -0.2, -1), fovy=90),
+                    background=(0.39, 0.58, 0.93, 1))
+    s.add(geometry.plane(8, 8), texture=checker, texture_repeat=(4, 4), color=(1, 1, 1),
+          model=T.translate(0, -1, -5))
+    red = np.array([[[255, 0, 0]]], np.uint8)
+    for m in (T.translate(0.5, -0.5, -1.5) @ T.rotate(-math.pi / 2, (1, 0, 0)),
+              T.translate(-1.0, -0.5, -2.75) @ T.rotate(math.pi / 2, (0, 1, 0))):
+        s.add(geometry.quad(0.5, 0.5), texture=red, texture_filter="nearest", color=(1, 1, 1), model=m)
+    images = [s.render(_context(200, 150))]
+    gradient = np.zeros((32, 32, 4), np.uint8)
+    gradient[..., 0] = np.linspace(0, 255, 32)[None, :]
+    gradient[..., 2] = np.linspace(255, 0, 32)[:, None]
+    gradient[..., 3] = 255
+    for combine in ("modulate", "interpolate"):
+        gl = _context(150, 150)
+        for unit, image in ((0, checker), (1, gradient)):
+            gl.activeTexture(gl.TEXTURE0 + unit)
+            gl.bindTexture(gl.TEXTURE_2D, gl.createTexture())
+            gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA, image.shape[1], image.shape[0], 0, gl.RGBA,
+                          gl.UNSIGNED_BYTE, image)
+            gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.LINEAR)
+        scene.draw_mesh(gl, programs.multitextured(gl, combine), geometry.quad(2, 2))
+        images.append(gl)
+    return _row(images)
+
+
+def exact_transparency():
+    """Three interpenetrating transparent objects: unsorted, sorted by object, and exact
+    (SOFTGL_exact_transparency: every fragment composited in depth order)."""
+    images = []
+    for mode in ("unsorted", "sorted", "exact"):
+        s = scene.Scene(camera=scene.Camera(eye=(0, 1.2, 4), fovy=40), transparency=mode,
+                        background=(1, 1, 1, 1))
+        s.lights = [scene.Light((3, 5, 5))]
+        s.add(geometry.torus(0.8, 0.25), color=(0.1, 0.8, 0.3), alpha=0.5,
+              model=T.rotate(1.2, (1, 0, 0)))
+        s.add(geometry.sphere(0.6), color=(0.2, 0.3, 1.0), alpha=0.5)
+        s.add(geometry.cube(1.0), color=(1.0, 0.3, 0.1), alpha=0.4,
+              model=T.translate(0.4, 0.1, -0.3) @ T.rotate(0.6, (1, 1, 0)))
+        images.append(s.render(_context(200, 160)))
+    return _row(images)
+
+
+def circling_light():
+    """Eight frames of a light circling at y = 2 around (0, 2, -2): semi-transparent shadows."""
+    frames = []
+    checker = _checkerboard()
+    for angle in np.linspace(0, 2 * np.pi, 8, endpoint=False):
+        s = scene.Scene(camera=scene.Camera(eye=(0, 1.6, 1.4), target=(0, -1, -2.2), fovy=55),
+                        background=(0.39, 0.58, 0.93, 1))
+        s.add(geometry.plane(4, 4), texture=checker, texture_repeat=(2, 2), color=(1, 1, 1),
+              model=T.translate(0, -1, -2), receives_shadow=True)
+        s.add(geometry.cube(0.5), color=(0.9, 0.2, 0.1), model=T.translate(0.3, -0.4, -2.0))
+        s.add(geometry.quad(0.5, 0.5), shading="constant", color=(1, 0, 0),
+              model=T.translate(-0.6, -0.3, -1.6) @ T.rotate(-math.pi / 2, (1, 0, 0)))
+        s.lights = [scene.Light((2 * math.cos(angle), 2.0, -2 + 2 * math.sin(angle)))]
+        s.shadows = scene.ProjectedShadows(light=0, plane_y=-1.0, alpha=0.5)
+        frames.append(display.canvas_image(s.render(_context(160, 120, stencil=True)), present=False))
+    from . import animation
+    return animation.filmstrip(frames, columns=4)
+
+
 GALLERY = [
     ("color_models", "Constant, per-vertex and per-fragment (random) color", color_models),
     ("lambert_and_phong", "Lambert, then Phong with shininess 4 and 32", lambert_and_phong),
@@ -216,6 +303,13 @@ GALLERY = [
     ("projection_shadows", "Projection shadows from a circling light: blended, stencilled, "
                            "clipped to the ground", projection_shadows),
     ("multisampling", "Edges without and with 4x multisampling (enlarged)", multisampling),
+    ("fog", "SOFTGL_fog: none, LINEAR, EXP, EXP2", fog),
+    ("antialiasing", "Antialiasing: zoomed crops and error against the exact area", antialiasing),
+    ("multitexturing", "A checkerboard and a 1x1 red texture; two textures in one shader",
+     multitexturing),
+    ("circling_light", "Projection shadows from a light circling at y = 2 (8 frames)", circling_light),
+    ("exact_transparency", "Transparency unsorted, sorted by object, and exact (A-buffer)",
+     exact_transparency),
     ("scissor_mosaic", "Scissored clears and a red-only color mask", scissor_mosaic),
     ("translucent_canvas", "A premultiplied canvas over the white page", translucent_canvas),
 ]
