@@ -62,6 +62,11 @@ py::object read_pixels(Context& ctx, softgl::bindings::IdlInt32 x_, softgl::bind
             return py::none();
         return std::move(out);
     }
+    // WebGL 2's GLintptr overload: a byte offset into the PIXEL_PACK_BUFFER.
+    if (ctx.version() >= 2 && !py::isinstance<py::array>(pixels) && PyIndex_Check(pixels.ptr()) && !PyBool_Check(pixels.ptr())) {
+        ctx.read_pixels_to_pack_buffer(x, y, w, h, format, type, pixels.cast<int64_t>());
+        return py::none();
+    }
     if (!py::isinstance<py::array>(pixels))
         throw py::type_error("readPixels: pixels must be a NumPy array (the ArrayBufferView) or None");
     py::array arr = pixels.cast<py::array>();

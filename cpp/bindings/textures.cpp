@@ -45,6 +45,13 @@ struct Pixels {
 void view_source(Context& c, const char* call, py::handle obj, int64_t src_offset, Pixels& px, bool* ok) {
     *ok = true;
     if (obj.is_none()) return;
+    // WebGL 2's GLintptr overloads: a byte offset into the PIXEL_UNPACK_BUFFER.
+    if (c.version() >= 2 && !py::isinstance<py::array>(obj) && PyIndex_Check(obj.ptr()) && !PyBool_Check(obj.ptr())) {
+        if (src_offset != 0) throw py::type_error(std::string(call) + ": a buffer offset takes no srcOffset");
+        px.source.kind = TexSource::Kind::UnpackBuffer;
+        px.source.offset = obj.cast<int64_t>();
+        return;
+    }
     if (!py::isinstance<py::array>(obj))
         throw py::type_error(std::string(call) + ": pixels must be a NumPy array (the ArrayBufferView) or None");
     py::array arr = py::reinterpret_borrow<py::array>(obj);
@@ -265,6 +272,12 @@ void bind_textures(py::module_& m) {
         }, py::arg("buffer"), py::arg("drawbuffer"), py::arg("values"), py::arg("srcOffset") = 0)
         .def("clearBufferfi", [](Context& c, IdlUint32 buffer, IdlInt32 drawbuffer, float depth, IdlInt32 stencil) {
             c.clear_buffer("clearBufferfi", buffer.value, drawbuffer.value, 's', nullptr, 0, depth, stencil.value);
+        })
+        .def("drawBuffers", [](Context& c, std::vector<uint32_t> buffers) { c.draw_buffers("drawBuffers", buffers); })
+        .def("_drawBuffersWEBGL", [](Context& c, std::vector<uint32_t> buffers) {
+            if (!c.extension_enabled("WEBGL_draw_buffers"))
+                return c.record_error(gl::INVALID_OPERATION, "drawBuffersWEBGL", "WEBGL_draw_buffers is not enabled");
+            c.draw_buffers("drawBuffersWEBGL", buffers);
         })
         .def("invalidateFramebuffer", [](Context& c, IdlUint32 target, std::vector<uint32_t> attachments) {
             c.invalidate_framebuffer("invalidateFramebuffer", target.value, attachments);

@@ -54,6 +54,10 @@ _EXTENSION_CONSTANTS = {
     "WEBGL_depth_texture": {"UNSIGNED_INT_24_8_WEBGL": 0x84FA},
     "WEBGL_color_buffer_float": {"RGBA32F_EXT": 0x8814, "FRAMEBUFFER_ATTACHMENT_COMPONENT_TYPE_EXT": 0x8211,
                                  "UNSIGNED_NORMALIZED_EXT": 0x8C17},
+    # WEBGL_draw_buffers: the WebGL 2 values (COLOR_ATTACHMENTi, DRAW_BUFFERi, MAX_*).
+    "WEBGL_draw_buffers": {**{f"COLOR_ATTACHMENT{i}_WEBGL": 0x8CE0 + i for i in range(16)},
+                           **{f"DRAW_BUFFER{i}_WEBGL": 0x8825 + i for i in range(16)},
+                           "MAX_COLOR_ATTACHMENTS_WEBGL": 0x8CDF, "MAX_DRAW_BUFFERS_WEBGL": 0x8824},
     "EXT_color_buffer_half_float": {"RGBA16F_EXT": 0x881A, "RGB16F_EXT": 0x881B,
                                     "FRAMEBUFFER_ATTACHMENT_COMPONENT_TYPE_EXT": 0x8211,
                                     "UNSIGNED_NORMALIZED_EXT": 0x8C17},
@@ -77,6 +81,8 @@ def _extension_functions(name: str, gl) -> dict:
                 "fogfv": fogfv}
     if name in _blendlab_ext.CONSTANTS:
         return _blendlab_ext.functions(name, gl)
+    if name == "WEBGL_draw_buffers":
+        return {"drawBuffersWEBGL": lambda buffers: core._drawBuffersWEBGL(ref(), buffers)}
     if name == "ANGLE_instanced_arrays":
         return {"drawArraysInstancedANGLE":
                 lambda mode, first, count, n: core.drawArraysInstanced(ref(), mode, first, count, n),
@@ -101,7 +107,7 @@ WEBGL2_ONLY = ["copyBufferSubData", "getBufferSubData", "vertexAttribIPointer", 
                "createSampler", "deleteSampler", "isSampler", "bindSampler", "samplerParameteri",
                "samplerParameterf", "getSamplerParameter", "framebufferTextureLayer",
                "renderbufferStorageMultisample", "readBuffer", "blitFramebuffer", "clearBufferfv",
-               "clearBufferiv", "clearBufferuiv", "clearBufferfi", "invalidateFramebuffer",
+               "clearBufferiv", "clearBufferuiv", "clearBufferfi", "drawBuffers", "invalidateFramebuffer",
                "invalidateSubFramebuffer"]
 
 

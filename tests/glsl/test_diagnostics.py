@@ -188,3 +188,17 @@ def test_constant_folding_and_dead_code():
     out = run("""precision mediump float; const float k = 2.0 * 3.0;
     void main() { gl_FragColor = vec4(sqrt(k * k) + exp2(3.0)); }""", "fragment", version=1)
     assert out["gl_FragColor"][0, 0] == 14.0
+
+
+def test_es100_array_elements_are_lvalues():
+    """GLSL ES 1.00 §5.8: whole arrays cannot be assigned, their elements can (gl_FragData[n],
+    local arrays)."""
+    src = ("#extension GL_EXT_draw_buffers : require\nprecision highp float;\n"
+           "void main() { float a[2]; a[0] = 0.25; a[1] = 0.5;\n"
+           "gl_FragData[0] = vec4(a[0]); gl_FragData[1].xy = vec2(a[1]); }\n")
+    compile_ok(src, "fragment", version=1)
+    assert "arrays cannot be assigned" in compile_errors(
+        "precision highp float;\nvoid main() { float a[2]; float b[2]; a = b; gl_FragColor = vec4(0.0); }\n",
+        "fragment", version=1)
+    assert value_of("f()", "precision highp float; float f() { float a[2]; a[0] = 1.0; a[1] = 0.75; return a[1]; }",
+                    version=1) == np.float32(0.75)

@@ -245,8 +245,12 @@ void Context::blend_equation_separate(GLenum mode_rgb, GLenum mode_alpha) {
 }
 
 void Context::blend_color(float r, float g, float b, float a) {
-    // ES 2.0 §4.1.6 clamps the constant color when it is specified; ES 3.0 keeps it as given.
-    if (version() == 1) state_.blend.color = {clamp01(r), clamp01(g), clamp01(b), clamp01(a)};
+    // ES 2.0 §4.1.6 clamps the constant color when it is specified; ES 3.0 keeps it as given and
+    // clamps it at use for fixed-point buffers only (§4.1.7). In WebGL 1 the float colour buffer
+    // extensions lift the clamp on input (EXT_color_buffer_half_float, WEBGL_color_buffer_float).
+    const bool float_buffers = texture_extension_enabled("WEBGL_color_buffer_float") ||
+                               texture_extension_enabled("EXT_color_buffer_half_float");
+    if (version() == 1 && !float_buffers) state_.blend.color = {clamp01(r), clamp01(g), clamp01(b), clamp01(a)};
     else state_.blend.color = {r, g, b, a};
 }
 
@@ -433,7 +437,8 @@ void Context::clear(uint32_t mask) {
     // and ignores the viewport.
     const Rect region = state_.scissor_test ? state_.scissor
                                             : Rect{0, 0, framebuffer_.width(), framebuffer_.height()};
-    if (mask & gl::COLOR_BUFFER_BIT) framebuffer_.clear_color(region, state_.clear_color, state_.color_mask);
+    if ((mask & gl::COLOR_BUFFER_BIT) && default_draw_buffer_ != gl::NONE)
+        framebuffer_.clear_color(region, state_.clear_color, state_.color_mask);
     if (blendlab_) blendlab_->on_clear(region, mask, framebuffer_);   // forget captured/logged fragments
     if ((mask & gl::DEPTH_BUFFER_BIT) && state_.depth_mask) framebuffer_.clear_depth(region, state_.clear_depth);
     if (mask & gl::STENCIL_BUFFER_BIT)
@@ -455,6 +460,11 @@ size_t Context::pack_size(int32_t width, int32_t height) const {
 bool Context::read_pixels(int32_t x, int32_t y, int32_t width, int32_t height, GLenum format,
                           GLenum type, GLenum dst_type, uint8_t* dst, size_t dst_bytes, bool packed) {
     const char* call = "readPixels";
+    // WebGL 2.0 §3.7.10: with a PIXEL_PACK_BUFFER bound, pixels go there (offset form) only.
+    if (pixel_pack_buffer_ && !reading_to_pack_buffer_) {
+        error(gl::INVALID_OPERATION, call, "a buffer is bound to PIXEL_PACK_BUFFER: pass a byte offset into it");
+        return false;
+    }
     if (reading_framebuffer_object())   // framebuffers.cpp: any readable attachment format
         return read_pixels_framebuffer_object(x, y, width, height, format, type, dst_type, dst, dst_bytes, packed);
     const bool format_known = format == gl::RGBA || format == gl::RGB || format == gl::ALPHA ||
@@ -504,6 +514,24 @@ bool Context::read_pixels(int32_t x, int32_t y, int32_t width, int32_t height, G
     }
     framebuffer_.read_rgba8(x, y, width, height, origin, stride);
     return true;
+}
+
+void Context::read_pixels_to_pack_buffer(int32_t x, int32_t y, int32_t width, int32_t height, GLenum format,
+                                         GLenum type, int64_t offset) {
+    const char* call = "readPixels";
+    if (!pixel_pack_buffer_) return error(gl::INVALID_OPERATION, call, "an offset needs a buffer bound to PIXEL_PACK_BUFFER");
+    if (offset < 0) return error(gl::INVALID_VALUE, call, "the offset must not be negative");
+    const GLenum array_type = array_type_for(type);
+    const int64_t size = array_type == gl::UNSIGNED_BYTE || array_type == gl::BYTE ? 1
+                       : array_type == gl::SHORT || array_type == gl::UNSIGNED_SHORT ? 2 : 4;
+    // ES 3.0 §4.3.1: the offset must be a multiple of the type's size.
+    if (offset % size != 0)
+        return error(gl::INVALID_OPERATION, call, "the offset is not a multiple of " + std::to_string(size) + " bytes (" + quote(type) + ")");
+    std::vector<uint8_t>& data = pixel_pack_buffer_->data;
+    if (uint64_t(offset) > data.size()) return error(gl::INVALID_OPERATION, call, "the offset is past the end of the PIXEL_PACK_BUFFER");
+    reading_to_pack_buffer_ = true;
+    read_pixels(x, y, width, height, format, type, array_type, data.data() + offset, data.size() - size_t(offset), true);
+    reading_to_pack_buffer_ = false;
 }
 
 ThreadPool& Context::pool() {

@@ -133,6 +133,9 @@ public:
     // is a tightly packed h x w x 4 block. Returns false after recording an error.
     bool read_pixels(int32_t x, int32_t y, int32_t width, int32_t height, GLenum format,
                     GLenum type, GLenum dst_type, uint8_t* dst, size_t dst_bytes, bool packed);
+    // WebGL 2's readPixels(..., GLintptr offset): into the PIXEL_PACK_BUFFER at a byte offset.
+    void read_pixels_to_pack_buffer(int32_t x, int32_t y, int32_t width, int32_t height, GLenum format,
+                                    GLenum type, int64_t offset);
     // Bytes that readPixels writes at most for this block with the current PACK_* parameters.
     size_t pack_size(int32_t width, int32_t height) const;
 
@@ -277,6 +280,12 @@ public:
     void blit_framebuffer(int32_t sx0, int32_t sy0, int32_t sx1, int32_t sy1, int32_t dx0, int32_t dy0,
                           int32_t dx1, int32_t dy1, uint32_t mask, GLenum filter);
     void invalidate_framebuffer(const char* call, GLenum target, const std::vector<GLenum>& attachments);
+    // drawBuffers (WebGL 2) and WEBGL_draw_buffers' drawBuffersWEBGL (WebGL 1), ES 3.0 §4.2.1.
+    void draw_buffers(const char* call, const std::vector<GLenum>& buffers);
+    // Whether colour attachments 1..7 and draw buffers exist (WebGL 2, or WEBGL_draw_buffers).
+    bool multiple_draw_buffers() const;
+    // The drawing buffer's draw buffer: BACK, or NONE after drawBuffers([NONE]).
+    GLenum default_draw_buffer() const { return default_draw_buffer_; }
     // Hooks for clear() and readPixels(): handle a bound framebuffer object (true / the result).
     bool clear_framebuffer_object(uint32_t mask);
     bool reading_framebuffer_object() const { return read_framebuffer_ != nullptr; }
@@ -349,6 +358,8 @@ private:
     std::shared_ptr<Framebuffer> draw_framebuffer_, read_framebuffer_;
     std::shared_ptr<Renderbuffer> renderbuffer_;
     GLenum default_read_buffer_ = gl::BACK;
+    GLenum default_draw_buffer_ = gl::BACK;
+    bool reading_to_pack_buffer_ = false;   // read_pixels called by read_pixels_to_pack_buffer
     std::shared_ptr<Framebuffer>* framebuffer_binding(GLenum target);
     Attachment* attachment_slot(Framebuffer& fb, GLenum attachment, bool* both);
     GLenum framebuffer_status(const Framebuffer& fb, std::string* why) const;

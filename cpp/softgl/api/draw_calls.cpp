@@ -29,9 +29,11 @@ bool Context::validate_draw_state(const char* call) {
         error(gl::INVALID_OPERATION, call, "no valid program is in use");
         return false;
     }
-    // WebGL 1.0 §6.11: front and back stencil reference, value mask and write mask must agree
-    // (compared within the stencil buffer's bits).
-    const uint32_t bits = framebuffer_.config().stencil ? 0xFFu : 0u;
+    // WebGL 1.0 §6.11 / WebGL 2.0 §5.? : front and back stencil reference, value mask and write
+    // mask must agree, compared within the stencil bits of the bound draw framebuffer.
+    const bool has_stencil = draw_framebuffer_ ? draw_framebuffer_->stencil.image() != nullptr
+                                               : framebuffer_.config().stencil;
+    const uint32_t bits = has_stencil ? 0xFFu : 0u;
     const StencilFace &f = state_.stencil_front, &b = state_.stencil_back;
     if ((uint32_t(f.ref) & bits) != (uint32_t(b.ref) & bits) || (f.value_mask & bits) != (b.value_mask & bits) ||
         (f.write_mask & bits) != (b.write_mask & bits)) {
@@ -55,7 +57,15 @@ void Context::run_draw(const DrawCall& call, uint32_t max_vertex) {
     p.vertex_stage->set_sampler(draw_sampler());
     p.fragment_stage->set_sampler(draw_sampler());
     RenderTarget target = draw_target();
-    DrawInputs in{state_, *vertex_array_, current_attribs_, *p.vertex_stage, *p.fragment_stage, target, pool()};
+    // drawBuffers([NONE]) on the drawing buffer: no colour is written (ES 3.0 §4.2.1).
+    State no_color;
+    const State* state = &state_;
+    if (!draw_framebuffer_ && default_draw_buffer_ == gl::NONE) {
+        no_color = state_;
+        no_color.color_mask = {false, false, false, false};
+        state = &no_color;
+    }
+    DrawInputs in{*state, *vertex_array_, current_attribs_, *p.vertex_stage, *p.fragment_stage, target, pool()};
     in.sink = blendlab_sink();                  // blend lab hooks; null unless enabled
     draw(in, call, stats_);
     if (in.sink) blendlab().end_draw();         // reports an A-buffer/log over its memory limit

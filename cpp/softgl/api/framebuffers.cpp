@@ -259,7 +259,7 @@ Attachment* Context::attachment_slot(Framebuffer& fb, GLenum attachment, bool* b
     if (attachment == gl::DEPTH_ATTACHMENT) return &fb.depth;
     if (attachment == gl::STENCIL_ATTACHMENT) return &fb.stencil;
     if (attachment == gl::DEPTH_STENCIL_ATTACHMENT) { *both = true; return &fb.depth; }
-    const int max_color = version() >= 2 ? kMaxColorAttachments : 1;
+    const int max_color = multiple_draw_buffers() ? kMaxColorAttachments : 1;
     if (attachment >= gl::COLOR_ATTACHMENT0 && attachment < gl::COLOR_ATTACHMENT0 + uint32_t(max_color))
         return &fb.color[attachment - gl::COLOR_ATTACHMENT0];
     return nullptr;
@@ -801,7 +801,7 @@ void Context::clear_buffer(const char* call, GLenum buffer, int32_t drawbuffer, 
     const int S = target.config().samples;
     if (buffer == gl::COLOR) {
         if (!draw_framebuffer_) {
-            if (drawbuffer != 0) return;   // only draw buffer 0 (BACK) exists
+            if (drawbuffer != 0 || default_draw_buffer_ == gl::NONE) return;   // only draw buffer 0 (BACK) exists
             if (kind != 'f') return error(gl::INVALID_OPERATION, call, "the drawing buffer is cleared with clearBufferfv");
             const float* v = static_cast<const float*>(values);
             return framebuffer_.clear_color(r, {v[0], v[1], v[2], v[3]}, state_.color_mask);
@@ -906,21 +906,53 @@ void Context::blit_framebuffer(int32_t sx0, int32_t sy0, int32_t sx1, int32_t sy
             dst_default = false;
         }
     }
-    // Depth / stencil: formats must match (ES 3.0 §4.3.3).
-    Image* src_depth = nullptr; Image* dst_depth = nullptr;
+    // Depth / stencil: formats must match (ES 3.0 §4.3.3). The drawing buffer's depth is 24-bit
+    // unorm and its stencil 8 bits, so it blits with DEPTH_COMPONENT24 / DEPTH24_STENCIL8 images.
+    struct DepthStencilSide {
+        DefaultFramebuffer* fb = nullptr;   // the drawing buffer, or
+        Image* depth = nullptr;             // the attached images (null: none)
+        Image* stencil = nullptr;
+        size_t depth_offset = 0, stencil_offset = 0;
+        bool has_depth() const { return fb ? fb->config().depth : depth != nullptr; }
+        bool has_stencil() const { return fb ? fb->config().stencil : stencil != nullptr; }
+        Encoding depth_encoding() const { return fb ? Encoding::Depth24 : depth->format->encoding; }
+    };
+    auto side = [&](const std::shared_ptr<Framebuffer>& f) {
+        DepthStencilSide d;
+        if (!f) { d.fb = &framebuffer_; return d; }
+        if ((d.depth = f->depth.image())) d.depth_offset = layer_offset(*d.depth, f->depth.layer);
+        if ((d.stencil = f->stencil.image())) d.stencil_offset = layer_offset(*d.stencil, f->stencil.layer);
+        return d;
+    };
+    const DepthStencilSide ds_src = side(read_framebuffer_), ds_dst = side(draw_framebuffer_);
     const bool ds = (mask & (gl::DEPTH_BUFFER_BIT | gl::STENCIL_BUFFER_BIT)) != 0;
-    if (ds) {
-        if (read_default || !draw_framebuffer_) {
-            if (read_default != !draw_framebuffer_)
-                return error(gl::INVALID_OPERATION, call, "depth/stencil blits between the drawing buffer and a framebuffer object are not supported by softgl");
-        } else {
-            src_depth = (mask & gl::DEPTH_BUFFER_BIT) ? read_framebuffer_->depth.image() : read_framebuffer_->stencil.image();
-            dst_depth = (mask & gl::DEPTH_BUFFER_BIT) ? draw_framebuffer_->depth.image() : draw_framebuffer_->stencil.image();
-            if (src_depth && dst_depth && src_depth->format != dst_depth->format)
-                return error(gl::INVALID_OPERATION, call, "the depth/stencil formats differ");
-            if (src_depth && src_depth == dst_depth) return error(gl::INVALID_OPERATION, call, "the source and destination images are the same");
-        }
+    const bool blit_depth = (mask & gl::DEPTH_BUFFER_BIT) && ds_src.has_depth() && ds_dst.has_depth();
+    const bool blit_stencil = (mask & gl::STENCIL_BUFFER_BIT) && ds_src.has_stencil() && ds_dst.has_stencil();
+    if (blit_depth) {
+        const bool same = (ds_src.fb || ds_dst.fb) ? ds_src.depth_encoding() == ds_dst.depth_encoding()
+                                                   : ds_src.depth->format == ds_dst.depth->format;
+        if (!same) return error(gl::INVALID_OPERATION, call, "the depth formats differ");
+        if (!ds_src.fb && ds_src.depth == ds_dst.depth) return error(gl::INVALID_OPERATION, call, "the source and destination images are the same");
     }
+    if (blit_stencil) {
+        if (!ds_src.fb && !ds_dst.fb && ds_src.stencil->format != ds_dst.stencil->format)
+            return error(gl::INVALID_OPERATION, call, "the stencil formats differ");
+        if (!ds_src.fb && ds_src.stencil == ds_dst.stencil) return error(gl::INVALID_OPERATION, call, "the source and destination images are the same");
+    }
+    // Sample 0 of a multisampled source (ES 3.0 §4.3.3: depth/stencil resolves pick one sample).
+    auto src_depth_at = [&](int64_t ix, int64_t iy) -> uint32_t {
+        if (ds_src.fb) return ds_src.fb->depth_sample(int32_t(ix), int32_t(iy), 0);
+        const Image& i = *ds_src.depth;
+        return i.depth_words[ds_src.depth_offset + (size_t(iy) * size_t(i.width) + size_t(ix)) * size_t(i.samples)];
+    };
+    auto src_stencil_at = [&](int64_t ix, int64_t iy) -> uint8_t {
+        if (ds_src.fb) return ds_src.fb->stencil_sample(int32_t(ix), int32_t(iy), 0);
+        const Image& i = *ds_src.stencil;
+        return i.stencil[ds_src.stencil_offset + (size_t(iy) * size_t(i.width) + size_t(ix)) * size_t(i.samples)];
+    };
+    const Image* ds_src_img = ds_src.depth ? ds_src.depth : ds_src.stencil;
+    const int32_t ds_src_w = ds_src.fb ? ds_src.fb->width() : ds_src_img ? ds_src_img->width : 0;
+    const int32_t ds_src_h = ds_src.fb ? ds_src.fb->height() : ds_src_img ? ds_src_img->height : 0;
 
     // ES 3.0 §4.3.3: each destination pixel centre maps linearly into the source rectangle.
     const int64_t x_lo = std::min(dx0, dx1), x_hi = std::max(dx0, dx1), y_lo = std::min(dy0, dy1), y_hi = std::max(dy0, dy1);
@@ -970,30 +1002,26 @@ void Context::blit_framebuffer(int32_t sx0, int32_t sy0, int32_t sx1, int32_t sy
             }
             if (ds) {
                 const int64_t ix = int64_t(std::floor(u)), iy = int64_t(std::floor(v));
-                if (read_default) {
-                    if (ix < 0 || iy < 0 || ix >= framebuffer_.width() || iy >= framebuffer_.height()) continue;
-                    // Drawing buffer to itself (both default): copy per sample.
-                    const int S = framebuffer_.config().samples;
-                    if (mask & gl::DEPTH_BUFFER_BIT)
-                        if (uint32_t* d = framebuffer_.depth_samples(int32_t(x), int32_t(y)))
-                            for (int s = 0; s < S; ++s) d[s] = framebuffer_.depth_sample(int32_t(ix), int32_t(iy), s);
-                    if (mask & gl::STENCIL_BUFFER_BIT)
-                        if (uint8_t* st = framebuffer_.stencil_samples(int32_t(x), int32_t(y)))
-                            for (int s = 0; s < S; ++s) st[s] = framebuffer_.stencil_sample(int32_t(ix), int32_t(iy), s);
-                    continue;
+                if (ix < 0 || iy < 0 || ix >= ds_src_w || iy >= ds_src_h) continue;
+                const int32_t X = int32_t(x), Y = int32_t(y);
+                // The destination is single-sampled (checked above) or the drawing buffer.
+                if (blit_depth) {
+                    const uint32_t word = src_depth_at(ix, iy);
+                    if (ds_dst.fb) {
+                        if (uint32_t* d = ds_dst.fb->depth_samples(X, Y)) std::fill_n(d, ds_dst.fb->config().samples, word);
+                    } else {
+                        Image& i = *ds_dst.depth;
+                        i.depth_words[ds_dst.depth_offset + size_t(Y) * size_t(i.width) + size_t(X)] = word;
+                    }
                 }
-                const Image* sd = read_framebuffer_->depth.image();
-                const Image* ss = read_framebuffer_->stencil.image();
-                Image* dd = draw_framebuffer_->depth.image();
-                Image* dsn = draw_framebuffer_->stencil.image();
-                if ((mask & gl::DEPTH_BUFFER_BIT) && sd && dd && ix >= 0 && iy >= 0 && ix < sd->width && iy < sd->height) {
-                    const size_t S = size_t(sd->samples);
-                    uint32_t w = sd->depth_words[(size_t(iy) * size_t(sd->width) + size_t(ix)) * S];
-                    dd->depth_words[size_t(y) * size_t(dd->width) + size_t(x)] = w;
-                }
-                if ((mask & gl::STENCIL_BUFFER_BIT) && ss && dsn && ix >= 0 && iy >= 0 && ix < ss->width && iy < ss->height) {
-                    const size_t S = size_t(ss->samples);
-                    dsn->stencil[size_t(y) * size_t(dsn->width) + size_t(x)] = ss->stencil[(size_t(iy) * size_t(ss->width) + size_t(ix)) * S];
+                if (blit_stencil) {
+                    const uint8_t st = src_stencil_at(ix, iy);
+                    if (ds_dst.fb) {
+                        if (uint8_t* d = ds_dst.fb->stencil_samples(X, Y)) std::fill_n(d, ds_dst.fb->config().samples, st);
+                    } else {
+                        Image& i = *ds_dst.stencil;
+                        i.stencil[ds_dst.stencil_offset + size_t(Y) * size_t(i.width) + size_t(X)] = st;
+                    }
                 }
             }
         }
@@ -1012,6 +1040,37 @@ void Context::invalidate_framebuffer(const char* call, GLenum target, const std:
     // a valid implementation, and softgl does so.
 }
 
+// ---------------------------------------------------------------------------- drawBuffers
+
+bool Context::multiple_draw_buffers() const {
+    return version() >= 2 || texture_extension_enabled("WEBGL_draw_buffers");
+}
+
+void Context::draw_buffers(const char* call, const std::vector<GLenum>& buffers) {
+    // ES 3.0 §4.2.1 (and EXT_draw_buffers, which WEBGL_draw_buffers mirrors).
+    if (buffers.size() > size_t(kMaxColorAttachments))
+        return error(gl::INVALID_VALUE, call, "more buffers than MAX_DRAW_BUFFERS (8)");
+    for (GLenum b : buffers) {
+        const bool known = b == gl::NONE || b == gl::BACK || (b >= gl::COLOR_ATTACHMENT0 && b <= gl::COLOR_ATTACHMENT0 + 15);
+        if (!known) return error(gl::INVALID_ENUM, call, quote(b) + " is not a draw buffer");
+    }
+    if (!draw_framebuffer_) {
+        if (buffers.size() != 1) return error(gl::INVALID_OPERATION, call, "the drawing buffer takes exactly one buffer (BACK or NONE)");
+        if (buffers[0] != gl::BACK && buffers[0] != gl::NONE)
+            return error(gl::INVALID_OPERATION, call, "the drawing buffer's draw buffer must be BACK or NONE");
+        default_draw_buffer_ = buffers[0];
+        return;
+    }
+    for (size_t i = 0; i < buffers.size(); ++i) {
+        const GLenum b = buffers[i];
+        if (b != gl::NONE && b != gl::COLOR_ATTACHMENT0 + uint32_t(i))
+            return error(gl::INVALID_OPERATION, call, "buffer " + std::to_string(i) + " must be NONE or COLOR_ATTACHMENT" +
+                         std::to_string(i) + ", not " + quote(b));
+    }
+    for (size_t i = 0; i < size_t(kMaxColorAttachments); ++i)
+        draw_framebuffer_->draw_buffers[i] = i < buffers.size() ? buffers[i] : gl::NONE;
+}
+
 // ---------------------------------------------------------------------------- getParameter
 
 std::optional<Value> Context::framebuffer_parameter(GLenum pname) {
@@ -1026,6 +1085,15 @@ std::optional<Value> Context::framebuffer_parameter(GLenum pname) {
             case gl::READ_BUFFER: return Value(int64_t(read_framebuffer_ ? read_framebuffer_->read_buffer : default_read_buffer_));
             default: break;
         }
+    }
+    if (multiple_draw_buffers()) {
+        // DRAW_BUFFERi(_WEBGL), MAX_DRAW_BUFFERS(_WEBGL), MAX_COLOR_ATTACHMENTS(_WEBGL): same values.
+        if (pname >= gl::DRAW_BUFFER0 && pname < gl::DRAW_BUFFER0 + uint32_t(kMaxColorAttachments)) {
+            const size_t i = pname - gl::DRAW_BUFFER0;
+            if (draw_framebuffer_) return Value(int64_t(draw_framebuffer_->draw_buffers[i]));
+            return Value(int64_t(i == 0 ? default_draw_buffer_ : gl::NONE));
+        }
+        if (pname == gl::MAX_DRAW_BUFFERS || pname == gl::MAX_COLOR_ATTACHMENTS) return Value(int64_t(kMaxColorAttachments));
     }
     if (!draw_framebuffer_) return std::nullopt;   // the drawing buffer's values (parameters.cpp)
     // The bound framebuffer object's bit depths and read format (ES 3.0 §6.1.? state tables).

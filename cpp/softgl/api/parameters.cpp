@@ -156,8 +156,6 @@ Value Context::get_parameter(GLenum pname) {
         default: break;
     }
     if (v2) {
-        if (pname >= gl::DRAW_BUFFER0 && pname < gl::DRAW_BUFFER0 + kMaxDrawBuffers)
-            return i(pname == gl::DRAW_BUFFER0 ? gl::BACK : gl::NONE);
         switch (pname) {
             case gl::RASTERIZER_DISCARD: return b(s.rasterizer_discard);
             case gl::FRAGMENT_SHADER_DERIVATIVE_HINT: return i(s.fragment_shader_derivative_hint);

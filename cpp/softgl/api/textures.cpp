@@ -220,7 +220,8 @@ Value object_value(const std::shared_ptr<T>& p) {
 std::vector<std::string> Context::texture_extension_names() const {
     if (version() == 1)
         return {"EXT_color_buffer_half_float", "OES_texture_float", "OES_texture_float_linear", "OES_texture_half_float",
-                "OES_texture_half_float_linear", "WEBGL_color_buffer_float", "WEBGL_depth_texture"};
+                "OES_texture_half_float_linear", "WEBGL_color_buffer_float", "WEBGL_depth_texture",
+                "WEBGL_draw_buffers"};
     return {"EXT_color_buffer_float", "OES_texture_float_linear"};
 }
 
@@ -430,10 +431,32 @@ bool Context::check_tex_format(const char* call, GLenum target, int32_t level, G
     return true;
 }
 
-bool Context::check_tex_source(const char* call, const TexSource& src, GLenum format, GLenum type,
+bool Context::check_tex_source(const char* call, const TexSource& given, GLenum format, GLenum type,
                                int32_t width, int32_t height, int32_t depth, PixelUnpack& u) {
     const PixelStore& ps = state_.pixel_store;
     u = PixelUnpack{};
+    // WebGL 2.0 §3.7.6 / ES 3.0 §3.7.2: with a PIXEL_UNPACK_BUFFER bound, pixels come from it at
+    // a byte offset, and only then; the offset must be a multiple of the type's size.
+    TexSource src = given;
+    if (src.kind == TexSource::Kind::UnpackBuffer) {
+        if (!pixel_unpack_buffer_) { error(gl::INVALID_OPERATION, call, "an offset needs a buffer bound to PIXEL_UNPACK_BUFFER"); return false; }
+        if (src.offset < 0) { error(gl::INVALID_VALUE, call, "the offset must not be negative"); return false; }
+        const GLenum wanted = array_type_for_pixels(type);
+        const int64_t size = wanted == gl::UNSIGNED_BYTE || wanted == gl::BYTE ? 1 : wanted == gl::SHORT || wanted == gl::UNSIGNED_SHORT ? 2 : 4;
+        if (src.offset % size != 0) {
+            error(gl::INVALID_OPERATION, call, "the offset is not a multiple of " + std::to_string(size) + " bytes (" + quote(type) + ")");
+            return false;
+        }
+        const std::vector<uint8_t>& data = pixel_unpack_buffer_->data;
+        if (uint64_t(src.offset) > data.size()) { error(gl::INVALID_OPERATION, call, "the offset is past the end of the PIXEL_UNPACK_BUFFER"); return false; }
+        src.kind = TexSource::Kind::View;
+        src.data = data.data() + src.offset;
+        src.bytes = data.size() - size_t(src.offset);
+        src.array_type = wanted;   // a buffer has no element type
+    } else if (pixel_unpack_buffer_) {
+        error(gl::INVALID_OPERATION, call, "a buffer is bound to PIXEL_UNPACK_BUFFER: pass a byte offset into it");
+        return false;
+    }
     u.flip_y = ps.unpack_flip_y;
     u.premultiply = ps.unpack_premultiply_alpha;
     if (src.kind == TexSource::Kind::Image) {

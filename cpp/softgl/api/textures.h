@@ -14,9 +14,11 @@ namespace softgl {
 // out by format/type and the UNPACK_* state, `array_type` the typed-array kind for WebGL's type
 // check), or an image source (here: a NumPy H x W x C array converted by the bindings to tight
 // RGBA rows of UNSIGNED_BYTE or FLOAT, row 0 = the image's first row).
+// WebGL 2 also takes a byte offset into the PIXEL_UNPACK_BUFFER (Kind::UnpackBuffer, `offset`).
 struct TexSource {
-    enum class Kind { None, View, Image };
+    enum class Kind { None, View, Image, UnpackBuffer };
     Kind kind = Kind::None;
+    int64_t offset = 0;               // UnpackBuffer: bytes into the bound PIXEL_UNPACK_BUFFER
     const uint8_t* data = nullptr;
     size_t bytes = 0;
     GLenum array_type = 0;            // View: UNSIGNED_BYTE, FLOAT, ... of the typed array

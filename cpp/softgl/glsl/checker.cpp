@@ -847,7 +847,8 @@ private:
     }
 
     // Is e something that can be assigned to? Reports the reason if not.
-    bool check_lvalue(Expr& e, const std::string& op) {
+    // `element`: e is indexed by the assignment (a[i] = ...), which ES 1.00 allows for arrays.
+    bool check_lvalue(Expr& e, const std::string& op, bool element = false) {
         switch (e.kind) {
         case ExprKind::Identifier: {
             Symbol* sym = e.symbol;
@@ -866,7 +867,7 @@ private:
             default: break;
             }
             if (!reason && sym->type.contains_sampler()) reason = "can't modify a sampler";
-            if (!reason && !es3() && sym->type.is_array()) reason = "arrays cannot be assigned in GLSL ES 1.00";
+            if (!reason && !es3() && !element && sym->type.is_array()) reason = "arrays cannot be assigned in GLSL ES 1.00";
             if (!reason) {
                 for (Symbol* index : loop_indices_)
                     if (index == sym) reason = "loop index cannot be modified in the loop body";
@@ -878,7 +879,7 @@ private:
             sym->written = true;
             return true;
         }
-        case ExprKind::Index: return check_lvalue(*e.kids[0], op);
+        case ExprKind::Index: return check_lvalue(*e.kids[0], op, true);
         case ExprKind::Field:
             if (e.is_swizzle) {
                 std::set<int> seen;

@@ -190,6 +190,8 @@ CompileResult compile(const std::string& source, Stage stage, int webgl_version)
                     v.location = 0;
                     if (v.active) r.outputs.push_back(v);
                 }
+                r.usage.frag_color_broadcast = checked.version == 100 && checked.extension_enabled("GL_EXT_draw_buffers") &&
+                                               any_slot(program.outputs, "gl_FragColor", written);
                 r.usage.writes_frag_depth = any_slot(program.outputs, "gl_FragDepth", written) || any_slot(program.outputs, "gl_FragDepthEXT", written);
                 r.usage.reads_frag_coord = any_slot(program.inputs, "gl_FragCoord", read);
                 r.usage.reads_front_facing = any_slot(program.inputs, "gl_FrontFacing", read);

@@ -24,6 +24,9 @@ struct ShaderUsage {
     bool writes_point_size = false;
     bool uses_vertex_id = false;
     bool uses_instance_id = false;
+    // ES 1.00 with `#extension GL_EXT_draw_buffers` enabled and gl_FragColor written: the colour
+    // goes to every draw buffer (EXT_draw_buffers / WEBGL_draw_buffers). Set by the compiler.
+    bool frag_color_broadcast = false;
 };
 
 struct LoweredShader {

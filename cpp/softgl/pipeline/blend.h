@@ -12,7 +12,8 @@ struct BlendOp {
     bool enabled = false;
     GLenum src_rgb = gl::ONE, dst_rgb = gl::ZERO, src_alpha = gl::ONE, dst_alpha = gl::ZERO;
     GLenum eq_rgb = gl::FUNC_ADD, eq_alpha = gl::FUNC_ADD;
-    std::array<float, 4> constant{0, 0, 0, 0};   // already clamped to [0, 1]
+    std::array<float, 4> constant{0, 0, 0, 0};   // already clamped to [0, 1] (fixed-point buffers)
+    std::array<float, 4> constant_unclamped{0, 0, 0, 0};   // as given: float buffers (ES 3.0 §4.1.7)
     std::array<bool, 4> write{true, true, true, true};
     bool has_alpha = true;                       // alpha:false -> destination alpha reads as 1
 
@@ -26,7 +27,7 @@ void blend_unorm8(const BlendOp& op, const float src[4], uint8_t dst[4]);
 
 // Textures and framebuffers: blending into a colour attachment stored as floats (render targets of
 // any format). With `clamp` (fixed-point and sRGB formats, ES 3.0 §4.1.7) the source and
-// destination are clamped to [0, 1] first; float formats blend unclamped. `out` is the blended,
+// destination (and the constant colour) are clamped to [0, 1] first; float formats blend unclamped. `out` is the blended,
 // unquantized colour; channels the colour mask disables keep `dst`.
 void blend_float(const BlendOp& op, const float src[4], const float dst[4], bool clamp, float out[4]);
 

@@ -570,12 +570,26 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                         const int64_t X = int64_t(x) * kSubPixel + kSubPixel / 2, Y = int64_t(y) * kSubPixel + kSubPixel / 2;
                         apply_fog(fog, fog_coordinate(fog, float(p.depth_at(X, Y)), float(p.eval(p.inv_w, X, Y))), color);
                     }
+                    // ---- MRT (begin): fragment outputs 1.. (framebuffer objects with drawBuffers),
+                    // with the same per-lane changes as output 0 ----
+                    float more[kMaxFragmentOutputs][4];
+                    for (int o = 1; o < r.outputs; ++o) {
+                        const float* oc = col + size_t(4 * o) * L;
+                        for (int c = 0; c < 4; ++c) more[o][c] = oc[size_t(c) * L + lane];
+                        if (area) more[o][3] = float(double(more[o][3]) * w.ca[lane / 4].fraction[j]);
+                        if (fog.enabled) {
+                            const int64_t X = int64_t(x) * kSubPixel + kSubPixel / 2, Y = int64_t(y) * kSubPixel + kSubPixel / 2;
+                            apply_fog(fog, fog_coordinate(fog, float(p.depth_at(X, Y)), float(p.eval(p.inv_w, X, Y))), more[o]);
+                        }
+                    }
+                    // ---- MRT (end) ----
                     for (int s = 0; s < S; ++s) {
                         if (!(mask & (1u << s))) continue;
                         if (sink && sink->before_blend(p, x, y, s, color, drawing_buffer->color_sample(x, y, s),
                                                        shader_depth ? clamp01(r.depth[lane]) : -1.0f))
                             continue;   // the A-buffer keeps the sample instead of blending it
                         fb.write_color(blend, color, x, y, s);
+                        for (int o = 1; o < r.outputs; ++o) fb.write_color(blend, more[o], x, y, s, o);   // MRT
                         if (sink) sink->after_blend(x, y, s, drawing_buffer->color_sample(x, y, s));
                         w.stats.samples_written++;
                         if (!plain_write) w.stats.samples_blended++;

@@ -109,17 +109,27 @@ GlslFragmentShader::GlslFragmentShader(std::shared_ptr<const glsl::LinkedProgram
     // quad is shaded and its values are copied to the others.
     uniform_only_ = program_->reflection.fragment_depends_only_on_uniforms &&
                     !program_->reflection.fragment_usage.may_discard;
-    // Color output 0: whichever of gl_FragColor, gl_FragData[0] or the `out` at location 0 the
-    // shader really writes (the IR declares both ES 1.00 outputs; reflection lists the active one).
-    color_slot_.assign(4, -1);
+    // Colour output o: whichever of gl_FragColor (o = 0), gl_FragData[o] or the `out` at location
+    // o (arrays take consecutive locations, ES 3.00 §4.3.8.2) the shader really writes (the IR
+    // declares both ES 1.00 outputs; reflection lists the active one).
+    color_slot_.assign(4 * size_t(kMaxFragmentOutputs), -1);
+    int highest = 0;
     for (size_t i = 0; i < ir.outputs.size(); ++i) {
         const glsl::Slot& s = ir.outputs[i];
         if (s.name == "gl_FragDepth" || s.name == "gl_FragDepthEXT") { depth_slot_ = int(i); continue; }
         if (s.kind != SlotKind::FragmentOutput || s.component > 3) continue;
-        for (const auto& o : program_->reflection.outputs)
-            if (o.name == s.name && o.active && (o.location < 0 ? 0 : o.location) + s.element == 0)
-                color_slot_[size_t(s.component)] = int(i);
+        for (const auto& o : program_->reflection.outputs) {
+            if (o.name != s.name || !o.active) continue;
+            const int location = (o.location < 0 ? 0 : o.location) + s.element;
+            if (location < 0 || location >= kMaxFragmentOutputs) continue;
+            color_slot_[size_t(4 * location + s.component)] = int(i);
+            highest = std::max(highest, location);
+        }
     }
+    // EXT_draw_buffers: gl_FragColor is written to every draw buffer when the shader enables
+    // the extension (WEBGL_draw_buffers); the results then carry it as every output.
+    broadcast_ = program_->reflection.fragment_usage.frag_color_broadcast;
+    outputs_ = broadcast_ ? kMaxFragmentOutputs : highest + 1;
 }
 
 void GlslFragmentShader::prepare(unsigned workers) const {
@@ -147,11 +157,14 @@ void GlslFragmentShader::run(const FragmentBatch& b, FragmentResults& out, unsig
         else if (builtin >= 5) w.input_ptrs[i] = reinterpret_cast<const Scalar*>(&b.point_coord[size_t(builtin - 5) * L]);
     }
     // Outputs go straight to the results; outputs nobody reads are not copied out.
-    out.color.resize(4 * L);
+    const size_t O = size_t(outputs_);
+    out.outputs = outputs_;
+    out.color.resize(4 * O * L);
     w.output_ptrs.assign(ir.outputs.size(), nullptr);
-    for (int c = 0; c < 4; ++c) {
-        if (color_slot_[size_t(c)] >= 0) w.output_ptrs[size_t(color_slot_[size_t(c)])] = reinterpret_cast<Scalar*>(&out.color[size_t(c) * L]);
-        else std::fill_n(&out.color[size_t(c) * L], L, 0.0f);   // never written: undefined; softgl gives 0
+    const size_t written = broadcast_ ? 1 : O;   // broadcast: output 0 is copied below
+    for (size_t k = 0; k < 4 * written; ++k) {
+        if (color_slot_[k] >= 0) w.output_ptrs[size_t(color_slot_[k])] = reinterpret_cast<Scalar*>(&out.color[k * L]);
+        else std::fill_n(&out.color[k * L], L, 0.0f);   // never written: undefined; softgl gives 0
     }
     if (depth_slot_ >= 0) {
         out.depth.resize(L);
@@ -168,13 +181,15 @@ void GlslFragmentShader::run(const FragmentBatch& b, FragmentResults& out, unsig
     run.discarded = may_discard() ? out.killed.data() : nullptr;
     w.executor->run(run);
     if (R < L) {
-        for (int c = 0; c < 4; ++c) {
-            float* col = &out.color[size_t(c) * L];
+        for (size_t k = 0; k < 4 * written; ++k) {
+            float* col = &out.color[k * L];
             for (size_t lane = R; lane < L; ++lane) col[lane] = col[lane & 3];
         }
         if (depth_slot_ >= 0)
             for (size_t lane = R; lane < L; ++lane) out.depth[lane] = out.depth[lane & 3];
     }
+    if (broadcast_)
+        for (size_t o = 1; o < O; ++o) std::copy_n(out.color.data(), 4 * L, &out.color[o * 4 * L]);
 }
 
 }  // namespace softgl

@@ -64,7 +64,9 @@ private:
     std::shared_ptr<const glsl::LinkedProgram> program_;
     std::vector<int> input_word_;        // per fragment input slot: varying word, or -1
     std::vector<int> input_builtin_;     // per fragment input slot: 0..3 FragCoord, 4 FrontFacing, 5..6 PointCoord, -1
-    std::vector<int> color_slot_;        // output slot of color component c (or -1)
+    std::vector<int> color_slot_;        // output slot of component c of colour output o, [4 * o + c] (or -1)
+    int outputs_ = 1;                    // colour outputs the results carry (1 + highest location written)
+    bool broadcast_ = false;             // gl_FragColor with GL_EXT_draw_buffers: output 0 copied to all
     int depth_slot_ = -1;
     uint32_t builtins_read_ = 0;         // FragmentBuiltin bits
     bool uniform_only_ = false;          // outputs depend only on uniforms: run one quad, broadcast

@@ -34,6 +34,7 @@ void PassthroughVertexShader::run(const std::array<AttributeStream, kMaxVertexAt
 void ColorFragmentShader::run(const FragmentBatch& b, FragmentResults& out, unsigned) const {
     const size_t L = b.lanes;
     out.color.resize(4 * L);
+    out.outputs = 1;
     for (size_t i = 0; i < 4 * L; ++i) std::memcpy(&out.color[i], &b.varyings[i], 4);
     out.killed.assign(may_discard() ? L : 0, 0);
     if (may_discard())

@@ -48,8 +48,15 @@ struct FragmentBatch {
     std::vector<uint8_t> covered;      // [lane]: 0 for helper lanes (shaded only for derivatives)
 };
 
+// Colour outputs of a fragment shader: gl_FragColor, gl_FragData[n] (ES 1.00, WEBGL_draw_buffers)
+// or `layout(location = n) out` (ES 3.00), n < kMaxFragmentOutputs.
+inline constexpr int kMaxFragmentOutputs = 8;
+
 struct FragmentResults {
-    std::vector<float> color;          // [c * lanes + lane] for color output 0
+    // [(4 * o + c) * lanes + lane] for colour output o < outputs; output 0 comes first, so the
+    // single-output layout is [c * lanes + lane].
+    std::vector<float> color;
+    int outputs = 1;                   // colour outputs in `color` (locations 0 .. outputs - 1)
     std::vector<float> depth;          // [lane], when the shader writes gl_FragDepth
     std::vector<uint8_t> killed;       // [lane], 1 where the shader discarded
 };

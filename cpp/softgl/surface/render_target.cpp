@@ -72,12 +72,14 @@ void write_image_color(Image& img, size_t offset, const BlendOp& op, const float
         if (op.write[size_t(c)]) dst[c] = stored[c];
 }
 
-void RenderTarget::write_color(const BlendOp& op, const float src[4], int32_t x, int32_t y, int s) {
+void RenderTarget::write_color(const BlendOp& op, const float src[4], int32_t x, int32_t y, int s, int output) {
     if (default_) {
-        blend_unorm8(op, src, default_->color_sample(x, y, s));
+        if (output == 0) blend_unorm8(op, src, default_->color_sample(x, y, s));
         return;
     }
-    if (Image* img = colors_[0].image) write_image_color(*img, colors_[0].offset, op, src, x, y, s);
+    if (output < 0 || output >= kMaxColors) return;
+    const Color& c = colors_[size_t(output)];
+    if (c.image) write_image_color(*c.image, c.offset, op, src, x, y, s);
 }
 
 }  // namespace softgl

@@ -39,9 +39,15 @@ public:
     uint32_t depth_word(double z) const;
     uint32_t* depth_samples(int32_t x, int32_t y);
     uint8_t* stencil_samples(int32_t x, int32_t y);
-    // Blends `src` (fragment output 0) into sample s of pixel (x, y) of every colour buffer bound
-    // to output 0, quantizing to the buffer's format.
-    void write_color(const BlendOp& op, const float src[4], int32_t x, int32_t y, int s);
+    // Blends `src` (fragment output `output`) into sample s of pixel (x, y) of the colour buffer
+    // drawBuffers maps that output to (none: nothing happens), quantizing to the buffer's format.
+    // The drawing buffer has output 0 only (BACK). Blending state is shared by all buffers;
+    // clamping follows each buffer's format (ES 3.0 §4.1.7).
+    void write_color(const BlendOp& op, const float src[4], int32_t x, int32_t y, int s, int output = 0);
+    // Whether fragment output `output` reaches a colour buffer.
+    bool has_color(int output) const {
+        return default_ ? output == 0 : (output >= 0 && output < kMaxColors && colors_[size_t(output)].image);
+    }
 
 private:
     FramebufferConfig config_;
