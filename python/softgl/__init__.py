@@ -10,7 +10,7 @@ from . import _core
 from .errors import GLError, GLWarning
 from .context import Context, WebGLRenderingContext, WebGL2RenderingContext
 from . import display, io
-from . import geometry, transforms, programs, scene, experiments, testing, transparency
+from . import geometry, transforms, programs, scene, experiments, testing, transparency, widgets, animation
 from .programs import Program, ShaderError, program
 
 __version__ = "0.1.0"
