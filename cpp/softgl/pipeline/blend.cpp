@@ -16,6 +16,7 @@ BlendOp BlendOp::from_state(const State& s, bool has_alpha) {
     op.eq_rgb = s.blend.equation_rgb;
     op.eq_alpha = s.blend.equation_alpha;
     for (int c = 0; c < 4; ++c) op.constant[size_t(c)] = clamp01(s.blend.color[size_t(c)]);
+    op.constant_unclamped = s.blend.color;
     op.write = s.color_mask;
     op.has_alpha = has_alpha;
     if (!has_alpha) op.write[3] = false;
@@ -88,7 +89,8 @@ void blend_float(const BlendOp& op, const float src[4], const float dst[4], bool
     for (int c = 0; c < 4; ++c) {
         s[c] = clamp ? clamp01(src[c]) : src[c];
         d[c] = clamp ? clamp01(dst[c]) : dst[c];
-        k[c] = op.constant[size_t(c)];
+        // ES 3.0 §4.1.7: the constant colour is clamped only for fixed-point buffers.
+        k[c] = clamp ? op.constant[size_t(c)] : op.constant_unclamped[size_t(c)];
     }
     if (!op.has_alpha) d[3] = 1.0f;
     if (op.is_plain_write()) {

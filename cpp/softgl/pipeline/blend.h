@@ -13,6 +13,8 @@ struct BlendOp {
     GLenum src_rgb = gl::ONE, dst_rgb = gl::ZERO, src_alpha = gl::ONE, dst_alpha = gl::ZERO;
     GLenum eq_rgb = gl::FUNC_ADD, eq_alpha = gl::FUNC_ADD;
     std::array<float, 4> constant{0, 0, 0, 0};   // already clamped to [0, 1]
+    // BLEND_COLOR as given: float colour buffers use it unclamped (ES 3.0 §4.1.7).
+    std::array<float, 4> constant_unclamped{0, 0, 0, 0};
     std::array<bool, 4> write{true, true, true, true};
     bool has_alpha = true;                       // alpha:false -> destination alpha reads as 1
 
