@@ -155,7 +155,8 @@ void bind_context(py::module_& m) {
         .def_readwrite("powerPreference", &ContextAttributes::power_preference)
         .def_readwrite("version", &ContextAttributes::version)
         .def_readwrite("samples", &ContextAttributes::samples)
-        .def_readwrite("threads", &ContextAttributes::threads);
+        .def_readwrite("threads", &ContextAttributes::threads)
+        .def_readwrite("color_format", &ContextAttributes::color_format);
 
     m.def("check_context", &Context::check, "Why a context of this size and attributes cannot be made ('' if it can)");
     m.def("error_name", &softgl::error_name);

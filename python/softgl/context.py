@@ -119,7 +119,9 @@ class Context(_core.Context):
     preserveDrawingBuffer, powerPreference, failIfMajorPerformanceCaveat, desynchronized) and
     softgl's own options: ``version`` (1 or 2, default 2), ``samples`` (2, 4, 8 or 16 with
     antialias; default 4), ``threads`` (drawing threads, default one per core; the bytes drawn
-    never depend on it) and ``strict`` (raise GLError instead of warning GLWarning).
+    never depend on it), ``color_format`` (the drawing buffer's colour format: ``'rgba8'``, as
+    WebGL, or ``'rgba16f'`` / ``'rgba32f'``: float blending without clamping, read with
+    ``readPixels(..., RGBA, FLOAT)``) and ``strict`` (raise GLError instead of warning GLWarning).
     """
 
     _version = None   # fixed by the subclasses
@@ -131,7 +133,7 @@ class Context(_core.Context):
 
     def __init__(self, width: int = 300, height: int = 150, *, version: int | None = None,
                  samples: int | None = None, threads: int | None = None, strict: bool = False,
-                 **attributes):
+                 color_format: str = "rgba8", **attributes):
         if version is None:
             version = self._version
         elif version != self._version and version in (1, 2):
@@ -149,6 +151,9 @@ class Context(_core.Context):
         attrs.version = version
         attrs.samples = 0 if samples is None else samples
         attrs.threads = 0 if threads is None else threads
+        if not isinstance(color_format, str):
+            raise TypeError(f"Context(): color_format must be a str, got {type(color_format).__name__}")
+        attrs.color_format = color_format
         if not (-2**31 <= width < 2**31 and -2**31 <= height < 2**31):
             raise ValueError(f"drawing buffer size {width}x{height} is out of range")
         reason = _core.check_context(width, height, attrs)
@@ -163,7 +168,12 @@ class Context(_core.Context):
 
     def getContextAttributes(self) -> dict:
         a = self._attributes()
-        return {name: getattr(a, name) for name in _ATTRIBUTE_DEFAULTS} | {"xrCompatible": False}
+        attributes = {name: getattr(a, name) for name in _ATTRIBUTE_DEFAULTS} | {"xrCompatible": False}
+        # softgl's float drawing buffers are reported; the default (rgba8) is not, so that pure
+        # WebGL code sees exactly WebGL's dictionary.
+        if a.color_format != "rgba8":
+            attributes["color_format"] = a.color_format
+        return attributes
 
     def getExtension(self, name: str):
         """The extension object (always the same one), or None if softgl does not support it."""

@@ -33,10 +33,14 @@ def composite(rgba: np.ndarray, *, premultiplied: bool = True, alpha: bool = Tru
 def canvas_image(gl, background=WHITE, present: bool = True) -> np.ndarray:
     """The canvas as a person sees it: (h, w, 3) uint8, top row first."""
     w, h = gl.drawingBufferWidth, gl.drawingBufferHeight
-    pixels = gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE)
+    attrs = gl.getContextAttributes()
+    # A float drawing buffer (color_format rgba16f/rgba32f) is shown the way browsers show a
+    # float canvas on an 8-bit display: its values are taken as the canvas's (sRGB-encoded)
+    # values, clamped to [0, 1] and rounded to 8 bits (composite() does both), then composited.
+    float_buffer = attrs.get("color_format", "rgba8") != "rgba8"
+    pixels = gl.readPixels(0, 0, w, h, gl.RGBA, gl.FLOAT if float_buffer else gl.UNSIGNED_BYTE)
     if pixels is None:  # a pending error made the read fail: read with a clean state
         raise RuntimeError("could not read the drawing buffer")
-    attrs = gl.getContextAttributes()
     shown = composite(pixels[::-1], premultiplied=attrs["premultipliedAlpha"],
                       alpha=attrs["alpha"], background=background)
     if present:

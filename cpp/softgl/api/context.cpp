@@ -2,9 +2,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstring>
 
 #include "softgl/api/blendlab.h"
 #include "softgl/surface/formats.h"
+#include "softgl/surface/texture.h"
 
 namespace softgl {
 
@@ -43,6 +45,9 @@ GLenum array_type_for(GLenum type) {
 
 }  // namespace
 
+static FramebufferConfig framebuffer_config(int32_t width, int32_t height, const ContextAttributes& a);
+static ColorFormat color_format_of(const std::string& name);
+
 std::string Context::check(int32_t width, int32_t height, const ContextAttributes& a) {
     if (a.version != 1 && a.version != 2)
         return "version must be 1 (WebGL 1) or 2 (WebGL 2), got " + std::to_string(a.version);
@@ -55,17 +60,20 @@ std::string Context::check(int32_t width, int32_t height, const ContextAttribute
     if (a.power_preference != "default" && a.power_preference != "low-power" &&
         a.power_preference != "high-performance")
         return "powerPreference must be 'default', 'low-power' or 'high-performance'";
-    FramebufferConfig config;
-    config.width = width;
-    config.height = height;
-    config.samples = a.samples ? a.samples : (a.antialias ? 4 : 1);
-    config.depth = a.depth;
-    config.stencil = a.stencil;
-    return DefaultFramebuffer::check(config);
+    if (a.color_format != "rgba8" && a.color_format != "rgba16f" && a.color_format != "rgba32f")
+        return "color_format must be 'rgba8', 'rgba16f' or 'rgba32f', got '" + a.color_format + "'";
+    return DefaultFramebuffer::check(framebuffer_config(width, height, a));
+}
+
+static ColorFormat color_format_of(const std::string& name) {
+    if (name == "rgba16f") return ColorFormat::RGBA16F;
+    if (name == "rgba32f") return ColorFormat::RGBA32F;
+    return ColorFormat::RGBA8;
 }
 
 static FramebufferConfig framebuffer_config(int32_t width, int32_t height, const ContextAttributes& a) {
     FramebufferConfig config;
+    config.color_format = color_format_of(a.color_format);
     config.width = width;
     config.height = height;
     config.samples = a.samples ? a.samples : (a.antialias ? 4 : 1);
@@ -100,8 +108,10 @@ std::vector<std::string> Context::get_supported_extensions() const {
     }
     names.push_back("SOFTGL_fog");      // softgl's own: they never change pure WebGL code
     names.push_back("SOFTGL_smooth");
-    names.push_back("SOFTGL_exact_transparency");
-    names.push_back("SOFTGL_introspection");
+    if (!framebuffer_.is_float()) {   // they record and resolve RGBA8 drawing-buffer colours
+        names.push_back("SOFTGL_exact_transparency");
+        names.push_back("SOFTGL_introspection");
+    }
     return names;
 }
 
@@ -109,6 +119,8 @@ bool Context::enable_extension(const std::string& name) {
     if (enable_texture_extension(name)) return true;   // textures.cpp
     if (name == "SOFTGL_fog") return ext_fog_ = true;
     if (name == "SOFTGL_smooth") return ext_smooth_ = true;
+    if (framebuffer_.is_float() && (name == "SOFTGL_exact_transparency" || name == "SOFTGL_introspection"))
+        return false;   // RGBA8 drawing buffers only (see get_supported_extensions)
     if (name == "SOFTGL_exact_transparency") return blendlab().ext_exact = true;
     if (name == "SOFTGL_introspection") return blendlab().ext_introspection = true;
     if (version() != 1) return false;
@@ -445,10 +457,19 @@ void Context::clear(uint32_t mask) {
         framebuffer_.clear_stencil(region, state_.clear_stencil, state_.stencil_front.write_mask);
 }
 
-size_t Context::pack_size(int32_t width, int32_t height) const {
+GLenum Context::drawing_buffer_read_type() const {
+    switch (framebuffer_.config().color_format) {
+        // WebGL 1 has no HALF_FLOAT enum outside OES_texture_half_float: FLOAT there.
+        case ColorFormat::RGBA16F: return version() >= 2 ? gl::HALF_FLOAT : gl::FLOAT;
+        case ColorFormat::RGBA32F: return gl::FLOAT;
+        default: return gl::UNSIGNED_BYTE;
+    }
+}
+
+size_t Context::pack_size(int32_t width, int32_t height, int pixel_bytes) const {
     if (width <= 0 || height <= 0) return 0;
     const PixelStore& ps = state_.pixel_store;
-    const uint64_t pixel = 4;
+    const uint64_t pixel = uint64_t(pixel_bytes);
     const uint64_t row_pixels = ps.pack_row_length > 0 ? uint64_t(ps.pack_row_length) : uint64_t(width);
     const uint64_t align = uint64_t(ps.pack_alignment);
     const uint64_t stride = (row_pixels * pixel + align - 1) / align * align;
@@ -473,6 +494,7 @@ bool Context::read_pixels(int32_t x, int32_t y, int32_t width, int32_t height, G
                                                   format == gl::RGB_INTEGER || format == gl::RGBA_INTEGER));
     bool type_known = type == gl::UNSIGNED_BYTE || type == gl::UNSIGNED_SHORT_5_6_5 ||
                       type == gl::UNSIGNED_SHORT_4_4_4_4 || type == gl::UNSIGNED_SHORT_5_5_5_1;
+    if (framebuffer_.is_float()) type_known = type_known || type == gl::FLOAT;   // float drawing buffers
     if (version() >= 2)
         type_known = type_known || type == gl::BYTE || type == gl::SHORT || type == gl::UNSIGNED_SHORT ||
                      type == gl::INT || type == gl::UNSIGNED_INT || type == gl::FLOAT ||
@@ -481,12 +503,19 @@ bool Context::read_pixels(int32_t x, int32_t y, int32_t width, int32_t height, G
     if (!format_known) { error(gl::INVALID_ENUM, call, quote(format) + " is not a pixel format here"); return false; }
     if (!type_known) { error(gl::INVALID_ENUM, call, quote(type) + " is not a pixel type here"); return false; }
     if (width < 0 || height < 0) { error(gl::INVALID_VALUE, call, "width and height must not be negative"); return false; }
-    // WebGL 1.0 §5.14.12: RGBA/UNSIGNED_BYTE, or the implementation-chosen pair (here the same).
-    if (!(format == gl::RGBA && type == gl::UNSIGNED_BYTE)) {
-        error(gl::INVALID_OPERATION, call, quote(format) + "/" + quote(type) +
-              " cannot be read from an RGBA8 drawing buffer; use RGBA/UNSIGNED_BYTE");
+    // WebGL 1.0 §5.14.12, ES 3.0 §4.3.2: RGBA/UNSIGNED_BYTE for a normalized buffer, RGBA/FLOAT
+    // for a float one, or the implementation-chosen pair (IMPLEMENTATION_COLOR_READ_*: the same,
+    // except RGBA/HALF_FLOAT for an RGBA16F drawing buffer in WebGL 2).
+    const bool float_buffer = framebuffer_.is_float();
+    const GLenum canonical = float_buffer ? gl::FLOAT : gl::UNSIGNED_BYTE;
+    if (!(format == gl::RGBA && (type == canonical || type == drawing_buffer_read_type()))) {
+        const std::string fmt = float_buffer ? "a float (" + attributes_.color_format + ")" : "an RGBA8";
+        error(gl::INVALID_OPERATION, call, quote(format) + "/" + quote(type) + " cannot be read from " + fmt +
+              " drawing buffer; use RGBA/" + quote(canonical) +
+              (drawing_buffer_read_type() != canonical ? " or RGBA/" + quote(drawing_buffer_read_type()) : ""));
         return false;
     }
+    const int pixel = type == gl::FLOAT ? 16 : type == gl::HALF_FLOAT ? 8 : 4;
     const PixelStore& store = state_.pixel_store;
     if (packed && store.pack_row_length > 0 && int64_t(store.pack_skip_pixels) + width > store.pack_row_length) {
         // WebGL 2.0 §5.35: a row that would not fit in PACK_ROW_LENGTH is an error, not an overlap.
@@ -497,22 +526,46 @@ bool Context::read_pixels(int32_t x, int32_t y, int32_t width, int32_t height, G
         error(gl::INVALID_OPERATION, call, "the destination array's element type does not match " + quote(type));
         return false;
     }
-    const size_t needed = packed ? pack_size(width, height) : size_t(width) * size_t(height) * 4;
+    const size_t needed = packed ? pack_size(width, height, pixel) : size_t(width) * size_t(height) * size_t(pixel);
     if (dst_bytes < needed) {
         error(gl::INVALID_OPERATION, call, "the destination holds " + std::to_string(dst_bytes) +
               " bytes, " + std::to_string(needed) + " are needed");
         return false;
     }
     if (width == 0 || height == 0) return true;
-    std::ptrdiff_t stride = std::ptrdiff_t(width) * 4;
+    std::ptrdiff_t stride = std::ptrdiff_t(width) * pixel;
     uint8_t* origin = dst;
     if (packed) {
         const PixelStore& ps = state_.pixel_store;
         const int64_t row_pixels = ps.pack_row_length > 0 ? ps.pack_row_length : width;
-        stride = std::ptrdiff_t((row_pixels * 4 + ps.pack_alignment - 1) / ps.pack_alignment * ps.pack_alignment);
-        origin = dst + ps.pack_skip_rows * stride + std::ptrdiff_t(ps.pack_skip_pixels) * 4;
+        stride = std::ptrdiff_t((row_pixels * pixel + ps.pack_alignment - 1) / ps.pack_alignment * ps.pack_alignment);
+        origin = dst + ps.pack_skip_rows * stride + std::ptrdiff_t(ps.pack_skip_pixels) * pixel;
     }
-    framebuffer_.read_rgba8(x, y, width, height, origin, stride);
+    if (type == gl::UNSIGNED_BYTE) {
+        framebuffer_.read_rgba8(x, y, width, height, origin, stride);
+        return true;
+    }
+    // Float drawing buffers: resolved floats, as float32 or (implementation pair) binary16 bits.
+    // Rows may be only 2-byte aligned (PACK_ALIGNMENT), so pixels are copied byte-wise.
+    std::vector<float> row(size_t(width) * 4);
+    for (int32_t r = 0; r < height; ++r) {
+        const int64_t sy = int64_t(y) + r;
+        if (sy < 0 || sy >= framebuffer_.height()) continue;   // outside the buffer: left as it is
+        std::fill(row.begin(), row.end(), 0.0f);
+        framebuffer_.read_float(x, int32_t(sy), width, 1, row.data(), std::ptrdiff_t(width) * 4);
+        uint8_t* out = origin + std::ptrdiff_t(r) * stride;
+        for (int32_t c = 0; c < width; ++c) {
+            const int64_t sx = int64_t(x) + c;
+            if (sx < 0 || sx >= framebuffer_.width()) continue;
+            if (type == gl::FLOAT) {
+                std::memcpy(out + std::ptrdiff_t(c) * 16, &row[size_t(c) * 4], 16);
+            } else {
+                uint16_t h[4];
+                for (int k = 0; k < 4; ++k) h[k] = float_to_half(row[size_t(c) * 4 + size_t(k)]);
+                std::memcpy(out + std::ptrdiff_t(c) * 8, h, 8);
+            }
+        }
+    }
     return true;
 }
 

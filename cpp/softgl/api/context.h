@@ -37,6 +37,8 @@ struct ContextAttributes {
     int version = 2;     // 1 = WebGL 1, 2 = WebGL 2
     int samples = 0;     // 0 = 4 when antialias, else 1; otherwise 2, 4, 8 or 16 (needs antialias)
     int threads = 0;     // worker threads for drawing; 0 = one per core
+    // The drawing buffer's colour format: "rgba8" (WebGL's), "rgba16f" or "rgba32f".
+    std::string color_format = "rgba8";
 };
 
 // Limits softgl reports through getParameter.
@@ -137,7 +139,10 @@ public:
     void read_pixels_to_pack_buffer(int32_t x, int32_t y, int32_t width, int32_t height, GLenum format,
                                     GLenum type, int64_t offset);
     // Bytes that readPixels writes at most for this block with the current PACK_* parameters.
-    size_t pack_size(int32_t width, int32_t height) const;
+    size_t pack_size(int32_t width, int32_t height, int pixel_bytes = 4) const;
+    // The type of the implementation-chosen readPixels pair for the drawing buffer (ES 3.0
+    // §4.3.2): UNSIGNED_BYTE for RGBA8, HALF_FLOAT / FLOAT for the float colour formats.
+    GLenum drawing_buffer_read_type() const;
 
     // Buffers (buffers.cpp)
     std::shared_ptr<Buffer> create_buffer();

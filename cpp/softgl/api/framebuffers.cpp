@@ -34,16 +34,7 @@ struct ColorSource {
     size_t offset = 0;
     int32_t width = 0, height = 0;
     void read(int32_t x, int32_t y, float out[4]) const {
-        if (fb) {
-            const int S = fb->config().samples;
-            for (int c = 0; c < 4; ++c) {
-                uint32_t sum = 0;
-                for (int s = 0; s < S; ++s) sum += fb->color_sample(x, y, s)[c];
-                out[c] = S == 1 ? float(sum) / 255.0f : float(double(sum) / (255.0 * S));
-            }
-            if (!fb->config().alpha) out[3] = 1.0f;
-            return;
-        }
+        if (fb) return fb->read_pixel(x, y, out);   // any colour format, resolved by the mean
         const size_t S = size_t(img->samples);
         const size_t t = offset + (size_t(y) * size_t(img->width) + size_t(x)) * S;
         for (int c = 0; c < 4; ++c) {
@@ -61,14 +52,7 @@ struct ColorSource {
 // Writes float RGBA into every sample of pixel (x, y) of a colour destination (no blending).
 void write_plain(DefaultFramebuffer* fb, Image* img, size_t offset, int32_t x, int32_t y, const float rgba[4],
                  const std::array<bool, 4>& mask) {
-    if (fb) {
-        for (int s = 0; s < fb->config().samples; ++s) {
-            uint8_t* p = fb->color_sample(x, y, s);
-            for (int c = 0; c < 4; ++c)
-                if (mask[size_t(c)] && (c < 3 || fb->config().alpha)) p[c] = float_to_unorm8(rgba[c]);
-        }
-        return;
-    }
+    if (fb) return fb->write_pixel(x, y, rgba, mask);   // any colour format
     BlendOp op;
     op.write = mask;
     for (int s = 0; s < img->samples; ++s) write_image_color(*img, offset, op, rgba, x, y, s);
@@ -382,11 +366,13 @@ Value Context::get_framebuffer_attachment_parameter(GLenum target, GLenum attach
         if (!present) { error(gl::INVALID_OPERATION, call, "the attachment does not exist"); return Value(Null{}); }
         switch (pname) {
             case gl::FRAMEBUFFER_ATTACHMENT_RED_SIZE: case gl::FRAMEBUFFER_ATTACHMENT_GREEN_SIZE:
-            case gl::FRAMEBUFFER_ATTACHMENT_BLUE_SIZE: return Value(int64_t(attachment == gl::BACK ? 8 : 0));
-            case gl::FRAMEBUFFER_ATTACHMENT_ALPHA_SIZE: return Value(int64_t(attachment == gl::BACK && c.alpha ? 8 : 0));
+            case gl::FRAMEBUFFER_ATTACHMENT_BLUE_SIZE: return Value(int64_t(attachment == gl::BACK ? framebuffer_.color_bits() : 0));
+            case gl::FRAMEBUFFER_ATTACHMENT_ALPHA_SIZE: return Value(int64_t(attachment == gl::BACK && c.alpha ? framebuffer_.color_bits() : 0));
             case gl::FRAMEBUFFER_ATTACHMENT_DEPTH_SIZE: return Value(int64_t(attachment == gl::DEPTH ? 24 : 0));
             case gl::FRAMEBUFFER_ATTACHMENT_STENCIL_SIZE: return Value(int64_t(attachment == gl::STENCIL ? 8 : 0));
-            case gl::FRAMEBUFFER_ATTACHMENT_COMPONENT_TYPE: return Value(int64_t(attachment == gl::STENCIL ? gl::UNSIGNED_INT : gl::UNSIGNED_NORMALIZED));
+            case gl::FRAMEBUFFER_ATTACHMENT_COMPONENT_TYPE:
+                return Value(int64_t(attachment == gl::STENCIL ? gl::UNSIGNED_INT
+                                     : attachment == gl::BACK && framebuffer_.is_float() ? gl::FLOAT : gl::UNSIGNED_NORMALIZED));
             case gl::FRAMEBUFFER_ATTACHMENT_COLOR_ENCODING: return Value(int64_t(gl::LINEAR));
             default: break;
         }

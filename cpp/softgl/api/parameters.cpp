@@ -121,14 +121,14 @@ Value Context::get_parameter(GLenum pname) {
             return Value(Null{});
 
         // The drawing buffer
-        case gl::RED_BITS: case gl::GREEN_BITS: case gl::BLUE_BITS: return i(8);
-        case gl::ALPHA_BITS: return i(fb.alpha ? 8 : 0);
+        case gl::RED_BITS: case gl::GREEN_BITS: case gl::BLUE_BITS: return i(framebuffer_.color_bits());
+        case gl::ALPHA_BITS: return i(fb.alpha ? framebuffer_.color_bits() : 0);
         case gl::DEPTH_BITS: return i(fb.depth ? DefaultFramebuffer::kDepthBits : 0);
         case gl::STENCIL_BITS: return i(fb.stencil ? DefaultFramebuffer::kStencilBits : 0);
         case gl::SAMPLE_BUFFERS: return i(fb.samples > 1 ? 1 : 0);
         case gl::SAMPLES: return i(fb.samples > 1 ? fb.samples : 0);
         case gl::IMPLEMENTATION_COLOR_READ_FORMAT: return i(gl::RGBA);
-        case gl::IMPLEMENTATION_COLOR_READ_TYPE: return i(gl::UNSIGNED_BYTE);
+        case gl::IMPLEMENTATION_COLOR_READ_TYPE: return i(drawing_buffer_read_type());
 
         // Limits
         case gl::ALIASED_LINE_WIDTH_RANGE: return floats({limits::kLineWidthRange[0], limits::kLineWidthRange[1]});

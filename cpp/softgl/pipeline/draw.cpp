@@ -124,7 +124,10 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
     DrawScratch& ds_ = draw_scratch();
     const State& state = in.state;
     RenderTarget& fb = in.target;
-    DefaultFramebuffer* const drawing_buffer = fb.default_framebuffer();   // null for framebuffer objects
+    // The RGBA8 drawing buffer (fast colour kernels, blend-lab hooks); null for framebuffer
+    // objects and for float drawing buffers (color_format), which write through write_color.
+    DefaultFramebuffer* const drawing_buffer =
+        fb.default_framebuffer() && !fb.default_framebuffer()->is_float() ? fb.default_framebuffer() : nullptr;
     // Blend lab hooks (`if (sink)` lines): on the drawing buffer only; null = off.
     FragmentSink* const sink = drawing_buffer ? in.sink : nullptr;
     if (sink) sink->begin_draw(in.state, *drawing_buffer);

@@ -4,12 +4,13 @@
 #include <unistd.h>
 
 #include "softgl/surface/formats.h"
+#include "softgl/surface/texture.h"   // float_to_half / half_to_float (IEEE binary16)
 
 namespace softgl {
 
 uint64_t DefaultFramebuffer::bytes_needed(const FramebufferConfig& c) {
     const uint64_t samples = uint64_t(c.width) * uint64_t(c.height) * uint64_t(c.samples);
-    uint64_t per_sample = 4;
+    uint64_t per_sample = c.color_format == ColorFormat::RGBA8 ? 4 : 16;   // float formats: 4 floats
     if (c.depth) per_sample += 4;
     if (c.stencil) per_sample += 1;
     return samples * per_sample;
@@ -38,9 +39,15 @@ DefaultFramebuffer::DefaultFramebuffer(const FramebufferConfig& config) : config
     const size_t n = size_t(config.width) * size_t(config.height) * size_t(config.samples);
     // Initial contents are zero (WebGL clears a new drawing buffer to transparent black, depth 1,
     // stencil 0; ES 3.0 §4.2.3 clear values); without alpha the buffer reads back alpha = 1.
-    color_.assign(n * 4, 0);
-    if (!config.alpha)
-        for (size_t i = 0; i < n; ++i) color_[i * 4 + 3] = 255;
+    if (is_float()) {
+        color_f_.assign(n * 4, 0.0f);
+        if (!config.alpha)
+            for (size_t i = 0; i < n; ++i) color_f_[i * 4 + 3] = 1.0f;
+    } else {
+        color_.assign(n * 4, 0);
+        if (!config.alpha)
+            for (size_t i = 0; i < n; ++i) color_[i * 4 + 3] = 255;
+    }
     if (config.depth) depth_.assign(n, (1u << kDepthBits) - 1);
     if (config.stencil) stencil_.assign(n, 0);
 }
@@ -61,11 +68,25 @@ Rect DefaultFramebuffer::clip(Rect r) const {
 void DefaultFramebuffer::clear_color(Rect rect, const std::array<float, 4>& rgba,
                                      const std::array<bool, 4>& mask) {
     const Rect r = clip(rect);
-    uint8_t value[4];
-    for (int c = 0; c < 4; ++c) value[c] = float_to_unorm8(rgba[c]);
     std::array<bool, 4> write = mask;
     if (!config_.alpha) write[3] = false;  // no alpha channel: alpha stays 1
     const int S = config_.samples;
+    if (is_float()) {
+        // ES 3.0 §4.2.3: the clear colour is converted to the buffer's format; float buffers
+        // take it unclamped (§2.1.1 conversion to binary16 for RGBA16F).
+        float value[4];
+        for (int c = 0; c < 4; ++c) value[c] = quantize(rgba[c]);
+        for (int32_t y = r.y; y < r.y + r.height; ++y) {
+            float* p = color_sample_f(r.x, y, 0);
+            const size_t count = size_t(r.width) * S;
+            for (size_t i = 0; i < count; ++i, p += 4)
+                for (int c = 0; c < 4; ++c)
+                    if (write[c]) p[c] = value[c];
+        }
+        return;
+    }
+    uint8_t value[4];
+    for (int c = 0; c < 4; ++c) value[c] = float_to_unorm8(rgba[c]);
     for (int32_t y = r.y; y < r.y + r.height; ++y) {
         uint8_t* p = color_sample(r.x, y, 0);
         const size_t count = size_t(r.width) * S;
@@ -106,6 +127,16 @@ void DefaultFramebuffer::read_rgba8(int32_t x, int32_t y, int32_t w, int32_t h, 
                                     std::ptrdiff_t row_stride) const {
     const Rect r = clip(Rect{x, y, w, h});
     const int S = config_.samples;
+    if (is_float()) {   // resolved float, then clamped and rounded like any float -> unorm8
+        float px[4];
+        for (int32_t py = r.y; py < r.y + r.height; ++py)
+            for (int32_t qx = r.x; qx < r.x + r.width; ++qx) {
+                read_pixel(qx, py, px);
+                uint8_t* out = dst + (py - y) * row_stride + std::ptrdiff_t(qx - x) * 4;
+                for (int c = 0; c < 4; ++c) out[c] = float_to_unorm8(px[c]);
+            }
+        return;
+    }
     for (int32_t py = r.y; py < r.y + r.height; ++py) {
         uint8_t* out = dst + (py - y) * row_stride + std::ptrdiff_t(r.x - x) * 4;
         const uint8_t* in = &color_[(size_t(py) * config_.width + r.x) * S * 4];
@@ -120,6 +151,61 @@ void DefaultFramebuffer::read_rgba8(int32_t x, int32_t y, int32_t w, int32_t h, 
                 out[c] = uint8_t((sum + uint32_t(S) / 2) / uint32_t(S));
             }
     }
+}
+
+int DefaultFramebuffer::color_bits() const {
+    switch (config_.color_format) {
+        case ColorFormat::RGBA16F: return 16;
+        case ColorFormat::RGBA32F: return 32;
+        default: return 8;
+    }
+}
+
+float DefaultFramebuffer::quantize(float v) const {
+    switch (config_.color_format) {
+        case ColorFormat::RGBA16F: return half_to_float(float_to_half(v));
+        case ColorFormat::RGBA32F: return v;
+        default: return float(float_to_unorm8(v)) / 255.0f;
+    }
+}
+
+void DefaultFramebuffer::read_sample(int32_t x, int32_t y, int32_t s, float out[4]) const {
+    const size_t i = ((size_t(y) * config_.width + x) * config_.samples + size_t(s)) * 4;
+    for (int c = 0; c < 4; ++c) out[c] = is_float() ? color_f_[i + size_t(c)] : float(color_[i + size_t(c)]) / 255.0f;
+    if (!config_.alpha) out[3] = 1.0f;
+}
+
+void DefaultFramebuffer::read_pixel(int32_t x, int32_t y, float out[4]) const {
+    const int S = config_.samples;
+    if (S == 1) return read_sample(x, y, 0, out);
+    // The mean in double: exact for <= 16 samples of binary16 or unorm8, one rounding for 32F.
+    double sum[4] = {0, 0, 0, 0};
+    float v[4];
+    for (int s = 0; s < S; ++s) {
+        read_sample(x, y, s, v);
+        for (int c = 0; c < 4; ++c) sum[c] += double(v[c]);
+    }
+    for (int c = 0; c < 4; ++c) {
+        const double mean = sum[c] / double(S);
+        out[c] = is_float() ? quantize(float(mean)) : float(mean);
+    }
+}
+
+void DefaultFramebuffer::write_pixel(int32_t x, int32_t y, const float rgba[4], const std::array<bool, 4>& mask) {
+    for (int s = 0; s < config_.samples; ++s)
+        for (int c = 0; c < 4; ++c) {
+            if (!mask[size_t(c)] || (c == 3 && !config_.alpha)) continue;
+            if (is_float()) color_sample_f(x, y, s)[c] = quantize(rgba[c]);
+            else color_sample(x, y, s)[c] = float_to_unorm8(rgba[c]);
+        }
+}
+
+void DefaultFramebuffer::read_float(int32_t x, int32_t y, int32_t w, int32_t h, float* dst,
+                                    std::ptrdiff_t row_stride) const {
+    const Rect r = clip(Rect{x, y, w, h});
+    for (int32_t py = r.y; py < r.y + r.height; ++py)
+        for (int32_t qx = r.x; qx < r.x + r.width; ++qx)
+            read_pixel(qx, py, dst + (py - y) * row_stride + std::ptrdiff_t(qx - x) * 4);
 }
 
 }  // namespace softgl

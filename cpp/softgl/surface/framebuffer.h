@@ -1,5 +1,6 @@
-// The default (drawing-buffer) framebuffer: RGBA8 color, 24-bit unorm depth, 8-bit stencil,
-// each with `samples` samples per pixel stored contiguously (pixel-major).
+// The default (drawing-buffer) framebuffer: RGBA8 (or, with softgl's `color_format`, RGBA16F or
+// RGBA32F) color, 24-bit unorm depth, 8-bit stencil, each with `samples` samples per pixel stored
+// contiguously (pixel-major).
 #pragma once
 #include <array>
 #include <cstddef>
@@ -11,8 +12,14 @@
 
 namespace softgl {
 
+// The drawing buffer's colour format (softgl's `color_format` context option). RGBA8 is WebGL's;
+// the float formats behave like RGBA16F / RGBA32F colour attachments (ES 3.0 §4.1.7: no clamping
+// of blend inputs or results; §2.1.1 / IEEE 754 binary16 round to nearest even for 16F).
+enum class ColorFormat : uint8_t { RGBA8, RGBA16F, RGBA32F };
+
 struct FramebufferConfig {
     int32_t width = 0, height = 0;
+    ColorFormat color_format = ColorFormat::RGBA8;
     int32_t samples = 1;   // 1 = single-sampled
     bool alpha = true, depth = true, stencil = false;
 };
@@ -46,7 +53,31 @@ public:
     void read_rgba8(int32_t x, int32_t y, int32_t w, int32_t h, uint8_t* dst,
                     std::ptrdiff_t row_stride) const;
 
-    // Raw per-sample access for the pipeline and for tests.
+    // ---- float colour formats (RGBA16F, RGBA32F) --------------------------------------------
+    bool is_float() const { return config_.color_format != ColorFormat::RGBA8; }
+    // Bits per channel as RED_BITS etc. report them (8, 16 or 32).
+    int color_bits() const;
+    // Rounds a float to what a channel of this buffer holds: binary16 (ties to even) for RGBA16F,
+    // unchanged for RGBA32F, k/255 (clamped, rounded) for RGBA8.
+    float quantize(float v) const;
+    // The samples of a float buffer, 4 floats each (16F values are stored already rounded to
+    // binary16, as floats: same values, simpler blending). Float formats only.
+    float* color_sample_f(int32_t x, int32_t y, int32_t s) {
+        return &color_f_[(size_t(y) * config_.width + x) * config_.samples * 4 + size_t(s) * 4];
+    }
+    // Pixel (x, y) as float RGBA, multisample resolved by the mean (any format; float formats
+    // round the mean to the format, as a resolve into a single-sampled buffer of it would).
+    void read_pixel(int32_t x, int32_t y, float out[4]) const;
+    // Sample s of pixel (x, y) as float RGBA (any format).
+    void read_sample(int32_t x, int32_t y, int32_t s, float out[4]) const;
+    // Writes float RGBA into every sample of (x, y), quantized to the format (unorm: clamped),
+    // channels with mask false kept (alpha kept when there is no alpha channel).
+    void write_pixel(int32_t x, int32_t y, const float rgba[4], const std::array<bool, 4>& mask);
+    // Copies the in-buffer part of the w x h block at (x, y) as float RGBA (resolved like
+    // read_pixel); `dst` points at the block's pixel (x, y), rows `row_stride` floats apart.
+    void read_float(int32_t x, int32_t y, int32_t w, int32_t h, float* dst, std::ptrdiff_t row_stride) const;
+
+    // Raw per-sample access for the pipeline and for tests (RGBA8 only).
     uint8_t* color_sample(int32_t x, int32_t y, int32_t s) {
         return &color_[(size_t(y) * config_.width + x) * config_.samples * 4 + size_t(s) * 4];
     }
@@ -68,7 +99,8 @@ private:
     Rect clip(Rect rect) const;
 
     FramebufferConfig config_;
-    std::vector<uint8_t> color_;
+    std::vector<uint8_t> color_;     // RGBA8
+    std::vector<float> color_f_;     // RGBA16F / RGBA32F
     std::vector<uint32_t> depth_;
     std::vector<uint8_t> stencil_;
 };

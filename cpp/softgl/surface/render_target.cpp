@@ -74,7 +74,18 @@ void write_image_color(Image& img, size_t offset, const BlendOp& op, const float
 
 void RenderTarget::write_color(const BlendOp& op, const float src[4], int32_t x, int32_t y, int s, int output) {
     if (default_) {
-        if (output == 0) blend_unorm8(op, src, default_->color_sample(x, y, s));
+        if (output != 0) return;   // the drawing buffer has one colour buffer (BACK)
+        if (default_->is_float()) {
+            // softgl color_format rgba16f / rgba32f: blend unclamped in float (ES 3.0 §4.1.7),
+            // then round to the format (binary16 ties to even for 16F).
+            float* dst = default_->color_sample_f(x, y, s);
+            float blended[4];
+            blend_float(op, src, dst, false, blended);
+            for (int c = 0; c < 4; ++c)
+                if (op.write[size_t(c)]) dst[c] = default_->quantize(blended[c]);
+            return;
+        }
+        blend_unorm8(op, src, default_->color_sample(x, y, s));
         return;
     }
     if (output < 0 || output >= kMaxColors) return;
