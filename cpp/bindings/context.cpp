@@ -55,6 +55,13 @@ py::object read_pixels(Context& ctx, softgl::bindings::IdlInt32 x_, softgl::bind
             ctx.read_pixels(x, y, w, h, format, type, type, nullptr, 0, false);
             return py::none();
         }
+        const uint64_t bytes = uint64_t(w) * uint64_t(h) * 4u * uint64_t(dtype_for(type).itemsize());
+        if (bytes > softgl::memory_budget()) {   // refuse before NumPy allocates anything
+            ctx.record_error(gl::OUT_OF_MEMORY, "readPixels",
+                             "a " + std::to_string(w) + "x" + std::to_string(h) + " result needs " +
+                             std::to_string(bytes >> 20) + " MiB, more than half of this machine's memory");
+            return py::none();
+        }
         py::array out(dtype_for(type), std::vector<py::ssize_t>{h, w, 4});
         std::memset(out.mutable_data(), 0, size_t(out.nbytes()));
         if (!ctx.read_pixels(x, y, w, h, format, type, array_type_of(out.dtype()),
@@ -222,8 +229,16 @@ void bind_context(py::module_& m) {
         .def("isBuffer", &Context::is_buffer)
         .def("bufferData",
              [](Context& c, IdlUint32 target, py::object data, IdlUint32 usage, int64_t src_offset, int64_t length) {
-                 if (py::isinstance<py::int_>(data))
-                     return c.buffer_data_size(target.value, data.cast<int64_t>(), usage.value);
+                 if (py::isinstance<py::int_>(data)) {
+                     int64_t size = 0;
+                     try {
+                         size = data.cast<int64_t>();
+                     } catch (const py::cast_error&) {
+                         PyErr_SetString(PyExc_OverflowError, "bufferData: size does not fit a GLsizeiptr (64-bit)");
+                         throw py::error_already_set();
+                     }
+                     return c.buffer_data_size(target.value, size, usage.value);
+                 }
                  if (data.is_none()) return c.buffer_data(target.value, nullptr, -1, usage.value);
                  ByteSpan span = byte_span(c, "bufferData", data.cast<py::buffer>(), src_offset, length);
                  if (span.ok) c.buffer_data(target.value, span.data ? span.data : reinterpret_cast<const uint8_t*>(""), span.size, usage.value);
@@ -291,7 +306,7 @@ void bind_context(py::module_& m) {
         .def("shaderSource", &Context::shader_source)
         .def("getShaderSource", [](Context& c, const std::shared_ptr<softgl::Shader>& s) -> py::object {
             std::string src = c.get_shader_source(s);
-            return (s && s->owner == &c && !s->deleted) ? py::object(py::str(src)) : py::object(py::none());
+            return (s && s->owner == c.identity() && !s->deleted) ? py::object(py::str(src)) : py::object(py::none());
         })
         .def("compileShader", [](Context& c, const std::shared_ptr<softgl::Shader>& s) {
             py::gil_scoped_release release;
@@ -302,7 +317,7 @@ void bind_context(py::module_& m) {
         })
         .def("getShaderInfoLog", [](Context& c, const std::shared_ptr<softgl::Shader>& s) -> py::object {
             std::string log = c.get_shader_info_log(s);
-            return (s && s->owner == &c && !s->deleted) ? py::object(py::str(log)) : py::object(py::none());
+            return (s && s->owner == c.identity() && !s->deleted) ? py::object(py::str(log)) : py::object(py::none());
         })
         .def("deleteShader", &Context::delete_shader)
         .def("isShader", &Context::is_shader)
@@ -331,7 +346,7 @@ void bind_context(py::module_& m) {
         })
         .def("getProgramInfoLog", [](Context& c, const std::shared_ptr<softgl::Program>& p) -> py::object {
             std::string log = c.get_program_info_log(p);
-            return (p && p->owner == &c && !p->deleted) ? py::object(py::str(log)) : py::object(py::none());
+            return (p && p->owner == c.identity() && !p->deleted) ? py::object(py::str(log)) : py::object(py::none());
         })
         .def("getAttribLocation", &Context::get_attrib_location)
         .def("getUniformLocation", &Context::get_uniform_location)

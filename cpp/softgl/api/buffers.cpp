@@ -21,7 +21,7 @@ bool valid_usage(GLenum usage, int version) {
 }  // namespace
 
 bool Context::check_object(const char* call, const Object* object) const {
-    if (object && object->owner != this) {
+    if (object && object->owner != identity()) {
         const_cast<Context*>(this)->error(gl::INVALID_OPERATION, call, "the object belongs to another context");
         return false;
     }
@@ -65,7 +65,7 @@ Buffer* Context::bound_buffer(const char* call, GLenum target) {
 
 std::shared_ptr<Buffer> Context::create_buffer() {
     auto buffer = std::make_shared<Buffer>();
-    buffer->owner = this;
+    buffer->owner = identity();
     return buffer;
 }
 
@@ -91,7 +91,7 @@ void Context::bind_buffer(GLenum target, const std::shared_ptr<Buffer>& buffer) 
 
 void Context::delete_buffer(const std::shared_ptr<Buffer>& buffer) {
     if (!buffer) return;
-    if (buffer->owner != this)
+    if (buffer->owner != identity())
         return error(gl::INVALID_OPERATION, "deleteBuffer", "the object belongs to another context");
     if (buffer->deleted) return;
     buffer->deleted = true;
@@ -106,7 +106,7 @@ void Context::delete_buffer(const std::shared_ptr<Buffer>& buffer) {
 }
 
 bool Context::is_buffer(const std::shared_ptr<Buffer>& buffer) const {
-    return buffer && buffer->owner == this && !buffer->deleted && buffer->ever_bound;
+    return buffer && buffer->owner == identity() && !buffer->deleted && buffer->ever_bound;
 }
 
 void Context::buffer_data_size(GLenum target, int64_t size, GLenum usage) {

@@ -1,6 +1,7 @@
 #include "softgl/api/context.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 
@@ -83,15 +84,17 @@ static FramebufferConfig framebuffer_config(int32_t width, int32_t height, const
     return config;
 }
 
+static std::atomic<uintptr_t> next_context_id{1};
+
 Context::Context(int32_t width, int32_t height, const ContextAttributes& attributes)
-    : attributes_(attributes), framebuffer_(framebuffer_config(width, height, attributes)) {
+    : id_(next_context_id++), attributes_(attributes), framebuffer_(framebuffer_config(width, height, attributes)) {
     // WebGL: antialias is a request; report what the drawing buffer really has.
     attributes_.antialias = framebuffer_.config().samples > 1;
     attributes_.samples = framebuffer_.config().samples;
     state_.viewport = Rect{0, 0, width, height};
     state_.scissor = Rect{0, 0, width, height};
     default_vertex_array_ = std::make_shared<VertexArray>();
-    default_vertex_array_->owner = this;
+    default_vertex_array_->owner = identity();
     vertex_array_ = default_vertex_array_;
 }
 

@@ -67,6 +67,9 @@ public:
     Context(int32_t width, int32_t height, const ContextAttributes& attributes);
 
     const ContextAttributes& attributes() const { return attributes_; }
+    // What objects record as their owner: unique for the life of the process, never reused by a
+    // later context (a raw `this` could be, after this context is freed).
+    const void* identity() const { return reinterpret_cast<const void*>(id_); }
     int version() const { return attributes_.version; }
     int32_t drawing_buffer_width() const { return framebuffer_.width(); }
     int32_t drawing_buffer_height() const { return framebuffer_.height(); }
@@ -319,6 +322,7 @@ private:
         errors_.record(code, call, why);
     }
 
+    uintptr_t id_;   // from a process-wide counter, see identity()
     ContextAttributes attributes_;
     State state_;
     DefaultFramebuffer framebuffer_;

@@ -45,6 +45,13 @@ bool Context::validate_draw_state(const char* call) {
 
 void Context::run_draw(const DrawCall& call, uint32_t max_vertex) {
     (void)max_vertex;
+    // A draw keeps its shaded vertices and set-up primitives for the whole draw (about this many
+    // bytes per vertex); refuse what cannot fit rather than fail halfway.
+    constexpr uint64_t kBytesPerVertex = 640;
+    const uint64_t need = uint64_t(call.count) * uint64_t(call.instance_count) * kBytesPerVertex;
+    if (need > memory_budget())
+        return error(gl::OUT_OF_MEMORY, "draw", "the draw would need " + std::to_string(need >> 20) +
+                     " MiB of working memory, more than half of this machine's memory");
     Program& p = *current_program_;
     // gl_DepthRange is a built-in uniform: (near, far, far - near) from the current state.
     for (const auto& u : p.linked->reflection.uniforms) {

@@ -77,7 +77,7 @@ Image* Attachment::image() const {
 
 std::shared_ptr<Framebuffer> Context::create_framebuffer() {
     auto f = std::make_shared<Framebuffer>();
-    f->owner = this;
+    f->owner = identity();
     return f;
 }
 
@@ -98,7 +98,7 @@ void Context::bind_framebuffer(GLenum target, const std::shared_ptr<Framebuffer>
 
 void Context::delete_framebuffer(const std::shared_ptr<Framebuffer>& fb) {
     if (!fb) return;
-    if (fb->owner != this) return error(gl::INVALID_OPERATION, "deleteFramebuffer", "the object belongs to another context");
+    if (fb->owner != identity()) return error(gl::INVALID_OPERATION, "deleteFramebuffer", "the object belongs to another context");
     if (fb->deleted) return;
     fb->deleted = true;
     if (draw_framebuffer_ == fb) draw_framebuffer_.reset();   // ES 3.0 §4.4.1: reverts to the default
@@ -106,12 +106,12 @@ void Context::delete_framebuffer(const std::shared_ptr<Framebuffer>& fb) {
 }
 
 bool Context::is_framebuffer(const std::shared_ptr<Framebuffer>& fb) const {
-    return fb && fb->owner == this && !fb->deleted && fb->ever_bound;
+    return fb && fb->owner == identity() && !fb->deleted && fb->ever_bound;
 }
 
 std::shared_ptr<Renderbuffer> Context::create_renderbuffer() {
     auto r = std::make_shared<Renderbuffer>();
-    r->owner = this;
+    r->owner = identity();
     return r;
 }
 
@@ -125,7 +125,7 @@ void Context::bind_renderbuffer(GLenum target, const std::shared_ptr<Renderbuffe
 
 void Context::delete_renderbuffer(const std::shared_ptr<Renderbuffer>& rb) {
     if (!rb) return;
-    if (rb->owner != this) return error(gl::INVALID_OPERATION, "deleteRenderbuffer", "the object belongs to another context");
+    if (rb->owner != identity()) return error(gl::INVALID_OPERATION, "deleteRenderbuffer", "the object belongs to another context");
     if (rb->deleted) return;
     rb->deleted = true;
     if (renderbuffer_ == rb) renderbuffer_.reset();
@@ -133,7 +133,7 @@ void Context::delete_renderbuffer(const std::shared_ptr<Renderbuffer>& rb) {
 }
 
 bool Context::is_renderbuffer(const std::shared_ptr<Renderbuffer>& rb) const {
-    return rb && rb->owner == this && !rb->deleted && rb->ever_bound;
+    return rb && rb->owner == identity() && !rb->deleted && rb->ever_bound;
 }
 
 void Context::detach_from_framebuffers(const Texture* t, const Renderbuffer* r) {

@@ -54,7 +54,7 @@ bool starts_with(const std::string& s, const char* prefix) { return s.rfind(pref
 
 bool Context::check_shader(const char* call, const Shader* shader) {
     if (!shader) { error(gl::INVALID_VALUE, call, "the shader is null"); return false; }
-    if (shader->owner != this) { error(gl::INVALID_OPERATION, call, "the shader belongs to another context"); return false; }
+    if (shader->owner != identity()) { error(gl::INVALID_OPERATION, call, "the shader belongs to another context"); return false; }
     if (shader->deleted) { error(gl::INVALID_VALUE, call, "the shader has been deleted"); return false; }
     return true;
 }
@@ -70,7 +70,7 @@ bool Context::check_name_length(const char* call, const std::string& name) {
 
 bool Context::check_program(const char* call, const Program* program) {
     if (!program) { error(gl::INVALID_VALUE, call, "the program is null"); return false; }
-    if (program->owner != this) { error(gl::INVALID_OPERATION, call, "the program belongs to another context"); return false; }
+    if (program->owner != identity()) { error(gl::INVALID_OPERATION, call, "the program belongs to another context"); return false; }
     if (program->deleted) { error(gl::INVALID_VALUE, call, "the program has been deleted"); return false; }
     return true;
 }
@@ -83,7 +83,7 @@ std::shared_ptr<Shader> Context::create_shader(GLenum type) {
         return nullptr;
     }
     auto shader = std::make_shared<Shader>();
-    shader->owner = this;
+    shader->owner = identity();
     shader->type = type;
     return shader;
 }
@@ -131,20 +131,20 @@ void Context::release_shader(const std::shared_ptr<Shader>& shader) {
 
 void Context::delete_shader(const std::shared_ptr<Shader>& shader) {
     if (!shader || shader->deleted) return;
-    if (shader->owner != this) return error(gl::INVALID_OPERATION, "deleteShader", "the shader belongs to another context");
+    if (shader->owner != identity()) return error(gl::INVALID_OPERATION, "deleteShader", "the shader belongs to another context");
     shader->delete_requested = true;
     if (shader->attachments == 0) shader->deleted = true;
 }
 
 bool Context::is_shader(const std::shared_ptr<Shader>& shader) const {
-    return shader && shader->owner == this && !shader->deleted;
+    return shader && shader->owner == identity() && !shader->deleted;
 }
 
 // ------------------------------------------------------------------------------------ programs
 
 std::shared_ptr<Program> Context::create_program() {
     auto program = std::make_shared<Program>();
-    program->owner = this;
+    program->owner = identity();
     return program;
 }
 
@@ -250,7 +250,7 @@ void Context::validate_program(const std::shared_ptr<Program>& program) {
 void Context::use_program(const std::shared_ptr<Program>& program) {
     const char* call = "useProgram";
     if (program) {
-        if (program->owner != this) return error(gl::INVALID_OPERATION, call, "the program belongs to another context");
+        if (program->owner != identity()) return error(gl::INVALID_OPERATION, call, "the program belongs to another context");
         if (program->deleted) return error(gl::INVALID_OPERATION, call, "the program has been deleted");
         if (!program->link_status) return error(gl::INVALID_OPERATION, call, "the program is not linked");
     }
@@ -265,7 +265,7 @@ void Context::use_program(const std::shared_ptr<Program>& program) {
 
 void Context::delete_program(const std::shared_ptr<Program>& program) {
     if (!program || program->deleted || program->delete_requested) return;
-    if (program->owner != this) return error(gl::INVALID_OPERATION, "deleteProgram", "the program belongs to another context");
+    if (program->owner != identity()) return error(gl::INVALID_OPERATION, "deleteProgram", "the program belongs to another context");
     program->delete_requested = true;
     if (current_program_ == program) return;   // deleted when it stops being used
     program->deleted = true;
@@ -274,7 +274,7 @@ void Context::delete_program(const std::shared_ptr<Program>& program) {
 }
 
 bool Context::is_program(const std::shared_ptr<Program>& program) const {
-    return program && program->owner == this && !program->deleted && !program->delete_requested;
+    return program && program->owner == identity() && !program->deleted && !program->delete_requested;
 }
 
 Value Context::get_program_parameter(const std::shared_ptr<Program>& program, GLenum pname) {

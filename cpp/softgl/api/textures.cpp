@@ -248,7 +248,7 @@ CompletenessRules Context::completeness_rules() const {
 
 std::shared_ptr<Texture> Context::create_texture() {
     auto t = std::make_shared<Texture>();
-    t->owner = this;
+    t->owner = identity();
     return t;
 }
 
@@ -283,7 +283,7 @@ void Context::bind_texture(GLenum target, const std::shared_ptr<Texture>& textur
 
 void Context::delete_texture(const std::shared_ptr<Texture>& texture) {
     if (!texture) return;
-    if (texture->owner != this) return error(gl::INVALID_OPERATION, "deleteTexture", "the object belongs to another context");
+    if (texture->owner != identity()) return error(gl::INVALID_OPERATION, "deleteTexture", "the object belongs to another context");
     if (texture->deleted) return;
     texture->deleted = true;
     // ES 3.0 §3.8.1: deleting unbinds it from every unit (and, §4.4.2.3, detaches it from the
@@ -295,7 +295,7 @@ void Context::delete_texture(const std::shared_ptr<Texture>& texture) {
 }
 
 bool Context::is_texture(const std::shared_ptr<Texture>& texture) const {
-    return texture && texture->owner == this && !texture->deleted && texture->ever_bound;
+    return texture && texture->owner == identity() && !texture->deleted && texture->ever_bound;
 }
 
 Texture* Context::bound_texture(const char* call, GLenum target, int* face) {
@@ -672,21 +672,21 @@ void Context::generate_mipmap(GLenum target) {
 
 std::shared_ptr<Sampler> Context::create_sampler() {
     auto s = std::make_shared<Sampler>();
-    s->owner = this;
+    s->owner = identity();
     s->ever_bound = true;   // ES 3.0 §3.8.2: a sampler exists as soon as it is generated
     return s;
 }
 
 void Context::delete_sampler(const std::shared_ptr<Sampler>& s) {
     if (!s) return;
-    if (s->owner != this) return error(gl::INVALID_OPERATION, "deleteSampler", "the object belongs to another context");
+    if (s->owner != identity()) return error(gl::INVALID_OPERATION, "deleteSampler", "the object belongs to another context");
     if (s->deleted) return;
     s->deleted = true;
     for (TextureUnit& u : texture_units_)
         if (u.sampler == s) u.sampler.reset();
 }
 
-bool Context::is_sampler(const std::shared_ptr<Sampler>& s) const { return s && s->owner == this && !s->deleted; }
+bool Context::is_sampler(const std::shared_ptr<Sampler>& s) const { return s && s->owner == identity() && !s->deleted; }
 
 void Context::bind_sampler(uint32_t unit, const std::shared_ptr<Sampler>& s) {
     const char* call = "bindSampler";

@@ -164,7 +164,7 @@ int64_t Context::get_vertex_attrib_offset(uint32_t index, GLenum pname) {
 
 std::shared_ptr<VertexArray> Context::create_vertex_array() {
     auto vao = std::make_shared<VertexArray>();
-    vao->owner = this;
+    vao->owner = identity();
     return vao;
 }
 
@@ -176,7 +176,7 @@ void Context::bind_vertex_array(const std::shared_ptr<VertexArray>& vao) {
 
 void Context::delete_vertex_array(const std::shared_ptr<VertexArray>& vao) {
     if (!vao) return;
-    if (vao->owner != this)
+    if (vao->owner != identity())
         return error(gl::INVALID_OPERATION, "deleteVertexArray", "the object belongs to another context");
     if (vao->deleted) return;
     vao->deleted = true;
@@ -184,7 +184,7 @@ void Context::delete_vertex_array(const std::shared_ptr<VertexArray>& vao) {
 }
 
 bool Context::is_vertex_array(const std::shared_ptr<VertexArray>& vao) const {
-    return vao && vao->owner == this && !vao->deleted && vao->ever_bound;
+    return vao && vao->owner == identity() && !vao->deleted && vao->ever_bound;
 }
 
 }  // namespace softgl

@@ -8,6 +8,12 @@
 
 namespace softgl {
 
+uint64_t memory_budget() {
+    const long pages = sysconf(_SC_PHYS_PAGES), page_size = sysconf(_SC_PAGE_SIZE);
+    if (pages <= 0 || page_size <= 0) return uint64_t(1) << 32;   // unknown: a conservative 4 GiB
+    return uint64_t(pages) * uint64_t(page_size) / 2;
+}
+
 uint64_t DefaultFramebuffer::bytes_needed(const FramebufferConfig& c) {
     const uint64_t samples = uint64_t(c.width) * uint64_t(c.height) * uint64_t(c.samples);
     uint64_t per_sample = c.color_format == ColorFormat::RGBA8 ? 4 : 16;   // float formats: 4 floats
@@ -24,14 +30,10 @@ std::string DefaultFramebuffer::check(const FramebufferConfig& c) {
         return "drawing buffer " + std::to_string(c.width) + "x" + std::to_string(c.height) +
                " exceeds the maximum of " + std::to_string(kMaxDrawingBufferSize) + " per side";
     // Refuse what cannot fit in half the physical memory, before allocating anything.
-    const long pages = sysconf(_SC_PHYS_PAGES), page_size = sysconf(_SC_PAGE_SIZE);
-    if (pages > 0 && page_size > 0) {
-        const uint64_t budget = uint64_t(pages) * uint64_t(page_size) / 2;
-        const uint64_t need = bytes_needed(c);
-        if (need > budget)
-            return "drawing buffer needs " + std::to_string(need >> 20) + " MiB, more than half of " +
-                   "this machine's memory (" + std::to_string(budget >> 20) + " MiB)";
-    }
+    const uint64_t budget = memory_budget(), need = bytes_needed(c);
+    if (need > budget)
+        return "drawing buffer needs " + std::to_string(need >> 20) + " MiB, more than half of " +
+               "this machine's memory (" + std::to_string(budget >> 20) + " MiB)";
     return {};
 }
 

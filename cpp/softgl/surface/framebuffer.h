@@ -24,6 +24,10 @@ struct FramebufferConfig {
     bool alpha = true, depth = true, stencil = false;
 };
 
+// The most memory one allocation of softgl may take: half of this machine's physical memory.
+// Requests beyond it are refused up front (ValueError / OUT_OF_MEMORY) instead of thrashing.
+uint64_t memory_budget();
+
 // Largest width or height accepted for a drawing buffer (also MAX_VIEWPORT_DIMS etc.).
 inline constexpr int32_t kMaxDrawingBufferSize = 16384;
 
