@@ -66,25 +66,47 @@ void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, i
             if (accept) ++stats.blocks_accepted;
             else ++stats.blocks_partial;
 
+            if (accept) {
+                // Whole block inside every edge: full coverage, only the clip to [cx0, cx1) x
+                // [cy0, cy1) decides which pixels of each quad are present.
+                for (int32_t qy = cy0 & ~1; qy < cy1; qy += 2) {
+                    const bool row0 = qy >= cy0, row1 = qy + 1 < cy1;
+                    for (int32_t qx = cx0 & ~1; qx < cx1; qx += 2) {
+                        const bool col0 = qx >= cx0, col1 = qx + 1 < cx1;
+                        uint64_t cov = 0;
+                        if (row0 && col0) cov |= full_pixel;
+                        if (row0 && col1) cov |= full_pixel << kQuadPixelBits;
+                        if (row1 && col0) cov |= full_pixel << (2 * kQuadPixelBits);
+                        if (row1 && col1) cov |= full_pixel << (3 * kQuadPixelBits);
+                        if (cov) {
+                            out.push_back(Quad{qx, qy, cov});
+                            ++stats.quads;
+                        }
+                    }
+                }
+                continue;
+            }
             for (int32_t qy = cy0 & ~1; qy < cy1; qy += 2) {
                 for (int32_t qx = cx0 & ~1; qx < cx1; qx += 2) {
+                    // Edge values at the quad's lower-left pixel corner; the other pixels are one
+                    // pixel step away (exact integers: the same values as evaluating each pixel).
+                    int64_t e0[N];
+                    {
+                        const int64_t X = int64_t(qx) * kSubPixel, Y = int64_t(qy) * kSubPixel;
+                        for (int i = 0; i < N; ++i) e0[i] = p.a[i] * X + p.b[i] * Y + p.c[i];
+                    }
                     uint64_t cov = 0;
                     for (int j = 0; j < 4; ++j) {
                         const int32_t px = qx + (j & 1), py = qy + (j >> 1);
                         if (px < cx0 || px >= cx1 || py < cy0 || py >= cy1) continue;
-                        uint64_t m;
-                        if (accept) {
-                            m = full_pixel;
-                        } else {
-                            int64_t e[N];
-                            const int64_t X = int64_t(px) * kSubPixel, Y = int64_t(py) * kSubPixel;
-                            for (int i = 0; i < N; ++i) e[i] = p.a[i] * X + p.b[i] * Y + p.c[i];
-                            m = 0;
-                            for (int s = 0; s < S; ++s) {
-                                bool in = true;
-                                for (int i = 0; i < N; ++i) in &= e[i] + so[i][s] >= 0;
-                                m |= uint64_t(in) << s;
-                            }
+                        int64_t e[N];
+                        for (int i = 0; i < N; ++i)
+                            e[i] = e0[i] + ((j & 1) ? p.a[i] * kSubPixel : 0) + ((j >> 1) ? p.b[i] * kSubPixel : 0);
+                        uint64_t m = 0;
+                        for (int s = 0; s < S; ++s) {
+                            bool in = true;
+                            for (int i = 0; i < N; ++i) in &= e[i] + so[i][s] >= 0;
+                            m |= uint64_t(in) << s;
                         }
                         cov |= m << (kQuadPixelBits * j);
                     }
