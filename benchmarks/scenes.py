@@ -14,9 +14,9 @@ from dataclasses import dataclass, field
 import numpy as np
 
 try:  # as a script (python benchmarks/suite.py) or as a package module (tests)
-    from reference_gl import GL, Draw, Scene, State, _enum
+    from reference_gl import GL, Draw, Scene, State, Texture, _enum
 except ImportError:  # pragma: no cover
-    from .reference_gl import GL, Draw, Scene, State, _enum
+    from .reference_gl import GL, Draw, Scene, State, Texture, _enum
 
 # ---------------------------------------------------------------------------------------------
 # Shaders: GLSL ES 3.00, given unchanged to both implementations.
@@ -100,6 +100,12 @@ void main(void) {
   }
   fragColor = vec4(vec3(Ia + Id), 1.0);
 }"""
+
+# The textured variant (issue 7 #5 as written): the same lighting, modulated by a texture.
+SPOT_TEX_VS = SPOT_VS.replace("in vec3 aNormal;", "in vec3 aNormal;\nin vec2 aUV;\nout vec2 vUV;").replace(
+    "  gl_Position = uProjectionMatrix * vertex;", "  vUV = aUV * vec2(4.0, 2.0);\n  gl_Position = uProjectionMatrix * vertex;")
+SPOT_TEX_FS = SPOT_FS.replace("out vec4 fragColor;", "uniform sampler2D uTex;\nin vec2 vUV;\nout vec4 fragColor;").replace(
+    "  fragColor = vec4(vec3(Ia + Id), 1.0);", "  fragColor = vec4(vec3(Ia + Id) * texture(uTex, vUV).rgb, 1.0);")
 
 # ---------------------------------------------------------------------------------------------
 # Scene builders. `size` is the framebuffer side in pixels; geometry is given in clip space or
@@ -188,6 +194,19 @@ def spotlight_mesh(size: int, segments: int = 64) -> Scene:
                  state=State(depth_test=True, depth_func="LESS", clear_color=(0, 0, 0, 1)))
 
 
+def spotlight_mesh_textured(size: int, segments: int = 64) -> Scene:
+    """Issue 7 #5 as written: the lit torus of spotlight_mesh, its colour modulated by a
+    mipmapped 256x256 texture (trilinear), texture coordinates from the mesh."""
+    from softgl import geometry
+    base = spotlight_mesh(size, segments)
+    mesh = geometry.torus(0.75, 0.35, segments, segments // 2)
+    attrs = dict(base.attributes)
+    attrs["aUV"] = mesh.uvs
+    tex = {"uTex": Texture(_texture_image(256, 33), "LINEAR_MIPMAP_LINEAR", "LINEAR", mipmap=True)}
+    return Scene(SPOT_TEX_VS, SPOT_TEX_FS, attrs, indices=base.indices, uniforms=dict(base.uniforms),
+                 textures=tex, state=base.state)
+
+
 def fullscreen_layers(size: int, layers: int = 32) -> Scene:
     """Issue 7 #7: `layers` full-screen translucent quads, blended: bandwidth."""
     quad = np.array([[-1, -1], [1, -1], [1, 1], [-1, -1], [1, 1], [-1, 1]], np.float32)
@@ -208,6 +227,57 @@ def lines(size: int, n: int = 10_000, pixels: float = 40.0) -> Scene:
     color = r.uniform(0, 1, (n * 2, 4))
     color[:, 3] = 1
     return Scene(COLOR_VS, COLOR_FS, {"aPos": pos, "aColor": color}, mode="LINES")
+
+
+TEX_VS = """#version 300 es
+in vec2 aPos;
+uniform float uScale;
+out vec2 vUV;
+void main() { vUV = (aPos * 0.5 + 0.5) * uScale; gl_Position = vec4(aPos, 0.0, 1.0); }
+"""
+TEX1_FS = """#version 300 es
+precision mediump float;
+uniform sampler2D uTex;
+in vec2 vUV;
+out vec4 fragColor;
+void main() { fragColor = texture(uTex, vUV); }
+"""
+TEX2_FS = """#version 300 es
+precision mediump float;
+uniform sampler2D uBase;
+uniform sampler2D uDetail;
+in vec2 vUV;
+out vec4 fragColor;
+void main() { fragColor = texture(uBase, vUV) * texture(uDetail, vUV * 4.0); }
+"""
+
+
+def _texture_image(size: int, seed: int) -> np.ndarray:
+    """A (size, size, 4) RGBA8 image with detail at every scale (checks + noise)."""
+    r = _rng(seed)
+    y, x = np.mgrid[0:size, 0:size]
+    checks = (((x // 8) + (y // 8)) % 2)[..., None] * 96
+    noise = r.integers(0, 160, (size, size, 4))
+    img = np.clip(checks + noise, 0, 255).astype(np.uint8)
+    img[..., 3] = 255
+    return img
+
+
+def textured_quads(kind: str, layers: int = 8, tex_size: int = 512, scale: float = 3.0) -> Scene:
+    """Issue 5 textured fill rate (one lookup: nearest, bilinear, trilinear) and issue 3 (c) (two
+    lookups): `layers` full-screen quads, no blending, no depth. Texture coordinates run over
+    `scale` repeats of a `tex_size`² texture, so at 1024² a pixel covers 1.5 texels (LOD ~0.6:
+    minified, trilinear blends levels 0 and 1)."""
+    quad = np.array([[-1, -1], [1, -1], [1, 1], [-1, -1], [1, 1], [-1, 1]], np.float32)
+    pos = np.tile(quad, (layers, 1))
+    if kind == "two":
+        tex = {"uBase": Texture(_texture_image(tex_size, 31), "LINEAR_MIPMAP_LINEAR", "LINEAR", mipmap=True),
+               "uDetail": Texture(_texture_image(64, 32), "LINEAR", "LINEAR")}
+        return Scene(TEX_VS, TEX2_FS, {"aPos": pos}, uniforms={"uScale": scale}, textures=tex)
+    filters = {"nearest": ("NEAREST", "NEAREST", False), "bilinear": ("LINEAR", "LINEAR", False),
+               "trilinear": ("LINEAR_MIPMAP_LINEAR", "LINEAR", True)}[kind]
+    tex = {"uTex": Texture(_texture_image(tex_size, 30), filters[0], filters[1], mipmap=filters[2])}
+    return Scene(TEX_VS, TEX1_FS, {"aPos": pos}, uniforms={"uScale": scale}, textures=tex)
 
 
 def executor_scene(kind: str, layers: int = 8) -> Scene:
@@ -262,8 +332,8 @@ SUITE = [
     SceneSpec("large_b1_d1", "100 large tris, blend on, depth on", lambda s: large_triangles(s, True, True)),
     SceneSpec("tiny_depth", "100k tiny depth-tested triangles", tiny_depth_triangles),
     SceneSpec("points_1000", "1000 single-point draws + uniforms", point_draws),
-    SceneSpec("spot_mesh", "lit mesh, 3 spotlights (untextured)", spotlight_mesh,
-              note="textures pending in softgl: the textured variant waits"),
+    SceneSpec("spot_mesh", "lit mesh, 3 spotlights (untextured)", spotlight_mesh),
+    SceneSpec("spot_mesh_tex", "lit textured mesh, 3 spotlights", spotlight_mesh_textured),
     SceneSpec("spot_mesh_msaa", "same, MSAA 4x", spotlight_mesh, samples=4),
     SceneSpec("layers_32", "32 full-screen blended layers", fullscreen_layers,
               bytes_per_frame=_fill_bytes(32, True, False)),
@@ -273,6 +343,17 @@ SUITE = [
 EXECUTOR = [
     SceneSpec("exec_color", "(a) interpolated color", lambda s: executor_scene("color")),
     SceneSpec("exec_spot", "(b) Lambert, 3 spotlights", lambda s: executor_scene("spot")),
+    SceneSpec("exec_tex2", "(c) two texture lookups", lambda s: textured_quads("two")),
+]
+
+# Issue 5: textured fill rate, 8 full-screen quads with one lookup (1 thread and all threads).
+TEXTURED = [
+    SceneSpec("tex_nearest", "textured fill, nearest", lambda s: textured_quads("nearest"),
+              bytes_per_frame=_fill_bytes(8, False, False)),
+    SceneSpec("tex_bilinear", "textured fill, bilinear", lambda s: textured_quads("bilinear"),
+              bytes_per_frame=_fill_bytes(8, False, False)),
+    SceneSpec("tex_trilinear", "textured fill, trilinear (mipmapped)", lambda s: textured_quads("trilinear"),
+              bytes_per_frame=_fill_bytes(8, False, False)),
 ]
 
 
@@ -329,11 +410,23 @@ class SoftglRenderer:
         key = id(scene)
         if key in self._prepared:
             return self._prepared[key]
-        if scene.textures:
-            raise NotImplementedError("softgl has no textures yet")
         gl = self.gl
         prog = self.softgl.program(gl, scene.vertex_shader, scene.fragment_shader)
         gl.useProgram(prog)
+        # Textures: unit i for the i-th sampler, as reference_gl does.
+        for unit, (name, tex) in enumerate(scene.textures.items()):
+            data = np.ascontiguousarray(tex.data, dtype=np.uint8)
+            h, w = data.shape[:2]
+            gl.activeTexture(gl.TEXTURE0 + unit)
+            gl.bindTexture(gl.TEXTURE_2D, gl.createTexture())
+            gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1)
+            gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA8, w, h, 0, gl.RGBA, gl.UNSIGNED_BYTE, data)
+            for pname, value in ((gl.TEXTURE_MIN_FILTER, tex.min_filter), (gl.TEXTURE_MAG_FILTER, tex.mag_filter),
+                                 (gl.TEXTURE_WRAP_S, tex.wrap_s), (gl.TEXTURE_WRAP_T, tex.wrap_t)):
+                gl.texParameteri(gl.TEXTURE_2D, pname, _enum(value))
+            if tex.mipmap:
+                gl.generateMipmap(gl.TEXTURE_2D)
+            gl.uniform1i(gl.getUniformLocation(prog, name), unit)
         vao = gl.createVertexArray()
         gl.bindVertexArray(vao)
         for name, array in scene.attributes.items():

@@ -150,7 +150,7 @@ void bind_testing(py::module_& m) {
           [](const std::array<uint32_t, 6>& fe, const std::array<float, 4>& constant,
              const std::array<bool, 4>& mask, bool has_alpha,
              py::array_t<float, py::array::c_style | py::array::forcecast> src,
-             py::array_t<uint8_t, py::array::c_style | py::array::forcecast> dst, bool lanes) {
+             py::array_t<uint8_t, py::array::c_style | py::array::forcecast> dst, bool lanes, int level) {
               softgl::State state;
               state.blend.enabled = true;
               state.blend.src_rgb = fe[0]; state.blend.dst_rgb = fe[1];
@@ -173,11 +173,16 @@ void bind_testing(py::module_& m) {
                       for (size_t c = 0; c < 4; ++c) soa[c * n + i] = src.data()[4 * i + c];
                   std::vector<uint32_t> px(n);
                   std::memcpy(px.data(), out.data(), 4 * n);
-                  softgl::write_color_lanes(softgl::color_kernel(op), op, soa.data(), n, px.data(), n);
+                  if (level < 0) softgl::write_color_lanes(softgl::color_kernel(op), op, soa.data(), n, px.data(), n);
+                  else softgl::write_color_lanes_at(softgl::SimdLevel(level), softgl::color_kernel(op), op, soa.data(), n, px.data(), n);
                   std::memcpy(out.mutable_data(), px.data(), 4 * n);
               }
               return std::make_pair(out, int(softgl::color_kernel(op)));
-          });
+          },
+          py::arg("funcs_and_equations"), py::arg("constant"), py::arg("mask"), py::arg("has_alpha"), py::arg("src"),
+          py::arg("dst"), py::arg("lanes"), py::arg("level") = -1);
+    // The lane kernels' instruction-set levels: 0 scalar, 1 SSE2, 2 AVX2; the best this CPU runs.
+    t.def("simd_level", [] { return int(softgl::best_simd_level()); });
     t.def("blend_unorm8",
           [](const std::array<uint32_t, 6>& funcs_and_equations, const std::array<float, 4>& constant,
              const std::array<bool, 4>& mask, bool has_alpha,

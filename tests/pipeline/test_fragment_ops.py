@@ -43,6 +43,11 @@ def check(funcs, eqs, mask, has_alpha, src, dst, constant=(0.1, 0.5, 0.9, 0.3)):
     lanes, _ = _core.testing.fragment_ops_write(fe, constant, mask, has_alpha, src, dst, True)
     np.testing.assert_array_equal(got, want)
     np.testing.assert_array_equal(lanes, want)
+    # Every instruction-set level of the lane kernel (scalar twin, SSE2, AVX2 where the CPU has
+    # it) gives the same bytes; the draw runs the best one.
+    for level in range(_core.testing.simd_level() + 1):
+        at, _ = _core.testing.fragment_ops_write(fe, constant, mask, has_alpha, src, dst, True, level)
+        np.testing.assert_array_equal(at, want, err_msg=f"simd level {level}")
     return kernel
 
 
@@ -70,6 +75,12 @@ def test_specialised_kernels_equal_the_reference_exhaustively(name, has_alpha):
                    axis=1).astype(np.float32)
     dst = np.stack([d.ravel(), 255 - d.ravel(), d.ravel(), d.ravel()[::-1]], axis=1).astype(np.uint8)
     check((sf, df, sf, df), ("FUNC_ADD", "FUNC_ADD"), (True,) * 4, has_alpha, src, dst)
+
+
+def test_the_machine_runs_the_avx2_kernel_when_it_has_avx2():
+    flags = open("/proc/cpuinfo").read() if __import__("os").path.exists("/proc/cpuinfo") else ""
+    if " avx2" in flags:
+        assert _core.testing.simd_level() == 2
 
 
 def test_every_factor_and_equation_dispatches_to_an_equal_kernel():

@@ -106,7 +106,38 @@ bool all_set(const uint32_t* m, int n) {
 
 enum class FrameKind : uint8_t { If, Loop, Switch, Function };
 
-struct Frame {
+// Registers an instruction reads (a masked Mov or StoreIndexed also keeps old lanes: counted as
+// reads of its targets unless the caller knows every lane is active).
+template <class F>
+void for_each_read(const IrProgram& p, const Instruction& i, F&& f) {
+    if (i.op == Op::Texture) {
+        const TextureOperands& t = p.textures[i.texture];
+        for (Reg r : {t.unit, t.coord[0], t.coord[1], t.coord[2], t.coord[3], t.compare, t.lod, t.grad_x[0], t.grad_x[1],
+                      t.grad_x[2], t.grad_y[0], t.grad_y[1], t.grad_y[2]})
+            if (r != kNoReg) f(r);
+        return;
+    }
+    if (i.op == Op::LoadIndexed || i.op == Op::StoreIndexed)
+        for (int32_t k = 0; k < i.imm[2]; ++k) f(static_cast<Reg>(i.imm[0] + k));
+    for (Reg r : {i.a, i.b, i.c}) if (r != kNoReg) f(r);
+}
+
+template <class F>
+void for_each_write(const IrProgram& p, const Instruction& i, F&& f) {
+    if (i.op == Op::Texture) {
+        for (Reg r : p.textures[i.texture].dst) if (r != kNoReg) f(r);
+        return;
+    }
+    if (i.op == Op::StoreIndexed) {
+        for (int32_t k = 0; k < i.imm[2]; ++k) f(static_cast<Reg>(i.imm[0] + k));
+        return;
+    }
+    if (i.dst != kNoReg) f(i.dst);
+}
+
+}  // namespace
+
+struct ExecutorFrame {
     FrameKind kind;
     uint32_t* saved;  // mask at entry (minus lanes that left through an enclosing construct)
     uint32_t* other;  // If: lanes for the else branch; Loop: lanes still looping
@@ -114,15 +145,53 @@ struct Frame {
     bool in_else = false;
     uint64_t iterations = 0;
 };
-
-}  // namespace
+using Frame = ExecutorFrame;
 
 Executor::Executor(const IrProgram& program, int batch_lanes) : program_(program) {
     batch_ = std::max(4, (batch_lanes + 3) / 4 * 4);
     registers_.assign(static_cast<size_t>(program.register_count) * batch_, Scalar{});
-    for (const ConstantRegister& c : program.constants) std::fill_n(reg(c.reg), batch_, c.value);
-    for (Reg r = 0; r < program.register_count; ++r)
-        if (program.is_variable[r]) variable_registers_.push_back(r);
+    reg_ptr_.resize(program.register_count);
+    for (Reg r = 0; r < program.register_count; ++r) reg_ptr_[r] = own(r);
+    for (const ConstantRegister& c : program.constants) std::fill_n(own(c.reg), batch_, c.value);
+
+    // Which variables need zeroing per batch. Before the first control-flow instruction (other
+    // than entering a function) every lane is active, so a Mov or any value instruction writes
+    // all lanes of its destination; a variable whose first use there is such a write is never
+    // observed unwritten. Everything else (read first, written under a mask, written by a
+    // texture lookup or StoreIndexed, or first used after control flow) is zeroed as before.
+    const size_t R = program.register_count;
+    std::vector<uint8_t> seen(R, 0), full_write_first(R, 0), written(R, 0);
+    bool prefix = true;
+    for (const Instruction& i : program.code) {
+        if (op_is_control(i.op) && i.op != Op::FunctionBegin) prefix = false;
+        for_each_read(program, i, [&](Reg r) { seen[r] = 1; });
+        for_each_write(program, i, [&](Reg r) {
+            written[r] = 1;
+            if (!seen[r] && prefix && i.op != Op::Texture && i.op != Op::StoreIndexed) full_write_first[r] = 1;
+            seen[r] = 1;
+        });
+    }
+    std::vector<uint8_t> is_input(R, 0);
+    for (const Slot& s : program.inputs) if (s.reg < R) is_input[s.reg] = 1;
+    for (Reg r = 0; r < program.register_count; ++r)   // inputs: copied, aliased or zeroed in run_batch
+        if (program.is_variable[r] && !full_write_first[r] && !is_input[r]) variable_registers_.push_back(r);
+    // Aliasing: an input register the program never writes can be read straight from the
+    // caller's array; an output register (used by one output slot, not an input, not a
+    // constant) can live in the caller's output array.
+    std::vector<uint8_t> is_constant(R, 0), slot_uses(R, 0);
+    for (const ConstantRegister& c : program.constants) is_constant[c.reg] = 1;
+    for (const Slot& s : program.inputs) if (s.reg < R) ++slot_uses[s.reg];
+    for (const Slot& s : program.outputs) if (s.reg < R) ++slot_uses[s.reg];
+    input_alias_.assign(program.inputs.size(), 0);
+    for (size_t k = 0; k < program.inputs.size(); ++k) {
+        const Reg r = program.inputs[k].reg;
+        input_alias_[k] = r < R && !written[r] && !is_constant[r] && slot_uses[r] == 1;
+    }
+    output_alias_.assign(program.outputs.size(), 0);
+    for (size_t k = 0; k < program.outputs.size(); ++k) {
+        const Reg r = program.outputs[k].reg;
+        output_alias_[k] = r < R && !is_constant[r] && slot_uses[r] == 1;
+    }
     int depth = 0;
     for (const Instruction& i : program.code) {
         if (i.op == Op::IfBegin || i.op == Op::LoopBegin || i.op == Op::SwitchBegin || i.op == Op::FunctionBegin) max_depth_ = std::max(max_depth_, ++depth);
@@ -130,22 +199,38 @@ Executor::Executor(const IrProgram& program, int batch_lanes) : program_(program
     }
     mask_storage_.assign(static_cast<size_t>(2 * max_depth_ + 2) * batch_, 0);
     scratch_.assign(static_cast<size_t>(6) * batch_, Scalar{});
+    frames_.reserve(static_cast<size_t>(max_depth_) + 1);
 }
+
+Executor::~Executor() = default;
 
 void Executor::run(const StageRun& run) {
     for (int first = 0; first < run.lane_count; first += batch_) run_batch(run, first, std::min(batch_, run.lane_count - first));
 }
 
 void Executor::run_batch(const StageRun& run, int first, int lanes) {
-    for (Reg r : variable_registers_) std::fill_n(reg(r), lanes, Scalar{});
+    // Point the aliased registers at this batch's part of the caller's arrays (an input that
+    // the caller does not supply reads its own storage, which stays zero: it is never written).
+    for (size_t i = 0; i < program_.outputs.size(); ++i) {
+        const Reg r = program_.outputs[i].reg;
+        Scalar* dst = run.outputs ? run.outputs[i] : nullptr;
+        reg_ptr_[r] = i < output_alias_.size() && output_alias_[i] && dst ? dst + first : own(r);
+    }
+    for (size_t i = 0; i < program_.inputs.size(); ++i) {
+        const Reg r = program_.inputs[i].reg;
+        const Scalar* src = run.inputs ? run.inputs[i] : nullptr;
+        reg_ptr_[r] = i < input_alias_.size() && input_alias_[i] && src ? const_cast<Scalar*>(src + first) : own(r);
+    }
+    for (Reg r : variable_registers_) std::memset(static_cast<void*>(reg(r)), 0, sizeof(Scalar) * lanes);
     for (size_t i = 0; i < program_.inputs.size(); ++i) {
         const Scalar* src = run.inputs ? run.inputs[i] : nullptr;
-        if (src) std::memcpy(reg(program_.inputs[i].reg), src + first, sizeof(Scalar) * lanes);
+        if (src) { if (i >= input_alias_.size() || !input_alias_[i]) std::memcpy(reg(program_.inputs[i].reg), src + first, sizeof(Scalar) * lanes); }
+        else if (program_.is_variable[program_.inputs[i].reg]) std::memset(static_cast<void*>(reg(program_.inputs[i].reg)), 0, sizeof(Scalar) * lanes);
     }
     execute(lanes, run);
     for (size_t i = 0; i < program_.outputs.size(); ++i) {
         Scalar* dst = run.outputs ? run.outputs[i] : nullptr;
-        if (dst) std::memcpy(dst + first, reg(program_.outputs[i].reg), sizeof(Scalar) * lanes);
+        if (dst && (i >= output_alias_.size() || !output_alias_[i])) std::memcpy(dst + first, reg(program_.outputs[i].reg), sizeof(Scalar) * lanes);
     }
     if (run.discarded) {
         const uint32_t* killed = mask_storage_.data() + static_cast<size_t>(2 * max_depth_ + 1) * batch_;
@@ -160,8 +245,8 @@ void Executor::execute(const int n, const StageRun& run) {
     std::fill_n(mask, n, ~0u);
     std::fill_n(killed, n, 0u);
     bool all = true;
-    std::vector<Frame> frames;
-    frames.reserve(max_depth_ + 1);
+    std::vector<Frame>& frames = frames_;
+    frames.clear();
     auto push = [&](FrameKind kind, int begin) -> Frame& {
         size_t d = frames.size();
         Frame f{kind, mask_storage_.data() + (2 * d + 1) * batch_, mask_storage_.data() + (2 * d + 2) * batch_, begin};

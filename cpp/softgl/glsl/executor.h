@@ -63,10 +63,15 @@ struct StageRun {
     uint8_t* discarded = nullptr;      // fragment: set to 1 for lanes that executed discard
 };
 
+struct ExecutorFrame;
+
 class Executor {
 public:
     // batch_lanes: lanes per register (rounded up to a multiple of 4).
     explicit Executor(const IrProgram& program, int batch_lanes = 128);
+    ~Executor();
+    Executor(const Executor&) = delete;
+    Executor& operator=(const Executor&) = delete;
     void run(const StageRun& run);
 
     // Loops that run longer than this many iterations abort the draw (a GPU would hang or
@@ -76,15 +81,23 @@ public:
 private:
     void run_batch(const StageRun& run, int first_lane, int lanes);
     void execute(int lanes, const StageRun& run);
-    Scalar* reg(Reg r) { return registers_.data() + static_cast<size_t>(r) * batch_; }
+    // Register r's lanes for the current batch: its own storage, or (inputs the program never
+    // writes, outputs) the caller's arrays directly, so inputs and outputs are not copied.
+    Scalar* reg(Reg r) { return reg_ptr_[r]; }
+    Scalar* own(Reg r) { return registers_.data() + static_cast<size_t>(r) * batch_; }
     void texture(const Instruction& ins, int lanes, const StageRun& run);
 
     const IrProgram& program_;
     int batch_;
     std::vector<Scalar> registers_;
     std::vector<uint32_t> mask_storage_;
+    std::vector<Scalar*> reg_ptr_;
+    // Variables that some path may read before writing them in every lane: zeroed per batch.
+    // Variables whose first use is a whole-batch write before any control flow are not.
     std::vector<Reg> variable_registers_;
-    std::vector<Reg> temp_registers_written_by_mov_;
+    std::vector<int> input_alias_;    // per program input: 1 if its register may alias the caller's array
+    std::vector<int> output_alias_;   // per program output: 1 if its register may alias the caller's array
+    std::vector<ExecutorFrame> frames_;
     size_t prologue_end_ = 0;
     int max_depth_ = 0;
     std::vector<Scalar> scratch_;  // derivatives for texture lookups

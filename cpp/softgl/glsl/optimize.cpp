@@ -79,10 +79,10 @@ int fold_constants(IrProgram& p) {
             *r = next++;
         }
         one.code.push_back(copy);
-        Executor executor(one, 4);
+        one.outputs.push_back(Slot{SlotKind::Builtin, "", 0, 0, BaseType::Float, 0});
+        Executor executor(one, 4);   // the executor analyses the program (incl. outputs) here
         Scalar out[4];
         Scalar* outputs[1] = {out};
-        one.outputs.push_back(Slot{SlotKind::Builtin, "", 0, 0, BaseType::Float, 0});
         StageRun run;
         run.lane_count = 1;
         run.outputs = outputs;

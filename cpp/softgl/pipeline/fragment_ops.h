@@ -88,4 +88,13 @@ namespace softgl {
 void write_color_lanes(ColorKernel kernel, const BlendOp& op, const float* src, size_t stride, uint32_t* dst,
                        size_t n);
 
+// The instruction sets the lane kernels come in. Every level gives the same bytes (the same IEEE
+// operations in the same order; no FMA, DESIGN §3). write_color_lanes runs the best the CPU
+// supports (runtime dispatch: the module itself is built for any x86-64); the explicit form is
+// for the tests that prove the levels equal.
+enum class SimdLevel : uint8_t { Scalar, SSE2, AVX2 };
+SimdLevel best_simd_level();
+void write_color_lanes_at(SimdLevel level, ColorKernel kernel, const BlendOp& op, const float* src, size_t stride,
+                          uint32_t* dst, size_t n);
+
 }  // namespace softgl

@@ -39,6 +39,8 @@ void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, i
     int64_t so[N][16];     // edge value offset of each sample from its pixel's corner
     for (int i = 0; i < N; ++i)
         for (int s = 0; s < S; ++s) so[i][s] = p.a[i] * sp.x[s] + p.b[i] * sp.y[s];
+    int64_t dx[N], dy[N];  // edge steps of one pixel in x and in y
+    for (int i = 0; i < N; ++i) dx[i] = p.a[i] * kSubPixel, dy[i] = p.b[i] * kSubPixel;
     // The extent of the samples within a pixel: block tests cover exactly the samples' hull.
     int32_t sx0 = sp.x[0], sx1 = sp.x[0], sy0 = sp.y[0], sy1 = sp.y[0];
     for (int s = 1; s < S; ++s) {
@@ -66,19 +68,50 @@ void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, i
             if (accept) ++stats.blocks_accepted;
             else ++stats.blocks_partial;
 
+            if (accept) {
+                // Whole block inside every edge: full coverage, only the clip to [cx0, cx1) x
+                // [cy0, cy1) decides which pixels of each quad are present.
+                for (int32_t qy = cy0 & ~1; qy < cy1; qy += 2) {
+                    const bool row0 = qy >= cy0, row1 = qy + 1 < cy1;
+                    for (int32_t qx = cx0 & ~1; qx < cx1; qx += 2) {
+                        const bool col0 = qx >= cx0, col1 = qx + 1 < cx1;
+                        uint64_t cov = 0;
+                        if (row0 && col0) cov |= full_pixel;
+                        if (row0 && col1) cov |= full_pixel << kQuadPixelBits;
+                        if (row1 && col0) cov |= full_pixel << (2 * kQuadPixelBits);
+                        if (row1 && col1) cov |= full_pixel << (3 * kQuadPixelBits);
+                        if (cov) {
+                            out.push_back(Quad{qx, qy, cov});
+                            ++stats.quads;
+                        }
+                    }
+                }
+                continue;
+            }
+            // Partial block: edge values stepped across the block (exact integers, so the same
+            // values as evaluating every pixel); one sample folds its offset into the start.
+            const int32_t qx0 = cx0 & ~1;
             for (int32_t qy = cy0 & ~1; qy < cy1; qy += 2) {
-                for (int32_t qx = cx0 & ~1; qx < cx1; qx += 2) {
+                int64_t er[N];   // at pixel (qx, qy) of the current quad
+                {
+                    const int64_t X = int64_t(qx0) * kSubPixel, Y = int64_t(qy) * kSubPixel;
+                    for (int i = 0; i < N; ++i) er[i] = p.a[i] * X + p.b[i] * Y + p.c[i] + (S == 1 ? so[i][0] : 0);
+                }
+                const bool row0 = qy >= cy0, row1 = qy + 1 < cy1;
+                for (int32_t qx = qx0; qx < cx1; qx += 2) {
+                    const bool col0 = qx >= cx0, col1 = qx + 1 < cx1;
+                    const bool present[4] = {row0 && col0, row0 && col1, row1 && col0, row1 && col1};
                     uint64_t cov = 0;
                     for (int j = 0; j < 4; ++j) {
-                        const int32_t px = qx + (j & 1), py = qy + (j >> 1);
-                        if (px < cx0 || px >= cx1 || py < cy0 || py >= cy1) continue;
+                        if (!present[j]) continue;
+                        int64_t e[N];
+                        for (int i = 0; i < N; ++i) e[i] = er[i] + ((j & 1) ? dx[i] : 0) + ((j >> 1) ? dy[i] : 0);
                         uint64_t m;
-                        if (accept) {
-                            m = full_pixel;
+                        if (S == 1) {
+                            bool in = true;
+                            for (int i = 0; i < N; ++i) in &= e[i] >= 0;
+                            m = uint64_t(in);
                         } else {
-                            int64_t e[N];
-                            const int64_t X = int64_t(px) * kSubPixel, Y = int64_t(py) * kSubPixel;
-                            for (int i = 0; i < N; ++i) e[i] = p.a[i] * X + p.b[i] * Y + p.c[i];
                             m = 0;
                             for (int s = 0; s < S; ++s) {
                                 bool in = true;
@@ -88,6 +121,7 @@ void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, i
                         }
                         cov |= m << (kQuadPixelBits * j);
                     }
+                    for (int i = 0; i < N; ++i) er[i] += 2 * dx[i];
                     if (cov) {
                         out.push_back(Quad{qx, qy, cov});
                         ++stats.quads;
