@@ -92,6 +92,28 @@ def clip_from_window(xy, w, h, z=0.0, wc=1.0):
     return out
 
 
+def centres_inside(polys, w, h, margin=0.004):
+    """(inside, ambiguous): pixels whose centre is strictly inside one of the convex polygons (CCW,
+    window coordinates) by more than `margin` pixels, and those within `margin` of an edge
+    (snapping to 1/256 pixel moves an edge by up to 1/512 * sqrt(2))."""
+    cx, cy = np.meshgrid(np.arange(w) + 0.5, np.arange(h) + 0.5)
+    inside = np.zeros((h, w), bool)
+    near = np.zeros((h, w), bool)
+    for poly in polys:
+        poly = np.asarray(poly, np.float64)
+        d_min = np.full((h, w), np.inf)
+        for i in range(len(poly)):
+            (x0, y0), (x1, y1) = poly[i], poly[(i + 1) % len(poly)]
+            length = np.hypot(x1 - x0, y1 - y0)
+            if length == 0:
+                continue
+            d = ((x1 - x0) * (cy - y0) - (y1 - y0) * (cx - x0)) / length
+            d_min = np.minimum(d_min, d)
+        inside |= d_min > margin
+        near |= np.abs(d_min) <= margin
+    return inside, near & ~inside
+
+
 def rss_bytes() -> int:
     """Resident set size of this process, from /proc/self/statm."""
     with open("/proc/self/statm") as f:

@@ -5,7 +5,7 @@ grids, fans and strips (hypothesis), in window coordinates and behind a perspect
 import numpy as np
 from hypothesis import given, settings, strategies as st
 
-from stress_helpers import Painter, clip_from_window, context, pixels
+from stress_helpers import Painter, centres_inside as _centres_inside, clip_from_window, context, pixels
 
 W = H = 48
 STEP = 3 / 255          # adds exactly 3 per hit in every channel (no rounding ties)
@@ -24,26 +24,8 @@ def hits(gl):
     return img[..., 0] // 3
 
 
-def centres_inside(polys, margin=0.004):
-    """(inside, ambiguous): pixels whose centre is strictly inside one of the convex polygons (CCW,
-    window coordinates) by more than `margin` pixels, and those within `margin` of an edge
-    (snapping to 1/256 pixel moves an edge by up to 1/512 * sqrt(2))."""
-    cx, cy = np.meshgrid(np.arange(W) + 0.5, np.arange(H) + 0.5)
-    inside = np.zeros((H, W), bool)
-    near = np.zeros((H, W), bool)
-    for poly in polys:
-        poly = np.asarray(poly, np.float64)
-        d_min = np.full((H, W), np.inf)
-        for i in range(len(poly)):
-            (x0, y0), (x1, y1) = poly[i], poly[(i + 1) % len(poly)]
-            length = np.hypot(x1 - x0, y1 - y0)
-            if length == 0:
-                continue
-            d = ((x1 - x0) * (cy - y0) - (y1 - y0) * (cx - x0)) / length
-            d_min = np.minimum(d_min, d)
-        inside |= d_min > margin
-        near |= np.abs(d_min) <= margin
-    return inside, near & ~inside
+def centres_inside(polys):
+    return _centres_inside(polys, W, H)
 
 
 def draw_window(gl, xy, tris=None, mode=None, wc=1.0):
