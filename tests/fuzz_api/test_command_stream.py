@@ -41,7 +41,7 @@ class CommandStream(RuleBasedStateMachine):
 
 
 CommandStream.TestCase.settings = settings(
-    max_examples=30, stateful_step_count=30, deadline=None,
+    max_examples=100, stateful_step_count=40, deadline=None,
     suppress_health_check=[HealthCheck.too_slow, HealthCheck.filter_too_much])
 test_command_stream = CommandStream.TestCase
 
