@@ -22,3 +22,17 @@ cp tests/glsl/fuzz_corpus/* "$work/"   # byte 0: stage (bit 0) and WebGL version
 echo "fuzzing the GLSL compiler for ${seconds}s ..."
 (cd "$out" && ./glsl_compile_fuzzer -max_total_time="$seconds" -max_len=4096 -timeout=10 -rss_limit_mb=2048 \
     -print_final_stats=1 "$work" 2>&1 | grep -E "^#[0-9]+.*(DONE|pulse)|stat::number_of_executed_units|stat::peak_rss|ERROR|SUMMARY" | tail -6)
+
+# Optional: the WebGL command-stream fuzzer (tests/fuzz_api) on a Python module built with
+# ASan+UBSan (tools/build_asan_module.sh; the first build takes several minutes), for
+# SOFTGL_FUZZ_API_MINUTES minutes. Not run by CI by default (the pytest suite runs the same fuzzer,
+# unsanitized and bounded); set the variable for a sanitized run, e.g.
+#   SOFTGL_FUZZ_API_MINUTES=10 tools/run_fuzzers.sh 60
+# A crash, hang or contract violation prints its seed; replay one with
+#   $ASAN_PY tools/fuzz_api.py --seed SEED --steps 1000
+if [ -n "${SOFTGL_FUZZ_API_MINUTES:-}" ]; then
+    echo "building the sanitized module ..."
+    eval "$(tools/build_asan_module.sh)"
+    echo "fuzzing the WebGL command stream under ASan+UBSan for ${SOFTGL_FUZZ_API_MINUTES} min ..."
+    $ASAN_PY tools/fuzz_api.py --minutes "$SOFTGL_FUZZ_API_MINUTES" --steps 1000 --first-seed "${SOFTGL_FUZZ_API_SEED:-0}"
+fi
