@@ -6,6 +6,7 @@
 
 #include "softgl/api/blendlab.h"
 #include "softgl/api/context.h"
+#include "exclusive.h"
 #include "webidl.h"
 
 namespace py = pybind11;
@@ -92,7 +93,7 @@ void bind_blendlab(py::module_& m) {
         py::array_t<double> image(std::vector<py::ssize_t>{h, w, 4});
         bool ok;
         {
-            py::gil_scoped_release release;
+            softgl::bindings::ExclusiveWithoutGil release(c);
             ok = c.blendlab().resolve(mode, layers, weight, c.framebuffer(), c.pool(), image.mutable_data());
         }
         return ok ? py::object(std::move(image)) : py::object(py::none());
@@ -101,7 +102,7 @@ void bind_blendlab(py::module_& m) {
         py::array_t<uint32_t> out(std::vector<py::ssize_t>{c.drawing_buffer_height(), c.drawing_buffer_width()});
         bool ok;
         {
-            py::gil_scoped_release release;
+            softgl::bindings::ExclusiveWithoutGil release(c);
             ok = c.blendlab().depth_complexity(c.framebuffer(), c.pool(), out.mutable_data());
         }
         return ok ? py::object(std::move(out)) : py::object(py::none());

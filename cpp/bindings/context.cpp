@@ -4,6 +4,7 @@
 #include <pybind11/stl.h>
 
 #include "softgl/api/context.h"
+#include "exclusive.h"
 #include "convert.h"
 #include "webidl.h"
 
@@ -62,7 +63,14 @@ py::object read_pixels(Context& ctx, softgl::bindings::IdlInt32 x_, softgl::bind
                              std::to_string(bytes >> 20) + " MiB, more than half of this machine's memory");
             return py::none();
         }
-        py::array out(dtype_for(type), std::vector<py::ssize_t>{h, w, 4});
+        py::array out;
+        try {
+            out = py::array(dtype_for(type), std::vector<py::ssize_t>{h, w, 4});
+        } catch (py::error_already_set& e) {
+            if (!e.matches(PyExc_MemoryError)) throw;
+            ctx.record_error(gl::OUT_OF_MEMORY, "readPixels", "could not allocate the result array");
+            return py::none();
+        }
         std::memset(out.mutable_data(), 0, size_t(out.nbytes()));
         if (!ctx.read_pixels(x, y, w, h, format, type, array_type_of(out.dtype()),
                              static_cast<uint8_t*>(out.mutable_data()), size_t(out.nbytes()), false))
@@ -108,7 +116,7 @@ ByteSpan byte_span(Context& ctx, const char* call, const py::buffer& source, int
     }
     const int64_t count = int64_t(info.size), item = int64_t(info.itemsize);
     ByteSpan span;
-    if (src_offset < 0 || length < 0 || src_offset > count || (length && src_offset + length > count)) {
+    if (src_offset < 0 || length < 0 || src_offset > count || length > count - src_offset) {
         ctx.record_error(gl::INVALID_VALUE, call, "srcOffset/length exceed the source array");
         span.ok = false;
         return span;
@@ -257,7 +265,7 @@ void bind_context(py::module_& m) {
                  if (!(dst.flags() & py::array::c_style) || !dst.writeable())
                      throw py::type_error("getBufferSubData: dstBuffer must be a writeable C-contiguous array");
                  const int64_t count = int64_t(dst.size()), item = int64_t(dst.itemsize());
-                 if (dst_offset < 0 || length < 0 || dst_offset > count || (length && dst_offset + length > count))
+                 if (dst_offset < 0 || length < 0 || dst_offset > count || length > count - dst_offset)
                      return c.record_error(gl::INVALID_VALUE, "getBufferSubData", "dstOffset/length exceed the array");
                  const int64_t n = length ? length : count - dst_offset;
                  c.get_buffer_sub_data(target.value, offset,
@@ -309,7 +317,7 @@ void bind_context(py::module_& m) {
             return (s && s->owner == c.identity() && !s->deleted) ? py::object(py::str(src)) : py::object(py::none());
         })
         .def("compileShader", [](Context& c, const std::shared_ptr<softgl::Shader>& s) {
-            py::gil_scoped_release release;
+            softgl::bindings::ExclusiveWithoutGil release(c);
             c.compile_shader(s);
         })
         .def("getShaderParameter", [](Context& c, const std::shared_ptr<softgl::Shader>& s, IdlUint32 pname) {
@@ -334,7 +342,7 @@ void bind_context(py::module_& m) {
             c.bind_attrib_location(p, index.value, name);
         })
         .def("linkProgram", [](Context& c, const std::shared_ptr<softgl::Program>& p) {
-            py::gil_scoped_release release;
+            softgl::bindings::ExclusiveWithoutGil release(c);
             c.link_program(p);
         })
         .def("validateProgram", &Context::validate_program)
@@ -370,23 +378,23 @@ void bind_context(py::module_& m) {
         })
         // Drawing
         .def("drawArrays", [](Context& c, IdlUint32 mode, IdlInt32 first, IdlInt32 count) {
-            py::gil_scoped_release release;
+            softgl::bindings::ExclusiveWithoutGil release(c);
             c.draw_arrays(mode.value, first.value, count.value, 1, "drawArrays");
         })
         .def("drawElements", [](Context& c, IdlUint32 mode, IdlInt32 count, IdlUint32 type, int64_t offset) {
-            py::gil_scoped_release release;
+            softgl::bindings::ExclusiveWithoutGil release(c);
             c.draw_elements(mode.value, count.value, type.value, offset, 1, "drawElements");
         })
         .def("drawArraysInstanced", [](Context& c, IdlUint32 mode, IdlInt32 first, IdlInt32 count, IdlInt32 instances) {
-            py::gil_scoped_release release;
+            softgl::bindings::ExclusiveWithoutGil release(c);
             c.draw_arrays(mode.value, first.value, count.value, instances.value, "drawArraysInstanced");
         })
         .def("drawElementsInstanced", [](Context& c, IdlUint32 mode, IdlInt32 count, IdlUint32 type, int64_t offset, IdlInt32 instances) {
-            py::gil_scoped_release release;
+            softgl::bindings::ExclusiveWithoutGil release(c);
             c.draw_elements(mode.value, count.value, type.value, offset, instances.value, "drawElementsInstanced");
         })
         .def("drawRangeElements", [](Context& c, IdlUint32 mode, IdlUint32 start, IdlUint32 end, IdlInt32 count, IdlUint32 type, int64_t offset) {
-            py::gil_scoped_release release;
+            softgl::bindings::ExclusiveWithoutGil release(c);
             c.draw_range_elements(mode.value, start.value, end.value, count.value, type.value, offset);
         })
         .def("_fog", [](Context& c, const std::string& call, IdlUint32 pname, std::vector<float> values) {
@@ -425,7 +433,7 @@ void uniform_v(Context& c, const char* call, const softgl::UniformLocation* loca
     auto arr = py::array_t<T, py::array::c_style | py::array::forcecast>::ensure(data);
     if (!arr) throw py::type_error(std::string(call) + ": data must be a sequence of numbers");
     const int64_t total = int64_t(arr.size());
-    if (src_offset < 0 || src_length < 0 || src_offset > total || (src_length && src_offset + src_length > total))
+    if (src_offset < 0 || src_length < 0 || src_offset > total || src_length > total - src_offset)
         return c.record_error(gl::INVALID_VALUE, call, "srcOffset/srcLength exceed the data");
     const int64_t n = src_length ? src_length : total - src_offset;
     const int per = kind == 'm' ? columns * rows : columns;

@@ -8,6 +8,7 @@
 
 #include "convert.h"
 #include "softgl/api/context.h"
+#include "exclusive.h"
 #include "webidl.h"
 
 namespace py = pybind11;
@@ -249,7 +250,7 @@ void bind_textures(py::module_& m) {
         .def("readBuffer", webidl(&Context::read_buffer))
         .def("blitFramebuffer", [](Context& c, IdlInt32 sx0, IdlInt32 sy0, IdlInt32 sx1, IdlInt32 sy1, IdlInt32 dx0, IdlInt32 dy0,
                                    IdlInt32 dx1, IdlInt32 dy1, IdlUint32 mask, IdlUint32 filter) {
-            py::gil_scoped_release release;
+            softgl::bindings::ExclusiveWithoutGil release(c);
             c.blit_framebuffer(sx0.value, sy0.value, sx1.value, sy1.value, dx0.value, dy0.value, dx1.value, dy1.value, mask.value, filter.value);
         })
         .def("clearBufferfv", [](Context& c, IdlUint32 buffer, IdlInt32 drawbuffer, py::object values, int64_t off) {

@@ -524,8 +524,8 @@ class CommandFuzzer:
             warnings.simplefilter("ignore", softgl.GLWarning)
             with _quiet_strict(side):
                 args = self._bounded(side, name, args)
-                gl.getError()
                 before = self.snapshot(side)
+                gl.getError()   # after the snapshot: its own queries must not leave an error pending
         self.reported.clear()
         self.calls += 1
         self.log.append(f"ctx{self.sides.index(side)}{'(strict)' if side.strict else ''}.{name}{_short(args)}")

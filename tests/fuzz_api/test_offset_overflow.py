@@ -24,9 +24,6 @@ def gl():
         yield gl
 
 
-@pytest.mark.xfail(strict=True, reason="BUG (UB, bindings/context.cpp byte_span): src_offset + length "
-                   "overflows int64 and the range check passes: bufferData(..., srcOffset=1, "
-                   "length=2**63-1) raises MemoryError (std::bad_alloc) instead of INVALID_VALUE")
 def test_buffer_data_source_range_overflow(gl):
     gl.bufferData(gl.ARRAY_BUFFER, np.zeros(4, np.uint8), gl.STATIC_DRAW, 1, BIG)
     assert gl.getError() == gl.INVALID_VALUE
@@ -54,9 +51,6 @@ def test_uniform_source_range_overflow(gl):
     assert gl.getError() == gl.INVALID_VALUE
 
 
-@pytest.mark.xfail(strict=True, reason="BUG (crash): copyBufferSubData(ARRAY_BUFFER, COPY_WRITE_BUFFER, "
-                   "2**63-1, 0, 21) segfaults: read_offset + size overflows int64 in the range check "
-                   "(api/buffers.cpp) and memcpy reads from 2^63 bytes past the buffer")
 def test_copy_buffer_sub_data_offset_overflow_does_not_crash():
     code = """
 import softgl, warnings

@@ -108,7 +108,7 @@ def test_homogeneous_clipping_matches_exact_reference(xy, z, w):
 
 @pytest.mark.xfail(strict=True, reason="BUG: clipping a triangle with a vertex at w = 0 or just behind "
                    "the eye (|w| < ~1e-5) loses or invents area (see the two minimal cases below)")
-@settings(max_examples=25, deadline=None, database=None)
+@settings(max_examples=25, deadline=None, database=None, derandomize=True)
 @given(xy=XY, z=Z, w=st.lists(st.sampled_from([1.0, 1e-30, 0.0, -1e-30, -2.0**-20, -1e-6, -1.0]), min_size=3, max_size=3))
 def test_clipping_near_w_zero_matches_exact_reference(xy, z, w):
     check_against_reference(random_triangle(xy, z, w))

@@ -162,7 +162,9 @@ void Context::copy_buffer_sub_data(GLenum read_target, GLenum write_target, int6
     if (!src) return;
     Buffer* dst = bound_buffer(call, write_target);
     if (!dst) return;
-    if (read_offset + size > int64_t(src->data.size()) || write_offset + size > int64_t(dst->data.size()))
+    // Written as differences: offset + size could overflow int64.
+    if (read_offset > int64_t(src->data.size()) || size > int64_t(src->data.size()) - read_offset ||
+        write_offset > int64_t(dst->data.size()) || size > int64_t(dst->data.size()) - write_offset)
         return error(gl::INVALID_VALUE, call, "the range exceeds a buffer's size");
     // WebGL 2.0 §5.1: element array data cannot be copied into a non-element buffer or back.
     if (src->kind != dst->kind && src->kind != Buffer::Kind::Unbound && dst->kind != Buffer::Kind::Unbound)

@@ -1,6 +1,7 @@
 // A WebGL 1 / WebGL 2 rendering context: the entry points, their validation, and the state.
 // Every entry point validates first and records the WebGL error without changing anything.
 #pragma once
+#include <atomic>
 #include <cstdint>
 #include <memory>
 #include <optional>
@@ -70,6 +71,8 @@ public:
     // What objects record as their owner: unique for the life of the process, never reused by a
     // later context (a raw `this` could be, after this context is freed).
     const void* identity() const { return reinterpret_cast<const void*>(id_); }
+    // Set while a call runs without the GIL (bindings/exclusive.h).
+    std::atomic<uint64_t>& busy() { return busy_; }   // 0 or the using thread
     int version() const { return attributes_.version; }
     int32_t drawing_buffer_width() const { return framebuffer_.width(); }
     int32_t drawing_buffer_height() const { return framebuffer_.height(); }
@@ -323,6 +326,7 @@ private:
     }
 
     uintptr_t id_;   // from a process-wide counter, see identity()
+    std::atomic<uint64_t> busy_{0};
     ContextAttributes attributes_;
     State state_;
     DefaultFramebuffer framebuffer_;

@@ -140,7 +140,7 @@ void DefaultFramebuffer::read_rgba8(int32_t x, int32_t y, int32_t w, int32_t h, 
         return;
     }
     for (int32_t py = r.y; py < r.y + r.height; ++py) {
-        uint8_t* out = dst + (py - y) * row_stride + std::ptrdiff_t(r.x - x) * 4;
+        uint8_t* out = dst + (int64_t(py) - y) * row_stride + std::ptrdiff_t(int64_t(r.x) - x) * 4;   // 64-bit: x may be -2^31
         const uint8_t* in = &color_[(size_t(py) * config_.width + r.x) * S * 4];
         if (S == 1) {
             std::copy(in, in + size_t(r.width) * 4, out);
