@@ -13,37 +13,6 @@ namespace {
 
 double clamp01d(double v) { return v > 0.0 ? (v < 1.0 ? v : 1.0) : 0.0; }   // NaN -> 0, as clamp01
 
-// The same factor table as blend.cpp (ES 3.0 table 4.2), in float64.
-double factor64(GLenum f, int c, const double s[4], const double d[4], const float k[4]) {
-    switch (f) {
-        case gl::ZERO: return 0.0;
-        case gl::ONE: return 1.0;
-        case gl::SRC_COLOR: return s[c];
-        case gl::ONE_MINUS_SRC_COLOR: return 1.0 - s[c];
-        case gl::DST_COLOR: return d[c];
-        case gl::ONE_MINUS_DST_COLOR: return 1.0 - d[c];
-        case gl::SRC_ALPHA: return s[3];
-        case gl::ONE_MINUS_SRC_ALPHA: return 1.0 - s[3];
-        case gl::DST_ALPHA: return d[3];
-        case gl::ONE_MINUS_DST_ALPHA: return 1.0 - d[3];
-        case gl::CONSTANT_COLOR: return double(k[c]);
-        case gl::ONE_MINUS_CONSTANT_COLOR: return 1.0 - double(k[c]);
-        case gl::CONSTANT_ALPHA: return double(k[3]);
-        case gl::ONE_MINUS_CONSTANT_ALPHA: return 1.0 - double(k[3]);
-        case gl::SRC_ALPHA_SATURATE: return c == 3 ? 1.0 : std::min(s[3], 1.0 - d[3]);
-        default: return 0.0;
-    }
-}
-
-double equation64(GLenum eq, double s, double sf, double d, double df) {
-    switch (eq) {
-        case gl::FUNC_SUBTRACT: return s * sf - d * df;
-        case gl::FUNC_REVERSE_SUBTRACT: return d * df - s * sf;
-        case gl::MIN: return std::min(s, d);
-        case gl::MAX: return std::max(s, d);
-        default: return s * sf + d * df;
-    }
-}
 
 uint32_t unorm24(double z) { return uint32_t(std::floor(clamp01d(z) * 16777215.0 + 0.5)); }
 uint8_t unorm8(double v) { return uint8_t(std::floor(clamp01d(v) * 255.0 + 0.5)); }
@@ -54,14 +23,15 @@ void blend_f64(const BlendOp& op, const double src[4], const double dst[4], doub
                double src_factor[4], double dst_factor[4]) {
     double s[4], d[4];
     for (int c = 0; c < 4; ++c) s[c] = clamp01d(src[c]), d[c] = clamp01d(dst[c]);
+    const double k[4] = {op.constant[0], op.constant[1], op.constant[2], op.constant[3]};
     if (!op.has_alpha) d[3] = 1.0;
     for (int c = 0; c < 4; ++c) {
         const bool alpha = c == 3;
         double sf = 1.0, df = 0.0, v = s[c];
         if (!op.is_plain_write()) {
-            sf = factor64(alpha ? op.src_alpha : op.src_rgb, c, s, d, op.constant.data());
-            df = factor64(alpha ? op.dst_alpha : op.dst_rgb, c, s, d, op.constant.data());
-            v = equation64(alpha ? op.eq_alpha : op.eq_rgb, s[c], sf, d[c], df);
+            sf = blend_factor<double>(alpha ? op.src_alpha : op.src_rgb, c, s, d, k);
+            df = blend_factor<double>(alpha ? op.dst_alpha : op.dst_rgb, c, s, d, k);
+            v = blend_equation<double>(alpha ? op.eq_alpha : op.eq_rgb, s[c], sf, d[c], df);
         }
         if (src_factor) src_factor[c] = sf;
         if (dst_factor) dst_factor[c] = df;

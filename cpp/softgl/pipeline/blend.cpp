@@ -30,37 +30,6 @@ bool BlendOp::is_plain_write() const {
 
 namespace {
 
-// The blend factor for channel c (0..3) given clamped source, destination and constant colors.
-float factor(GLenum f, int c, const float s[4], const float d[4], const float k[4]) {
-    switch (f) {
-        case gl::ZERO: return 0.0f;
-        case gl::ONE: return 1.0f;
-        case gl::SRC_COLOR: return s[c];
-        case gl::ONE_MINUS_SRC_COLOR: return 1.0f - s[c];
-        case gl::DST_COLOR: return d[c];
-        case gl::ONE_MINUS_DST_COLOR: return 1.0f - d[c];
-        case gl::SRC_ALPHA: return s[3];
-        case gl::ONE_MINUS_SRC_ALPHA: return 1.0f - s[3];
-        case gl::DST_ALPHA: return d[3];
-        case gl::ONE_MINUS_DST_ALPHA: return 1.0f - d[3];
-        case gl::CONSTANT_COLOR: return k[c];
-        case gl::ONE_MINUS_CONSTANT_COLOR: return 1.0f - k[c];
-        case gl::CONSTANT_ALPHA: return k[3];
-        case gl::ONE_MINUS_CONSTANT_ALPHA: return 1.0f - k[3];
-        case gl::SRC_ALPHA_SATURATE: return c == 3 ? 1.0f : std::min(s[3], 1.0f - d[3]);
-        default: return 0.0f;
-    }
-}
-
-float equation(GLenum eq, float s, float sf, float d, float df) {
-    switch (eq) {
-        case gl::FUNC_SUBTRACT: return s * sf - d * df;
-        case gl::FUNC_REVERSE_SUBTRACT: return d * df - s * sf;
-        case gl::MIN: return std::min(s, d);
-        case gl::MAX: return std::max(s, d);
-        default: return s * sf + d * df;
-    }
-}
 
 }  // namespace
 
@@ -74,9 +43,9 @@ void blend_unorm8(const BlendOp& op, const float src[4], uint8_t dst[4]) {
         if (!op.has_alpha) d[3] = 1.0f;
         for (int c = 0; c < 4; ++c) {
             const bool alpha = c == 3;
-            const float sf = factor(alpha ? op.src_alpha : op.src_rgb, c, s, d, op.constant.data());
-            const float df = factor(alpha ? op.dst_alpha : op.dst_rgb, c, s, d, op.constant.data());
-            out[c] = equation(alpha ? op.eq_alpha : op.eq_rgb, s[c], sf, d[c], df);
+            const float sf = blend_factor<float>(alpha ? op.src_alpha : op.src_rgb, c, s, d, op.constant.data());
+            const float df = blend_factor<float>(alpha ? op.dst_alpha : op.dst_rgb, c, s, d, op.constant.data());
+            out[c] = blend_equation<float>(alpha ? op.eq_alpha : op.eq_rgb, s[c], sf, d[c], df);
         }
     }
     for (int c = 0; c < 4; ++c)
@@ -97,9 +66,9 @@ void blend_float(const BlendOp& op, const float src[4], const float dst[4], bool
     } else {
         for (int c = 0; c < 4; ++c) {
             const bool alpha = c == 3;
-            const float sf = factor(alpha ? op.src_alpha : op.src_rgb, c, s, d, k);
-            const float df = factor(alpha ? op.dst_alpha : op.dst_rgb, c, s, d, k);
-            r[c] = equation(alpha ? op.eq_alpha : op.eq_rgb, s[c], sf, d[c], df);
+            const float sf = blend_factor<float>(alpha ? op.src_alpha : op.src_rgb, c, s, d, k);
+            const float df = blend_factor<float>(alpha ? op.dst_alpha : op.dst_rgb, c, s, d, k);
+            r[c] = blend_equation<float>(alpha ? op.eq_alpha : op.eq_rgb, s[c], sf, d[c], df);
         }
     }
     for (int c = 0; c < 4; ++c) out[c] = op.write[size_t(c)] ? r[c] : dst[c];

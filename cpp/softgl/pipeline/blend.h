@@ -1,6 +1,7 @@
 // Blending into a fixed-point (unorm8) color buffer, ES 3.0 §4.1.7: source, destination,
 // constant color and factors are clamped to [0, 1]; the result is clamped and rounded.
 #pragma once
+#include <algorithm>
 #include <array>
 #include <cstdint>
 
@@ -30,5 +31,42 @@ void blend_unorm8(const BlendOp& op, const float src[4], uint8_t dst[4]);
 // destination (and the constant colour) are clamped to [0, 1] first; float formats blend unclamped. `out` is the blended,
 // unquantized colour; channels the colour mask disables keep `dst`.
 void blend_float(const BlendOp& op, const float src[4], const float dst[4], bool clamp, float out[4]);
+
+// ES 3.0 table 4.2: the blend factor for channel c (0..3) from the clamped source s, destination d
+// and constant k. A template so that the float path and the float64 references (A-buffer) share it.
+template <class T>
+T blend_factor(GLenum f, int c, const T s[4], const T d[4], const T k[4]) {
+    const T one = T(1);
+    switch (f) {
+        case gl::ZERO: return T(0);
+        case gl::ONE: return one;
+        case gl::SRC_COLOR: return s[c];
+        case gl::ONE_MINUS_SRC_COLOR: return one - s[c];
+        case gl::DST_COLOR: return d[c];
+        case gl::ONE_MINUS_DST_COLOR: return one - d[c];
+        case gl::SRC_ALPHA: return s[3];
+        case gl::ONE_MINUS_SRC_ALPHA: return one - s[3];
+        case gl::DST_ALPHA: return d[3];
+        case gl::ONE_MINUS_DST_ALPHA: return one - d[3];
+        case gl::CONSTANT_COLOR: return k[c];
+        case gl::ONE_MINUS_CONSTANT_COLOR: return one - k[c];
+        case gl::CONSTANT_ALPHA: return k[3];
+        case gl::ONE_MINUS_CONSTANT_ALPHA: return one - k[3];
+        case gl::SRC_ALPHA_SATURATE: return c == 3 ? one : std::min(s[3], one - d[3]);
+        default: return T(0);
+    }
+}
+
+// ES 3.0 §4.1.7: the blend equations (MIN and MAX ignore the factors).
+template <class T>
+T blend_equation(GLenum eq, T s, T sf, T d, T df) {
+    switch (eq) {
+        case gl::FUNC_SUBTRACT: return s * sf - d * df;
+        case gl::FUNC_REVERSE_SUBTRACT: return d * df - s * sf;
+        case gl::MIN: return std::min(s, d);
+        case gl::MAX: return std::max(s, d);
+        default: return s * sf + d * df;
+    }
+}
 
 }  // namespace softgl
