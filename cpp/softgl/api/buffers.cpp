@@ -114,8 +114,9 @@ void Context::buffer_data_size(GLenum target, int64_t size, GLenum usage) {
     if (!buffer_binding(target)) return error(gl::INVALID_ENUM, call, enum_name(target) + " is not a buffer target here");
     if (!valid_usage(usage, version())) return error(gl::INVALID_ENUM, call, enum_name(usage) + " is not a buffer usage");
     if (size < 0) return error(gl::INVALID_VALUE, call, "size must not be negative");
-    if (size > (int64_t(1) << 34))
-        return error(gl::OUT_OF_MEMORY, call, "a buffer of " + std::to_string(size) + " bytes is more than softgl allows (16 GiB)");
+    if (uint64_t(size) > memory_budget())
+        return error(gl::OUT_OF_MEMORY, call, "a buffer of " + std::to_string(size) +
+                     " bytes is more than half of this machine's memory");
     Buffer* buffer = bound_buffer(call, target);
     if (!buffer) return;
     std::vector<uint8_t> data;
