@@ -351,7 +351,7 @@ private:
     bool check_name_length(const char* call, const std::string& name);
     void release_shader(const std::shared_ptr<Shader>& shader);
     bool validate_draw_state(const char* call);
-    void run_draw(const DrawCall& call, uint32_t max_vertex);
+    void run_draw(const DrawCall& call);
 
     // ---- Textures and framebuffers (textures.cpp, framebuffers.cpp) --------------------------
     struct TextureUnit {

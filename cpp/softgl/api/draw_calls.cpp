@@ -43,8 +43,7 @@ bool Context::validate_draw_state(const char* call) {
     return prepare_textures_and_targets(call);   // textures.cpp: units, completeness, framebuffer
 }
 
-void Context::run_draw(const DrawCall& call, uint32_t max_vertex) {
-    (void)max_vertex;
+void Context::run_draw(const DrawCall& call) {
     // A draw keeps its shaded vertices and set-up primitives for the whole draw (about this many
     // bytes per vertex); refuse what cannot fit rather than fail halfway.
     constexpr uint64_t kBytesPerVertex = 640;
@@ -92,7 +91,7 @@ void Context::draw_arrays(GLenum mode, int32_t first, int32_t count, int32_t ins
     dc.first = uint32_t(first);
     dc.count = uint32_t(count);
     dc.instance_count = uint32_t(instances);
-    run_draw(dc, uint32_t(first) + uint32_t(count) - 1);
+    run_draw(dc);
 }
 
 void Context::draw_elements(GLenum mode, int32_t count, GLenum type, int64_t offset, int32_t instances,
@@ -155,7 +154,7 @@ void Context::draw_elements(GLenum mode, int32_t count, GLenum type, int64_t off
     dc.count = uint32_t(indices.size());
     dc.indices = indices.data();
     dc.instance_count = uint32_t(instances);
-    run_draw(dc, max_index);
+    run_draw(dc);
 }
 
 void Context::draw_range_elements(GLenum mode, uint32_t start, uint32_t end, int32_t count, GLenum type, int64_t offset) {
