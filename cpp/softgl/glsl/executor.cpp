@@ -104,6 +104,12 @@ bool all_set(const uint32_t* m, int n) {
     return acc == ~0u;
 }
 
+bool same_in_all_lanes(const Scalar* v, int n) {
+    uint32_t diff = 0;
+    for (int l = 0; l < n; ++l) diff |= v[l].u ^ v[0].u;
+    return diff == 0;
+}
+
 enum class FrameKind : uint8_t { If, Loop, Switch, Function };
 
 // Registers an instruction reads (a masked Mov or StoreIndexed also keeps old lanes: counted as
@@ -429,10 +435,17 @@ void Executor::execute(const int n, const StageRun& run) {
             for (int l = quads * 4; l < n; ++l) d[l].f = 0.0f;  // an incomplete quad has no derivative
             break;
         }
+        // Indexed accesses: when every lane uses the same index (constant-bound loops, uniform
+        // indices) the access is one whole-register copy instead of a per-lane gather.
         case Op::LoadIndexed: {
             Scalar* d = D;
             const Scalar* idx = B;
             const int32_t start = i.imm[0], offset = i.imm[1], size = i.imm[2];
+            if (same_in_all_lanes(idx, n)) {
+                const int32_t k = std::min(std::max(offset + idx[0].i, 0), size - 1);
+                std::memcpy(d, reg(static_cast<Reg>(start + k)), sizeof(Scalar) * n);
+                break;
+            }
             LANES {
                 int32_t k = std::min(std::max(offset + idx[l].i, 0), size - 1);
                 d[l] = reg(static_cast<Reg>(start + k))[l];
@@ -443,6 +456,13 @@ void Executor::execute(const int n, const StageRun& run) {
             const Scalar* src = A;
             const Scalar* idx = B;
             const int32_t start = i.imm[0], offset = i.imm[1], size = i.imm[2];
+            if (same_in_all_lanes(idx, n)) {
+                const int32_t k = std::min(std::max(offset + idx[0].i, 0), size - 1);
+                Scalar* d = reg(static_cast<Reg>(start + k));
+                if (all) std::memcpy(d, src, sizeof(Scalar) * n);
+                else LANES { d[l].u = (src[l].u & mask[l]) | (d[l].u & ~mask[l]); }
+                break;
+            }
             LANES {
                 if (!mask[l]) continue;
                 int32_t k = std::min(std::max(offset + idx[l].i, 0), size - 1);
@@ -459,9 +479,14 @@ void Executor::execute(const int n, const StageRun& run) {
             Scalar* d = D;
             const Scalar* idx = B;
             const int32_t start = i.imm[0], offset = i.imm[1], size = i.imm[2];
+            if (!run.uniforms) { std::fill_n(d, n, Scalar{}); break; }
+            if (same_in_all_lanes(idx, n)) {
+                std::fill_n(d, n, run.uniforms[start + std::min(std::max(offset + idx[0].i, 0), size - 1)]);
+                break;
+            }
             LANES {
                 int32_t k = std::min(std::max(offset + idx[l].i, 0), size - 1);
-                d[l] = run.uniforms ? run.uniforms[start + k] : Scalar{};
+                d[l] = run.uniforms[start + k];
             }
             break;
         }
