@@ -135,6 +135,101 @@ int eliminate_dead_code(IrProgram& p) {
     return removed;
 }
 
+// Instructions that end a straight-line region at their own nesting level: after them the
+// execution mask may again contain lanes that were inactive before (else branch, continue
+// point, end of a construct).
+bool ends_region(Op op) {
+    switch (op) {
+    case Op::Else: case Op::IfEnd: case Op::LoopContinuePoint: case Op::LoopEnd: case Op::SwitchEnd: case Op::FunctionEnd:
+        return true;
+    default: return false;
+    }
+}
+bool opens_construct(Op op) {
+    return op == Op::IfBegin || op == Op::LoopBegin || op == Op::SwitchBegin || op == Op::FunctionBegin;
+}
+bool closes_construct(Op op) {
+    return op == Op::IfEnd || op == Op::LoopEnd || op == Op::SwitchEnd || op == Op::FunctionEnd;
+}
+
+// Copy propagation: `mov v, t` where the variable v has no other write and every read of v
+// follows the Mov inside its straight-line region (nested constructs included) reads t instead,
+// and the Mov goes. t must not change in between: it is a temporary (defined once, before the
+// Mov), a constant or an input. Inside the region the active lanes are a subset of the lanes
+// the Mov wrote, so every active lane reads the same value as before; inactive lanes now see
+// t instead of v's older value. Only quad neighbours could observe those (derivatives and
+// implicit texture LOD), so fragment programs that have any keep their Movs.
+int propagate_copies(IrProgram& p) {
+    const size_t R = p.register_count;
+    if (p.fragment)
+        for (const Instruction& i : p.code) {
+            if (i.op == Op::DFdx || i.op == Op::DFdy) return 0;
+            if (i.op == Op::Texture) {
+                const TextureOperands& t = p.textures[i.texture];
+                if (t.kind == TextureKind::Sample && (t.lod_mode == TextureLod::Implicit || t.lod_mode == TextureLod::Bias)) return 0;
+            }
+        }
+    std::vector<int> writes(R, 0), defined_at(R, -1);
+    std::vector<uint8_t> pinned(R, 0);  // interface, constant or indexed (array) registers
+    for (const Slot& s : p.inputs) if (s.reg < R) pinned[s.reg] = 1;
+    for (const Slot& s : p.outputs) if (s.reg < R) pinned[s.reg] = 1;
+    for (const ConstantRegister& c : p.constants) pinned[c.reg] = 1;
+    for (size_t k = 0; k < p.code.size(); ++k) {
+        const Instruction& i = p.code[k];
+        if (i.op == Op::LoadIndexed || i.op == Op::StoreIndexed)
+            for (int32_t e = 0; e < i.imm[2]; ++e) pinned[static_cast<Reg>(i.imm[0] + e)] = 1;
+        for_each_write(p, i, [&](Reg r) { ++writes[r]; defined_at[r] = static_cast<int>(k); });
+    }
+    std::vector<uint8_t> is_input(R, 0), is_constant(R, 0);
+    for (const Slot& s : p.inputs) if (s.reg < R) is_input[s.reg] = 1;
+    for (const ConstantRegister& c : p.constants) is_constant[c.reg] = 1;
+
+    int removed = 0;
+    std::vector<uint8_t> drop(p.code.size(), 0);
+    for (size_t k = 0; k < p.code.size(); ++k) {
+        const Instruction& mov = p.code[k];
+        if (mov.op != Op::Mov || drop[k]) continue;
+        const Reg v = mov.dst, t = mov.a;
+        if (!p.is_variable[v] || pinned[v] || writes[v] != 1 || v == t) continue;
+        const bool stable = (is_constant[t] && writes[t] == 0) || (is_input[t] && writes[t] == 0) ||
+                            (!p.is_variable[t] && writes[t] == 1 && defined_at[t] < static_cast<int>(k));
+        if (!stable) continue;
+        // The region: up to the first region end at the Mov's own level.
+        size_t end = k + 1;
+        for (int depth = 0; end < p.code.size(); ++end) {
+            const Op op = p.code[end].op;
+            if (depth == 0 && ends_region(op)) break;
+            if (opens_construct(op)) ++depth;
+            if (closes_construct(op)) --depth;
+        }
+        bool inside = true;
+        for (size_t j = 0; j < p.code.size() && inside; ++j) {
+            if (j >= k && j < end) continue;   // (the Mov itself "reads" v: its kept lanes)
+            for_each_read(p, p.code[j], [&](Reg r) { if (r == v) inside = false; });
+        }
+        if (!inside) continue;
+        for (size_t j = k + 1; j < end; ++j) {
+            Instruction& i = p.code[j];
+            for (Reg* r : {&i.a, &i.b, &i.c}) if (*r == v) *r = t;
+            if (i.op == Op::Texture) {
+                TextureOperands& to = p.textures[i.texture];
+                for (Reg* r : {&to.unit, &to.coord[0], &to.coord[1], &to.coord[2], &to.coord[3], &to.compare, &to.lod,
+                               &to.grad_x[0], &to.grad_x[1], &to.grad_x[2], &to.grad_y[0], &to.grad_y[1], &to.grad_y[2]})
+                    if (*r == v) *r = t;
+            }
+        }
+        drop[k] = 1;
+        writes[v] = 0;
+        p.is_variable[v] = false;   // no longer written at all
+        ++removed;
+    }
+    std::vector<Instruction> kept;
+    kept.reserve(p.code.size());
+    for (size_t k = 0; k < p.code.size(); ++k) if (!drop[k]) kept.push_back(p.code[k]);
+    p.code = std::move(kept);
+    return removed;
+}
+
 }  // namespace
 
 std::vector<bool> registers_read(const IrProgram& p) {
@@ -168,6 +263,8 @@ bool outputs_depend_only_on_uniforms(const IrProgram& p) {
 OptimizeReport optimize(IrProgram& program) {
     OptimizeReport report;
     report.folded = fold_constants(program);
+    report.propagated = propagate_copies(program);
+    if (report.propagated) report.folded += fold_constants(program);   // copies of constants fold further
     report.removed = eliminate_dead_code(program);
     link_control_flow(program);
     return report;

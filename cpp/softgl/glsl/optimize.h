@@ -1,5 +1,5 @@
 // IR optimisation: constant folding (by running the executor itself on one lane, so folded
-// values are bit-identical to executed ones) and dead code elimination. Also the analyses the
+// values are bit-identical to executed ones), copy propagation and dead code elimination. Also the analyses the
 // pipeline uses to skip work: which inputs are read, whether outputs depend only on uniforms.
 #pragma once
 #include "softgl/glsl/ir.h"
@@ -9,6 +9,7 @@ namespace softgl::glsl {
 struct OptimizeReport {
     int folded = 0;
     int removed = 0;
+    int propagated = 0;   // Movs replaced by their source
 };
 
 OptimizeReport optimize(IrProgram& program);
