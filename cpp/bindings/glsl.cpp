@@ -156,7 +156,11 @@ py::tuple link_py(const std::string& vertex, const std::string& fragment, int ve
 // Runs one stage of `source` over `lanes` lanes. inputs: name -> array (lanes,) or (lanes, n);
 // uniforms: WebGL uniform name (or base name) -> values; textures: unit -> (h, w, 4) float array.
 py::dict run_py(const std::string& source, const std::string& stage, int version, py::dict inputs, py::dict uniforms,
-                int lanes, py::dict textures, int batch, int repeat) {
+                int lanes, py::dict textures, int batch, int repeat, std::string simd) {
+    glsl::SimdLevel level = glsl::best_simd_level();
+    if (simd == "portable") level = glsl::SimdLevel::Portable;
+    else if (simd == "avx2" && glsl::best_simd_level() == glsl::SimdLevel::AVX2) level = glsl::SimdLevel::AVX2;
+    else if (!simd.empty()) throw py::value_error("simd '" + simd + "' is not available (see glsl_simd_levels())");
     glsl::CompileResult compiled = glsl::compile(source, stage_from(stage), version);
     if (!compiled.ok) throw py::value_error("compile failed:\n" + compiled.info_log);
     const glsl::CompiledShader& shader = *compiled.shader;
@@ -230,6 +234,7 @@ py::dict run_py(const std::string& source, const std::string& stage, int version
     {
         py::gil_scoped_release release;
         glsl::Executor executor(program, batch);
+        executor.force_simd_level(level);
         auto start = std::chrono::steady_clock::now();
         for (int k = 0; k < std::max(repeat, 1); ++k) executor.run(run);
         seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -272,6 +277,12 @@ void bind_glsl(py::module_& m) {
           "Compile and link a vertex/fragment pair -> (ok, info_log, program reflection or None)");
     m.def("glsl_run", &run_py, py::arg("source"), py::arg("stage"), py::arg("version") = 2, py::arg("inputs") = py::dict(),
           py::arg("uniforms") = py::dict(), py::arg("lanes") = 4, py::arg("textures") = py::dict(), py::arg("batch") = 128,
-          py::arg("repeat") = 1,
-          "Run one shader stage over `lanes` lanes (fragment lanes are 2x2 quads) -> dict of output arrays");
+          py::arg("repeat") = 1, py::arg("simd") = "",
+          "Run one shader stage over `lanes` lanes (fragment lanes are 2x2 quads) -> dict of output arrays; "
+          "simd: '' (the best the CPU has), 'portable' or 'avx2'");
+    m.def("glsl_simd_levels", [] {
+        std::vector<std::string> levels{"portable"};
+        if (glsl::best_simd_level() == glsl::SimdLevel::AVX2) levels.push_back("avx2");
+        return levels;
+    }, "The executor's SIMD levels this CPU can run");
 }

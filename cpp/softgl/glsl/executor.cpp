@@ -104,6 +104,11 @@ bool all_set(const uint32_t* m, int n) {
     return acc == ~0u;
 }
 
+// A value in every lane (written through .u so the loop vectorises).
+void fill(Scalar* d, int n, Scalar v) {
+    for (int l = 0; l < n; ++l) d[l].u = v.u;
+}
+
 bool same_in_all_lanes(const Scalar* v, int n) {
     uint32_t diff = 0;
     for (int l = 0; l < n; ++l) diff |= v[l].u ^ v[0].u;
@@ -153,7 +158,19 @@ struct ExecutorFrame {
 };
 using Frame = ExecutorFrame;
 
-Executor::Executor(const IrProgram& program, int batch_lanes) : program_(program) {
+SimdLevel best_simd_level() {
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+    static const SimdLevel level = [] {
+        __builtin_cpu_init();
+        return __builtin_cpu_supports("avx2") ? SimdLevel::AVX2 : SimdLevel::Portable;
+    }();
+    return level;
+#else
+    return SimdLevel::Portable;
+#endif
+}
+
+Executor::Executor(const IrProgram& program, int batch_lanes) : program_(program), simd_(best_simd_level()) {
     batch_ = std::max(4, (batch_lanes + 3) / 4 * 4);
     registers_.assign(static_cast<size_t>(program.register_count) * batch_, Scalar{});
     reg_ptr_.resize(program.register_count);
@@ -198,6 +215,16 @@ Executor::Executor(const IrProgram& program, int batch_lanes) : program_(program
         const Reg r = program.outputs[k].reg;
         output_alias_[k] = r < R && !is_constant[r] && slot_uses[r] == 1;
     }
+    // The uniform loads the lowering puts first write temporaries whose value is the same in
+    // every batch of a run.
+    std::vector<uint8_t> is_slot(R, 0);
+    for (const Slot& s : program.inputs) if (s.reg < R) is_slot[s.reg] = 1;
+    for (const Slot& s : program.outputs) if (s.reg < R) is_slot[s.reg] = 1;
+    while (prologue_end_ < program.code.size()) {
+        const Instruction& i = program.code[prologue_end_];
+        if (i.op != Op::LoadUniform || is_slot[i.dst] || program.is_variable[i.dst]) break;
+        ++prologue_end_;
+    }
     int depth = 0;
     for (const Instruction& i : program.code) {
         if (i.op == Op::IfBegin || i.op == Op::LoopBegin || i.op == Op::SwitchBegin || i.op == Op::FunctionBegin) max_depth_ = std::max(max_depth_, ++depth);
@@ -211,6 +238,11 @@ Executor::Executor(const IrProgram& program, int batch_lanes) : program_(program
 Executor::~Executor() = default;
 
 void Executor::run(const StageRun& run) {
+    const int lanes = std::min(batch_, run.lane_count);
+    for (size_t pc = 0; pc < prologue_end_; ++pc) {
+        const Instruction& i = program_.code[pc];
+        fill(own(i.dst), lanes, run.uniforms ? run.uniforms[i.imm[0]] : Scalar{});
+    }
     for (int first = 0; first < run.lane_count; first += batch_) run_batch(run, first, std::min(batch_, run.lane_count - first));
 }
 
@@ -233,7 +265,8 @@ void Executor::run_batch(const StageRun& run, int first, int lanes) {
         if (src) { if (i >= input_alias_.size() || !input_alias_[i]) std::memcpy(reg(program_.inputs[i].reg), src + first, sizeof(Scalar) * lanes); }
         else if (program_.is_variable[program_.inputs[i].reg]) std::memset(static_cast<void*>(reg(program_.inputs[i].reg)), 0, sizeof(Scalar) * lanes);
     }
-    execute(lanes, run);
+    if (simd_ == SimdLevel::AVX2) execute_avx2(lanes, run);
+    else execute_portable(lanes, run);
     for (size_t i = 0; i < program_.outputs.size(); ++i) {
         Scalar* dst = run.outputs ? run.outputs[i] : nullptr;
         if (dst && (i >= output_alias_.size() || !output_alias_[i])) std::memcpy(dst + first, reg(program_.outputs[i].reg), sizeof(Scalar) * lanes);
@@ -244,7 +277,9 @@ void Executor::run_batch(const StageRun& run, int first, int lanes) {
     }
 }
 
-void Executor::execute(const int n, const StageRun& run) {
+// The interpreter. It is inlined into one function per SIMD level (below), so its lane loops
+// vectorise to that level's width.
+__attribute__((always_inline)) inline void Executor::execute(const int n, const StageRun& run) {
     const std::vector<Instruction>& code = program_.code;
     uint32_t* mask = mask_storage_.data();
     uint32_t* killed = mask_storage_.data() + static_cast<size_t>(2 * max_depth_ + 1) * batch_;
@@ -306,7 +341,7 @@ void Executor::execute(const int n, const StageRun& run) {
 #define U3(expr) { Scalar* d = D; const Scalar* a = A; const Scalar* b = B; const Scalar* c = C; LANES { uint32_t x = a[l].u, y = b[l].u, z = c[l].u; d[l].u = (expr); } break; }
 
     const int count = static_cast<int>(code.size());
-    for (int pc = 0; pc < count; ++pc) {
+    for (int pc = static_cast<int>(prologue_end_); pc < count; ++pc) {
         const Instruction& i = code[pc];
         switch (i.op) {
         case Op::Mov: {
@@ -470,18 +505,14 @@ void Executor::execute(const int n, const StageRun& run) {
             }
             break;
         }
-        case Op::LoadUniform: {
-            Scalar v = run.uniforms ? run.uniforms[i.imm[0]] : Scalar{};
-            std::fill_n(D, n, v);
-            break;
-        }
+        case Op::LoadUniform: fill(D, n, run.uniforms ? run.uniforms[i.imm[0]] : Scalar{}); break;
         case Op::LoadUniformIndexed: {
             Scalar* d = D;
             const Scalar* idx = B;
             const int32_t start = i.imm[0], offset = i.imm[1], size = i.imm[2];
-            if (!run.uniforms) { std::fill_n(d, n, Scalar{}); break; }
+            if (!run.uniforms) { fill(d, n, Scalar{}); break; }
             if (same_in_all_lanes(idx, n)) {
-                std::fill_n(d, n, run.uniforms[start + std::min(std::max(offset + idx[0].i, 0), size - 1)]);
+                fill(d, n, run.uniforms[start + std::min(std::max(offset + idx[0].i, 0), size - 1)]);
                 break;
             }
             LANES {
@@ -594,6 +625,13 @@ void Executor::execute(const int n, const StageRun& run) {
 #undef B
 #undef C
 }
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+__attribute__((target("avx2"))) void Executor::execute_avx2(int n, const StageRun& run) { execute(n, run); }
+#else
+void Executor::execute_avx2(int n, const StageRun& run) { execute(n, run); }
+#endif
+void Executor::execute_portable(int n, const StageRun& run) { execute(n, run); }
 
 void Executor::texture(const Instruction& ins, int n, const StageRun& run) {
     const TextureOperands& t = program_.textures[ins.texture];

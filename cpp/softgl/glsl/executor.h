@@ -65,6 +65,13 @@ struct StageRun {
 
 struct ExecutorFrame;
 
+// The instruction set the lane loops are compiled for. Portable is the baseline build (SSE2 on
+// x86-64); AVX2 is the same code compiled a second time for 8-float vectors (no FMA), chosen at
+// run time when the CPU has it. Every level gives the same bits: the loops use only IEEE
+// operations that round identically at any width, and the same libm functions.
+enum class SimdLevel : uint8_t { Portable, AVX2 };
+SimdLevel best_simd_level();
+
 class Executor {
 public:
     // batch_lanes: lanes per register (rounded up to a multiple of 4).
@@ -78,9 +85,14 @@ public:
     // lose the context; softgl reports it).
     uint64_t max_loop_iterations = 1u << 24;
 
+    // Testing: run the lane loops at `level` (must be supported by the CPU).
+    void force_simd_level(SimdLevel level) { simd_ = level; }
+
 private:
     void run_batch(const StageRun& run, int first_lane, int lanes);
-    void execute(int lanes, const StageRun& run);
+    void execute(int lanes, const StageRun& run);           // the body, inlined into:
+    void execute_portable(int lanes, const StageRun& run);
+    void execute_avx2(int lanes, const StageRun& run);
     // Register r's lanes for the current batch: its own storage, or (inputs the program never
     // writes, outputs) the caller's arrays directly, so inputs and outputs are not copied.
     Scalar* reg(Reg r) { return reg_ptr_[r]; }
@@ -98,7 +110,8 @@ private:
     std::vector<int> input_alias_;    // per program input: 1 if its register may alias the caller's array
     std::vector<int> output_alias_;   // per program output: 1 if its register may alias the caller's array
     std::vector<ExecutorFrame> frames_;
-    size_t prologue_end_ = 0;
+    size_t prologue_end_ = 0;      // leading uniform loads: filled once per run, not per batch
+    SimdLevel simd_ = SimdLevel::Portable;
     int max_depth_ = 0;
     std::vector<Scalar> scratch_;  // derivatives for texture lookups
 };
