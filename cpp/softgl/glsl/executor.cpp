@@ -225,6 +225,29 @@ Executor::Executor(const IrProgram& program, int batch_lanes) : program_(program
         if (i.op != Op::LoadUniform || is_slot[i.dst] || program.is_variable[i.dst]) break;
         ++prologue_end_;
     }
+    // Lanes that are inactive compute values nobody reads: a libm call (pow, exp, sin...) can
+    // skip them when provably nothing does. Readers of inactive lanes would be quad neighbours
+    // (derivatives, implicit LOD), or a temporary read where more lanes are active than where
+    // it was defined: outside its straight-line region (region_ends). Masked Movs and stores
+    // never copy inactive lanes into variables, and outputs are variables.
+    skip_inactive_lanes_ = !reads_quad_neighbours(program);
+    const std::vector<int32_t> region_end = region_ends(program);
+    std::vector<int32_t> defined_at(R, -1);
+    auto temporary = [&](Reg r) { return !program.is_variable[r] && !is_constant[r] && !is_input[r]; };
+    for (const Slot& s : program.outputs) if (s.reg < R && temporary(s.reg)) skip_inactive_lanes_ = false;
+    for (size_t k = 0; k < program.code.size() && skip_inactive_lanes_; ++k) {
+        const Instruction& i = program.code[k];
+        for_each_read(program, i, [&](Reg r) {
+            if (!temporary(r)) return;
+            const int32_t d = defined_at[r];
+            if (d < 0 || static_cast<int32_t>(k) >= region_end[static_cast<size_t>(d)]) skip_inactive_lanes_ = false;
+        });
+        for_each_write(program, i, [&](Reg r) {
+            if (!temporary(r)) return;
+            if (defined_at[r] >= 0) skip_inactive_lanes_ = false;   // temporaries are written once
+            defined_at[r] = static_cast<int32_t>(k);
+        });
+    }
     int depth = 0;
     for (const Instruction& i : program.code) {
         if (i.op == Op::IfBegin || i.op == Op::LoopBegin || i.op == Op::SwitchBegin || i.op == Op::FunctionBegin) max_depth_ = std::max(max_depth_, ++depth);
@@ -332,6 +355,9 @@ __attribute__((always_inline)) inline void Executor::execute(const int n, const 
 #define F1(expr) { Scalar* d = D; const Scalar* a = A; LANES { float x = a[l].f; d[l].f = (expr); } break; }
 #define F2(expr) { Scalar* d = D; const Scalar* a = A; const Scalar* b = B; LANES { float x = a[l].f, y = b[l].f; d[l].f = (expr); } break; }
 #define F3(expr) { Scalar* d = D; const Scalar* a = A; const Scalar* b = B; const Scalar* c = C; LANES { float x = a[l].f, y = b[l].f, z = c[l].f; d[l].f = (expr); } break; }
+// libm calls: only the active lanes when that is allowed (skip_inactive_lanes_).
+#define CALL1(expr) { if (!all && skip_inactive_lanes_) { Scalar* d = D; const Scalar* a = A; LANES if (mask[l]) { float x = a[l].f; d[l].f = (expr); } break; } F1(expr) }
+#define CALL2(expr) { if (!all && skip_inactive_lanes_) { Scalar* d = D; const Scalar* a = A; const Scalar* b = B; LANES if (mask[l]) { float x = a[l].f, y = b[l].f; d[l].f = (expr); } break; } F2(expr) }
 #define FB1(expr) { Scalar* d = D; const Scalar* a = A; LANES { float x = a[l].f; d[l].i = (expr) ? 1 : 0; } break; }
 #define FB2(expr) { Scalar* d = D; const Scalar* a = A; const Scalar* b = B; LANES { float x = a[l].f, y = b[l].f; d[l].i = (expr) ? 1 : 0; } break; }
 #define I1(expr) { Scalar* d = D; const Scalar* a = A; LANES { int32_t x = a[l].i; uint32_t ux = a[l].u; (void)ux; (void)x; d[l].i = (expr); } break; }
@@ -370,24 +396,24 @@ __attribute__((always_inline)) inline void Executor::execute(const int n, const 
         case Op::FStep: F2(f_step(x, y))
         case Op::FSqrt: F1(std::sqrt(x))
         case Op::FInverseSqrt: F1(1.0f / std::sqrt(x))
-        case Op::FSin: F1(std::sin(x))
-        case Op::FCos: F1(std::cos(x))
-        case Op::FTan: F1(std::tan(x))
-        case Op::FAsin: F1(std::asin(x))
-        case Op::FAcos: F1(std::acos(x))
-        case Op::FAtan: F1(std::atan(x))
-        case Op::FAtan2: F2(std::atan2(x, y))
-        case Op::FSinh: F1(std::sinh(x))
-        case Op::FCosh: F1(std::cosh(x))
-        case Op::FTanh: F1(std::tanh(x))
-        case Op::FAsinh: F1(std::asinh(x))
-        case Op::FAcosh: F1(std::acosh(x))
-        case Op::FAtanh: F1(std::atanh(x))
-        case Op::FExp: F1(std::exp(x))
-        case Op::FLog: F1(std::log(x))
-        case Op::FExp2: F1(std::exp2(x))
-        case Op::FLog2: F1(std::log2(x))
-        case Op::FPow: F2(std::pow(x, y))
+        case Op::FSin: CALL1(std::sin(x))
+        case Op::FCos: CALL1(std::cos(x))
+        case Op::FTan: CALL1(std::tan(x))
+        case Op::FAsin: CALL1(std::asin(x))
+        case Op::FAcos: CALL1(std::acos(x))
+        case Op::FAtan: CALL1(std::atan(x))
+        case Op::FAtan2: CALL2(std::atan2(x, y))
+        case Op::FSinh: CALL1(std::sinh(x))
+        case Op::FCosh: CALL1(std::cosh(x))
+        case Op::FTanh: CALL1(std::tanh(x))
+        case Op::FAsinh: CALL1(std::asinh(x))
+        case Op::FAcosh: CALL1(std::acosh(x))
+        case Op::FAtanh: CALL1(std::atanh(x))
+        case Op::FExp: CALL1(std::exp(x))
+        case Op::FLog: CALL1(std::log(x))
+        case Op::FExp2: CALL1(std::exp2(x))
+        case Op::FLog2: CALL1(std::log2(x))
+        case Op::FPow: CALL2(std::pow(x, y))
         case Op::FClamp: F3(f_clamp(x, y, z))
         case Op::FMix: F3(f_mix(x, y, z))
         case Op::FSmoothstep: F3(f_smoothstep(x, y, z))

@@ -112,6 +112,7 @@ private:
     std::vector<ExecutorFrame> frames_;
     size_t prologue_end_ = 0;      // leading uniform loads: filled once per run, not per batch
     SimdLevel simd_ = SimdLevel::Portable;
+    bool skip_inactive_lanes_ = false;   // libm calls only in active lanes (see the constructor)
     int max_depth_ = 0;
     std::vector<Scalar> scratch_;  // derivatives for texture lookups
 };

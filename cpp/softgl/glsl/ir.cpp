@@ -24,6 +24,37 @@ const char* op_name(Op op) {
 
 bool op_is_control(Op op) { return op >= Op::IfBegin && op < Op::Count_; }
 
+std::vector<int32_t> region_ends(const IrProgram& program) {
+    const std::vector<Instruction>& code = program.code;
+    std::vector<int32_t> end(code.size(), static_cast<int32_t>(code.size()));
+    std::vector<std::vector<int32_t>> open(1);   // per nesting level: instructions whose region is open
+    for (size_t k = 0; k < code.size(); ++k) {
+        const Op op = code[k].op;
+        const bool ends = op == Op::Else || op == Op::IfEnd || op == Op::LoopContinuePoint || op == Op::LoopEnd ||
+                          op == Op::SwitchEnd || op == Op::FunctionEnd;
+        if (ends) {
+            for (int32_t i : open.back()) end[static_cast<size_t>(i)] = static_cast<int32_t>(k);
+            open.back().clear();
+            if (op != Op::Else && op != Op::LoopContinuePoint && open.size() > 1) open.pop_back();
+        }
+        open.back().push_back(static_cast<int32_t>(k));
+        if (op == Op::IfBegin || op == Op::LoopBegin || op == Op::SwitchBegin || op == Op::FunctionBegin) open.emplace_back();
+    }
+    return end;
+}
+
+bool reads_quad_neighbours(const IrProgram& program) {
+    if (!program.fragment) return false;
+    for (const Instruction& i : program.code) {
+        if (i.op == Op::DFdx || i.op == Op::DFdy) return true;
+        if (i.op == Op::Texture) {
+            const TextureOperands& t = program.textures[static_cast<size_t>(i.texture)];
+            if (t.kind == TextureKind::Sample && (t.lod_mode == TextureLod::Implicit || t.lod_mode == TextureLod::Bias)) return true;
+        }
+    }
+    return false;
+}
+
 bool link_control_flow(IrProgram& program) {
     std::vector<int> stack;
     std::vector<Instruction>& code = program.code;

@@ -129,6 +129,18 @@ struct IrProgram {
     std::string dump() const;  // a readable listing, for tests and debugging
 };
 
+// For every instruction, the index of the end of its straight-line region: the first Else,
+// IfEnd, LoopContinuePoint, LoopEnd, SwitchEnd or FunctionEnd at its own nesting level (or the
+// program's size). Between an instruction and its region end (nested constructs included) the
+// active lanes are always a subset of the lanes active at the instruction: masks only shrink
+// there, and only those instructions restore lanes that left earlier.
+std::vector<int32_t> region_ends(const IrProgram& program);
+
+// True if some lane reads values of the other lanes of its quad: derivatives, and the implicit
+// LOD of fragment texture lookups. Only then can a lane observe values computed in lanes that
+// were inactive.
+bool reads_quad_neighbours(const IrProgram& program);
+
 // Sets `target` of every control instruction (and LoopBegin.imm[0] = its continue point).
 // Returns false if the structure is malformed.
 bool link_control_flow(IrProgram& program);

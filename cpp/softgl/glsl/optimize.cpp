@@ -135,40 +135,16 @@ int eliminate_dead_code(IrProgram& p) {
     return removed;
 }
 
-// Instructions that end a straight-line region at their own nesting level: after them the
-// execution mask may again contain lanes that were inactive before (else branch, continue
-// point, end of a construct).
-bool ends_region(Op op) {
-    switch (op) {
-    case Op::Else: case Op::IfEnd: case Op::LoopContinuePoint: case Op::LoopEnd: case Op::SwitchEnd: case Op::FunctionEnd:
-        return true;
-    default: return false;
-    }
-}
-bool opens_construct(Op op) {
-    return op == Op::IfBegin || op == Op::LoopBegin || op == Op::SwitchBegin || op == Op::FunctionBegin;
-}
-bool closes_construct(Op op) {
-    return op == Op::IfEnd || op == Op::LoopEnd || op == Op::SwitchEnd || op == Op::FunctionEnd;
-}
-
 // Copy propagation: `mov v, t` where the variable v has no other write and every read of v
-// follows the Mov inside its straight-line region (nested constructs included) reads t instead,
-// and the Mov goes. t must not change in between: it is a temporary (defined once, before the
-// Mov), a constant or an input. Inside the region the active lanes are a subset of the lanes
-// the Mov wrote, so every active lane reads the same value as before; inactive lanes now see
-// t instead of v's older value. Only quad neighbours could observe those (derivatives and
-// implicit texture LOD), so fragment programs that have any keep their Movs.
+// follows the Mov inside its straight-line region (region_ends) reads t instead, and the Mov
+// goes. t must not change in between: it is a temporary (defined once, before the Mov), a
+// constant or an input. Inside the region the active lanes are a subset of the lanes the Mov
+// wrote, so every active lane reads the same value as before; inactive lanes now see
+// t instead of v's older value. Only quad neighbours could observe those, so programs that
+// read them keep their Movs.
 int propagate_copies(IrProgram& p) {
     const size_t R = p.register_count;
-    if (p.fragment)
-        for (const Instruction& i : p.code) {
-            if (i.op == Op::DFdx || i.op == Op::DFdy) return 0;
-            if (i.op == Op::Texture) {
-                const TextureOperands& t = p.textures[i.texture];
-                if (t.kind == TextureKind::Sample && (t.lod_mode == TextureLod::Implicit || t.lod_mode == TextureLod::Bias)) return 0;
-            }
-        }
+    if (reads_quad_neighbours(p)) return 0;
     std::vector<int> writes(R, 0), defined_at(R, -1);
     std::vector<uint8_t> pinned(R, 0);  // interface, constant or indexed (array) registers
     for (const Slot& s : p.inputs) if (s.reg < R) pinned[s.reg] = 1;
@@ -184,6 +160,7 @@ int propagate_copies(IrProgram& p) {
     for (const Slot& s : p.inputs) if (s.reg < R) is_input[s.reg] = 1;
     for (const ConstantRegister& c : p.constants) is_constant[c.reg] = 1;
 
+    const std::vector<int32_t> region_end = region_ends(p);
     int removed = 0;
     std::vector<uint8_t> drop(p.code.size(), 0);
     for (size_t k = 0; k < p.code.size(); ++k) {
@@ -194,14 +171,7 @@ int propagate_copies(IrProgram& p) {
         const bool stable = (is_constant[t] && writes[t] == 0) || (is_input[t] && writes[t] == 0) ||
                             (!p.is_variable[t] && writes[t] == 1 && defined_at[t] < static_cast<int>(k));
         if (!stable) continue;
-        // The region: up to the first region end at the Mov's own level.
-        size_t end = k + 1;
-        for (int depth = 0; end < p.code.size(); ++end) {
-            const Op op = p.code[end].op;
-            if (depth == 0 && ends_region(op)) break;
-            if (opens_construct(op)) ++depth;
-            if (closes_construct(op)) --depth;
-        }
+        const size_t end = static_cast<size_t>(region_end[k]);
         bool inside = true;
         for (size_t j = 0; j < p.code.size() && inside; ++j) {
             if (j >= k && j < end) continue;   // (the Mov itself "reads" v: its kept lanes)
