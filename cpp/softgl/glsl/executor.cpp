@@ -248,6 +248,7 @@ Executor::Executor(const IrProgram& program, int batch_lanes) : program_(program
             defined_at[r] = static_cast<int32_t>(k);
         });
     }
+    fuse_products(program, is_slot);
     int depth = 0;
     for (const Instruction& i : program.code) {
         if (i.op == Op::IfBegin || i.op == Op::LoopBegin || i.op == Op::SwitchBegin || i.op == Op::FunctionBegin) max_depth_ = std::max(max_depth_, ++depth);
@@ -258,12 +259,53 @@ Executor::Executor(const IrProgram& program, int batch_lanes) : program_(program
     frames_.reserve(static_cast<size_t>(max_depth_) + 1);
 }
 
+void Executor::fuse_products(const IrProgram& program, const std::vector<uint8_t>& is_slot) {
+    const std::vector<Instruction>& code = program.code;
+    std::vector<int> reads(program.register_count, 0);
+    for (const Instruction& i : code) for_each_read(program, i, [&](Reg r) { ++reads[r]; });
+    // A temporary only the next link of the chain reads.
+    auto single_use = [&](Reg r) { return !program.is_variable[r] && !is_slot[r] && reads[r] == 1; };
+    auto is_mul = [&](size_t k) { return k < code.size() && code[k].op == Op::FMul && single_use(code[k].dst); };
+    IrProgram fused;
+    fused.code.reserve(code.size());
+    for (size_t k = 0; k < code.size();) {
+        if (!(is_mul(k) && is_mul(k + 1) && k + 2 < code.size() && code[k + 2].op == Op::FAdd &&
+              code[k + 2].a == code[k].dst && code[k + 2].b == code[k + 1].dst)) {
+            fused.code.push_back(code[k++]);
+            continue;
+        }
+        std::array<Reg, 8> p{};
+        p.fill(kNoReg);
+        p[0] = code[k].a; p[1] = code[k].b; p[2] = code[k + 1].a; p[3] = code[k + 1].b;
+        int terms = 2;
+        size_t last = k + 2;   // the FAdd holding the sum so far
+        while (terms < 4 && single_use(code[last].dst) && is_mul(last + 1) && last + 2 < code.size() &&
+               code[last + 2].op == Op::FAdd && code[last + 2].a == code[last].dst && code[last + 2].b == code[last + 1].dst) {
+            p[2 * terms] = code[last + 1].a;
+            p[2 * terms + 1] = code[last + 1].b;
+            ++terms;
+            last += 2;
+        }
+        Instruction dot;
+        dot.op = Op::FDot;
+        dot.dst = code[last].dst;
+        dot.imm[0] = static_cast<int32_t>(products_.size());
+        dot.imm[1] = terms;
+        dot.line = code[last].line;
+        products_.push_back(p);
+        fused.code.push_back(dot);
+        k = last + 1;
+    }
+    link_control_flow(fused);
+    code_ = std::move(fused.code);
+}
+
 Executor::~Executor() = default;
 
 void Executor::run(const StageRun& run) {
     const int lanes = std::min(batch_, run.lane_count);
     for (size_t pc = 0; pc < prologue_end_; ++pc) {
-        const Instruction& i = program_.code[pc];
+        const Instruction& i = code_[pc];
         fill(own(i.dst), lanes, run.uniforms ? run.uniforms[i.imm[0]] : Scalar{});
     }
     for (int first = 0; first < run.lane_count; first += batch_) run_batch(run, first, std::min(batch_, run.lane_count - first));
@@ -303,7 +345,7 @@ void Executor::run_batch(const StageRun& run, int first, int lanes) {
 // The interpreter. It is inlined into one function per SIMD level (below), so its lane loops
 // vectorise to that level's width.
 __attribute__((always_inline)) inline void Executor::execute(const int n, const StageRun& run) {
-    const std::vector<Instruction>& code = program_.code;
+    const std::vector<Instruction>& code = code_;
     uint32_t* mask = mask_storage_.data();
     uint32_t* killed = mask_storage_.data() + static_cast<size_t>(2 * max_depth_ + 1) * batch_;
     std::fill_n(mask, n, ~0u);
@@ -414,6 +456,18 @@ __attribute__((always_inline)) inline void Executor::execute(const int n, const 
         case Op::FExp2: CALL1(std::exp2(x))
         case Op::FLog2: CALL1(std::log2(x))
         case Op::FPow: CALL2(std::pow(x, y))
+        case Op::FDot: {
+            // The chain's operations in its order: ((a0*b0 + a1*b1) + a2*b2) + a3*b3.
+            const std::array<Reg, 8>& p = products_[static_cast<size_t>(i.imm[0])];
+            Scalar* d = D;
+            const Scalar *a0 = reg(p[0]), *b0 = reg(p[1]), *a1 = reg(p[2]), *b1 = reg(p[3]);
+            if (i.imm[1] == 2) { LANES d[l].f = a0[l].f * b0[l].f + a1[l].f * b1[l].f; break; }
+            const Scalar *a2 = reg(p[4]), *b2 = reg(p[5]);
+            if (i.imm[1] == 3) { LANES d[l].f = (a0[l].f * b0[l].f + a1[l].f * b1[l].f) + a2[l].f * b2[l].f; break; }
+            const Scalar *a3 = reg(p[6]), *b3 = reg(p[7]);
+            LANES d[l].f = ((a0[l].f * b0[l].f + a1[l].f * b1[l].f) + a2[l].f * b2[l].f) + a3[l].f * b3[l].f;
+            break;
+        }
         case Op::FClamp: F3(f_clamp(x, y, z))
         case Op::FMix: F3(f_mix(x, y, z))
         case Op::FSmoothstep: F3(f_smoothstep(x, y, z))

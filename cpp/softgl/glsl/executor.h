@@ -11,6 +11,7 @@
 // Results never depend on the batch size or lane count: lanes are independent (except inside a
 // quad, and quads are never split as long as batch sizes are multiples of 4).
 #pragma once
+#include <array>
 #include <cstdint>
 #include <stdexcept>
 #include <vector>
@@ -98,8 +99,15 @@ private:
     Scalar* reg(Reg r) { return reg_ptr_[r]; }
     Scalar* own(Reg r) { return registers_.data() + static_cast<size_t>(r) * batch_; }
     void texture(const Instruction& ins, int lanes, const StageRun& run);
+    void fuse_products(const IrProgram& program, const std::vector<uint8_t>& is_slot);
 
     const IrProgram& program_;
+    // The code that runs: the program's, with each chain `fmul, fmul, fadd (, fmul, fadd)...`
+    // of single-use temporaries fused into one FDot (imm[0]: index into products_, imm[1]: the
+    // number of products, 2..4): one pass over the lanes with the same operations in the same
+    // order instead of one pass per instruction.
+    std::vector<Instruction> code_;
+    std::vector<std::array<Reg, 8>> products_;   // a0, b0, a1, b1, ...: sum of a_k * b_k
     int batch_;
     std::vector<Scalar> registers_;
     std::vector<uint32_t> mask_storage_;
