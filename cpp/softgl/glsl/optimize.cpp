@@ -1,5 +1,7 @@
 #include "softgl/glsl/optimize.h"
 
+#include <algorithm>
+#include <limits>
 #include <unordered_map>
 
 #include "softgl/glsl/executor.h"
@@ -156,6 +158,17 @@ int propagate_copies(IrProgram& p) {
             for (int32_t e = 0; e < i.imm[2]; ++e) pinned[static_cast<Reg>(i.imm[0] + e)] = 1;
         for_each_write(p, i, [&](Reg r) { ++writes[r]; defined_at[r] = static_cast<int>(k); });
     }
+    // First and last reader of each register (a Mov's "read" of its own target aside). The
+    // reads of a variable never change below: sources that get propagated are not variables.
+    std::vector<int> first_read(R, std::numeric_limits<int>::max()), last_read(R, -1);
+    for (size_t k = 0; k < p.code.size(); ++k) {
+        const Instruction& i = p.code[k];
+        for_each_read(p, i, [&](Reg r) {
+            if (i.op == Op::Mov && r == i.dst && r != i.a) return;
+            first_read[r] = std::min(first_read[r], static_cast<int>(k));
+            last_read[r] = std::max(last_read[r], static_cast<int>(k));
+        });
+    }
     std::vector<uint8_t> is_input(R, 0), is_constant(R, 0);
     for (const Slot& s : p.inputs) if (s.reg < R) is_input[s.reg] = 1;
     for (const ConstantRegister& c : p.constants) is_constant[c.reg] = 1;
@@ -172,12 +185,7 @@ int propagate_copies(IrProgram& p) {
                             (!p.is_variable[t] && writes[t] == 1 && defined_at[t] < static_cast<int>(k));
         if (!stable) continue;
         const size_t end = static_cast<size_t>(region_end[k]);
-        bool inside = true;
-        for (size_t j = 0; j < p.code.size() && inside; ++j) {
-            if (j >= k && j < end) continue;   // (the Mov itself "reads" v: its kept lanes)
-            for_each_read(p, p.code[j], [&](Reg r) { if (r == v) inside = false; });
-        }
-        if (!inside) continue;
+        if (last_read[v] >= 0 && (first_read[v] <= static_cast<int>(k) || last_read[v] >= static_cast<int>(end))) continue;
         for (size_t j = k + 1; j < end; ++j) {
             Instruction& i = p.code[j];
             for (Reg* r : {&i.a, &i.b, &i.c}) if (*r == v) *r = t;
