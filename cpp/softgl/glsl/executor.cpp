@@ -574,7 +574,7 @@ __attribute__((always_inline)) inline void Executor::execute(const int n, const 
             if (same_in_all_lanes(idx, n)) {
                 const int32_t k = std::min(std::max(offset + idx[0].i, 0), size - 1);
                 Scalar* d = reg(static_cast<Reg>(start + k));
-                if (all) std::memcpy(d, src, sizeof(Scalar) * n);
+                if (all) { if (d != src) std::memcpy(d, src, sizeof(Scalar) * n); }
                 else LANES { d[l].u = (src[l].u & mask[l]) | (d[l].u & ~mask[l]); }
                 break;
             }
