@@ -8,6 +8,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "softgl/api/context.h"
+#include "exclusive.h"   // the Context caster every binding file shares
 #include "softgl/pipeline/fragment_ops.h"
 #include "softgl/pipeline/assemble.h"
 #include "softgl/pipeline/draw.h"
