@@ -102,7 +102,11 @@ GlslFragmentShader::GlslFragmentShader(std::shared_ptr<const glsl::LinkedProgram
         if (s.name == "gl_FragCoord") input_builtin_[i] = s.component;
         else if (s.name == "gl_FrontFacing") input_builtin_[i] = 4;
         else if (s.name == "gl_PointCoord") input_builtin_[i] = 5 + s.component;
-        if (input_builtin_[i] >= 0) builtins_read_ |= 1u << input_builtin_[i];   // FragmentBuiltin bits
+        // FragmentBuiltin bits; the IR declares the built-ins whether or not the shader reads them.
+        const glsl::ShaderUsage& usage = program_->reflection.fragment_usage;
+        const bool read = input_builtin_[i] < 4 ? usage.reads_frag_coord
+                        : input_builtin_[i] == 4 ? usage.reads_front_facing : usage.reads_point_coord;
+        if (input_builtin_[i] >= 0 && read) builtins_read_ |= 1u << input_builtin_[i];
     }
     // DESIGN §4: a shader whose outputs depend only on uniforms gives every lane the same values
     // (lanes are independent; derivatives of uniform values are the same in every lane), so one
