@@ -1,5 +1,6 @@
 #include "softgl/pipeline/interpolate.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstring>
 
@@ -107,18 +108,30 @@ __attribute__((target("avx2"))) void interpolate_avx2(const VaryingInterpolation
         const Plane& pl = k < V ? p.weight[k] : p.inv_w;
         pa[k] = _mm256_set1_pd(pl.a), pb[k] = _mm256_set1_pd(pl.b), pc[k] = _mm256_set1_pd(pl.c);
     }
-    for (size_t i = 0; i < n; ++i) {
-        const double fx0 = pixel_centre_offset(quads[i].x, p.origin_x), fx1 = pixel_centre_offset(quads[i].x + 1, p.origin_x);
-        const double fy0 = pixel_centre_offset(quads[i].y, p.origin_y), fy1 = pixel_centre_offset(quads[i].y + 1, p.origin_y);
-        const __m256d fx = _mm256_setr_pd(fx0, fx1, fx0, fx1), fy = _mm256_setr_pd(fy0, fy0, fy1, fy1);
-        const __m256d q = constant_q ? q_constant : _mm256_div_pd(one, eval_avx2(pa[V], pb[V], pc[V], fx, fy));
-        __m256d w[V];
-        for (int k = 0; k < V; ++k) w[k] = _mm256_mul_pd(eval_avx2(pa[k], pb[k], pc[k], fx, fy), q);
+    // Runs of up to 32 quads: the weights of a run first (4 lanes per quad), then each word over
+    // the run with its vertex values in registers and its output contiguous.
+    constexpr size_t kRun = 32;
+    alignas(32) double weights[V][4 * kRun];
+    for (size_t i0 = 0; i0 < n; i0 += kRun) {
+        const size_t m = std::min(kRun, n - i0);
+        for (size_t i = 0; i < m; ++i) {
+            const Quad& quad = quads[i0 + i];
+            const double fx0 = pixel_centre_offset(quad.x, p.origin_x), fx1 = pixel_centre_offset(quad.x + 1, p.origin_x);
+            const double fy0 = pixel_centre_offset(quad.y, p.origin_y), fy1 = pixel_centre_offset(quad.y + 1, p.origin_y);
+            const __m256d fx = _mm256_setr_pd(fx0, fx1, fx0, fx1), fy = _mm256_setr_pd(fy0, fy0, fy1, fy1);
+            const __m256d q = constant_q ? q_constant : _mm256_div_pd(one, eval_avx2(pa[V], pb[V], pc[V], fx, fy));
+            for (int k = 0; k < V; ++k) _mm256_store_pd(&weights[k][4 * i], _mm256_mul_pd(eval_avx2(pa[k], pb[k], pc[k], fx, fy), q));
+        }
         for (size_t k = 0; k < count; ++k) {
-            __m256d s = _mm256_add_pd(zero, _mm256_mul_pd(w[0], _mm256_broadcast_sd(&values[k])));
-            s = _mm256_add_pd(s, _mm256_mul_pd(w[1], _mm256_broadcast_sd(&values[count + k])));
-            if constexpr (V == 3) s = _mm256_add_pd(s, _mm256_mul_pd(w[2], _mm256_broadcast_sd(&values[2 * count + k])));
-            _mm_storeu_ps(reinterpret_cast<float*>(out + size_t(words[k]) * stride + 4 * i), _mm256_cvtpd_ps(s));
+            const __m256d v0 = _mm256_set1_pd(values[k]), v1 = _mm256_set1_pd(values[count + k]);
+            const __m256d v2 = _mm256_set1_pd(V == 3 ? values[2 * count + k] : 0.0);
+            float* const dst = reinterpret_cast<float*>(out + size_t(words[k]) * stride + 4 * i0);
+            for (size_t i = 0; i < m; ++i) {
+                __m256d s = _mm256_add_pd(zero, _mm256_mul_pd(_mm256_load_pd(&weights[0][4 * i]), v0));
+                s = _mm256_add_pd(s, _mm256_mul_pd(_mm256_load_pd(&weights[1][4 * i]), v1));
+                if constexpr (V == 3) s = _mm256_add_pd(s, _mm256_mul_pd(_mm256_load_pd(&weights[2][4 * i]), v2));
+                _mm_storeu_ps(dst + 4 * i, _mm256_cvtpd_ps(s));
+            }
         }
     }
 }

@@ -31,6 +31,13 @@ const double kPos16[16][2] = {{0.5625, 0.5625}, {0.4375, 0.3125}, {0.3125, 0.625
                               {0.0, 0.5},       {0.9375, 0.25},   {0.875, 0.9375},
                               {0.0625, 0.0}};
 
+// Appends a quad field by field: a Quad built aside and copied whole makes the CPU load 16 bytes
+// just stored as 4 + 4 + 8 (a store-forwarding stall on every quad).
+inline void emit(std::vector<Quad>& out, int32_t x, int32_t y, uint64_t coverage) {
+    Quad& q = out.emplace_back();
+    q.x = x, q.y = y, q.coverage = coverage;
+}
+
 template <int N>
 void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, int32_t y1,
                   const SamplePattern& sp, std::vector<Quad>& out, RasterStats& stats) {
@@ -81,7 +88,7 @@ void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, i
                         if (row1 && col0) cov |= full_pixel << (2 * kQuadPixelBits);
                         if (row1 && col1) cov |= full_pixel << (3 * kQuadPixelBits);
                         if (cov) {
-                            out.push_back(Quad{qx, qy, cov});
+                            emit(out, qx, qy, cov);
                             ++stats.quads;
                         }
                     }
@@ -123,7 +130,7 @@ void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, i
                     }
                     for (int i = 0; i < N; ++i) er[i] += 2 * dx[i];
                     if (cov) {
-                        out.push_back(Quad{qx, qy, cov});
+                        emit(out, qx, qy, cov);
                         ++stats.quads;
                     }
                 }
