@@ -9,6 +9,7 @@
 
 #include "softgl/api/context.h"
 #include "softgl/pipeline/fragment_ops.h"
+#include "softgl/pipeline/early_depth.h"
 #include "softgl/pipeline/interpolate.h"
 #include "softgl/pipeline/assemble.h"
 #include "softgl/pipeline/draw.h"
@@ -212,6 +213,33 @@ void bind_testing(py::module_& m) {
               softgl::interpolate_varyings_at(softgl::SimdLevel(level), vi, q.data(), n,
                                               reinterpret_cast<uint32_t*>(out.mutable_data()), 4 * n);
               return out;
+          });
+    // pipeline/early_depth at one instruction-set level: the depth plane (a, b, c) + offset with its
+    // origin (1/256 pixel), quads (n, 3) int64 rows (x, y, coverage bits), a (h, w) uint32 depth
+    // buffer. Returns (survived (n, 4) uint16, killed, the buffer after the test).
+    t.def("early_depth_test",
+          [](int level, std::array<double, 3> plane, double offset, int64_t origin_x, int64_t origin_y,
+             std::array<int32_t, 2> sample, uint32_t func, bool write,
+             py::array_t<int64_t, py::array::c_style | py::array::forcecast> quads,
+             py::array_t<uint32_t, py::array::c_style | py::array::forcecast> depth) {
+              if (quads.ndim() != 2 || quads.shape(1) != 3 || depth.ndim() != 2)
+                  throw py::value_error("quads (n, 3), depth (h, w)");
+              softgl::PrimitiveSetup p{};
+              p.depth = {plane[0], plane[1], plane[2]};
+              p.depth_offset = offset;
+              p.origin_x = origin_x, p.origin_y = origin_y;
+              const size_t n = size_t(quads.shape(0));
+              std::vector<softgl::Quad> q(n);
+              for (size_t i = 0; i < n; ++i)
+                  q[i] = {int32_t(quads.at(i, 0)), int32_t(quads.at(i, 1)), uint64_t(quads.at(i, 2))};
+              py::array_t<uint32_t> buffer({depth.shape(0), depth.shape(1)});
+              std::memcpy(buffer.mutable_data(), depth.data(), size_t(depth.nbytes()));
+              softgl::EarlyDepth t;
+              t.prim = &p, t.sample_x = sample[0], t.sample_y = sample[1], t.func = func, t.write = write;
+              t.depth = buffer.mutable_data(), t.pitch = size_t(depth.shape(1));
+              py::array_t<uint16_t> survived({py::ssize_t(n), py::ssize_t(4)});
+              const size_t killed = softgl::early_depth_test_at(softgl::SimdLevel(level), t, q.data(), n, survived.mutable_data());
+              return py::make_tuple(survived, killed, buffer);
           });
     t.def("blend_unorm8",
           [](const std::array<uint32_t, 6>& funcs_and_equations, const std::array<float, 4>& constant,

@@ -12,6 +12,7 @@
 #include "softgl/pipeline/coverage.h"
 #include "softgl/pipeline/blend.h"
 #include "softgl/pipeline/depth_stencil.h"
+#include "softgl/pipeline/early_depth.h"
 #include "softgl/pipeline/fog.h"
 #include "softgl/pipeline/fragment_ops.h"
 #include "softgl/pipeline/fragment_sink.h"
@@ -104,27 +105,6 @@ struct DrawScratch {
 DrawScratch& draw_scratch() {
     thread_local DrawScratch scratch;
     return scratch;
-}
-
-// The orderings of (incoming, stored) a depth function accepts: bit 0 less, bit 1 equal, bit 2
-// greater (every ES comparison function is a set of these, ES 3.0 §4.1.6), taken from compare().
-unsigned depth_orderings(GLenum func) {
-    return (compare(func, 0, 1) ? 1u : 0u) | (compare(func, 1, 1) ? 2u : 0u) | (compare(func, 1, 0) ? 4u : 0u);
-}
-
-// Depth test alone (no stencil): the same decisions as depth_stencil_test.
-inline bool depth_only_test(unsigned orderings, bool write, uint32_t z, uint32_t* stored) {
-    const unsigned order = z < *stored ? 1u : z == *stored ? 2u : 4u;
-    if (!(orderings & order)) return false;
-    if (write) *stored = z;
-    return true;
-}
-
-// RenderTarget::depth_word for the drawing buffer's 24-bit depth: floor(clamp(z, 0, 1) *
-// (2^24-1) + 0.5), NaN -> 0. Truncation is floor for these non-negative values.
-inline uint32_t depth24_word(double z) {
-    const double d = z > 0 ? (z < 1 ? z : 1.0) : 0.0;
-    return uint32_t(d * 16777215.0 + 0.5);
 }
 
 }  // namespace
@@ -288,10 +268,18 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
     const bool all_channels = blend.write[0] && blend.write[1] && blend.write[2] && blend.write[3];
     const float* unorm8_table = unorm8_to_float_table();
     const bool shader_depth = fs.writes_depth();
-    // The drawing buffer's depth (24-bit words) is tested inline; framebuffer objects' depth
-    // formats go through RenderTarget.
-    DefaultFramebuffer* const default_depth = fb.default_framebuffer();
-    const unsigned depth_passes = depth_orderings(ds.depth_func);
+    // The common early depth test, one sample on the drawing buffer's 24-bit depth and no stencil,
+    // runs a quad at a time (pipeline/early_depth); anything else sample by sample below.
+    DefaultFramebuffer* const default_fb = fb.default_framebuffer();
+    const bool single_depth = early && ds.depth_test && !ds.stencil_test && S == 1 && !sink && default_fb;
+    EarlyDepth single_depth_test;
+    if (single_depth) {
+        single_depth_test.sample_x = pattern.x[0], single_depth_test.sample_y = pattern.y[0];
+        single_depth_test.func = ds.depth_func;
+        single_depth_test.write = ds.depth_write;
+        single_depth_test.depth = default_fb->depth_samples(0, 0);
+        single_depth_test.pitch = size_t(fb.width());
+    }
 
     auto run_tile = [&](size_t index, unsigned worker) {
         const size_t tile = tiles[index];
@@ -357,30 +345,22 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                 uint16_t* const masks = w.masks.data();   // surviving sample mask per lane
                 size_t kept = 0;
                 if (early && tests) {
-                    // Early depth/stencil (legal when the shader cannot discard or write depth).
-                    for (size_t qi = 0; qi < chunk; ++qi) {
-                        const Quad quad = cq[qi];
-                        uint16_t m4[4];
-                        uint16_t any = 0;
-                        for (int j = 0; j < 4; ++j) {
-                            uint16_t mask = uint16_t(quad_pixel_mask(quad, j));
-                            if (mask) {
-                                const int32_t x = quad.x + (j & 1), y = quad.y + (j >> 1);
-                                uint32_t* depth = default_depth ? default_depth->depth_samples(x, y) : fb.depth_samples(x, y);
-                                if (!ds.stencil_test) {
-                                    for (int s = 0; s < S; ++s) {
-                                        if (!(mask & (1u << s))) continue;
-                                        const double zf = p.depth_at(int64_t(x) * kSubPixel + pattern.x[s],
-                                                                     int64_t(y) * kSubPixel + pattern.y[s]);
-                                        const uint32_t z = default_depth ? depth24_word(zf) : fb.depth_word(zf);
-                                        if (sink) sink->before_depth_stencil(ds, p, x, y, s, z, depth + s, nullptr, true);
-                                        if (!depth_only_test(depth_passes, ds.depth_write, z, depth + s)) {
-                                            mask = uint16_t(mask & ~(1u << s));
-                                            w.stats.fragments_killed_early++;
-                                        }
-                                    }
-                                } else {
-                                    uint8_t* stencil = fb.stencil_samples(x, y);
+                    // Early depth/stencil (legal when the shader cannot discard or write depth),
+                    // then the quads with a surviving sample move to the front (kept <= qi).
+                    uint64_t killed_early = 0;
+                    if (single_depth) {
+                        EarlyDepth t = single_depth_test;
+                        t.prim = &p;
+                        killed_early = early_depth_test(t, cq, chunk, masks);
+                    } else {
+                        for (size_t qi = 0; qi < chunk; ++qi) {
+                            const Quad& quad = cq[qi];
+                            for (int j = 0; j < 4; ++j) {
+                                uint16_t mask = uint16_t(quad_pixel_mask(quad, j));
+                                if (mask) {
+                                    const int32_t x = quad.x + (j & 1), y = quad.y + (j >> 1);
+                                    uint32_t* depth = fb.depth_samples(x, y);
+                                    uint8_t* stencil = ds.stencil_test ? fb.stencil_samples(x, y) : nullptr;
                                     for (int s = 0; s < S; ++s) {
                                         if (!(mask & (1u << s))) continue;
                                         const uint32_t z = fb.depth_word(p.depth_at(int64_t(x) * kSubPixel + pattern.x[s],
@@ -389,21 +369,24 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                                         if (!depth_stencil_test(ds, p.front_facing, z, depth ? depth + s : nullptr,
                                                                 stencil ? stencil + s : nullptr)) {
                                             mask = uint16_t(mask & ~(1u << s));
-                                            w.stats.fragments_killed_early++;
+                                            ++killed_early;
                                         }
                                     }
                                 }
+                                masks[qi * 4 + size_t(j)] = mask;
                             }
-                            m4[j] = mask;
-                            any |= mask;
-                        }
-                        if (any) {
-                            cq[kept] = quad;
-                            if (area) ca[kept] = ca[qi];
-                            std::copy_n(m4, 4, &masks[kept * 4]);
-                            ++kept;
                         }
                     }
+                    for (size_t qi = 0; qi < chunk; ++qi) {
+                        uint64_t m4;
+                        std::memcpy(&m4, &masks[qi * 4], 8);
+                        if (!m4) continue;
+                        cq[kept] = cq[qi];
+                        if (area) ca[kept] = ca[qi];
+                        std::memcpy(&masks[kept * 4], &m4, 8);
+                        ++kept;
+                    }
+                    w.stats.fragments_killed_early += killed_early;
                 } else {
                     for (size_t qi = 0; qi < chunk; ++qi)
                         for (int j = 0; j < 4; ++j) masks[qi * 4 + size_t(j)] = uint16_t(quad_pixel_mask(cq[qi], j));
