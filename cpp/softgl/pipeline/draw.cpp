@@ -281,6 +281,13 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
         single_depth_test.pitch = size_t(fb.width());
     }
 
+    // Single-sampled drawing buffer pixels (as 32-bit words) for prefetching; null when not touched.
+    const size_t pitch = size_t(fb.width());
+    const uint32_t* const color_pixels = drawing_buffer && S == 1 && writes_color
+        ? reinterpret_cast<const uint32_t*>(drawing_buffer->color_sample(0, 0, 0)) : nullptr;
+    const uint32_t* const depth_pixels = single_depth ? single_depth_test.depth : nullptr;
+    constexpr int32_t kPrefetchRows = 16;
+
     auto run_tile = [&](size_t index, unsigned worker) {
         const size_t tile = tiles[index];
         const std::vector<uint32_t>& list = bins.tile(tile);
@@ -296,9 +303,20 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                 const char* next = reinterpret_cast<const char*>(&prims[list[li + 2]]);
                 for (size_t off = 0; off < sizeof(PrimitiveSetup); off += 64) __builtin_prefetch(next + off);
             }
-            if (li + 1 < list.size() && words > 0) {
+            if (li + 1 < list.size()) {
                 const PrimitiveSetup& next = prims[list[li + 1]];
-                for (int v = 0; v < 3; ++v) __builtin_prefetch(&all.varyings[size_t(next.vertex[v]) * size_t(words)]);
+                if (words > 0)
+                    for (int v = 0; v < 3; ++v) __builtin_prefetch(&all.varyings[size_t(next.vertex[v]) * size_t(words)]);
+                // A small primitive's pixels are cold in the colour and depth buffers: fetch its
+                // rows (first and last pixel of each) while this one is drawn.
+                const int32_t x0 = std::max(next.x0, rect.x0), x1 = std::min(next.x1, rect.x1);
+                const int32_t y0 = std::max(next.y0, rect.y0), y1 = std::min(next.y1, rect.y1);
+                if (x0 < x1 && y0 < y1 && y1 - y0 <= kPrefetchRows)
+                    for (int32_t y = y0; y < y1; ++y) {
+                        const size_t first = size_t(y) * pitch + size_t(x0), last = size_t(y) * pitch + size_t(x1 - 1);
+                        if (color_pixels) __builtin_prefetch(color_pixels + first, 1), __builtin_prefetch(color_pixels + last, 1);
+                        if (depth_pixels) __builtin_prefetch(depth_pixels + first, 1), __builtin_prefetch(depth_pixels + last, 1);
+                    }
             }
             const PrimitiveSetup& p = prims[list[li]];
             w.quads.clear();
@@ -482,7 +500,6 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                         // touched (they may lie outside the buffer).
                         uint32_t* const d = w.pixels.data();
                         uint8_t* const color = drawing_buffer->color_sample(0, 0, 0);
-                        const size_t pitch = size_t(fb.width());
                         auto for_each_row = [&](auto move) {
                             for (size_t qi = 0; qi < kept; ++qi) {
                                 const Quad quad = cq[qi];

@@ -187,7 +187,10 @@ void GlslFragmentShader::run(const FragmentBatch& b, FragmentResults& out, unsig
     if (R < L) {
         for (size_t k = 0; k < 4 * written; ++k) {
             float* col = &out.color[k * L];
-            for (size_t lane = R; lane < L; ++lane) col[lane] = col[lane & 3];
+            const float quad[4] = {col[0], col[1], col[2], col[3]};
+            size_t lane = R;
+            for (; (lane & 3) == 0 && lane + 4 <= L; lane += 4) std::memcpy(&col[lane], quad, sizeof quad);
+            for (; lane < L; ++lane) col[lane] = quad[lane & 3];
         }
         if (depth_slot_ >= 0)
             for (size_t lane = R; lane < L; ++lane) out.depth[lane] = out.depth[lane & 3];
