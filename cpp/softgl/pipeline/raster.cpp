@@ -109,22 +109,24 @@ void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, i
                     const bool col0 = qx >= cx0, col1 = qx + 1 < cx1;
                     const bool present[4] = {row0 && col0, row0 && col1, row1 && col0, row1 && col1};
                     uint64_t cov = 0;
-                    for (int j = 0; j < 4; ++j) {
+                    if (S == 1) {
+                        // Branch-free: a pixel is inside when no edge value is negative, i.e. the
+                        // OR of the values has no sign bit.
+                        for (int j = 0; j < 4; ++j) {
+                            int64_t edge_or = 0;
+                            for (int i = 0; i < N; ++i)
+                                edge_or |= er[i] + ((j & 1) ? dx[i] : 0) + ((j >> 1) ? dy[i] : 0);
+                            cov |= uint64_t(edge_or >= 0 && present[j]) << (kQuadPixelBits * j);
+                        }
+                    } else for (int j = 0; j < 4; ++j) {
                         if (!present[j]) continue;
                         int64_t e[N];
                         for (int i = 0; i < N; ++i) e[i] = er[i] + ((j & 1) ? dx[i] : 0) + ((j >> 1) ? dy[i] : 0);
-                        uint64_t m;
-                        if (S == 1) {
+                        uint64_t m = 0;
+                        for (int s = 0; s < S; ++s) {
                             bool in = true;
-                            for (int i = 0; i < N; ++i) in &= e[i] >= 0;
-                            m = uint64_t(in);
-                        } else {
-                            m = 0;
-                            for (int s = 0; s < S; ++s) {
-                                bool in = true;
-                                for (int i = 0; i < N; ++i) in &= e[i] + so[i][s] >= 0;
-                                m |= uint64_t(in) << s;
-                            }
+                            for (int i = 0; i < N; ++i) in &= e[i] + so[i][s] >= 0;
+                            m |= uint64_t(in) << s;
                         }
                         cov |= m << (kQuadPixelBits * j);
                     }
