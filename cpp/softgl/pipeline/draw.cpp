@@ -495,38 +495,37 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                     const uint64_t before = w.stats.samples_written;
                     if (S == 1 && kernel != ColorKernel::Generic) {
                         // Gather the destination pixels (only when the kernel reads them), blend all
-                        // lanes at once, scatter back, a quad row at a time: lanes 0, 1 (2, 3) are
-                        // the adjacent pixels x, x + 1 of row y (y + 1). Uncovered pixels are not
-                        // touched (they may lie outside the buffer).
+                        // lanes at once, scatter back. A whole quad moves as two 8-byte rows (lanes
+                        // 0, 1 and 2, 3 are pixels x, x + 1 of rows y and y + 1), a partial one pixel
+                        // by pixel: uncovered pixels are not touched (they may lie outside the buffer).
                         uint32_t* const d = w.pixels.data();
                         uint8_t* const color = drawing_buffer->color_sample(0, 0, 0);
-                        auto for_each_row = [&](auto move) {
+                        constexpr uint64_t kWholeQuad = 0x0001000100010001u;   // four masks of 1 (S == 1)
+                        auto move_quads = [&](auto to_buffer) {
+                            auto move = [](uint8_t* px, uint32_t* lanes, size_t bytes) {
+                                if constexpr (decltype(to_buffer)::value) std::memcpy(px, lanes, bytes);
+                                else std::memcpy(lanes, px, bytes);
+                            };
+                            uint64_t moved = 0;
                             for (size_t qi = 0; qi < kept; ++qi) {
-                                const Quad quad = cq[qi];
-                                uint16_t m[4];
-                                std::memcpy(m, masks + 4 * qi, sizeof m);
-                                for (int row = 0; row < 2; ++row) {
-                                    const bool left = m[2 * row] != 0, right = m[2 * row + 1] != 0;
-                                    if (left || right)
-                                        move(color + 4 * (size_t(quad.y + row) * pitch + size_t(quad.x)),
-                                             d + 4 * qi + 2 * size_t(row), left, right);
+                                uint8_t* const px = color + 4 * (size_t(cq[qi].y) * pitch + size_t(cq[qi].x));
+                                uint32_t* const lanes = d + 4 * qi;
+                                uint64_t m4;
+                                std::memcpy(&m4, masks + 4 * qi, 8);
+                                if (m4 == kWholeQuad) {
+                                    move(px, lanes, 8);
+                                    move(px + 4 * pitch, lanes + 2, 8);
+                                    moved += 4;
+                                } else {
+                                    for (size_t j = 0; j < 4; ++j)
+                                        if (masks[4 * qi + j]) move(px + 4 * ((j >> 1) * pitch + (j & 1)), lanes + j, 4), ++moved;
                                 }
                             }
+                            return moved;
                         };
-                        if (kernel != ColorKernel::Plain || !all_channels)
-                            for_each_row([](const uint8_t* px, uint32_t* lanes, bool left, bool right) {
-                                if (left && right) std::memcpy(lanes, px, 8);
-                                else if (left) std::memcpy(lanes, px, 4);
-                                else std::memcpy(lanes + 1, px + 4, 4);
-                            });
+                        if (kernel != ColorKernel::Plain || !all_channels) move_quads(std::false_type{});
                         write_color_lanes(kernel, blend, col, L, d, L);
-                        uint64_t written = 0;
-                        for_each_row([&](uint8_t* px, const uint32_t* lanes, bool left, bool right) {
-                            if (left && right) std::memcpy(px, lanes, 8);
-                            else if (left) std::memcpy(px, lanes, 4);
-                            else std::memcpy(px + 4, lanes + 1, 4);
-                            written += uint64_t(left) + uint64_t(right);
-                        });
+                        const uint64_t written = move_quads(std::true_type{});
                         w.stats.samples_written += written;
                     } else switch (kernel) {
                         case ColorKernel::Plain: write_all(std::integral_constant<ColorKernel, ColorKernel::Plain>{}); break;
