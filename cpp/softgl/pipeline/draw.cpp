@@ -268,6 +268,7 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
     const bool all_channels = blend.write[0] && blend.write[1] && blend.write[2] && blend.write[3];
     const float* unorm8_table = unorm8_to_float_table();
     const bool shader_depth = fs.writes_depth();
+    const size_t pitch = size_t(fb.width());   // pixels from one row to the next
     // The common early depth test, one sample on the drawing buffer's 24-bit depth and no stencil,
     // runs a quad at a time (pipeline/early_depth); anything else sample by sample below.
     DefaultFramebuffer* const default_fb = fb.default_framebuffer();
@@ -278,11 +279,10 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
         single_depth_test.func = ds.depth_func;
         single_depth_test.write = ds.depth_write;
         single_depth_test.depth = default_fb->depth_samples(0, 0);
-        single_depth_test.pitch = size_t(fb.width());
+        single_depth_test.pitch = pitch;
     }
 
     // Single-sampled drawing buffer pixels (as 32-bit words) for prefetching; null when not touched.
-    const size_t pitch = size_t(fb.width());
     const uint32_t* const color_pixels = drawing_buffer && S == 1 && writes_color
         ? reinterpret_cast<const uint32_t*>(drawing_buffer->color_sample(0, 0, 0)) : nullptr;
     const uint32_t* const depth_pixels = single_depth ? single_depth_test.depth : nullptr;
