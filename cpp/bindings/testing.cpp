@@ -10,6 +10,8 @@
 #include "softgl/api/context.h"
 #include "exclusive.h"   // the Context caster every binding file shares
 #include "softgl/pipeline/fragment_ops.h"
+#include "softgl/pipeline/early_depth.h"
+#include "softgl/pipeline/interpolate.h"
 #include "softgl/pipeline/assemble.h"
 #include "softgl/pipeline/draw.h"
 #include "softgl/pipeline/passthrough_shaders.h"
@@ -184,6 +186,62 @@ void bind_testing(py::module_& m) {
           py::arg("dst"), py::arg("lanes"), py::arg("level") = -1);
     // The lane kernels' instruction-set levels: 0 scalar, 1 SSE2, 2 AVX2; the best this CPU runs.
     t.def("simd_level", [] { return int(softgl::best_simd_level()); });
+    // pipeline/interpolate at one instruction-set level: planes (4, 3) float64 rows (a, b, c) of
+    // weight[0..2] and inv_w, origin in 1/256 pixel, quads (n, 2) int32 lower-left pixels,
+    // values (vertices, words) float32. Returns (words, 4n) float32, lane 4*i + j = pixel j of quad i.
+    t.def("interpolate_varyings",
+          [](int level, py::array_t<double, py::array::c_style | py::array::forcecast> planes, int64_t origin_x,
+             int64_t origin_y, py::array_t<int32_t, py::array::c_style | py::array::forcecast> quads,
+             py::array_t<float, py::array::c_style | py::array::forcecast> values) {
+              if (planes.ndim() != 2 || planes.shape(0) != 4 || planes.shape(1) != 3 || quads.ndim() != 2 ||
+                  quads.shape(1) != 2 || values.ndim() != 2 || (values.shape(0) != 2 && values.shape(0) != 3))
+                  throw py::value_error("planes (4, 3), quads (n, 2), values (2 or 3, words)");
+              softgl::PrimitiveSetup p{};
+              softgl::Plane* pl[4] = {&p.weight[0], &p.weight[1], &p.weight[2], &p.inv_w};
+              for (int k = 0; k < 4; ++k) *pl[k] = {planes.at(k, 0), planes.at(k, 1), planes.at(k, 2)};
+              p.origin_x = origin_x, p.origin_y = origin_y;
+              const size_t n = size_t(quads.shape(0)), count = size_t(values.shape(1));
+              std::vector<softgl::Quad> q(n);
+              for (size_t i = 0; i < n; ++i) q[i] = {quads.at(i, 0), quads.at(i, 1), ~uint64_t(0)};
+              std::vector<int> words(count);
+              std::vector<double> vals(size_t(values.shape(0)) * count);
+              for (size_t k = 0; k < count; ++k) words[k] = int(k);
+              for (size_t v = 0; v < size_t(values.shape(0)); ++v)
+                  for (size_t k = 0; k < count; ++k) vals[v * count + k] = double(values.at(v, k));
+              softgl::VaryingInterpolation vi;
+              vi.prim = &p, vi.vertices = int(values.shape(0)), vi.count = count, vi.words = words.data(), vi.values = vals.data();
+              py::array_t<float> out({py::ssize_t(count), py::ssize_t(4 * n)});
+              softgl::interpolate_varyings_at(softgl::SimdLevel(level), vi, q.data(), n,
+                                              reinterpret_cast<uint32_t*>(out.mutable_data()), 4 * n);
+              return out;
+          });
+    // pipeline/early_depth at one instruction-set level: the depth plane (a, b, c) + offset with its
+    // origin (1/256 pixel), quads (n, 3) int64 rows (x, y, coverage bits), a (h, w) uint32 depth
+    // buffer. Returns (survived (n, 4) uint16, killed, the buffer after the test).
+    t.def("early_depth_test",
+          [](int level, std::array<double, 3> plane, double offset, int64_t origin_x, int64_t origin_y,
+             std::array<int32_t, 2> sample, uint32_t func, bool write,
+             py::array_t<int64_t, py::array::c_style | py::array::forcecast> quads,
+             py::array_t<uint32_t, py::array::c_style | py::array::forcecast> depth) {
+              if (quads.ndim() != 2 || quads.shape(1) != 3 || depth.ndim() != 2)
+                  throw py::value_error("quads (n, 3), depth (h, w)");
+              softgl::PrimitiveSetup p{};
+              p.depth = {plane[0], plane[1], plane[2]};
+              p.depth_offset = offset;
+              p.origin_x = origin_x, p.origin_y = origin_y;
+              const size_t n = size_t(quads.shape(0));
+              std::vector<softgl::Quad> q(n);
+              for (size_t i = 0; i < n; ++i)
+                  q[i] = {int32_t(quads.at(i, 0)), int32_t(quads.at(i, 1)), uint64_t(quads.at(i, 2))};
+              py::array_t<uint32_t> buffer({depth.shape(0), depth.shape(1)});
+              std::memcpy(buffer.mutable_data(), depth.data(), size_t(depth.nbytes()));
+              softgl::EarlyDepth t;
+              t.prim = &p, t.sample_x = sample[0], t.sample_y = sample[1], t.func = func, t.write = write;
+              t.depth = buffer.mutable_data(), t.pitch = size_t(depth.shape(1));
+              py::array_t<uint16_t> survived({py::ssize_t(n), py::ssize_t(4)});
+              const size_t killed = softgl::early_depth_test_at(softgl::SimdLevel(level), t, q.data(), n, survived.mutable_data());
+              return py::make_tuple(survived, killed, buffer);
+          });
     t.def("blend_unorm8",
           [](const std::array<uint32_t, 6>& funcs_and_equations, const std::array<float, 4>& constant,
              const std::array<bool, 4>& mask, bool has_alpha,
