@@ -40,42 +40,38 @@ def clip_polygon(verts):
 
 
 def reference(tri, margin=0.01):
-    """(inside, ambiguous) pixel masks of a clip-space triangle (float32 values), exact: the sign of
-    every pixel centre against every edge of the clipped polygon is computed in integers, only
-    the distance compared with `margin` (pixels) is rounded."""
+    """(inside, ambiguous) pixel masks of a clip-space triangle (float32 values). Exact: the side
+    of every pixel centre of every edge of the clipped polygon is an integer's sign; only the
+    distance compared with `margin` (pixels) is rounded."""
     poly = clip_polygon(np.asarray(tri, np.float32).astype(np.float64))
     # Inside the clip volume only the origin has w = 0. It is no point of the projective plane and
     # adds nothing to the picture: a point t*O + (1-t)*Q divides to the same window position as Q.
-    poly = [p for p in poly if p[3] != 0]
+    poly = [(p[0], p[1], p[3]) for p in poly if p[3] != 0]
     inside = np.zeros((H, W), bool)
     if len(poly) < 3:
         return inside, inside.copy()
-    # Edge lines in homogeneous window-independent (x, y, w): L = P_i x P_j. For w_i, w_j > 0 the
-    # sign of L . (X, Y, 1) is that of the 2D orientation of (P_i/w_i, P_j/w_j, (X, Y)).
-    ndc = [(p[0] / p[3], p[1] / p[3]) for p in poly]
+    ndc = [(x / w, y / w) for x, y, w in poly]
     area2 = sum(a[0] * b[1] - b[0] * a[1] for a, b in zip(ndc, ndc[1:] + ndc[:1]))
     orient = 1 if area2 > 0 else -1
-    # Pixel centre (px + 1/2, py + 1/2) is NDC ((2 px + 1 - W) / W, ...): multiply through by W (= H).
-    cx, cy = np.meshgrid(np.arange(W) * 2 + 1 - W, np.arange(H) * 2 + 1 - H)
-    cx, cy = cx.astype(object), cy.astype(object)
+    # Pixel centres in NDC times W (= H): (2 px + 1 - W, 2 py + 1 - H), as Python integers.
+    cx, cy = (c.astype(object) for c in np.meshgrid(np.arange(W) * 2 + 1 - W, np.arange(H) * 2 + 1 - H))
     d_min = np.full((H, W), np.inf)
-    for i in range(len(poly)):
-        a, b = poly[i], poly[(i + 1) % len(poly)]
-        line = [orient * (a[1] * b[3] - a[3] * b[1]), orient * (a[3] * b[0] - a[0] * b[3]),
+    for a, b in zip(poly, poly[1:] + poly[:1]):
+        # The edge's line L = a x b in homogeneous (x, y, w): with w_a, w_b > 0, L . (X, Y, 1) has
+        # the sign of the orientation of (a/w_a, b/w_b, (X, Y)); times `orient`, >= 0 inside.
+        line = [orient * (a[1] * b[2] - a[2] * b[1]), orient * (a[2] * b[0] - a[0] * b[2]),
                 orient * (a[0] * b[1] - a[1] * b[0])]
         if not any(line):
             continue   # a repeated vertex
-        den = 1
-        for c in line:
-            den = den * c.denominator // math.gcd(den, c.denominator)
+        den = math.lcm(*(c.denominator for c in line))
         lx, ly, lw = (int(c * den) for c in line)
-        side = np.sign(lx * cx + ly * cy + lw * W).astype(float)   # exact integers
-        # Distance in pixels for the margin: (L . centre) / |(lx, ly)| NDC units, W/2 pixels each.
-        scale = max(abs(lx), abs(ly), abs(lw))
-        fx, fy, fw = (float(Fraction(c, scale)) for c in (lx, ly, lw))
-        with np.errstate(divide="ignore", invalid="ignore"):
-            dist = np.abs(fx * cx.astype(float) / W + fy * cy.astype(float) / W + fw) / np.hypot(fx, fy) * W / 2
-        d_min = np.minimum(d_min, np.where(side == 0, 0.0, side * np.nan_to_num(dist, nan=np.inf, posinf=np.inf)))
+        side = np.sign(lx * cx + ly * cy + lw * W).astype(float)
+        # Distance in pixels for the margin: (L . centre) / |(lx, ly)| in NDC units of W/2 pixels.
+        big = max(abs(lx), abs(ly), abs(lw))
+        fx, fy, fw = (float(Fraction(c, big)) for c in (lx, ly, lw))
+        with np.errstate(divide="ignore"):
+            dist = np.abs(fx * cx.astype(float) + fy * cy.astype(float) + fw * W) / (2 * np.hypot(fx, fy))
+        d_min = np.minimum(d_min, np.where(side == 0, 0.0, side * dist))
     if area2 == 0:
         return inside, np.abs(d_min) <= margin
     return d_min > margin, np.abs(d_min) <= margin

@@ -8,7 +8,7 @@ Clipper::Clipper(const Viewport& vp) {
     auto set = [&](int i, double a, double b, double c, double d) {
         plane_[i][0] = a; plane_[i][1] = b; plane_[i][2] = c; plane_[i][3] = d;
     };
-    set(0, 0, 0, 0, 1);            // w >= 0
+    set(0, 0, 0, 0, 1);            // w >= 0 (implied by near, far; first: later planes see w >= 0)
     set(1, 0, 0, 1, 1);            // z + w >= 0         (ES 3.0 §2.17: -w <= z)
     set(2, 0, 0, -1, 1);           // w - z >= 0         (z <= w)
     // Window x = sx * x/w + ox >= -g  <=>  sx*x + (ox + g)*w >= 0 (for w > 0; w is clipped first).

@@ -64,7 +64,8 @@ class Clipper {
 public:
     explicit Clipper(const Viewport& viewport);
 
-    // Signed distance of v to plane i (>= 0 inside); a linear function of v.
+    // Signed distance of v to plane i (>= 0 inside); a linear function of v, rounded. Only used to
+    // pick the planes to clip against (outcode); clipping recomputes distances exactly.
     double distance(int plane, const Vec4d& v) const;
     // Bit i set when v is outside plane i.
     uint32_t outcode(const Vec4d& v) const;
