@@ -57,6 +57,7 @@ public:
 
 private:
     void add(double x) {   // Grow-Expansion with zero elimination
+        if (x == 0) return;   // most product errors: products of float32 values are exact
         int m = 0;
         for (int i = 0; i < count_; ++i) {
             const double s = x + part_[i];
