@@ -32,10 +32,11 @@ uint32_t Clipper::outcode(const Vec4d& v) const {
 
 namespace {
 
-// A sum of up to 16 products, exact (Shewchuk's expansion arithmetic: the sum is kept as
-// non-overlapping doubles, built with Knuth's TwoSum and Dekker's TwoProduct), rounded once at the
-// end. Plain double operations: the same result on every CPU. Cancellation between the terms costs
-// nothing, whatever their magnitudes (float32 positions span 2^-149 .. 2^128).
+// An exact sum of products (Shewchuk's expansion arithmetic: the sum is kept as non-overlapping
+// doubles, built with Knuth's TwoSum and Dekker's TwoProduct), rounded once at the end. Plain double
+// operations: the same result on every CPU. Cancellation between the terms costs nothing, whatever
+// their magnitudes (float32 positions span 2^-149 .. 2^128). Room for 16 doubles: a clip plane has
+// at most two non-zero coefficients, so intersect() adds at most four triple products.
 class ExactSum {
 public:
     void add_product(double a, double b) {
@@ -99,9 +100,9 @@ double exact_distance(const double* p, const Vec4d& v) {
 // clip.h. No parameter t is involved, so nothing needs clamping.
 //
 // The numerator is evaluated as sum_j n_j (in_j out_k - in_k out_j) (the segment's Plucker
-// coordinates), exactly (ExactSum): P is the exact crossing of the two (double) endpoints, rounded
-// about once per coordinate. Interpolating in + t (out - in) instead leaves an
-// error of about 2^-53 of the larger endpoint, which is more than the point itself when
+// coordinates), exactly (ExactSum), and so are the distances: P is the exact crossing of the two
+// (double) endpoints up to three roundings per coordinate. Interpolating in + t (out - in) instead
+// leaves an error of about 2^-53 of the larger endpoint, which is more than the point itself when
 //  - the crossing lies next to a tiny vertex (w = -1e-6 behind the eye) and the other has w = 1,
 //  - or the edge joins two vertices at, say, +-1e30 and crosses a guard-band plane near 0.
 // On a plane the constrained coordinate cancels exactly: the crossing of w = 0 has w = 0.
