@@ -229,3 +229,17 @@ def test_clipped_mesh_is_watertight(seed):
                 | (np.abs(np.abs(x) - 6) < 0.4))
     sure = ~edge
     np.testing.assert_array_equal(count[sure], inside[sure].astype(np.uint32))
+
+
+def test_clipping_is_the_same_for_any_thread_count():
+    # Triangles crossing w = 0, near and far, with vertices from 2^-149 to 1e30: the clipped
+    # coverage, depth and weights are bit-identical whatever the number of threads.
+    rng = np.random.default_rng(3)
+    clip = rng.uniform(-2, 2, (600, 4)) * 10.0 ** rng.integers(-40, 30, (600, 1))
+    clip[:, 3] = rng.uniform(-1, 2, 600) * 10.0 ** rng.integers(-40, 2, 600)
+    clip = clip.astype(np.float32)
+    runs = [coverage(W, H, clip, threads=t) for t in (1, 2, 3)]
+    assert runs[0]["setup"]["clipped"] > 50
+    for r in runs[1:]:
+        for key in ("count", "depth", "last", "weights"):
+            np.testing.assert_array_equal(r[key], runs[0][key])
