@@ -17,6 +17,7 @@
 #include "softgl/pipeline/passthrough_shaders.h"
 #include "softgl/pipeline/blend.h"
 #include "softgl/pipeline/depth_stencil.h"
+#include "softgl/pipeline/clip.h"
 
 namespace py = pybind11;
 
@@ -267,4 +268,28 @@ void bind_testing(py::module_& m) {
                   softgl::blend_unorm8(op, src.data(i, 0), out.mutable_data(i, 0));
               return out;
           });
+    // The clipper alone (pipeline/clip): triangle (3, 4) float32 in clip coordinates, full-target
+    // viewport. Returns the clipped polygon's clip positions (n, 4) and weights (n, 3), float64.
+    t.def("clip_triangle",
+          [](py::array_t<float, py::array::c_style | py::array::forcecast> tri, int32_t width,
+             int32_t height) {
+              if (tri.ndim() != 2 || tri.shape(0) != 3 || tri.shape(1) != 4)
+                  throw py::value_error("triangle must be (3, 4)");
+              softgl::Viewport vp;
+              vp.width = width;
+              vp.height = height;
+              softgl::Vec4d v[3];
+              for (int i = 0; i < 3; ++i) v[i] = {tri.at(i, 0), tri.at(i, 1), tri.at(i, 2), tri.at(i, 3)};
+              softgl::ClipVertex out[softgl::kMaxClipVertices];
+              const int n = softgl::Clipper(vp).clip_triangle(v, out);
+              py::array_t<double> pos({py::ssize_t(n), py::ssize_t(4)}), weights({py::ssize_t(n), py::ssize_t(3)});
+              for (int i = 0; i < n; ++i) {
+                  const softgl::Vec4d& p = out[i].position;
+                  const double c[4] = {p.x, p.y, p.z, p.w};
+                  for (int k = 0; k < 4; ++k) *pos.mutable_data(i, k) = c[k];
+                  for (int k = 0; k < 3; ++k) *weights.mutable_data(i, k) = out[i].weight[k];
+              }
+              return py::make_tuple(pos, weights);
+          },
+          py::arg("triangle"), py::arg("width"), py::arg("height"));
 }

@@ -237,8 +237,11 @@ void Setup::point(const float* p, float size, uint32_t index, uint32_t primitive
     // ES 3.0 §2.17: a point is clipped by its centre, but only against w, near and far here: in x
     // and y a wide point whose centre is off-screen still draws its visible part (WebGL
     // conformance clipping-wide-points). Centres beyond the guard band are dropped (they are
-    // 2^20 pixels away from any pixel).
-    if (clipper_.outcode(v) & (kClipW | kClipNear | kClipFar)) { ++stats.outside; return; }
+    // 2^20 pixels away from any pixel). w = 0 leaves only the origin, which is no point (clip.h).
+    if ((clipper_.outcode(v) & (kClipW | kClipNear | kClipFar)) || !(v.w > 0)) {
+        ++stats.outside;
+        return;
+    }
     const Viewport& vp = state_.viewport;
     const double xw = vp.scale_x() * (v.x / v.w) + vp.offset_x();
     const double yw = vp.scale_y() * (v.y / v.w) + vp.offset_y();
