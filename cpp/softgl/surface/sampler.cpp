@@ -1,6 +1,7 @@
 #include "softgl/surface/sampler.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 
@@ -222,7 +223,7 @@ void incomplete_result(const glsl::TextureQuery& q, int l) {
 
 }  // namespace
 
-void TextureUnitSampler::sample(const glsl::TextureQuery& q) {
+void TextureUnitSampler::sample_lanes(const glsl::TextureQuery& q) const {
     const int dim = dim_index(q.dim);
     const bool cube = q.dim == SamplerDim::Cube, is3d = q.dim == SamplerDim::Tex3D;
     for (int l = 0; l < q.lane_count; ++l) {
@@ -383,6 +384,194 @@ void TextureUnitSampler::sample(const glsl::TextureQuery& q) {
                 }
         }
     }
+}
+
+// ---------------------------------------------------------------------------- the 2D fast path
+//
+// The same formulas as sample_lanes in the same order (so the same bits), with what does not
+// change across a query resolved once: the texture, its level images, the filters and wraps.
+// Texels are read straight from the float storage (Image::texel of a Float-kind format).
+
+namespace {
+
+std::atomic<bool> fast_path_enabled{true};
+
+// One level of a 2D / 2D array texture.
+struct Plane {
+    const float* texels;   // 4 floats per texel, layer-major then row-major
+    int32_t width, height, layers;
+    bool width_pot, height_pot;
+};
+
+// wrap() for a texel coordinate and its right/upper neighbour, as used by LINEAR (REPEAT of a
+// power of two masks: the same as the modulo for any int in two's complement).
+inline void wrap_pair(GLenum mode, int32_t i, int32_t size, bool pot, int32_t& a, int32_t& b) {
+    switch (mode) {
+        case gl::REPEAT:
+            a = pot ? i & (size - 1) : wrap(mode, i, size);
+            b = a + 1 == size ? 0 : a + 1;
+            return;
+        case gl::CLAMP_TO_EDGE:
+            a = std::clamp(i, 0, size - 1);
+            b = std::clamp(i + 1, 0, size - 1);
+            return;
+        default:
+            a = wrap(mode, i, size);
+            b = wrap(mode, i + 1, size);
+            return;
+    }
+}
+
+inline int32_t wrap_one(GLenum mode, int32_t i, int32_t size, bool pot) {
+    return mode == gl::REPEAT && pot ? i & (size - 1) : wrap(mode, i, size);
+}
+
+struct Fast2D {
+    GLenum wrap_s, wrap_t;
+    int off_s, off_t;
+
+    // Level::filter of one plane.
+    void filter(const Plane& p, bool linear, float s, float t, float r, float out[4]) const {
+        const float u = s * float(p.width) + float(off_s), v = t * float(p.height) + float(off_t);
+        const int32_t layer = p.layers == 1 ? 0 : std::clamp(ifloor(r + 0.5f), 0, p.layers - 1);
+        const float* plane = p.texels + size_t(layer) * size_t(p.height) * size_t(p.width) * 4;
+        if (!linear) {
+            const int32_t i = wrap_one(wrap_s, ifloor(u), p.width, p.width_pot);
+            const int32_t j = wrap_one(wrap_t, ifloor(v), p.height, p.height_pot);
+            const float* texel = plane + (size_t(j) * size_t(p.width) + size_t(i)) * 4;
+            for (int c = 0; c < 4; ++c) out[c] = texel[c];
+            return;
+        }
+        const float u0 = u - 0.5f, v0 = v - 0.5f;
+        int32_t i0, i1, j0, j1;
+        wrap_pair(wrap_s, ifloor(u0), p.width, p.width_pot, i0, i1);
+        wrap_pair(wrap_t, ifloor(v0), p.height, p.height_pot, j0, j1);
+        const float a = u0 - std::floor(u0), b = v0 - std::floor(v0);
+        const float* row0 = plane + size_t(j0) * size_t(p.width) * 4;
+        const float* row1 = plane + size_t(j1) * size_t(p.width) * 4;
+        const float* t00 = row0 + size_t(i0) * 4;
+        const float* t10 = row0 + size_t(i1) * 4;
+        const float* t01 = row1 + size_t(i0) * 4;
+        const float* t11 = row1 + size_t(i1) * 4;
+        const float w00 = (1 - a) * (1 - b), w10 = a * (1 - b), w01 = (1 - a) * b, w11 = a * b;
+        for (int c = 0; c < 4; ++c) out[c] = w00 * t00[c] + w10 * t10[c] + w01 * t01[c] + w11 * t11[c];
+    }
+};
+
+}  // namespace
+
+bool set_sampler_fast_path(bool enabled) { return fast_path_enabled.exchange(enabled); }
+
+bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q) const {
+    if (q.kind != TextureKind::Sample || q.shadow || q.result != BaseType::Float ||
+        (q.dim != SamplerDim::Tex2D && q.dim != SamplerDim::Tex2DArray))
+        return false;
+    // One unit for every active lane (sampler uniforms are uniform; anything else goes per lane).
+    int first = 0;
+    while (first < q.lane_count && q.active && !q.active[first]) ++first;
+    if (first == q.lane_count) return false;
+    const int32_t unit = q.unit[first].i;
+    for (int l = first + 1; l < q.lane_count; ++l)
+        if ((!q.active || q.active[l]) && q.unit[l].i != unit) return false;
+    if (unit < 0 || unit >= kSamplerUnits) return false;
+    const BoundTexture& bt = units[size_t(unit)][size_t(dim_index(q.dim))];
+    if (!bt.texture) return false;
+    const Texture& tex = *bt.texture;
+
+    // The levels [base, top] (all defined, of one float-sampled format, on a complete texture).
+    std::array<Plane, 16> planes;
+    if (bt.q < bt.base || bt.q - bt.base >= int32_t(planes.size())) return false;
+    for (int32_t level = bt.base; level <= bt.q; ++level) {
+        const Image* img = tex.find(0, level);
+        if (!img || img->format->kind() != SampleKind::Float || img->color.size() != img->texel_count() * 4) return false;
+        planes[size_t(level - bt.base)] = {img->color.data(), img->width, img->height, img->depth,
+                                           is_power_of_two(img->width), is_power_of_two(img->height)};
+    }
+    const Plane& base_plane = planes[0];
+    const SamplerParams& p = bt.params;
+    const Fast2D f{p.wrap_s, p.wrap_t, q.offset[0], q.offset[1]};
+    const int32_t base = bt.base, top = bt.q;
+    const bool mag_linear = p.mag_filter == gl::LINEAR;
+    const GLenum mf = p.min_filter;
+    const bool min_linear = mf == gl::LINEAR || mf == gl::LINEAR_MIPMAP_NEAREST || mf == gl::LINEAR_MIPMAP_LINEAR;
+    const bool mipmapped = !(mf == gl::NEAREST || mf == gl::LINEAR || top == base);
+    // Without mipmaps and with the same filter both ways, lambda picks nothing: skip it.
+    const bool needs_lambda = mipmapped || min_linear != mag_linear;
+    const float w = float(base_plane.width), h = float(base_plane.height);
+    // The last rho² and its lambda: neighbouring lanes often share derivatives, log2 is dear.
+    double last_rho2 = -1.0;
+    float last_lambda = 0.0f;
+
+    for (int l = 0; l < q.lane_count; ++l) {
+        float result[4] = {0, 0, 0, 1};
+        if (q.active && !q.active[l]) {
+            for (int c = 0; c < 4; ++c) if (q.out[c]) q.out[c][l].f = result[c];
+            continue;
+        }
+        const float s = q.coord[0] ? q.coord[0][l].f : 0.0f, t = q.coord[1] ? q.coord[1][l].f : 0.0f;
+        const float r = q.coord[2] ? q.coord[2][l].f : 0.0f;
+        if (!needs_lambda) {
+            f.filter(base_plane, mag_linear, s, t, r, result);
+        } else {
+            // ES 3.0 §3.8.10.1-2 as in sample_lanes; max(sqrt(x), sqrt(y)) = sqrt(max(x, y)) as
+            // sqrt is correctly rounded (monotonic), and std::max keeps the same NaN.
+            float lambda;
+            if (q.lod_mode == TextureLod::Explicit) {
+                lambda = q.lod ? q.lod[l].f : 0.0f;
+            } else {
+                float dx[3] = {0, 0, 0}, dy[3] = {0, 0, 0};
+                for (int k = 0; k < 3; ++k) {
+                    if (q.ddx[k]) dx[k] = q.ddx[k][l].f;
+                    if (q.ddy[k]) dy[k] = q.ddy[k][l].f;
+                }
+                double lx2 = double(dx[0] * w) * (dx[0] * w) + double(dx[1] * h) * (dx[1] * h);
+                double ly2 = double(dy[0] * w) * (dy[0] * w) + double(dy[1] * h) * (dy[1] * h);
+                // The third term (d = 0 off 3D) is +0, which adds nothing, unless dx[2] is not finite.
+                if (q.ddx[2]) lx2 += double(dx[2] * 0.0f) * (dx[2] * 0.0f);
+                if (q.ddy[2]) ly2 += double(dy[2] * 0.0f) * (dy[2] * 0.0f);
+                const double rho2 = std::max(lx2, ly2);
+                if (rho2 != last_rho2) {
+                    const double rho = std::sqrt(rho2);
+                    last_rho2 = rho2;
+                    last_lambda = rho > 0 ? float(std::log2(rho)) : -INFINITY;
+                }
+                lambda = last_lambda;
+                if (q.lod_mode == TextureLod::Bias && q.lod) lambda += q.lod[l].f;
+            }
+            lambda = std::clamp(lambda, p.min_lod, p.max_lod);
+            if (!(lambda > 0.0f)) {
+                f.filter(base_plane, mag_linear, s, t, r, result);
+            } else if (!mipmapped) {
+                f.filter(base_plane, min_linear, s, t, r, result);
+            } else if (mf == gl::NEAREST_MIPMAP_NEAREST || mf == gl::LINEAR_MIPMAP_NEAREST) {
+                int32_t level;
+                if (lambda <= 0.5f) level = base;
+                else if (float(base) + lambda <= float(top) + 0.5f) level = int32_t(std::ceil(float(base) + lambda + 0.5f)) - 1;
+                else level = top;
+                f.filter(planes[size_t(level - base)], min_linear, s, t, r, result);
+            } else {
+                int32_t d1, d2;
+                if (lambda >= float(top - base)) d1 = d2 = top;
+                else d1 = base + int32_t(std::floor(lambda)), d2 = d1 + 1;
+                const float frac = lambda - std::floor(lambda);
+                float a[4], b[4];
+                f.filter(planes[size_t(d1 - base)], min_linear, s, t, r, a);
+                if (d2 == d1) {
+                    std::copy(a, a + 4, result);
+                } else {
+                    f.filter(planes[size_t(d2 - base)], min_linear, s, t, r, b);
+                    for (int c = 0; c < 4; ++c) result[c] = (1 - frac) * a[c] + frac * b[c];
+                }
+            }
+        }
+        for (int c = 0; c < 4; ++c) if (q.out[c]) q.out[c][l].f = result[c];
+    }
+    return true;
+}
+
+void TextureUnitSampler::sample(const glsl::TextureQuery& q) {
+    if (fast_path_enabled.load(std::memory_order_relaxed) && sample_2d(q)) return;
+    sample_lanes(q);
 }
 
 }  // namespace softgl

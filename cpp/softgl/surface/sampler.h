@@ -31,7 +31,18 @@ public:
     // units[unit][dim]: dim 0 = 2D, 1 = 3D, 2 = cube, 3 = 2D array.
     std::array<std::array<BoundTexture, 4>, kSamplerUnits> units;
     void sample(const glsl::TextureQuery& query) override;
+
+private:
+    // The general path: every lane on its own, any texture kind and dimension.
+    void sample_lanes(const glsl::TextureQuery& query) const;
+    // The common case, resolved once per query: filtered lookups of one 2D / 2D array texture of
+    // a colour format that samples as float. False (nothing written) when the query is not that.
+    bool sample_2d(const glsl::TextureQuery& query) const;
 };
+
+// Testing: off sends every lookup through the general path (the fast path must give the same
+// bits). Returns the previous setting.
+bool set_sampler_fast_path(bool enabled);
 
 int dim_index(glsl::SamplerDim dim);
 
