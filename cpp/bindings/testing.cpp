@@ -184,7 +184,7 @@ void bind_testing(py::module_& m) {
     // The lane kernels' instruction-set levels: 0 scalar, 1 SSE2, 2 AVX2; the best this CPU runs.
     t.def("simd_level", [] { return int(softgl::best_simd_level()); });
     // Texture lookups: whether the 2D fast path may run (off: the general per-lane path);
-    // returns the previous setting.
+    // returns how many queries it served since the previous call.
     t.def("sampler_fast_path", [](bool enabled) { return softgl::set_sampler_fast_path(enabled); });
     t.def("blend_unorm8",
           [](const std::array<uint32_t, 6>& funcs_and_equations, const std::array<float, 4>& constant,

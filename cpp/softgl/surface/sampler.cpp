@@ -394,7 +394,11 @@ void TextureUnitSampler::sample_lanes(const glsl::TextureQuery& q) const {
 
 namespace {
 
-std::atomic<bool> fast_path_enabled{true};
+// On by default; the testing hook switches it off, or on and counted (so that tests can see
+// that the fast path ran, at no cost to the default).
+enum FastPathMode : int { kFastPathOn, kFastPathOff, kFastPathCounted };
+std::atomic<int> fast_path_mode{kFastPathOn};
+std::atomic<uint64_t> fast_path_queries{0};
 
 // One level of a 2D / 2D array texture.
 struct Plane {
@@ -460,7 +464,10 @@ struct Fast2D {
 
 }  // namespace
 
-bool set_sampler_fast_path(bool enabled) { return fast_path_enabled.exchange(enabled); }
+uint64_t set_sampler_fast_path(bool enabled) {
+    fast_path_mode = enabled ? kFastPathCounted : kFastPathOff;
+    return fast_path_queries.exchange(0);
+}
 
 bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q) const {
     if (q.kind != TextureKind::Sample || q.shadow || q.result != BaseType::Float ||
@@ -570,7 +577,11 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q) const {
 }
 
 void TextureUnitSampler::sample(const glsl::TextureQuery& q) {
-    if (fast_path_enabled.load(std::memory_order_relaxed) && sample_2d(q)) return;
+    const int mode = fast_path_mode.load(std::memory_order_relaxed);
+    if (mode != kFastPathOff && sample_2d(q)) {
+        if (mode == kFastPathCounted) fast_path_queries.fetch_add(1, std::memory_order_relaxed);
+        return;
+    }
     sample_lanes(q);
 }
 

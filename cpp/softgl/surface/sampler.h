@@ -41,8 +41,8 @@ private:
 };
 
 // Testing: off sends every lookup through the general path (the fast path must give the same
-// bits). Returns the previous setting.
-bool set_sampler_fast_path(bool enabled);
+// bits); on also counts the queries the fast path serves. Returns that count since the last call.
+uint64_t set_sampler_fast_path(bool enabled);
 
 int dim_index(glsl::SamplerDim dim);
 
