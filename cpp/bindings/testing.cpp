@@ -183,9 +183,12 @@ void bind_testing(py::module_& m) {
           py::arg("dst"), py::arg("lanes"), py::arg("level") = -1);
     // The lane kernels' instruction-set levels: 0 scalar, 1 SSE2, 2 AVX2; the best this CPU runs.
     t.def("simd_level", [] { return int(softgl::best_simd_level()); });
-    // Texture lookups: whether the 2D fast path may run (off: the general per-lane path);
-    // returns how many queries it served since the previous call.
-    t.def("sampler_fast_path", [](bool enabled) { return softgl::set_sampler_fast_path(enabled); });
+    // Texture lookups: 0 the general per-lane path, 1 the 2D fast path without SIMD, 2 with the
+    // best SIMD (the default); returns how many queries the fast path served since the last call.
+    t.def("sampler_path", [](int path) {
+        if (path < 0 || path > 2) throw py::value_error("sampler path: 0, 1 or 2");
+        return softgl::set_sampler_path(softgl::SamplerPath(path));
+    });
     t.def("blend_unorm8",
           [](const std::array<uint32_t, 6>& funcs_and_equations, const std::array<float, 4>& constant,
              const std::array<bool, 4>& mask, bool has_alpha,

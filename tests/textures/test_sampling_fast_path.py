@@ -2,8 +2,8 @@
 resolved once per query) must give the same bits as the general per-lane path: every filter
 and wrap, mipmap levels, LOD bias / explicit LOD / gradients / offsets, odd and NPOT sizes,
 and coordinates that are negative, huge, infinite or NaN. Each image is drawn twice into an
-RGBA32F target, with the fast path on and off (testing hook), and compared as uint32 bits
-(NaNs as NaNs)."""
+RGBA32F target by the general path, the fast path without SIMD and with AVX2 (testing hook),
+and compared as uint32 bits (NaNs as NaNs)."""
 import numpy as np
 import pytest
 
@@ -63,10 +63,13 @@ def assert_same_bits(fast, general):
                                   np.where(both_nan, 0, general.view(np.uint32)))
 
 
+GENERAL, SCALAR, BEST = 0, 1, 2   # _core.testing.sampler_path: general, fast scalar, fast SIMD
+
+
 @pytest.fixture(autouse=True)
 def restore_fast_path():
     yield
-    _core.testing.sampler_fast_path(True)
+    _core.testing.sampler_path(BEST)
 
 
 class Renderer:
@@ -91,15 +94,17 @@ class Renderer:
         return gl.readPixels(0, 0, self.w, self.h, gl.RGBA, gl.FLOAT)
 
     def compare(self, *args, expect_fast=True, **kw):
-        """Draws with the fast path on and off; asserts equal bits; returns the image."""
-        _core.testing.sampler_fast_path(True)
-        fast = self.draw(*args, **kw)
-        served = _core.testing.sampler_fast_path(False)
-        general = self.draw(*args, **kw)
-        _core.testing.sampler_fast_path(True)
-        assert (served > 0) == expect_fast, served
-        assert_same_bits(fast, general)
-        return fast
+        """Draws with the general path, the fast path without SIMD and with the best SIMD;
+        asserts equal bits; returns the image."""
+        images = []
+        for path in (GENERAL, SCALAR, BEST):
+            _core.testing.sampler_path(path)
+            images.append(self.draw(*args, **kw))
+            served = _core.testing.sampler_path(BEST)
+            assert (served > 0) == (expect_fast and path != GENERAL), (path, served)
+        for img in images[1:]:
+            assert_same_bits(img, images[0])
+        return images[0]
 
 
 def random_levels(gl, target, w, h, internal=None, fmt=None, type_=None, layers=0, dtype=np.uint8):
@@ -270,10 +275,10 @@ def test_fast_path_webgl1_npot_clamped():
     for wrap, expect_fast in (("CLAMP_TO_EDGE", True), ("REPEAT", False)):
         set_params(gl, gl.TEXTURE_2D, "LINEAR", "LINEAR", wrap, wrap)
         images = []
-        for fast in (True, False):
-            _core.testing.sampler_fast_path(fast)
+        for path in (GENERAL, SCALAR, BEST):
+            _core.testing.sampler_path(path)
             draw_quad(gl, prog, *MAPS["minified-rotated"][:3])
             images.append(gl.readPixels(0, 0, W, H, gl.RGBA, gl.UNSIGNED_BYTE))
-            if fast:
-                assert (_core.testing.sampler_fast_path(False) > 0) == expect_fast
-        np.testing.assert_array_equal(images[0], images[1])
+            assert (_core.testing.sampler_path(BEST) > 0) == (expect_fast and path != GENERAL)
+        np.testing.assert_array_equal(images[1], images[0])
+        np.testing.assert_array_equal(images[2], images[0])

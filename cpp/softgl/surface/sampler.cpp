@@ -5,6 +5,10 @@
 #include <cmath>
 #include <cstring>
 
+#if defined(__x86_64__) || defined(__i386__)
+#include <immintrin.h>
+#endif
+
 namespace softgl {
 
 using glsl::BaseType;
@@ -390,15 +394,15 @@ void TextureUnitSampler::sample_lanes(const glsl::TextureQuery& q) const {
 //
 // The same formulas as sample_lanes in the same order (so the same bits), with what does not
 // change across a query resolved once: the texture, its level images, the filters and wraps.
-// Texels are read straight from the float storage (Image::texel of a Float-kind format).
+// Texels are read straight from the float storage (Image::texel of a Float-kind format). With
+// AVX2, blocks of 8 lanes that use the same level(s) compute their texel addresses and weights
+// 8 at a time (the same float operations, lane by lane; no FMA).
 
 namespace {
 
-// On by default; the testing hook switches it off, or on and counted (so that tests can see
-// that the fast path ran, at no cost to the default).
-enum FastPathMode : int { kFastPathOn, kFastPathOff, kFastPathCounted };
-std::atomic<int> fast_path_mode{kFastPathOn};
+std::atomic<int> path_level{int(SamplerPath::Best)};
 std::atomic<uint64_t> fast_path_queries{0};
+std::atomic<bool> count_queries{false};   // only the testing hook counts (no shared writes otherwise)
 
 // One level of a 2D / 2D array texture.
 struct Plane {
@@ -407,8 +411,8 @@ struct Plane {
     bool width_pot, height_pot;
 };
 
-// wrap() for a texel coordinate and its right/upper neighbour, as used by LINEAR (REPEAT of a
-// power of two masks: the same as the modulo for any int in two's complement).
+// wrap() of a texel coordinate and of its right/upper neighbour, as LINEAR uses them (REPEAT of
+// a power of two masks: the same as the modulo for any int in two's complement).
 inline void wrap_pair(GLenum mode, int32_t i, int32_t size, bool pot, int32_t& a, int32_t& b) {
     switch (mode) {
         case gl::REPEAT:
@@ -430,9 +434,41 @@ inline int32_t wrap_one(GLenum mode, int32_t i, int32_t size, bool pot) {
     return mode == gl::REPEAT && pot ? i & (size - 1) : wrap(mode, i, size);
 }
 
+// The level(s) a lambda selects (ES 3.0 §3.8.11, as in sample_lanes): planes[first], blended
+// with planes[second] by frac when second >= 0.
+struct LevelChoice {
+    int32_t first = 0, second = -1;
+    bool linear = false;
+    float frac = 0.0f;
+    bool same_levels(const LevelChoice& o) const { return first == o.first && second == o.second && linear == o.linear; }
+};
+
 struct Fast2D {
+    std::array<Plane, 16> planes;
     GLenum wrap_s, wrap_t;
     int off_s, off_t;
+    int32_t base, top;
+    GLenum min_filter;
+    bool mag_linear, min_linear, mipmapped;
+    float min_lod, max_lod;
+
+    LevelChoice choose(float lambda) const {
+        lambda = std::clamp(lambda, min_lod, max_lod);   // NaN stays NaN: magnification
+        if (!(lambda > 0.0f)) return {0, -1, mag_linear, 0.0f};
+        if (!mipmapped) return {0, -1, min_linear, 0.0f};
+        if (min_filter == gl::NEAREST_MIPMAP_NEAREST || min_filter == gl::LINEAR_MIPMAP_NEAREST) {
+            int32_t level;
+            if (lambda <= 0.5f) level = base;
+            else if (float(base) + lambda <= float(top) + 0.5f) level = int32_t(std::ceil(float(base) + lambda + 0.5f)) - 1;
+            else level = top;
+            return {level - base, -1, min_linear, 0.0f};
+        }
+        int32_t d1, d2;
+        if (lambda >= float(top - base)) d1 = d2 = top;
+        else d1 = base + int32_t(std::floor(lambda)), d2 = d1 + 1;
+        if (d1 == d2) return {d1 - base, -1, min_linear, 0.0f};
+        return {d1 - base, d2 - base, min_linear, lambda - std::floor(lambda)};
+    }
 
     // Level::filter of one plane.
     void filter(const Plane& p, bool linear, float s, float t, float r, float out[4]) const {
@@ -460,16 +496,133 @@ struct Fast2D {
         const float w00 = (1 - a) * (1 - b), w10 = a * (1 - b), w01 = (1 - a) * b, w11 = a * b;
         for (int c = 0; c < 4; ++c) out[c] = w00 * t00[c] + w10 * t10[c] + w01 * t01[c] + w11 * t11[c];
     }
+
+    void filter(const LevelChoice& ch, float s, float t, float r, float out[4]) const {
+        filter(planes[size_t(ch.first)], ch.linear, s, t, r, out);
+        if (ch.second < 0) return;
+        float b[4];
+        filter(planes[size_t(ch.second)], ch.linear, s, t, r, b);
+        for (int c = 0; c < 4; ++c) out[c] = (1 - ch.frac) * out[c] + ch.frac * b[c];
+    }
 };
+
+// lambda = log2(rho) with rho = sqrt(rho2), as float (ES 3.0 eq. 3.17-3.19). A pure function of
+// rho2, memoized per thread: log2 is dear, and lanes of neighbouring quads share derivatives.
+float lambda_of(double rho2) {
+    if (!(rho2 == rho2)) return -INFINITY;   // NaN: rho > 0 fails, as in sample_lanes
+    struct Entry { uint64_t not_key; float lambda; };   // ~bits of rho2 (zero: never a non-NaN)
+    thread_local Entry cache[256];
+    uint64_t bits;
+    std::memcpy(&bits, &rho2, 8);
+    Entry& e = cache[(bits ^ (bits >> 20) ^ (bits >> 40)) & 255];
+    if (e.not_key == ~bits) return e.lambda;
+    const double rho = std::sqrt(rho2);
+    const float lambda = rho > 0 ? float(std::log2(rho)) : -INFINITY;
+    e = {~bits, lambda};
+    return lambda;
+}
+
+#if defined(__x86_64__) || defined(__i386__)
+#define SOFTGL_SAMPLER_AVX2 1
+
+bool cpu_has_avx2() {
+    static const bool has = [] { __builtin_cpu_init(); return __builtin_cpu_supports("avx2") != 0; }();
+    return has;
+}
+
+// ifloor of values that are already integral (or NaN, or infinite): NaN -> 0, saturated.
+__attribute__((target("avx2"))) inline __m256i ifloor_floored8(__m256 fl) {
+    const __m256 lo = _mm256_set1_ps(-1073741824.0f), hi = _mm256_set1_ps(1073741824.0f);
+    __m256i i = _mm256_cvttps_epi32(_mm256_min_ps(_mm256_max_ps(fl, lo), hi));   // NaN -> lo here
+    i = _mm256_min_epi32(i, _mm256_set1_epi32(1073741823));
+    return _mm256_and_si256(i, _mm256_castps_si256(_mm256_cmp_ps(fl, fl, _CMP_ORD_Q)));
+}
+
+// wrap_pair / wrap_one of 8 lanes: REPEAT of a power of two and CLAMP_TO_EDGE here, the rest
+// lane by lane.
+__attribute__((target("avx2"))) inline void wrap8(GLenum mode, __m256i i, int32_t size, bool pot, bool pair,
+                                                  int32_t a[8], int32_t b[8]) {
+    const __m256i last = _mm256_set1_epi32(size - 1), one = _mm256_set1_epi32(1);
+    if (mode == gl::REPEAT && pot) {
+        _mm256_store_si256(reinterpret_cast<__m256i*>(a), _mm256_and_si256(i, last));
+        if (pair) _mm256_store_si256(reinterpret_cast<__m256i*>(b), _mm256_and_si256(_mm256_add_epi32(i, one), last));
+    } else if (mode == gl::CLAMP_TO_EDGE) {
+        const __m256i zero = _mm256_setzero_si256();
+        _mm256_store_si256(reinterpret_cast<__m256i*>(a), _mm256_max_epi32(_mm256_min_epi32(i, last), zero));
+        if (pair)
+            _mm256_store_si256(reinterpret_cast<__m256i*>(b),
+                               _mm256_max_epi32(_mm256_min_epi32(_mm256_add_epi32(i, one), last), zero));
+    } else {
+        alignas(32) int32_t raw[8];
+        _mm256_store_si256(reinterpret_cast<__m256i*>(raw), i);
+        for (int l = 0; l < 8; ++l) {
+            if (pair) wrap_pair(mode, raw[l], size, pot, a[l], b[l]);
+            else a[l] = wrap_one(mode, raw[l], size, pot);
+        }
+    }
+}
+
+static_assert(sizeof(glsl::Scalar) == sizeof(float), "8 lanes of coordinates load as 8 floats");
+
+// Fast2D::filter of one 2D plane (one layer) for 8 lanes.
+__attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bool linear, const float* s,
+                                             const float* t, float out[8][4]) {
+    const __m256 u = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(s), _mm256_set1_ps(float(p.width))), _mm256_set1_ps(float(f.off_s)));
+    const __m256 v = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(t), _mm256_set1_ps(float(p.height))), _mm256_set1_ps(float(f.off_t)));
+    alignas(32) int32_t i0[8], i1[8], j0[8], j1[8];
+    if (!linear) {
+        wrap8(f.wrap_s, ifloor_floored8(_mm256_floor_ps(u)), p.width, p.width_pot, false, i0, i1);
+        wrap8(f.wrap_t, ifloor_floored8(_mm256_floor_ps(v)), p.height, p.height_pot, false, j0, j1);
+        for (int l = 0; l < 8; ++l)
+            _mm_storeu_ps(out[l], _mm_loadu_ps(p.texels + (size_t(j0[l]) * size_t(p.width) + size_t(i0[l])) * 4));
+        return;
+    }
+    const __m256 half = _mm256_set1_ps(0.5f), one = _mm256_set1_ps(1.0f);
+    const __m256 u0 = _mm256_sub_ps(u, half), v0 = _mm256_sub_ps(v, half);
+    const __m256 fu = _mm256_floor_ps(u0), fv = _mm256_floor_ps(v0);
+    wrap8(f.wrap_s, ifloor_floored8(fu), p.width, p.width_pot, true, i0, i1);
+    wrap8(f.wrap_t, ifloor_floored8(fv), p.height, p.height_pot, true, j0, j1);
+    const __m256 a = _mm256_sub_ps(u0, fu), b = _mm256_sub_ps(v0, fv);
+    const __m256 na = _mm256_sub_ps(one, a), nb = _mm256_sub_ps(one, b);
+    alignas(32) float w00[8], w10[8], w01[8], w11[8];
+    _mm256_store_ps(w00, _mm256_mul_ps(na, nb));
+    _mm256_store_ps(w10, _mm256_mul_ps(a, nb));
+    _mm256_store_ps(w01, _mm256_mul_ps(na, b));
+    _mm256_store_ps(w11, _mm256_mul_ps(a, b));
+    for (int l = 0; l < 8; ++l) {
+        const float* row0 = p.texels + size_t(j0[l]) * size_t(p.width) * 4;
+        const float* row1 = p.texels + size_t(j1[l]) * size_t(p.width) * 4;
+        __m128 sum = _mm_mul_ps(_mm_set1_ps(w00[l]), _mm_loadu_ps(row0 + size_t(i0[l]) * 4));
+        sum = _mm_add_ps(sum, _mm_mul_ps(_mm_set1_ps(w10[l]), _mm_loadu_ps(row0 + size_t(i1[l]) * 4)));
+        sum = _mm_add_ps(sum, _mm_mul_ps(_mm_set1_ps(w01[l]), _mm_loadu_ps(row1 + size_t(i0[l]) * 4)));
+        sum = _mm_add_ps(sum, _mm_mul_ps(_mm_set1_ps(w11[l]), _mm_loadu_ps(row1 + size_t(i1[l]) * 4)));
+        _mm_storeu_ps(out[l], sum);
+    }
+}
+
+// Fast2D::filter(LevelChoice) of 8 lanes that share the levels (frac per lane).
+__attribute__((target("avx2"))) void filter8(const Fast2D& f, const LevelChoice ch[8], const float* s, const float* t,
+                                             float out[8][4]) {
+    filter8(f, f.planes[size_t(ch[0].first)], ch[0].linear, s, t, out);
+    if (ch[0].second < 0) return;
+    float b[8][4];
+    filter8(f, f.planes[size_t(ch[0].second)], ch[0].linear, s, t, b);
+    for (int l = 0; l < 8; ++l) {
+        const __m128 x = _mm_mul_ps(_mm_set1_ps(1 - ch[l].frac), _mm_loadu_ps(out[l]));
+        _mm_storeu_ps(out[l], _mm_add_ps(x, _mm_mul_ps(_mm_set1_ps(ch[l].frac), _mm_loadu_ps(b[l]))));
+    }
+}
+#endif
 
 }  // namespace
 
-uint64_t set_sampler_fast_path(bool enabled) {
-    fast_path_mode = enabled ? kFastPathCounted : kFastPathOff;
+uint64_t set_sampler_path(SamplerPath path) {
+    path_level = int(path);
+    count_queries = true;
     return fast_path_queries.exchange(0);
 }
 
-bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q) const {
+bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, bool simd) const {
     if (q.kind != TextureKind::Sample || q.shadow || q.result != BaseType::Float ||
         (q.dim != SamplerDim::Tex2D && q.dim != SamplerDim::Tex2DArray))
         return false;
@@ -484,102 +637,102 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q) const {
     const BoundTexture& bt = units[size_t(unit)][size_t(dim_index(q.dim))];
     if (!bt.texture) return false;
     const Texture& tex = *bt.texture;
+    const SamplerParams& p = bt.params;
 
+    Fast2D f;
     // The levels [base, top] (all defined, of one float-sampled format, on a complete texture).
-    std::array<Plane, 16> planes;
-    if (bt.q < bt.base || bt.q - bt.base >= int32_t(planes.size())) return false;
+    if (bt.q < bt.base || bt.q - bt.base >= int32_t(f.planes.size())) return false;
     for (int32_t level = bt.base; level <= bt.q; ++level) {
         const Image* img = tex.find(0, level);
         if (!img || img->format->kind() != SampleKind::Float || img->color.size() != img->texel_count() * 4) return false;
-        planes[size_t(level - bt.base)] = {img->color.data(), img->width, img->height, img->depth,
-                                           is_power_of_two(img->width), is_power_of_two(img->height)};
+        f.planes[size_t(level - bt.base)] = {img->color.data(), img->width, img->height, img->depth,
+                                             is_power_of_two(img->width), is_power_of_two(img->height)};
     }
-    const Plane& base_plane = planes[0];
-    const SamplerParams& p = bt.params;
-    const Fast2D f{p.wrap_s, p.wrap_t, q.offset[0], q.offset[1]};
-    const int32_t base = bt.base, top = bt.q;
-    const bool mag_linear = p.mag_filter == gl::LINEAR;
+    f.wrap_s = p.wrap_s, f.wrap_t = p.wrap_t;
+    f.off_s = q.offset[0], f.off_t = q.offset[1];
+    f.base = bt.base, f.top = bt.q;
+    f.min_filter = p.min_filter;
+    f.mag_linear = p.mag_filter == gl::LINEAR;
     const GLenum mf = p.min_filter;
-    const bool min_linear = mf == gl::LINEAR || mf == gl::LINEAR_MIPMAP_NEAREST || mf == gl::LINEAR_MIPMAP_LINEAR;
-    const bool mipmapped = !(mf == gl::NEAREST || mf == gl::LINEAR || top == base);
+    f.min_linear = mf == gl::LINEAR || mf == gl::LINEAR_MIPMAP_NEAREST || mf == gl::LINEAR_MIPMAP_LINEAR;
+    f.mipmapped = !(mf == gl::NEAREST || mf == gl::LINEAR || f.top == f.base);
+    f.min_lod = p.min_lod, f.max_lod = p.max_lod;
     // Without mipmaps and with the same filter both ways, lambda picks nothing: skip it.
-    const bool needs_lambda = mipmapped || min_linear != mag_linear;
-    const float w = float(base_plane.width), h = float(base_plane.height);
-    // The last rho² and its lambda: neighbouring lanes often share derivatives, log2 is dear.
-    double last_rho2 = -1.0;
-    float last_lambda = 0.0f;
+    const bool needs_lambda = f.mipmapped || f.min_linear != f.mag_linear;
+    const float w = float(f.planes[0].width), h = float(f.planes[0].height);
 
-    for (int l = 0; l < q.lane_count; ++l) {
-        float result[4] = {0, 0, 0, 1};
-        if (q.active && !q.active[l]) {
-            for (int c = 0; c < 4; ++c) if (q.out[c]) q.out[c][l].f = result[c];
-            continue;
+    const auto lambda_at = [&](int l) {
+        // ES 3.0 §3.8.10.1-2 as in sample_lanes; max(sqrt(x), sqrt(y)) = sqrt(max(x, y)) as sqrt
+        // is correctly rounded (monotonic), and std::max keeps the same NaN.
+        if (q.lod_mode == TextureLod::Explicit) return q.lod ? q.lod[l].f : 0.0f;
+        float dx[3] = {0, 0, 0}, dy[3] = {0, 0, 0};
+        for (int k = 0; k < 3; ++k) {
+            if (q.ddx[k]) dx[k] = q.ddx[k][l].f;
+            if (q.ddy[k]) dy[k] = q.ddy[k][l].f;
         }
-        const float s = q.coord[0] ? q.coord[0][l].f : 0.0f, t = q.coord[1] ? q.coord[1][l].f : 0.0f;
-        const float r = q.coord[2] ? q.coord[2][l].f : 0.0f;
-        if (!needs_lambda) {
-            f.filter(base_plane, mag_linear, s, t, r, result);
-        } else {
-            // ES 3.0 §3.8.10.1-2 as in sample_lanes; max(sqrt(x), sqrt(y)) = sqrt(max(x, y)) as
-            // sqrt is correctly rounded (monotonic), and std::max keeps the same NaN.
-            float lambda;
-            if (q.lod_mode == TextureLod::Explicit) {
-                lambda = q.lod ? q.lod[l].f : 0.0f;
-            } else {
-                float dx[3] = {0, 0, 0}, dy[3] = {0, 0, 0};
-                for (int k = 0; k < 3; ++k) {
-                    if (q.ddx[k]) dx[k] = q.ddx[k][l].f;
-                    if (q.ddy[k]) dy[k] = q.ddy[k][l].f;
-                }
-                double lx2 = double(dx[0] * w) * (dx[0] * w) + double(dx[1] * h) * (dx[1] * h);
-                double ly2 = double(dy[0] * w) * (dy[0] * w) + double(dy[1] * h) * (dy[1] * h);
-                // The third term (d = 0 off 3D) is +0, which adds nothing, unless dx[2] is not finite.
-                if (q.ddx[2]) lx2 += double(dx[2] * 0.0f) * (dx[2] * 0.0f);
-                if (q.ddy[2]) ly2 += double(dy[2] * 0.0f) * (dy[2] * 0.0f);
-                const double rho2 = std::max(lx2, ly2);
-                if (rho2 != last_rho2) {
-                    const double rho = std::sqrt(rho2);
-                    last_rho2 = rho2;
-                    last_lambda = rho > 0 ? float(std::log2(rho)) : -INFINITY;
-                }
-                lambda = last_lambda;
-                if (q.lod_mode == TextureLod::Bias && q.lod) lambda += q.lod[l].f;
-            }
-            lambda = std::clamp(lambda, p.min_lod, p.max_lod);
-            if (!(lambda > 0.0f)) {
-                f.filter(base_plane, mag_linear, s, t, r, result);
-            } else if (!mipmapped) {
-                f.filter(base_plane, min_linear, s, t, r, result);
-            } else if (mf == gl::NEAREST_MIPMAP_NEAREST || mf == gl::LINEAR_MIPMAP_NEAREST) {
-                int32_t level;
-                if (lambda <= 0.5f) level = base;
-                else if (float(base) + lambda <= float(top) + 0.5f) level = int32_t(std::ceil(float(base) + lambda + 0.5f)) - 1;
-                else level = top;
-                f.filter(planes[size_t(level - base)], min_linear, s, t, r, result);
-            } else {
-                int32_t d1, d2;
-                if (lambda >= float(top - base)) d1 = d2 = top;
-                else d1 = base + int32_t(std::floor(lambda)), d2 = d1 + 1;
-                const float frac = lambda - std::floor(lambda);
-                float a[4], b[4];
-                f.filter(planes[size_t(d1 - base)], min_linear, s, t, r, a);
-                if (d2 == d1) {
-                    std::copy(a, a + 4, result);
-                } else {
-                    f.filter(planes[size_t(d2 - base)], min_linear, s, t, r, b);
-                    for (int c = 0; c < 4; ++c) result[c] = (1 - frac) * a[c] + frac * b[c];
-                }
-            }
-        }
+        double lx2 = double(dx[0] * w) * (dx[0] * w) + double(dx[1] * h) * (dx[1] * h);
+        double ly2 = double(dy[0] * w) * (dy[0] * w) + double(dy[1] * h) * (dy[1] * h);
+        // The third term (d = 0 off 3D) is +0, which adds nothing, unless dx[2] is not finite.
+        if (q.ddx[2]) lx2 += double(dx[2] * 0.0f) * (dx[2] * 0.0f);
+        if (q.ddy[2]) ly2 += double(dy[2] * 0.0f) * (dy[2] * 0.0f);
+        float lambda = lambda_of(std::max(lx2, ly2));
+        if (q.lod_mode == TextureLod::Bias && q.lod) lambda += q.lod[l].f;
+        return lambda;
+    };
+    const LevelChoice fixed{0, -1, f.mag_linear, 0.0f};
+    const auto store = [&](int l, const float result[4]) {
         for (int c = 0; c < 4; ++c) if (q.out[c]) q.out[c][l].f = result[c];
+    };
+
+    int l = 0;
+#ifdef SOFTGL_SAMPLER_AVX2
+    // Blocks of 8 active lanes of a single-layer plane whose lanes share their levels.
+    if (simd && f.planes[0].layers == 1 && q.coord[0] && q.coord[1]) {
+        for (; l + 8 <= q.lane_count; l += 8) {
+            bool all_active = true;
+            for (int k = 0; k < 8 && q.active; ++k) all_active = all_active && q.active[l + k];
+            LevelChoice ch[8];
+            bool same = all_active;
+            for (int k = 0; k < 8 && same; ++k) {
+                ch[k] = needs_lambda ? f.choose(lambda_at(l + k)) : fixed;
+                same = ch[k].same_levels(ch[0]);
+            }
+            if (same) {
+                float result[8][4];
+                filter8(f, ch, &q.coord[0][l].f, &q.coord[1][l].f, result);
+                for (int k = 0; k < 8; ++k) store(l + k, result[k]);
+                continue;
+            }
+            for (int k = 0; k < 8; ++k) {   // lane by lane (as below)
+                float result[4] = {0, 0, 0, 1};
+                if (!q.active || q.active[l + k])
+                    f.filter(needs_lambda ? f.choose(lambda_at(l + k)) : fixed, q.coord[0][l + k].f, q.coord[1][l + k].f, 0.0f, result);
+                store(l + k, result);
+            }
+        }
+    }
+#endif
+    for (; l < q.lane_count; ++l) {
+        float result[4] = {0, 0, 0, 1};   // inactive lanes: as sample_lanes gives them
+        if (!q.active || q.active[l]) {
+            const float s = q.coord[0] ? q.coord[0][l].f : 0.0f, t = q.coord[1] ? q.coord[1][l].f : 0.0f;
+            const float r = q.coord[2] ? q.coord[2][l].f : 0.0f;
+            f.filter(needs_lambda ? f.choose(lambda_at(l)) : fixed, s, t, r, result);
+        }
+        store(l, result);
     }
     return true;
 }
 
 void TextureUnitSampler::sample(const glsl::TextureQuery& q) {
-    const int mode = fast_path_mode.load(std::memory_order_relaxed);
-    if (mode != kFastPathOff && sample_2d(q)) {
-        if (mode == kFastPathCounted) fast_path_queries.fetch_add(1, std::memory_order_relaxed);
+    const SamplerPath path = SamplerPath(path_level.load(std::memory_order_relaxed));
+#ifdef SOFTGL_SAMPLER_AVX2
+    const bool simd = path == SamplerPath::Best && cpu_has_avx2();
+#else
+    const bool simd = false;
+#endif
+    if (path != SamplerPath::General && sample_2d(q, simd)) {
+        if (count_queries.load(std::memory_order_relaxed)) fast_path_queries.fetch_add(1, std::memory_order_relaxed);
         return;
     }
     sample_lanes(q);

@@ -36,13 +36,16 @@ private:
     // The general path: every lane on its own, any texture kind and dimension.
     void sample_lanes(const glsl::TextureQuery& query) const;
     // The common case, resolved once per query: filtered lookups of one 2D / 2D array texture of
-    // a colour format that samples as float. False (nothing written) when the query is not that.
-    bool sample_2d(const glsl::TextureQuery& query) const;
+    // a colour format that samples as float (AVX2 blocks of 8 lanes when `simd`). False (nothing
+    // written) when the query is not that.
+    bool sample_2d(const glsl::TextureQuery& query, bool simd) const;
 };
 
-// Testing: off sends every lookup through the general path (the fast path must give the same
-// bits); on also counts the queries the fast path serves. Returns that count since the last call.
-uint64_t set_sampler_fast_path(bool enabled);
+// Which path lookups take: the general per-lane path only, the 2D fast path without SIMD, or
+// with the best SIMD the CPU has (the default). All give the same bits (NaNs aside: which NaN).
+enum class SamplerPath : int { General, Scalar, Best };
+// Testing: sets the path and returns how many queries the fast path served since the last call.
+uint64_t set_sampler_path(SamplerPath path);
 
 int dim_index(glsl::SamplerDim dim);
 
