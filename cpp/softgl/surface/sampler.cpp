@@ -600,6 +600,37 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bo
     }
 }
 
+__attribute__((target("avx2"))) inline __m256 load8(const glsl::Scalar* p, int l) {
+    return p ? _mm256_loadu_ps(&p[l].f) : _mm256_setzero_ps();
+}
+
+// (double) v² of lanes 4 * half .. 4 * half + 3.
+__attribute__((target("avx2"))) inline __m256d square_wide(__m256 v, int half) {
+    const __m256d d = _mm256_cvtps_pd(half ? _mm256_extractf128_ps(v, 1) : _mm256_castps256_ps128(v));
+    return _mm256_mul_pd(d, d);
+}
+
+// The lambdas of lanes l..l+7 (Implicit, Bias, Gradient), as lambda_at in sample_2d computes them:
+// rho² 8 at a time (float products, widened, squared and summed in double), log2 lane by lane.
+__attribute__((target("avx2"))) void lambda8(const glsl::TextureQuery& q, int l, float w, float h, float out[8]) {
+    const __m256 ws = _mm256_set1_ps(w), hs = _mm256_set1_ps(h), zero = _mm256_setzero_ps();
+    const __m256 x0 = _mm256_mul_ps(load8(q.ddx[0], l), ws), x1 = _mm256_mul_ps(load8(q.ddx[1], l), hs);
+    const __m256 y0 = _mm256_mul_ps(load8(q.ddy[0], l), ws), y1 = _mm256_mul_ps(load8(q.ddy[1], l), hs);
+    const __m256 x2 = _mm256_mul_ps(load8(q.ddx[2], l), zero), y2 = _mm256_mul_ps(load8(q.ddy[2], l), zero);
+    alignas(32) double rho2[8];
+    for (int half = 0; half < 2; ++half) {
+        __m256d lx2 = _mm256_add_pd(square_wide(x0, half), square_wide(x1, half));
+        __m256d ly2 = _mm256_add_pd(square_wide(y0, half), square_wide(y1, half));
+        if (q.ddx[2]) lx2 = _mm256_add_pd(lx2, square_wide(x2, half));
+        if (q.ddy[2]) ly2 = _mm256_add_pd(ly2, square_wide(y2, half));
+        _mm256_store_pd(rho2 + 4 * half, _mm256_max_pd(ly2, lx2));   // = std::max(lx2, ly2), NaN included
+    }
+    for (int k = 0; k < 8; ++k) {
+        out[k] = lambda_of(rho2[k]);
+        if (q.lod_mode == TextureLod::Bias && q.lod) out[k] += q.lod[l + k].f;
+    }
+}
+
 // Fast2D::filter(LevelChoice) of 8 lanes that share the levels (frac per lane).
 __attribute__((target("avx2"))) void filter8(const Fast2D& f, const LevelChoice ch[8], const float* s, const float* t,
                                              float out[8][4]) {
@@ -693,14 +724,22 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, bool simd) const
             for (int k = 0; k < 8 && q.active; ++k) all_active = all_active && q.active[l + k];
             LevelChoice ch[8];
             bool same = all_active;
-            for (int k = 0; k < 8 && same; ++k) {
-                ch[k] = needs_lambda ? f.choose(lambda_at(l + k)) : fixed;
-                same = ch[k].same_levels(ch[0]);
+            if (same && needs_lambda) {
+                float lambda[8];
+                if (q.lod_mode == TextureLod::Explicit) for (int k = 0; k < 8; ++k) lambda[k] = lambda_at(l + k);
+                else lambda8(q, l, w, h, lambda);
+                for (int k = 0; k < 8 && same; ++k) {
+                    ch[k] = f.choose(lambda[k]);
+                    same = ch[k].same_levels(ch[0]);
+                }
+            } else {
+                std::fill(ch, ch + 8, fixed);
             }
             if (same) {
                 float result[8][4];
                 filter8(f, ch, &q.coord[0][l].f, &q.coord[1][l].f, result);
-                for (int k = 0; k < 8; ++k) store(l + k, result[k]);
+                for (int c = 0; c < 4; ++c)
+                    if (q.out[c]) for (int k = 0; k < 8; ++k) q.out[c][l + k].f = result[k][c];
                 continue;
             }
             for (int k = 0; k < 8; ++k) {   // lane by lane (as below)
