@@ -282,3 +282,22 @@ def test_fast_path_webgl1_npot_clamped():
             assert (_core.testing.sampler_path(BEST) > 0) == (expect_fast and path != GENERAL)
         np.testing.assert_array_equal(images[1], images[0])
         np.testing.assert_array_equal(images[2], images[0])
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+@pytest.mark.parametrize("key", ["tex_nearest", "tex_bilinear", "tex_trilinear", "exec_tex2", "spot_mesh_tex"])
+def test_benchmark_scenes_same_bytes_on_every_path(key, threads):
+    import sys
+    from pathlib import Path
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
+    import scenes
+    spec = {s.key: s for s in scenes.SUITE + scenes.EXECUTOR + scenes.TEXTURED}[key]
+    size = 72
+    images = []
+    for path in (GENERAL, SCALAR, BEST):
+        _core.testing.sampler_path(path)
+        images.append(scenes.SoftglRenderer(size, size, threads=threads).render(spec.build(size)))
+        assert (_core.testing.sampler_path(BEST) > 0) == (path != GENERAL)
+    assert images[0].any()
+    np.testing.assert_array_equal(images[1], images[0])
+    np.testing.assert_array_equal(images[2], images[0])

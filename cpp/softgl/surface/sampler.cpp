@@ -508,19 +508,29 @@ struct Fast2D {
 
 // lambda = log2(rho) with rho = sqrt(rho2), as float (ES 3.0 eq. 3.17-3.19). A pure function of
 // rho2, memoized per thread: log2 is dear, and lanes of neighbouring quads share derivatives.
-float lambda_of(double rho2) {
-    if (!(rho2 == rho2)) return -INFINITY;   // NaN: rho > 0 fails, as in sample_lanes
+class LambdaMemo {
+public:
+    float operator()(double rho2) {
+        if (!(rho2 == rho2)) return -INFINITY;   // NaN: rho > 0 fails, as in sample_lanes
+        uint64_t bits;
+        std::memcpy(&bits, &rho2, 8);
+        Entry& e = entries_[(bits ^ (bits >> 20) ^ (bits >> 40)) % kEntries];
+        if (e.not_key == ~bits) return e.lambda;
+        const double rho = std::sqrt(rho2);
+        const float lambda = rho > 0 ? float(std::log2(rho)) : -INFINITY;
+        e = {~bits, lambda};
+        return lambda;
+    }
+    static LambdaMemo& of_this_thread() {
+        thread_local LambdaMemo memo;
+        return memo;
+    }
+
+private:
+    static constexpr size_t kEntries = 256;
     struct Entry { uint64_t not_key; float lambda; };   // ~bits of rho2 (zero: never a non-NaN)
-    thread_local Entry cache[256];
-    uint64_t bits;
-    std::memcpy(&bits, &rho2, 8);
-    Entry& e = cache[(bits ^ (bits >> 20) ^ (bits >> 40)) & 255];
-    if (e.not_key == ~bits) return e.lambda;
-    const double rho = std::sqrt(rho2);
-    const float lambda = rho > 0 ? float(std::log2(rho)) : -INFINITY;
-    e = {~bits, lambda};
-    return lambda;
-}
+    Entry entries_[kEntries] = {};
+};
 
 #if defined(__x86_64__) || defined(__i386__)
 #define SOFTGL_SAMPLER_AVX2 1
@@ -612,7 +622,8 @@ __attribute__((target("avx2"))) inline __m256d square_wide(__m256 v, int half) {
 
 // The lambdas of lanes l..l+7 (Implicit, Bias, Gradient), as lambda_at in sample_2d computes them:
 // rho² 8 at a time (float products, widened, squared and summed in double), log2 lane by lane.
-__attribute__((target("avx2"))) void lambda8(const glsl::TextureQuery& q, int l, float w, float h, float out[8]) {
+__attribute__((target("avx2"))) void lambda8(const glsl::TextureQuery& q, int l, float w, float h, LambdaMemo& lambda_of,
+                                             float out[8]) {
     const __m256 ws = _mm256_set1_ps(w), hs = _mm256_set1_ps(h), zero = _mm256_setzero_ps();
     const __m256 x0 = _mm256_mul_ps(load8(q.ddx[0], l), ws), x1 = _mm256_mul_ps(load8(q.ddx[1], l), hs);
     const __m256 y0 = _mm256_mul_ps(load8(q.ddy[0], l), ws), y1 = _mm256_mul_ps(load8(q.ddy[1], l), hs);
@@ -692,6 +703,7 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, bool simd) const
     const bool needs_lambda = f.mipmapped || f.min_linear != f.mag_linear;
     const float w = float(f.planes[0].width), h = float(f.planes[0].height);
 
+    LambdaMemo& lambda_of = LambdaMemo::of_this_thread();
     const auto lambda_at = [&](int l) {
         // ES 3.0 §3.8.10.1-2 as in sample_lanes; max(sqrt(x), sqrt(y)) = sqrt(max(x, y)) as sqrt
         // is correctly rounded (monotonic), and std::max keeps the same NaN.
@@ -727,7 +739,7 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, bool simd) const
             if (same && needs_lambda) {
                 float lambda[8];
                 if (q.lod_mode == TextureLod::Explicit) for (int k = 0; k < 8; ++k) lambda[k] = lambda_at(l + k);
-                else lambda8(q, l, w, h, lambda);
+                else lambda8(q, l, w, h, lambda_of, lambda);
                 for (int k = 0; k < 8 && same; ++k) {
                     ch[k] = f.choose(lambda[k]);
                     same = ch[k].same_levels(ch[0]);
