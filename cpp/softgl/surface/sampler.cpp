@@ -574,9 +574,12 @@ __attribute__((target("avx2"))) inline void wrap8(GLenum mode, __m256i i, int32_
 
 static_assert(sizeof(glsl::Scalar) == sizeof(float), "8 lanes of coordinates load as 8 floats");
 
-// Fast2D::filter of one 2D plane (one layer) for 8 lanes.
+// Fast2D::filter of one plane for 8 lanes (r: the layers of a 2D array, else null).
 __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bool linear, const float* s,
-                                             const float* t, float out[8][4]) {
+                                             const float* t, const float* r, float out[8][4]) {
+    const float* layer[8];
+    for (int l = 0; l < 8; ++l)
+        layer[l] = p.texels + (r ? size_t(std::clamp(ifloor(r[l] + 0.5f), 0, p.layers - 1)) * size_t(p.height) * size_t(p.width) * 4 : 0);
     const __m256 u = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(s), _mm256_set1_ps(float(p.width))), _mm256_set1_ps(float(f.off_s)));
     const __m256 v = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(t), _mm256_set1_ps(float(p.height))), _mm256_set1_ps(float(f.off_t)));
     alignas(32) int32_t i0[8], i1[8], j0[8], j1[8];
@@ -584,7 +587,7 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bo
         wrap8(f.wrap_s, ifloor_floored8(_mm256_floor_ps(u)), p.width, p.width_pot, false, i0, i1);
         wrap8(f.wrap_t, ifloor_floored8(_mm256_floor_ps(v)), p.height, p.height_pot, false, j0, j1);
         for (int l = 0; l < 8; ++l)
-            _mm_storeu_ps(out[l], _mm_loadu_ps(p.texels + (size_t(j0[l]) * size_t(p.width) + size_t(i0[l])) * 4));
+            _mm_storeu_ps(out[l], _mm_loadu_ps(layer[l] + (size_t(j0[l]) * size_t(p.width) + size_t(i0[l])) * 4));
         return;
     }
     const __m256 half = _mm256_set1_ps(0.5f), one = _mm256_set1_ps(1.0f);
@@ -600,8 +603,8 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bo
     _mm256_store_ps(w01, _mm256_mul_ps(na, b));
     _mm256_store_ps(w11, _mm256_mul_ps(a, b));
     for (int l = 0; l < 8; ++l) {
-        const float* row0 = p.texels + size_t(j0[l]) * size_t(p.width) * 4;
-        const float* row1 = p.texels + size_t(j1[l]) * size_t(p.width) * 4;
+        const float* row0 = layer[l] + size_t(j0[l]) * size_t(p.width) * 4;
+        const float* row1 = layer[l] + size_t(j1[l]) * size_t(p.width) * 4;
         __m128 sum = _mm_mul_ps(_mm_set1_ps(w00[l]), _mm_loadu_ps(row0 + size_t(i0[l]) * 4));
         sum = _mm_add_ps(sum, _mm_mul_ps(_mm_set1_ps(w10[l]), _mm_loadu_ps(row0 + size_t(i1[l]) * 4)));
         sum = _mm_add_ps(sum, _mm_mul_ps(_mm_set1_ps(w01[l]), _mm_loadu_ps(row1 + size_t(i0[l]) * 4)));
@@ -644,11 +647,11 @@ __attribute__((target("avx2"))) void lambda8(const glsl::TextureQuery& q, int l,
 
 // Fast2D::filter(LevelChoice) of 8 lanes that share the levels (frac per lane).
 __attribute__((target("avx2"))) void filter8(const Fast2D& f, const LevelChoice ch[8], const float* s, const float* t,
-                                             float out[8][4]) {
-    filter8(f, f.planes[size_t(ch[0].first)], ch[0].linear, s, t, out);
+                                             const float* r, float out[8][4]) {
+    filter8(f, f.planes[size_t(ch[0].first)], ch[0].linear, s, t, r, out);
     if (ch[0].second < 0) return;
     float b[8][4];
-    filter8(f, f.planes[size_t(ch[0].second)], ch[0].linear, s, t, b);
+    filter8(f, f.planes[size_t(ch[0].second)], ch[0].linear, s, t, r, b);
     for (int l = 0; l < 8; ++l) {
         const __m128 x = _mm_mul_ps(_mm_set1_ps(1 - ch[l].frac), _mm_loadu_ps(out[l]));
         _mm_storeu_ps(out[l], _mm_add_ps(x, _mm_mul_ps(_mm_set1_ps(ch[l].frac), _mm_loadu_ps(b[l]))));
@@ -723,14 +726,21 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, bool simd) const
         return lambda;
     };
     const LevelChoice fixed{0, -1, f.mag_linear, 0.0f};
-    const auto store = [&](int l, const float result[4]) {
+    const auto one_lane = [&](int l) {
+        float result[4] = {0, 0, 0, 1};   // inactive lanes: as sample_lanes gives them
+        if (!q.active || q.active[l]) {
+            const float s = q.coord[0] ? q.coord[0][l].f : 0.0f, t = q.coord[1] ? q.coord[1][l].f : 0.0f;
+            const float r = q.coord[2] ? q.coord[2][l].f : 0.0f;
+            f.filter(needs_lambda ? f.choose(lambda_at(l)) : fixed, s, t, r, result);
+        }
         for (int c = 0; c < 4; ++c) if (q.out[c]) q.out[c][l].f = result[c];
     };
 
     int l = 0;
 #ifdef SOFTGL_SAMPLER_AVX2
-    // Blocks of 8 active lanes of a single-layer plane whose lanes share their levels.
-    if (simd && f.planes[0].layers == 1 && q.coord[0] && q.coord[1]) {
+    // Blocks of 8 active lanes that share their levels; the other blocks lane by lane.
+    if (simd && q.coord[0] && q.coord[1]) {
+        const float* r = f.planes[0].layers > 1 && q.coord[2] ? &q.coord[2][0].f : nullptr;
         for (; l + 8 <= q.lane_count; l += 8) {
             bool all_active = true;
             for (int k = 0; k < 8 && q.active; ++k) all_active = all_active && q.active[l + k];
@@ -749,29 +759,16 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, bool simd) const
             }
             if (same) {
                 float result[8][4];
-                filter8(f, ch, &q.coord[0][l].f, &q.coord[1][l].f, result);
+                filter8(f, ch, &q.coord[0][l].f, &q.coord[1][l].f, r ? r + l : nullptr, result);
                 for (int c = 0; c < 4; ++c)
                     if (q.out[c]) for (int k = 0; k < 8; ++k) q.out[c][l + k].f = result[k][c];
                 continue;
             }
-            for (int k = 0; k < 8; ++k) {   // lane by lane (as below)
-                float result[4] = {0, 0, 0, 1};
-                if (!q.active || q.active[l + k])
-                    f.filter(needs_lambda ? f.choose(lambda_at(l + k)) : fixed, q.coord[0][l + k].f, q.coord[1][l + k].f, 0.0f, result);
-                store(l + k, result);
-            }
+            for (int k = 0; k < 8; ++k) one_lane(l + k);
         }
     }
 #endif
-    for (; l < q.lane_count; ++l) {
-        float result[4] = {0, 0, 0, 1};   // inactive lanes: as sample_lanes gives them
-        if (!q.active || q.active[l]) {
-            const float s = q.coord[0] ? q.coord[0][l].f : 0.0f, t = q.coord[1] ? q.coord[1][l].f : 0.0f;
-            const float r = q.coord[2] ? q.coord[2][l].f : 0.0f;
-            f.filter(needs_lambda ? f.choose(lambda_at(l)) : fixed, s, t, r, result);
-        }
-        store(l, result);
-    }
+    for (; l < q.lane_count; ++l) one_lane(l);
     return true;
 }
 
