@@ -645,6 +645,32 @@ __attribute__((target("avx2"))) void lambda8(const glsl::TextureQuery& q, int l,
     }
 }
 
+// Fast2D::choose of 8 lanes when they all magnify, all minify without mipmaps, or all blend the
+// same two levels (*_MIPMAP_LINEAR) or take the last one: the common cases, as lambda varies
+// little inside a block. False (ch unspecified) otherwise.
+__attribute__((target("avx2"))) bool choose8(const Fast2D& f, const float lambda[8], LevelChoice ch[8]) {
+    const __m256 lo = _mm256_set1_ps(f.min_lod), hi = _mm256_set1_ps(f.max_lod);
+    __m256 v = _mm256_loadu_ps(lambda);
+    // std::clamp(v, lo, hi) = v < lo ? lo : hi < v ? hi : v (NaN stays NaN).
+    v = _mm256_blendv_ps(_mm256_blendv_ps(v, hi, _mm256_cmp_ps(hi, v, _CMP_LT_OQ)), lo, _mm256_cmp_ps(v, lo, _CMP_LT_OQ));
+    const int minified = _mm256_movemask_ps(_mm256_cmp_ps(v, _mm256_setzero_ps(), _CMP_GT_OQ));
+    if (minified == 0) return std::fill(ch, ch + 8, LevelChoice{0, -1, f.mag_linear, 0.0f}), true;
+    if (minified != 0xFF) return false;
+    if (!f.mipmapped) return std::fill(ch, ch + 8, LevelChoice{0, -1, f.min_linear, 0.0f}), true;
+    if (f.min_filter != gl::NEAREST_MIPMAP_LINEAR && f.min_filter != gl::LINEAR_MIPMAP_LINEAR) return false;
+    const int32_t last = f.top - f.base;
+    const int below_last = _mm256_movemask_ps(_mm256_cmp_ps(v, _mm256_set1_ps(float(last)), _CMP_LT_OQ));
+    if (below_last == 0) return std::fill(ch, ch + 8, LevelChoice{last, -1, f.min_linear, 0.0f}), true;
+    const __m256 whole = _mm256_floor_ps(v);
+    const __m256 same = _mm256_cmp_ps(whole, _mm256_permutevar8x32_ps(whole, _mm256_setzero_si256()), _CMP_EQ_OQ);
+    if (below_last != 0xFF || _mm256_movemask_ps(same) != 0xFF) return false;
+    alignas(32) float frac[8];
+    _mm256_store_ps(frac, _mm256_sub_ps(v, whole));
+    const int32_t d1 = int32_t(_mm256_cvtss_f32(whole));
+    for (int k = 0; k < 8; ++k) ch[k] = {d1, d1 + 1, f.min_linear, frac[k]};
+    return true;
+}
+
 // Fast2D::filter(LevelChoice) of 8 lanes that share the levels (frac per lane).
 __attribute__((target("avx2"))) void filter8(const Fast2D& f, const LevelChoice ch[8], const float* s, const float* t,
                                              const float* r, float out[8][4]) {
@@ -750,9 +776,11 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, bool simd) const
                 float lambda[8];
                 if (q.lod_mode == TextureLod::Explicit) for (int k = 0; k < 8; ++k) lambda[k] = lambda_at(l + k);
                 else lambda8(q, l, w, h, lambda_of, lambda);
-                for (int k = 0; k < 8 && same; ++k) {
-                    ch[k] = f.choose(lambda[k]);
-                    same = ch[k].same_levels(ch[0]);
+                if (!choose8(f, lambda, ch)) {
+                    for (int k = 0; k < 8 && same; ++k) {
+                        ch[k] = f.choose(lambda[k]);
+                        same = ch[k].same_levels(ch[0]);
+                    }
                 }
             } else {
                 std::fill(ch, ch + 8, fixed);
