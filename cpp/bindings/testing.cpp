@@ -243,6 +243,12 @@ void bind_testing(py::module_& m) {
               const size_t killed = softgl::early_depth_test_at(softgl::SimdLevel(level), t, q.data(), n, survived.mutable_data());
               return py::make_tuple(survived, killed, buffer);
           });
+    // Texture lookups: 0 the general per-lane path, 1 the 2D fast path without SIMD, 2 with the
+    // best SIMD (the default); returns how many queries the fast path served since the last call.
+    t.def("sampler_path", [](int path) {
+        if (path < 0 || path > 2) throw py::value_error("sampler path: 0, 1 or 2");
+        return softgl::set_sampler_path(softgl::SamplerPath(path));
+    });
     t.def("blend_unorm8",
           [](const std::array<uint32_t, 6>& funcs_and_equations, const std::array<float, 4>& constant,
              const std::array<bool, 4>& mask, bool has_alpha,
