@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <stdexcept>
 #include <type_traits>
 #include <unordered_map>
 
@@ -107,11 +108,13 @@ struct SetupChunk {
     SetupStats stats;
 };
 
-// The draw's set-up primitives numbered in primitive order across the chunks that produced them.
+// The draw's set-up primitives: number k is record k & mask of chunk k >> shift (no per-primitive
+// table: the chunk's base address is in a few hot cache lines).
 struct PrimitiveTable {
-    std::vector<const PrimitiveSetup*> at;
-    const PrimitiveSetup& operator[](size_t k) const { return *at[k]; }
-    bool empty() const { return at.empty(); }
+    std::vector<const PrimitiveSetup*> chunk;
+    unsigned shift = 0;
+    uint32_t mask = 0;
+    const PrimitiveSetup& operator[](uint32_t k) const { return chunk[k >> shift][k & mask]; }
 };
 
 // Everything a draw allocates, kept between draws on the calling thread (DESIGN §4: no per-draw
@@ -312,14 +315,23 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
         return;
     }
 
-    // Number the primitives across chunks and gather each tile's list in chunk order.
+    // Number the primitives (chunk << shift | position in the chunk) and gather each tile's list
+    // in chunk order.
     PrimitiveTable& prims = ds_.prims;
-    prims.at.clear();
+    size_t largest = 1;
+    for (size_t c = 0; c < setup_chunks; ++c) largest = std::max(largest, ds_.chunks[c].prims.size());
+    prims.shift = 0;
+    while ((size_t(1) << prims.shift) < largest) ++prims.shift;
+    prims.mask = uint32_t((uint64_t(1) << prims.shift) - 1);
+    // Reached only past 2^29 primitives (chunks emit at most 8 * kSetupChunk records).
+    if ((uint64_t(setup_chunks) << prims.shift) > (uint64_t(1) << 32))
+        throw std::length_error("draw: too many primitives for one draw call");
+    prims.chunk.clear();
     std::vector<uint32_t>& index_base = ds_.index_base;
     index_base.clear();
     for (size_t c = 0; c < setup_chunks; ++c) {
-        index_base.push_back(uint32_t(prims.at.size()));
-        for (const PrimitiveSetup& p : ds_.chunks[c].prims) prims.at.push_back(&p);
+        prims.chunk.push_back(ds_.chunks[c].prims.data());
+        index_base.push_back(uint32_t(c << prims.shift));
     }
     const Bins* binned = &chunk_bins[0];   // one chunk: its bins are the draw's
     if (setup_chunks > 1) {
