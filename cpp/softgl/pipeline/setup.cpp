@@ -389,7 +389,7 @@ void Setup::line(const float* p0, const float* p1, uint32_t i0, uint32_t i1, uin
     if (dx == 0 && dy == 0) { ++stats.zero_area; return; }
     const bool x_major = (dx < 0 ? -dx : dx) >= (dy < 0 ? -dy : dy);
 
-    PrimitiveSetup s;
+    PrimitiveSetup& s = out.emplace_back();   // built in place; removed again if dropped
     for (int i = 0; i < 4; ++i) s.area_offset[i] = 0;
     s.area_shape = AreaShape::Polygon;
     int64_t bxmin, bymin, bxmax, bymax;   // fixed-point bounding box of the shape
@@ -454,17 +454,20 @@ void Setup::line(const float* p0, const float* p1, uint32_t i0, uint32_t i1, uin
             int64_t first, last;
             if (!diamond_exit_span(sax, say, sbx, sby, x_major, first, last)) {
                 ++stats.zero_area;
+                out.pop_back();
                 return;
             }
             const int64_t lo = first * kSubPixel, hi = (last + 1) * kSubPixel;   // [lo, hi)
             // Band edges are the ones parallel to the segment: i with (a, b) not along the major axis.
             int k = 0;
-            PrimitiveSetup band = s;
+            const int64_t ba[4] = {s.a[0], s.a[1], s.a[2], s.a[3]}, bb[4] = {s.b[0], s.b[1], s.b[2], s.b[3]};
+            const int64_t bc[4] = {s.c[0], s.c[1], s.c[2], s.c[3]};
+            const double boff[4] = {s.area_offset[0], s.area_offset[1], s.area_offset[2], s.area_offset[3]};
             for (int i = 0; i < 4; ++i) {
-                const bool end_edge = x_major ? band.b[i] == 0 : band.a[i] == 0;
+                const bool end_edge = x_major ? bb[i] == 0 : ba[i] == 0;
                 if (end_edge) continue;
-                s.a[k] = band.a[i]; s.b[k] = band.b[i]; s.c[k] = band.c[i];
-                s.area_offset[k] = band.area_offset[i];
+                s.a[k] = ba[i]; s.b[k] = bb[i]; s.c[k] = bc[i];
+                s.area_offset[k] = boff[i];
                 ++k;
             }
             if (x_major) {
@@ -487,6 +490,7 @@ void Setup::line(const float* p0, const float* p1, uint32_t i0, uint32_t i1, uin
     }
     if (!finish_bbox(s, bxmin, bymin, bxmax, bymax)) {
         ++stats.outside;
+        out.pop_back();
         return;
     }
     // ES 3.0 §3.5.1 eq. 3.7: values along the line use t = ((p - pa) . (pb - pa)) / |pb - pa|^2,
@@ -512,7 +516,6 @@ void Setup::line(const float* p0, const float* p1, uint32_t i0, uint32_t i1, uin
     s.edge_count = 4;
     s.front_facing = true;
     s.point_x = s.point_y = s.point_size = 0;
-    out.push_back(s);
     ++stats.emitted;
 }
 
