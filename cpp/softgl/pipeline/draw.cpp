@@ -1,9 +1,11 @@
 #include "softgl/pipeline/draw.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <stdexcept>
 #include <type_traits>
 #include <unordered_map>
 
@@ -90,14 +92,42 @@ struct Scratch {
     DrawStats stats;
 };
 
-// Everything a draw allocates, kept between draws on the calling thread (DESIGN §4: no per-draw
-// allocations for small draws).
-struct DrawScratch {
-    std::vector<uint32_t> ids, slot_of_position, assembled, tiles;
-    std::unordered_map<uint32_t, uint32_t> slot;
+// Work is split into chunks of consecutive vertices or primitives that the pool shades and sets up
+// in parallel. Each chunk's results land in fixed places (vertices) or are gathered in chunk order
+// (primitives, bins), so nothing depends on the thread count.
+constexpr size_t kVertexChunk = 1024;   // vertices per vertex-stage job
+constexpr size_t kSetupChunk = 2048;    // primitives per setup-and-binning job
+
+struct VertexWorker {
     std::array<AttributeStream, kMaxVertexAttribs> attribs;
-    VertexShaderOutputs shaded, all;
+    VertexShaderOutputs shaded;
+};
+
+// The set-up primitives of one chunk, its counters and its bins (indices local to the chunk).
+struct SetupChunk {
     std::vector<PrimitiveSetup> prims;
+    SetupStats stats;
+};
+
+// The draw's set-up primitives: number k is record k & mask of chunk k >> shift (no per-primitive
+// table: the chunk's base address is in a few hot cache lines).
+struct PrimitiveTable {
+    std::vector<const PrimitiveSetup*> chunk;
+    unsigned shift = 0;
+    uint32_t mask = 0;
+    const PrimitiveSetup& operator[](uint32_t k) const { return chunk[k >> shift][k & mask]; }
+};
+
+// Everything a draw allocates, kept between draws on the calling thread (DESIGN §4: no per-draw
+// allocations; buffers only grow, so a repeated draw touches no fresh pages).
+struct DrawScratch {
+    std::vector<uint32_t> ids, slot_of_position, tiles, index_base;
+    std::unordered_map<uint32_t, uint32_t> slot;
+    std::vector<VertexWorker> vertex_workers;
+    VertexShaderOutputs all;
+    std::vector<SetupChunk> chunks;
+    std::vector<Bins> chunk_bins;
+    PrimitiveTable prims;
     Bins bins;
     std::vector<Scratch> workers;
 };
@@ -105,6 +135,29 @@ struct DrawScratch {
 DrawScratch& draw_scratch() {
     thread_local DrawScratch scratch;
     return scratch;
+}
+
+// Grows v to at least n elements; never shrinks, so a smaller draw does not zero-fill again.
+template <class T>
+T* at_least(std::vector<T>& v, size_t n) {
+    if (v.size() < n) v.resize(n);
+    return v.data();
+}
+
+// Runs job(chunk, worker) for chunks [0, count) on the pool. After the first exception (a shader's
+// loop limit) the remaining chunks are skipped; parallel_for rethrows it.
+template <class Job>
+void for_chunks(ThreadPool& pool, size_t count, const Job& job) {
+    std::atomic<bool> failed{false};
+    pool.parallel_for(count, [&](size_t chunk, unsigned worker) {
+        if (failed.load(std::memory_order_relaxed)) return;
+        try {
+            job(chunk, worker);
+        } catch (...) {
+            failed = true;
+            throw;
+        }
+    });
 }
 
 }  // namespace
@@ -132,8 +185,8 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
     std::vector<uint32_t>& ids = ds_.ids;       // distinct vertex ids, in first-use order
     std::vector<uint32_t>& slot_of_position = ds_.slot_of_position;
     ids.clear();
-    slot_of_position.resize(call.count);
     if (call.indices) {
+        slot_of_position.resize(call.count);
         std::unordered_map<uint32_t, uint32_t>& slot = ds_.slot;
         slot.clear();
         slot.reserve(call.count * 2);
@@ -144,30 +197,31 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
         }
     } else {
         ids.resize(call.count);
-        for (uint32_t k = 0; k < call.count; ++k) ids[k] = call.first + k, slot_of_position[k] = k;
+        for (uint32_t k = 0; k < call.count; ++k) ids[k] = call.first + k;
     }
     const size_t n = ids.size();
-    std::array<AttributeStream, kMaxVertexAttribs>& attribs = ds_.attribs;
-    VertexShaderOutputs& shaded = ds_.shaded;
-    VertexShaderOutputs& all = ds_.all;
+    VertexShaderOutputs& all = ds_.all;   // instance i's vertex v at i * n + v
     all.count = n * call.instance_count;
-    all.position.clear();
-    all.point_size.clear();
-    all.varyings.clear();
-    all.position.reserve(all.count * 4);
-    all.point_size.reserve(all.count);
-    all.varyings.reserve(all.count * size_t(words));
+    float* const all_position = at_least(all.position, all.count * 4);
+    float* const all_point_size = at_least(all.point_size, all.count);
+    uint32_t* const all_varyings = at_least(all.varyings, all.count * size_t(words));
     const uint32_t used = vs.used_attributes();
-    for (uint32_t instance = 0; instance < call.instance_count; ++instance) {
+    if (ds_.vertex_workers.size() < in.pool.size()) ds_.vertex_workers.resize(in.pool.size());
+    const size_t vertex_chunks = (n + kVertexChunk - 1) / kVertexChunk;
+    for_chunks(in.pool, vertex_chunks * call.instance_count, [&](size_t job, unsigned worker) {
+        const uint32_t instance = uint32_t(job / vertex_chunks);
+        const size_t begin = (job % vertex_chunks) * kVertexChunk, count = std::min(kVertexChunk, n - begin);
+        VertexWorker& w = ds_.vertex_workers[worker];
         for (int loc = 0; loc < kMaxVertexAttribs; ++loc)
             if (used & (1u << loc))
-                fetch_attribute(in.vertex_array, in.current_attribs[size_t(loc)], loc, ids.data(), 0, n,
-                                instance, attribs[size_t(loc)]);
-        vs.run(attribs, n, ids.data(), instance, shaded);
-        all.position.insert(all.position.end(), shaded.position.begin(), shaded.position.end());
-        all.point_size.insert(all.point_size.end(), shaded.point_size.begin(), shaded.point_size.end());
-        all.varyings.insert(all.varyings.end(), shaded.varyings.begin(), shaded.varyings.end());
-    }
+                fetch_attribute(in.vertex_array, in.current_attribs[size_t(loc)], loc, ids.data() + begin, 0,
+                                count, instance, w.attribs[size_t(loc)]);
+        vs.run(w.attribs, count, ids.data() + begin, instance, w.shaded);
+        const size_t at = size_t(instance) * n + begin;
+        std::copy_n(w.shaded.position.data(), count * 4, all_position + at * 4);
+        std::copy_n(w.shaded.point_size.data(), count, all_point_size + at);
+        std::copy_n(w.shaded.varyings.data(), count * size_t(words), all_varyings + at * size_t(words));
+    });
     st.vertices_shaded = all.count;
     st.seconds_vertex = since(t0);
 
@@ -177,44 +231,59 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
         return;
     }
 
-    // ---- primitive assembly, clip and setup (serial, in primitive order) ----
-    t0 = Clock::now();
-    const RasterState rs = raster_state(state, fb);
-    Setup setup(rs);
-    std::vector<PrimitiveSetup>& prims = ds_.prims;
-    prims.clear();
-    std::vector<uint32_t>& assembled = ds_.assembled;
-    assembled.clear();
-    assemble(call.mode, call.count, assembled);
-    const int per = vertices_per_primitive(call.mode);
-    const size_t prims_per_instance = assembled.size() / size_t(per);
-    uint32_t number = 0;
-    for (uint32_t instance = 0; instance < call.instance_count; ++instance) {
-        const uint32_t base = uint32_t(instance * n);
-        for (size_t p = 0; p < prims_per_instance; ++p, ++number) {
-            uint32_t v[3];
-            for (int k = 0; k < per; ++k) v[k] = base + slot_of_position[assembled[p * size_t(per) + size_t(k)]];
-            const float* pos = all.position.data();
-            if (per == 3) setup.triangle(pos + 4 * v[0], pos + 4 * v[1], pos + 4 * v[2], v[0], v[1], v[2], number, prims);
-            else if (per == 2) setup.line(pos + 4 * v[0], pos + 4 * v[1], v[0], v[1], number, prims);
-            else setup.point(pos + 4 * v[0], all.point_size[v[0]], v[0], number, prims);
-        }
-    }
-    st.primitives = setup.stats.primitives;
-    st.primitives_culled = setup.stats.culled;
-    st.primitives_clipped = setup.stats.clipped;
-    st.primitives_outside = setup.stats.outside;
-    st.primitives_invalid = setup.stats.invalid;
-    st.primitives_zero_area = setup.stats.zero_area;
-    st.primitives_rasterized = setup.stats.emitted;
-
     // ---- what the per-fragment work needs (DESIGN §4) ----
+    t0 = Clock::now();
     const auto& config = fb.config();
     const BlendOp blend = BlendOp::from_state(state, config.alpha);
     const DepthStencilOp ds = DepthStencilOp::from_state(state, config.depth, config.stencil);
     const bool writes_color = blend.write[0] || blend.write[1] || blend.write[2] || blend.write[3];
     const bool writes_depth_stencil = (ds.depth_test && ds.depth_write) || ds.stencil_test;
-    if (!writes_color && !writes_depth_stencil) {
+    const bool no_output = !writes_color && !writes_depth_stencil;
+
+    // ---- primitive assembly, clip, setup and binning, in chunks of primitives on the pool ----
+    const RasterState rs = raster_state(state, fb);
+    const TileGrid grid(fb.width(), fb.height());
+    const int per = vertices_per_primitive(call.mode);
+    const size_t prims_per_instance = primitive_count(call.mode, call.count);
+    const size_t prim_total = prims_per_instance * call.instance_count;
+    const size_t setup_chunks = (prim_total + kSetupChunk - 1) / kSetupChunk;
+    if (ds_.chunks.size() < setup_chunks) ds_.chunks.resize(setup_chunks);
+    std::vector<Bins>& chunk_bins = ds_.chunk_bins;
+    if (chunk_bins.size() < setup_chunks) chunk_bins.resize(setup_chunks);
+    const float* const pos = all_position;
+    for_chunks(in.pool, setup_chunks, [&](size_t c, unsigned) {
+        SetupChunk& chunk = ds_.chunks[c];
+        chunk.prims.clear();
+        Setup setup(rs);
+        const size_t begin = c * kSetupChunk, end = std::min(prim_total, begin + kSetupChunk);
+        uint32_t instance = uint32_t(begin / prims_per_instance);
+        size_t p = begin % prims_per_instance;
+        for (size_t number = begin; number < end; ++number, ++p) {
+            if (p == prims_per_instance) p = 0, ++instance;
+            uint32_t v[3];
+            primitive_vertices(call.mode, call.count, uint32_t(p), v);
+            const uint32_t base = uint32_t(instance * n);
+            for (int k = 0; k < per; ++k) v[k] = base + (call.indices ? slot_of_position[v[k]] : v[k]);
+            if (per == 3) setup.triangle(pos + 4 * v[0], pos + 4 * v[1], pos + 4 * v[2], v[0], v[1], v[2], uint32_t(number), chunk.prims);
+            else if (per == 2) setup.line(pos + 4 * v[0], pos + 4 * v[1], v[0], v[1], uint32_t(number), chunk.prims);
+            else setup.point(pos + 4 * v[0], all_point_size[v[0]], v[0], uint32_t(number), chunk.prims);
+        }
+        chunk.stats = setup.stats;
+        if (no_output) return;
+        chunk_bins[c].reset(grid);
+        chunk_bins[c].add(chunk.prims.data(), chunk.prims.size(), 0);
+    });
+    SetupStats setup_stats;
+    for (size_t c = 0; c < setup_chunks; ++c) setup_stats.add(ds_.chunks[c].stats);
+    st.primitives = setup_stats.primitives;
+    st.primitives_culled = setup_stats.culled;
+    st.primitives_clipped = setup_stats.clipped;
+    st.primitives_outside = setup_stats.outside;
+    st.primitives_invalid = setup_stats.invalid;
+    st.primitives_zero_area = setup_stats.zero_area;
+    st.primitives_rasterized = setup_stats.emitted;
+
+    if (no_output) {
         st.draws_skipped_no_output = 1;   // nothing can change: skip rasterisation and shading
         st.seconds_setup = since(t0);
         total.add(st);
@@ -231,16 +300,37 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
     const bool early = !fs.may_discard() && !fs.writes_depth() && !coverage_ops;
     const bool tests = ds.depth_test || ds.stencil_test;
     if (early && tests) st.draws_early_depth = 1;
-    if (prims.empty()) {
+    if (setup_stats.emitted == 0) {
         st.seconds_setup = since(t0);
         total.add(st);
         return;
     }
 
-    const TileGrid grid(fb.width(), fb.height());
-    Bins& bins = ds_.bins;
-    bins.reset(grid);
-    bins.add(prims);
+    // Number the primitives (chunk << shift | position in the chunk) and gather each tile's list
+    // in chunk order.
+    PrimitiveTable& prims = ds_.prims;
+    size_t largest = 1;
+    for (size_t c = 0; c < setup_chunks; ++c) largest = std::max(largest, ds_.chunks[c].prims.size());
+    prims.shift = 0;
+    while ((size_t(1) << prims.shift) < largest) ++prims.shift;
+    prims.mask = uint32_t((uint64_t(1) << prims.shift) - 1);
+    // Reached only past 2^29 primitives (chunks emit at most 8 * kSetupChunk records).
+    if ((uint64_t(setup_chunks) << prims.shift) > (uint64_t(1) << 32))
+        throw std::length_error("draw: too many primitives for one draw call");
+    prims.chunk.clear();
+    std::vector<uint32_t>& index_base = ds_.index_base;
+    index_base.clear();
+    for (size_t c = 0; c < setup_chunks; ++c) {
+        prims.chunk.push_back(ds_.chunks[c].prims.data());
+        index_base.push_back(uint32_t(c << prims.shift));
+    }
+    const Bins* binned = &chunk_bins[0];   // one chunk: its bins are the draw's
+    if (setup_chunks > 1) {
+        ds_.bins.reset(grid);
+        in.pool.parallel_for(grid.count(), [&](size_t t, unsigned) { ds_.bins.gather_tile(t, chunk_bins.data(), setup_chunks, index_base.data()); });
+        binned = &ds_.bins;
+    }
+    const Bins& bins = *binned;
     // Only tiles with work go to the pool (a draw of one small primitive wakes no thread).
     std::vector<uint32_t>& tiles = ds_.tiles;
     tiles.clear();

@@ -62,14 +62,23 @@ void GlslVertexShader::run(const std::array<AttributeStream, kMaxVertexAttribs>&
     std::vector<std::vector<Scalar>> results(ir.outputs.size(), std::vector<Scalar>(count));
     std::vector<Scalar*> outputs(ir.outputs.size());
     for (size_t i = 0; i < outputs.size(); ++i) outputs[i] = results[i].data();
-    if (!executor_) executor_ = std::make_unique<glsl::Executor>(ir);
+    std::unique_ptr<glsl::Executor> executor;
+    {
+        std::lock_guard<std::mutex> lock(executors_mutex_);
+        if (!idle_executors_.empty()) executor = std::move(idle_executors_.back()), idle_executors_.pop_back();
+    }
+    if (!executor) executor = std::make_unique<glsl::Executor>(ir);
     glsl::StageRun run;
     run.lane_count = int(count);
     run.inputs = inputs.data();
     run.outputs = outputs.data();
     run.uniforms = uniforms_;
     run.sampler = textures_ ? textures_ : &sampler_;
-    executor_->run(run);
+    executor->run(run);
+    {
+        std::lock_guard<std::mutex> lock(executors_mutex_);
+        idle_executors_.push_back(std::move(executor));
+    }
 
     out.count = count;
     out.position.assign(count * 4, 0.0f);
