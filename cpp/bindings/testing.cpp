@@ -8,12 +8,16 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "softgl/api/context.h"
+#include "exclusive.h"   // the Context caster every binding file shares
 #include "softgl/pipeline/fragment_ops.h"
+#include "softgl/pipeline/early_depth.h"
+#include "softgl/pipeline/interpolate.h"
 #include "softgl/pipeline/assemble.h"
 #include "softgl/pipeline/draw.h"
 #include "softgl/pipeline/passthrough_shaders.h"
 #include "softgl/pipeline/blend.h"
 #include "softgl/pipeline/depth_stencil.h"
+#include "softgl/pipeline/clip.h"
 
 namespace py = pybind11;
 
@@ -183,6 +187,68 @@ void bind_testing(py::module_& m) {
           py::arg("dst"), py::arg("lanes"), py::arg("level") = -1);
     // The lane kernels' instruction-set levels: 0 scalar, 1 SSE2, 2 AVX2; the best this CPU runs.
     t.def("simd_level", [] { return int(softgl::best_simd_level()); });
+    // pipeline/interpolate at one instruction-set level: planes (4, 3) float64 rows (a, b, c) of
+    // weight[0..2] and inv_w, origin in 1/256 pixel, quads (n, 2) int32 lower-left pixels,
+    // values (vertices, words) float32. Returns (words, 4n) float32, lane 4*i + j = pixel j of quad i.
+    t.def("interpolate_varyings",
+          [](int level, py::array_t<double, py::array::c_style | py::array::forcecast> planes, int64_t origin_x,
+             int64_t origin_y, py::array_t<int32_t, py::array::c_style | py::array::forcecast> quads,
+             py::array_t<float, py::array::c_style | py::array::forcecast> values) {
+              if (planes.ndim() != 2 || planes.shape(0) != 4 || planes.shape(1) != 3 || quads.ndim() != 2 ||
+                  quads.shape(1) != 2 || values.ndim() != 2 || (values.shape(0) != 2 && values.shape(0) != 3))
+                  throw py::value_error("planes (4, 3), quads (n, 2), values (2 or 3, words)");
+              softgl::PrimitiveSetup p{};
+              softgl::Plane* pl[4] = {&p.weight[0], &p.weight[1], &p.weight[2], &p.inv_w};
+              for (int k = 0; k < 4; ++k) *pl[k] = {planes.at(k, 0), planes.at(k, 1), planes.at(k, 2)};
+              p.origin_x = origin_x, p.origin_y = origin_y;
+              const size_t n = size_t(quads.shape(0)), count = size_t(values.shape(1));
+              std::vector<softgl::Quad> q(n);
+              for (size_t i = 0; i < n; ++i) q[i] = {quads.at(i, 0), quads.at(i, 1), ~uint64_t(0)};
+              std::vector<int> words(count);
+              std::vector<double> vals(size_t(values.shape(0)) * count);
+              for (size_t k = 0; k < count; ++k) words[k] = int(k);
+              for (size_t v = 0; v < size_t(values.shape(0)); ++v)
+                  for (size_t k = 0; k < count; ++k) vals[v * count + k] = double(values.at(v, k));
+              softgl::VaryingInterpolation vi;
+              vi.prim = &p, vi.vertices = int(values.shape(0)), vi.count = count, vi.words = words.data(), vi.values = vals.data();
+              py::array_t<float> out({py::ssize_t(count), py::ssize_t(4 * n)});
+              softgl::interpolate_varyings_at(softgl::SimdLevel(level), vi, q.data(), n,
+                                              reinterpret_cast<uint32_t*>(out.mutable_data()), 4 * n);
+              return out;
+          });
+    // pipeline/early_depth at one instruction-set level: the depth plane (a, b, c) + offset with its
+    // origin (1/256 pixel), quads (n, 3) int64 rows (x, y, coverage bits), a (h, w) uint32 depth
+    // buffer. Returns (survived (n, 4) uint16, killed, the buffer after the test).
+    t.def("early_depth_test",
+          [](int level, std::array<double, 3> plane, double offset, int64_t origin_x, int64_t origin_y,
+             std::array<int32_t, 2> sample, uint32_t func, bool write,
+             py::array_t<int64_t, py::array::c_style | py::array::forcecast> quads,
+             py::array_t<uint32_t, py::array::c_style | py::array::forcecast> depth) {
+              if (quads.ndim() != 2 || quads.shape(1) != 3 || depth.ndim() != 2)
+                  throw py::value_error("quads (n, 3), depth (h, w)");
+              softgl::PrimitiveSetup p{};
+              p.depth = {plane[0], plane[1], plane[2]};
+              p.depth_offset = offset;
+              p.origin_x = origin_x, p.origin_y = origin_y;
+              const size_t n = size_t(quads.shape(0));
+              std::vector<softgl::Quad> q(n);
+              for (size_t i = 0; i < n; ++i)
+                  q[i] = {int32_t(quads.at(i, 0)), int32_t(quads.at(i, 1)), uint64_t(quads.at(i, 2))};
+              py::array_t<uint32_t> buffer({depth.shape(0), depth.shape(1)});
+              std::memcpy(buffer.mutable_data(), depth.data(), size_t(depth.nbytes()));
+              softgl::EarlyDepth t;
+              t.prim = &p, t.sample_x = sample[0], t.sample_y = sample[1], t.func = func, t.write = write;
+              t.depth = buffer.mutable_data(), t.pitch = size_t(depth.shape(1));
+              py::array_t<uint16_t> survived({py::ssize_t(n), py::ssize_t(4)});
+              const size_t killed = softgl::early_depth_test_at(softgl::SimdLevel(level), t, q.data(), n, survived.mutable_data());
+              return py::make_tuple(survived, killed, buffer);
+          });
+    // Texture lookups: 0 the general per-lane path, 1 the 2D fast path without SIMD, 2 with the
+    // best SIMD (the default); returns how many queries the fast path served since the last call.
+    t.def("sampler_path", [](int path) {
+        if (path < 0 || path > 2) throw py::value_error("sampler path: 0, 1 or 2");
+        return softgl::set_sampler_path(softgl::SamplerPath(path));
+    });
     t.def("blend_unorm8",
           [](const std::array<uint32_t, 6>& funcs_and_equations, const std::array<float, 4>& constant,
              const std::array<bool, 4>& mask, bool has_alpha,
@@ -208,4 +274,28 @@ void bind_testing(py::module_& m) {
                   softgl::blend_unorm8(op, src.data(i, 0), out.mutable_data(i, 0));
               return out;
           });
+    // The clipper alone (pipeline/clip): triangle (3, 4) float32 in clip coordinates, full-target
+    // viewport. Returns the clipped polygon's clip positions (n, 4) and weights (n, 3), float64.
+    t.def("clip_triangle",
+          [](py::array_t<float, py::array::c_style | py::array::forcecast> tri, int32_t width,
+             int32_t height) {
+              if (tri.ndim() != 2 || tri.shape(0) != 3 || tri.shape(1) != 4)
+                  throw py::value_error("triangle must be (3, 4)");
+              softgl::Viewport vp;
+              vp.width = width;
+              vp.height = height;
+              softgl::Vec4d v[3];
+              for (int i = 0; i < 3; ++i) v[i] = {tri.at(i, 0), tri.at(i, 1), tri.at(i, 2), tri.at(i, 3)};
+              softgl::ClipVertex out[softgl::kMaxClipVertices];
+              const int n = softgl::Clipper(vp).clip_triangle(v, out);
+              py::array_t<double> pos({py::ssize_t(n), py::ssize_t(4)}), weights({py::ssize_t(n), py::ssize_t(3)});
+              for (int i = 0; i < n; ++i) {
+                  const softgl::Vec4d& p = out[i].position;
+                  const double c[4] = {p.x, p.y, p.z, p.w};
+                  for (int k = 0; k < 4; ++k) *pos.mutable_data(i, k) = c[k];
+                  for (int k = 0; k < 3; ++k) *weights.mutable_data(i, k) = out[i].weight[k];
+              }
+              return py::make_tuple(pos, weights);
+          },
+          py::arg("triangle"), py::arg("width"), py::arg("height"));
 }

@@ -4,8 +4,9 @@ point of the (homogeneous) triangle that the pixel sees; the pixel is covered wh
 -w <= z <= w (ES 3.0 §2.17). Pixels within a small margin of any boundary are not compared."""
 import numpy as np
 import pytest
+from hypothesis import given, settings, strategies as st
 
-from conftest import coverage
+from conftest import core, coverage
 
 W = H = 48
 MARGIN = 2e-3
@@ -62,12 +63,87 @@ def test_random_triangles_crossing_w_zero_and_near_far(seed):
     check(clip.astype(np.float32))
 
 
-@pytest.mark.parametrize("w", [1e-3, 1e-7, 1e-20, 1e-38])
+@pytest.mark.parametrize("w", [1e-3, 1e-7, 1e-20, 1e-30, 1e-38, 1e-45])
 def test_w_approaching_zero(w):
-    # One vertex at a tiny positive w: its window position is astronomically far away.
+    # One vertex at a tiny positive w (down to float32's smallest, 2^-149): no w > 0 is too small
+    # to be drawn, and the triangle is the one its three projected vertices span.
     clip = [[-0.5, -0.5, 0, 1], [0.5, -0.6, 0, 1], [0.3 * w, 0.9 * w, 0, w]]
     r = check(clip)
     assert r["count"].sum() > 0
+
+
+@pytest.mark.parametrize("w", [-1e-3, -1e-6, -1e-9, -1e-20, -1e-30, -1e-38])
+def test_w_just_behind_the_eye(w):
+    # The same vertex mirrored just behind the eye: the part with w > 0 runs off to infinity
+    # between the two other vertices' directions. Its crossing of w = 0 lies next to the tiny
+    # vertex, so an error relative to the w = 1 vertices (1e-16) would be larger than the point.
+    clip = [[-0.5, -0.5, 0, 1], [0.5, -0.6, 0, 1], [0.3 * -w, 0.9 * -w, 0, w]]
+    r = check(clip)
+    assert r["count"].sum() > 0 and r["setup"]["clipped"] == 1
+
+
+def clip_triangle(tri):
+    return core.testing.clip_triangle(np.asarray(tri, np.float32), W, H)
+
+
+EXTREME = [0.0, -0.0, 2.0**-149, 1e-38, 1e-30, 1e-6, 0.25, 1.0, 3.0, 1e6, 2.0**24 + 2, 1e30, 3e38]
+COMPONENT = st.sampled_from(EXTREME).flatmap(lambda v: st.sampled_from([v, -v]))
+
+
+@settings(max_examples=400, deadline=None, database=None, derandomize=True)
+@given(st.lists(COMPONENT, min_size=12, max_size=12))
+def test_clipped_vertices_never_divide_to_nan(values):
+    """Every vertex the clipper hands to setup has w >= 2^-1022 (so 1/w is finite), finite x/w,
+    y/w, z/w inside the guard band and the near/far planes (up to rounding), and is the point
+    of the triangle its weights say: the perspective division in setup never sees 0/0 and
+    snap() never gets NaN. Components from 0 and float32's smallest to its largest."""
+    tri = np.array(values, np.float32).reshape(3, 4)
+    pos, weights = clip_triangle(tri)
+    if len(pos) == 0:
+        return
+    assert len(pos) >= 3
+    w = pos[:, 3]
+    assert (w >= 2.0**-1022).all()
+    with np.errstate(over="ignore"):
+        ndc = pos[:, :3] / w[:, None]
+    assert np.isfinite(ndc).all()
+    guard = 2.0**20 / (W / 2)                         # the band's half-width in NDC units
+    assert (np.abs(ndc[:, :2]) <= (guard + 1) * (1 + 1e-9)).all()
+    assert (np.abs(ndc[:, 2]) <= 1 + 1e-9).all()
+    assert (weights >= -1e-12).all() and np.allclose(weights.sum(1), 1, rtol=0, atol=1e-9)
+    v = tri.astype(np.float64)
+    expect = weights @ v
+    assert (np.abs(pos - expect) <= 1e-9 * (np.abs(weights) @ np.abs(v)) + 1e-300).all()
+
+
+@pytest.mark.parametrize("tri", [
+    [[0, 0, 0, 1], [0, 1, 0, 1], [0, 0, 0, -1]],                      # x = 0 everywhere
+    [[0.3, -0.2, 0.1, 1], [-0.5, 0.4, 0.2, 1], [-0.6, 0.4, -0.2, -2]],   # third vertex = -2 * first
+    [[0.5, -0.75, 0.25, 1], [0.25, 0.5, 0.5, 2], [-0.5, 0.75, -0.25, -1]],   # third = -first
+])
+def test_triangle_crossing_w_zero_through_the_origin(tri):
+    """A triangle whose plane contains the clip-space origin (its edge from the first to the third
+    vertex passes through it) crosses w = 0 there: its clipped polygon has the origin as a vertex
+    (ES 3.0 §2.17 keeps it: -0 <= 0 <= 0) and the whole of it divides to a line segment. The
+    clipper drops the origin (no 0/0), nothing has area, nothing is drawn; that edge drawn as a
+    line divides to a single point (its part with w > 0 is one ray) and draws nothing either."""
+    pos, _ = clip_triangle(tri)
+    assert (pos[:, 3] > 0).all()
+    r = coverage(W, H, tri)
+    assert r["count"].sum() == 0 and r["setup"]["invalid"] == 0
+    line = np.array([tri[0], tri[2]], np.float32)
+    r = coverage(W, H, line, primitive="lines")
+    assert r["count"].sum() == 0 and r["setup"]["invalid"] == 0
+
+
+def test_points_at_tiny_and_zero_w():
+    # A point at w = 2^-149 (float32's smallest) is the point (0, 0) like w = 1; w = 0 is the
+    # origin (no point) and w < 0 is behind the eye.
+    pts = np.array([[0, 0, 0, 1], [0, 0, 0, 2.0**-149], [0, 0, 0, 0], [0, 0, 0, -2.0**-149]], np.float32)
+    counts = [coverage(W, H, pts[i:i + 1], primitive="points")["count"][..., 0] for i in range(4)]
+    assert counts[0].sum() == 1
+    np.testing.assert_array_equal(counts[1], counts[0])
+    assert counts[2].sum() == 0 and counts[3].sum() == 0
 
 
 @pytest.mark.parametrize("big", [2.0 ** 20, 2.0 ** 24, -(2.0 ** 24), 1e30])
@@ -153,3 +229,17 @@ def test_clipped_mesh_is_watertight(seed):
                 | (np.abs(np.abs(x) - 6) < 0.4))
     sure = ~edge
     np.testing.assert_array_equal(count[sure], inside[sure].astype(np.uint32))
+
+
+def test_clipping_is_the_same_for_any_thread_count():
+    # Triangles crossing w = 0, near and far, with vertices from 2^-149 to 1e30: the clipped
+    # coverage, depth and weights are bit-identical whatever the number of threads.
+    rng = np.random.default_rng(3)
+    clip = rng.uniform(-2, 2, (600, 4)) * 10.0 ** rng.integers(-40, 30, (600, 1))
+    clip[:, 3] = rng.uniform(-1, 2, 600) * 10.0 ** rng.integers(-40, 2, 600)
+    clip = clip.astype(np.float32)
+    runs = [coverage(W, H, clip, threads=t) for t in (1, 2, 3)]
+    assert runs[0]["setup"]["clipped"] > 50
+    for r in runs[1:]:
+        for key in ("count", "depth", "last", "weights"):
+            np.testing.assert_array_equal(r[key], runs[0][key])

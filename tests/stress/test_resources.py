@@ -254,6 +254,57 @@ def test_draws_release_the_gil():
     assert during > 100
 
 
+def test_state_calls_during_another_threads_draw_are_refused():
+    """A GIL-holding call (clearColor, bindBuffer, bufferData...) from a second thread while a draw
+    runs on the same context gets the 'busy' RuntimeError instead of changing state under the draw.
+    The second thread's calls do not affect what the draw reads (clear colour, a buffer the draw
+    does not use), so the pixels must equal a single-threaded run."""
+    def setup():
+        gl = context(256, 256)
+        p = Painter(gl)
+        pos = np.array([[-1, -1, 0, 1], [3, -1, 0, 1], [-1, 3, 0, 1]] * 300, np.float32)
+        gl.bindBuffer(gl.ARRAY_BUFFER, p.pos_buf)
+        gl.bufferData(gl.ARRAY_BUFFER, pos, gl.STATIC_DRAW)
+        gl.enableVertexAttribArray(0)
+        gl.vertexAttribPointer(0, 4, gl.FLOAT, False, 0, 0)
+        gl.enable(gl.BLEND)
+        gl.blendFunc(gl.ONE, gl.ONE)
+        p.color((0.002, 0.001, 0.003, 0.004))
+        return gl, len(pos)
+
+    gl, n = setup()
+    gl.drawArrays(gl.TRIANGLES, 0, n)
+    expected = gl.readPixels(0, 0, 256, 256, gl.RGBA, gl.UNSIGNED_BYTE)
+
+    gl, n = setup()
+    spare = gl.createBuffer()
+    refused, accepted = [], []
+    done, started = threading.Event(), threading.Event()
+
+    def meddler():
+        started.set()
+        while not done.is_set():
+            try:
+                gl.clearColor(0.5, 0.25, 0.125, 1.0)
+                gl.bindBuffer(gl.ARRAY_BUFFER, spare)
+                gl.bufferData(gl.ARRAY_BUFFER, 16, gl.STATIC_DRAW)
+                accepted.append(1)
+            except RuntimeError as e:
+                assert "busy" in str(e)
+                refused.append(1)
+    t = threading.Thread(target=meddler)
+    t.start()
+    started.wait()
+    gl.drawArrays(gl.TRIANGLES, 0, n)   # ~60M fragments, released GIL: the meddler runs meanwhile
+    done.set()
+    t.join()
+    assert refused, "no call reached the context while the draw ran"
+    assert gl.getError() == gl.NO_ERROR
+    np.testing.assert_array_equal(gl.readPixels(0, 0, 256, 256, gl.RGBA, gl.UNSIGNED_BYTE), expected)
+    gl.clearColor(0.5, 0.25, 0.125, 1.0)   # outside a draw the same calls go through
+    np.testing.assert_allclose(gl.getParameter(gl.COLOR_CLEAR_VALUE), [0.5, 0.25, 0.125, 1.0])
+
+
 def test_one_context_shared_by_threads_never_crashes():
     code = """
 import threading, numpy as np, warnings

@@ -12,37 +12,26 @@ int vertices_per_primitive(GLenum mode) {
     }
 }
 
-void assemble(GLenum mode, uint32_t n, std::vector<uint32_t>& out) {
-    auto push = [&out](std::initializer_list<uint32_t> v) { out.insert(out.end(), v); };
+uint32_t primitive_count(GLenum mode, uint32_t n) {
     switch (mode) {
-        case gl::POINTS:
-            for (uint32_t i = 0; i < n; ++i) push({i});
-            break;
-        case gl::LINES:
-            for (uint32_t i = 0; i + 1 < n; i += 2) push({i, i + 1});
-            break;
-        case gl::LINE_STRIP:
-            for (uint32_t i = 0; i + 1 < n; ++i) push({i, i + 1});
-            break;
-        case gl::LINE_LOOP:
-            if (n < 2) break;
-            for (uint32_t i = 0; i + 1 < n; ++i) push({i, i + 1});
-            push({n - 1, 0});   // the closing segment; its provoking vertex is v0 (ES 3.0 t. 2.12)
-            break;
-        case gl::TRIANGLES:
-            for (uint32_t i = 0; i + 2 < n; i += 3) push({i, i + 1, i + 2});
-            break;
-        case gl::TRIANGLE_STRIP:
-            for (uint32_t i = 0; i + 2 < n; ++i) {
-                if (i % 2 == 0) push({i, i + 1, i + 2});
-                else push({i + 1, i, i + 2});
-            }
-            break;
-        case gl::TRIANGLE_FAN:
-            for (uint32_t i = 0; i + 2 < n; ++i) push({0, i + 1, i + 2});
-            break;
-        default:
-            break;
+        case gl::POINTS: return n;
+        case gl::LINES: return n / 2;
+        case gl::LINE_STRIP: return n < 2 ? 0 : n - 1;
+        case gl::LINE_LOOP: return n < 2 ? 0 : n;   // n - 1 segments and the closing one
+        case gl::TRIANGLES: return n / 3;
+        case gl::TRIANGLE_STRIP: case gl::TRIANGLE_FAN: return n < 3 ? 0 : n - 2;
+        default: return 0;
+    }
+}
+
+void assemble(GLenum mode, uint32_t n, std::vector<uint32_t>& out) {
+    if (!valid_draw_mode(mode)) return;
+    const int per = vertices_per_primitive(mode);
+    const uint32_t count = primitive_count(mode, n);
+    for (uint32_t p = 0; p < count; ++p) {
+        uint32_t v[3];
+        primitive_vertices(mode, n, p, v);
+        out.insert(out.end(), v, v + per);
     }
 }
 

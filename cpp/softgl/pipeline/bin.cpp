@@ -26,12 +26,27 @@ void Bins::reset(const TileGrid& grid) {
 }
 
 void Bins::add(const std::vector<PrimitiveSetup>& prims, size_t first) {
-    for (size_t n = first; n < prims.size(); ++n) {
-        const PrimitiveSetup& p = prims[n];
+    if (first < prims.size()) add(prims.data() + first, prims.size() - first, uint32_t(first));
+}
+
+void Bins::gather_tile(size_t t, const Bins* parts, size_t count, const uint32_t* index_base) {
+    std::vector<uint32_t>& list = lists_[t];
+    list.clear();
+    for (size_t i = 0; i < count; ++i) {
+        const std::vector<uint32_t>& part = parts[i].lists_[t];
+        const uint32_t base = index_base[i];
+        for (uint32_t k : part) list.push_back(base + k);
+    }
+}
+
+void Bins::add(const PrimitiveSetup* prims, size_t count, uint32_t index_base) {
+    for (size_t i = 0; i < count; ++i) {
+        const PrimitiveSetup& p = prims[i];
+        const uint32_t n = index_base + uint32_t(i);
         const int32_t tx0 = p.x0 / kTileSize, tx1 = (p.x1 - 1) / kTileSize;
         const int32_t ty0 = p.y0 / kTileSize, ty1 = (p.y1 - 1) / kTileSize;
         if (tx0 == tx1 && ty0 == ty1) {   // the common case: a small primitive in one tile
-            lists_[size_t(ty0) * grid_.tiles_x + tx0].push_back(uint32_t(n));
+            lists_[size_t(ty0) * grid_.tiles_x + tx0].push_back(n);
             continue;
         }
         for (int32_t ty = ty0; ty <= ty1; ++ty) {
@@ -48,7 +63,7 @@ void Bins::add(const std::vector<PrimitiveSetup>& prims, size_t first) {
                     outside = a * (a > 0 ? X1 : X0) + b * (b > 0 ? Y1 : Y0) + p.c[i] < 0;
                 }
                 if (outside) { ++tiles_skipped; continue; }
-                lists_[size_t(ty) * grid_.tiles_x + tx].push_back(uint32_t(n));
+                lists_[size_t(ty) * grid_.tiles_x + tx].push_back(n);
             }
         }
     }

@@ -27,6 +27,12 @@ public:
     // Appends prims[first..] to the tiles their bounding box meets, skipping tiles that lie entirely
     // outside one of a primitive's edges. Indices refer to `prims`.
     void add(const std::vector<PrimitiveSetup>& prims, size_t first = 0);
+    // The same for prims[0..count), listed as index_base + their position.
+    void add(const PrimitiveSetup* prims, size_t count, uint32_t index_base);
+    // Tile t's list becomes the concatenation of parts[i]'s lists for t (i < count), each index
+    // plus index_base[i]. Binning consecutive runs of primitives separately (on several threads) and
+    // gathering them in order gives exactly the lists one add() over all of them gives.
+    void gather_tile(size_t t, const Bins* parts, size_t count, const uint32_t* index_base);
     const std::vector<uint32_t>& tile(size_t t) const { return lists_[t]; }
     const TileGrid& grid() const { return grid_; }
     uint64_t tiles_skipped = 0;              // (primitive, tile) pairs rejected by the edge test

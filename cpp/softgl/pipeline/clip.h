@@ -1,19 +1,26 @@
 // Homogeneous clipping in clip space (ES 3.0 §2.17), before the perspective division.
 //
-// Triangles are clipped against w >= kClipEpsilon, the near and far planes (-w <= z <= w) and, only
-// when a vertex lies outside it, the guard band (viewport.h): a rectangle of +-2^20 pixels in window
-// space written as four planes in clip space. Inside the guard band x and y are not clipped: the
+// Triangles are clipped against w >= 0, the near and far planes (-w <= z <= w) and, only when a
+// vertex lies outside it, the guard band (viewport.h): a rectangle of +-2^20 pixels in window space
+// written as four planes in clip space. Inside the guard band x and y are not clipped: the
 // rasterizer's bounding box and the framebuffer/scissor rectangle do that exactly, and clipping
 // there would only add vertices and rounding. Lines are clipped against the same planes; points are
 // handled by setup (not clipped by their centre in x/y, ES 3.0 §3.4 / WebGL clipping-wide-points).
+//
+// Near w = 0. Every plane passes through the clip-space origin, and together they admit no point
+// with w = 0 but the origin (-w <= z <= w and the guard band force x = y = z = 0 there). The origin
+// is no point of the projective plane and adds nothing to a picture (t*0 + (1-t)*Q divides to the
+// same window position as Q), so it is dropped from the clipped polygon; no other epsilon is
+// involved: any w > 0 is drawn, at any scale. The w >= 0 plane comes first so that every later
+// plane sees only w >= 0, and an edge's crossing of w = 0 has w = 0 exactly (see clip.cpp).
 //
 // Every output vertex carries barycentric weights relative to the original primitive's vertices, so
 // varyings are never clipped: the fragment stage interpolates the original vertices' varyings with
 // perspective-correct weights built from these (see setup.h).
 //
 // Watertightness across clipped shared edges: an intersection is always computed from the inside
-// vertex towards the outside vertex, with the plane distances of those two vertices, and planes are
-// applied in a fixed order, so two triangles sharing an edge produce bit-identical clipped points.
+// vertex towards the outside vertex, from those two vertices alone, and planes are applied in a
+// fixed order, so two triangles sharing an edge produce bit-identical clipped points.
 //
 // Primitives with a NaN or infinite coordinate are dropped.
 #pragma once
@@ -32,12 +39,14 @@ struct ClipVertex {
     double weight[3];   // barycentric weights relative to the original primitive's vertices
 };
 
-// The smallest w a clipped vertex may have: keeps the division by w finite. Any vertex with
-// |x|,|y| <= 2^20 w after guard-band clipping maps to finite window coordinates.
-inline constexpr double kClipEpsilon = 1e-30;
+// Clipped vertices with a smaller w are dropped. Inside the clip volume only the origin has w = 0;
+// a vertex rounding left with 0 < w < 2^-1022 (never an input: float32 positions have w = 0 or
+// |w| >= 2^-149) is that origin up to cancellation. Every vertex kept has a finite 1/w, and x/w,
+// y/w, z/w are never NaN (they exceed the guard band by rounding at most; setup's snap clamps).
+inline constexpr double kMinClippedW = 0x1p-1022;
 
 enum ClipPlaneBit : uint32_t {
-    kClipW = 1u << 0,
+    kClipW = 1u << 0,       // w >= 0
     kClipNear = 1u << 1,
     kClipFar = 1u << 2,
     kClipLeft = 1u << 3,    // guard band, window x >= -kGuardBand
@@ -55,17 +64,20 @@ class Clipper {
 public:
     explicit Clipper(const Viewport& viewport);
 
-    // Signed distance of v to plane i (>= 0 inside); a linear (affine for kClipW) function of v.
+    // Signed distance of v to plane i (>= 0 inside); a linear function of v, rounded. Only used to
+    // pick the planes to clip against (outcode); clipping recomputes distances exactly.
     double distance(int plane, const Vec4d& v) const;
     // Bit i set when v is outside plane i.
     uint32_t outcode(const Vec4d& v) const;
 
     // Clips triangle v[0..2]. Returns the number of vertices of the clipped convex polygon written to
-    // `out` (0: nothing left, or a non-finite coordinate), in the triangle's winding order.
+    // `out` (0: nothing left, or a non-finite coordinate), in the triangle's winding order; every
+    // one has w >= kMinClippedW.
     int clip_triangle(const Vec4d v[3], ClipVertex out[kMaxClipVertices]) const;
 
     // Clips segment v[0..1] against w, near, far and the guard band. Returns false when nothing is
-    // left; otherwise out[0..1] hold the clipped endpoints (weight[0..1] relative to v[0], v[1]).
+    // left; otherwise out[0..1] hold the clipped endpoints (weight[0..1] relative to v[0], v[1]),
+    // both with w >= kMinClippedW.
     bool clip_line(const Vec4d v[2], ClipVertex out[2]) const;
 
 private:

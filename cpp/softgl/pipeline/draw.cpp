@@ -1,9 +1,11 @@
 #include "softgl/pipeline/draw.h"
 
 #include <algorithm>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <cstring>
+#include <stdexcept>
 #include <type_traits>
 #include <unordered_map>
 
@@ -12,9 +14,11 @@
 #include "softgl/pipeline/coverage.h"
 #include "softgl/pipeline/blend.h"
 #include "softgl/pipeline/depth_stencil.h"
+#include "softgl/pipeline/early_depth.h"
 #include "softgl/pipeline/fog.h"
 #include "softgl/pipeline/fragment_ops.h"
 #include "softgl/pipeline/fragment_sink.h"
+#include "softgl/pipeline/interpolate.h"
 #include "softgl/pipeline/sample_mask.h"
 #include "softgl/pipeline/raster.h"
 #include "softgl/pipeline/setup.h"
@@ -77,26 +81,53 @@ RasterState raster_state(const State& s, const RenderTarget& fb) {
 constexpr size_t kChunkQuads = 32;   // 128 lanes: the executor's batch
 
 struct Scratch {
-    std::vector<Quad> quads, cq;      // the primitive's quads in this tile; the current chunk
-    std::vector<QuadArea> areas, ca;  // SOFTGL_smooth: covered fractions of quads / of the chunk
-    std::vector<uint32_t> pixels;     // per lane: the destination pixel (S == 1 colour path)
-    std::vector<uint16_t> masks;      // surviving sample mask per lane
-    std::vector<double> fx, fy;       // per lane: pixel-centre offset from the primitive's origin
-    std::vector<double> q, w[3];      // per lane: 1 / inv_w and perspective-correct weights
+    std::vector<Quad> quads;          // the primitive's quads in this tile
+    std::vector<QuadArea> areas;      // SOFTGL_smooth: covered fractions of the quads
+    std::vector<double> values;       // the primitive's vertex values of the interpolated words
+    std::vector<uint32_t> pixels;     // per lane of a chunk: the destination pixel (S == 1 colour path)
+    std::vector<uint16_t> masks;      // per lane of a chunk: surviving sample mask
     FragmentBatch batch;
     FragmentResults results;
     RasterStats raster;
     DrawStats stats;
 };
 
-// Everything a draw allocates, kept between draws on the calling thread (DESIGN §4: no per-draw
-// allocations for small draws).
-struct DrawScratch {
-    std::vector<uint32_t> ids, slot_of_position, assembled, tiles;
-    std::unordered_map<uint32_t, uint32_t> slot;
+// Work is split into chunks of consecutive vertices or primitives that the pool shades and sets up
+// in parallel. Each chunk's results land in fixed places (vertices) or are gathered in chunk order
+// (primitives, bins), so nothing depends on the thread count.
+constexpr size_t kVertexChunk = 1024;   // vertices per vertex-stage job
+constexpr size_t kSetupChunk = 2048;    // primitives per setup-and-binning job
+
+struct VertexWorker {
     std::array<AttributeStream, kMaxVertexAttribs> attribs;
-    VertexShaderOutputs shaded, all;
+    VertexShaderOutputs shaded;
+};
+
+// The set-up primitives of one chunk, its counters and its bins (indices local to the chunk).
+struct SetupChunk {
     std::vector<PrimitiveSetup> prims;
+    SetupStats stats;
+};
+
+// The draw's set-up primitives: number k is record k & mask of chunk k >> shift (no per-primitive
+// table: the chunk's base address is in a few hot cache lines).
+struct PrimitiveTable {
+    std::vector<const PrimitiveSetup*> chunk;
+    unsigned shift = 0;
+    uint32_t mask = 0;
+    const PrimitiveSetup& operator[](uint32_t k) const { return chunk[k >> shift][k & mask]; }
+};
+
+// Everything a draw allocates, kept between draws on the calling thread (DESIGN §4: no per-draw
+// allocations; buffers only grow, so a repeated draw touches no fresh pages).
+struct DrawScratch {
+    std::vector<uint32_t> ids, slot_of_position, tiles, index_base;
+    std::unordered_map<uint32_t, uint32_t> slot;
+    std::vector<VertexWorker> vertex_workers;
+    VertexShaderOutputs all;
+    std::vector<SetupChunk> chunks;
+    std::vector<Bins> chunk_bins;
+    PrimitiveTable prims;
     Bins bins;
     std::vector<Scratch> workers;
 };
@@ -106,15 +137,28 @@ DrawScratch& draw_scratch() {
     return scratch;
 }
 
-// Depth test alone (no stencil), ES 3.0 §4.1.6: the same decisions as depth_stencil_test.
-inline bool depth_only_test(GLenum func, bool write, uint32_t z, uint32_t* stored) {
-    if (!compare(func, z, *stored)) return false;
-    if (write) *stored = z;
-    return true;
+// Grows v to at least n elements; never shrinks, so a smaller draw does not zero-fill again.
+template <class T>
+T* at_least(std::vector<T>& v, size_t n) {
+    if (v.size() < n) v.resize(n);
+    return v.data();
 }
 
-// The pixel-centre window depth as the 24-bit value the buffer stores: floor(z * (2^24-1) + 0.5),
-// z in [0, 1] (truncation is floor for these non-negative values).
+// Runs job(chunk, worker) for chunks [0, count) on the pool. After the first exception (a shader's
+// loop limit) the remaining chunks are skipped; parallel_for rethrows it.
+template <class Job>
+void for_chunks(ThreadPool& pool, size_t count, const Job& job) {
+    std::atomic<bool> failed{false};
+    pool.parallel_for(count, [&](size_t chunk, unsigned worker) {
+        if (failed.load(std::memory_order_relaxed)) return;
+        try {
+            job(chunk, worker);
+        } catch (...) {
+            failed = true;
+            throw;
+        }
+    });
+}
 
 }  // namespace
 
@@ -141,8 +185,8 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
     std::vector<uint32_t>& ids = ds_.ids;       // distinct vertex ids, in first-use order
     std::vector<uint32_t>& slot_of_position = ds_.slot_of_position;
     ids.clear();
-    slot_of_position.resize(call.count);
     if (call.indices) {
+        slot_of_position.resize(call.count);
         std::unordered_map<uint32_t, uint32_t>& slot = ds_.slot;
         slot.clear();
         slot.reserve(call.count * 2);
@@ -153,30 +197,31 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
         }
     } else {
         ids.resize(call.count);
-        for (uint32_t k = 0; k < call.count; ++k) ids[k] = call.first + k, slot_of_position[k] = k;
+        for (uint32_t k = 0; k < call.count; ++k) ids[k] = call.first + k;
     }
     const size_t n = ids.size();
-    std::array<AttributeStream, kMaxVertexAttribs>& attribs = ds_.attribs;
-    VertexShaderOutputs& shaded = ds_.shaded;
-    VertexShaderOutputs& all = ds_.all;
+    VertexShaderOutputs& all = ds_.all;   // instance i's vertex v at i * n + v
     all.count = n * call.instance_count;
-    all.position.clear();
-    all.point_size.clear();
-    all.varyings.clear();
-    all.position.reserve(all.count * 4);
-    all.point_size.reserve(all.count);
-    all.varyings.reserve(all.count * size_t(words));
+    float* const all_position = at_least(all.position, all.count * 4);
+    float* const all_point_size = at_least(all.point_size, all.count);
+    uint32_t* const all_varyings = at_least(all.varyings, all.count * size_t(words));
     const uint32_t used = vs.used_attributes();
-    for (uint32_t instance = 0; instance < call.instance_count; ++instance) {
+    if (ds_.vertex_workers.size() < in.pool.size()) ds_.vertex_workers.resize(in.pool.size());
+    const size_t vertex_chunks = (n + kVertexChunk - 1) / kVertexChunk;
+    for_chunks(in.pool, vertex_chunks * call.instance_count, [&](size_t job, unsigned worker) {
+        const uint32_t instance = uint32_t(job / vertex_chunks);
+        const size_t begin = (job % vertex_chunks) * kVertexChunk, count = std::min(kVertexChunk, n - begin);
+        VertexWorker& w = ds_.vertex_workers[worker];
         for (int loc = 0; loc < kMaxVertexAttribs; ++loc)
             if (used & (1u << loc))
-                fetch_attribute(in.vertex_array, in.current_attribs[size_t(loc)], loc, ids.data(), 0, n,
-                                instance, attribs[size_t(loc)]);
-        vs.run(attribs, n, ids.data(), instance, shaded);
-        all.position.insert(all.position.end(), shaded.position.begin(), shaded.position.end());
-        all.point_size.insert(all.point_size.end(), shaded.point_size.begin(), shaded.point_size.end());
-        all.varyings.insert(all.varyings.end(), shaded.varyings.begin(), shaded.varyings.end());
-    }
+                fetch_attribute(in.vertex_array, in.current_attribs[size_t(loc)], loc, ids.data() + begin, 0,
+                                count, instance, w.attribs[size_t(loc)]);
+        vs.run(w.attribs, count, ids.data() + begin, instance, w.shaded);
+        const size_t at = size_t(instance) * n + begin;
+        std::copy_n(w.shaded.position.data(), count * 4, all_position + at * 4);
+        std::copy_n(w.shaded.point_size.data(), count, all_point_size + at);
+        std::copy_n(w.shaded.varyings.data(), count * size_t(words), all_varyings + at * size_t(words));
+    });
     st.vertices_shaded = all.count;
     st.seconds_vertex = since(t0);
 
@@ -186,44 +231,59 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
         return;
     }
 
-    // ---- primitive assembly, clip and setup (serial, in primitive order) ----
-    t0 = Clock::now();
-    const RasterState rs = raster_state(state, fb);
-    Setup setup(rs);
-    std::vector<PrimitiveSetup>& prims = ds_.prims;
-    prims.clear();
-    std::vector<uint32_t>& assembled = ds_.assembled;
-    assembled.clear();
-    assemble(call.mode, call.count, assembled);
-    const int per = vertices_per_primitive(call.mode);
-    const size_t prims_per_instance = assembled.size() / size_t(per);
-    uint32_t number = 0;
-    for (uint32_t instance = 0; instance < call.instance_count; ++instance) {
-        const uint32_t base = uint32_t(instance * n);
-        for (size_t p = 0; p < prims_per_instance; ++p, ++number) {
-            uint32_t v[3];
-            for (int k = 0; k < per; ++k) v[k] = base + slot_of_position[assembled[p * size_t(per) + size_t(k)]];
-            const float* pos = all.position.data();
-            if (per == 3) setup.triangle(pos + 4 * v[0], pos + 4 * v[1], pos + 4 * v[2], v[0], v[1], v[2], number, prims);
-            else if (per == 2) setup.line(pos + 4 * v[0], pos + 4 * v[1], v[0], v[1], number, prims);
-            else setup.point(pos + 4 * v[0], all.point_size[v[0]], v[0], number, prims);
-        }
-    }
-    st.primitives = setup.stats.primitives;
-    st.primitives_culled = setup.stats.culled;
-    st.primitives_clipped = setup.stats.clipped;
-    st.primitives_outside = setup.stats.outside;
-    st.primitives_invalid = setup.stats.invalid;
-    st.primitives_zero_area = setup.stats.zero_area;
-    st.primitives_rasterized = setup.stats.emitted;
-
     // ---- what the per-fragment work needs (DESIGN §4) ----
+    t0 = Clock::now();
     const auto& config = fb.config();
     const BlendOp blend = BlendOp::from_state(state, config.alpha);
     const DepthStencilOp ds = DepthStencilOp::from_state(state, config.depth, config.stencil);
     const bool writes_color = blend.write[0] || blend.write[1] || blend.write[2] || blend.write[3];
     const bool writes_depth_stencil = (ds.depth_test && ds.depth_write) || ds.stencil_test;
-    if (!writes_color && !writes_depth_stencil) {
+    const bool no_output = !writes_color && !writes_depth_stencil;
+
+    // ---- primitive assembly, clip, setup and binning, in chunks of primitives on the pool ----
+    const RasterState rs = raster_state(state, fb);
+    const TileGrid grid(fb.width(), fb.height());
+    const int per = vertices_per_primitive(call.mode);
+    const size_t prims_per_instance = primitive_count(call.mode, call.count);
+    const size_t prim_total = prims_per_instance * call.instance_count;
+    const size_t setup_chunks = (prim_total + kSetupChunk - 1) / kSetupChunk;
+    if (ds_.chunks.size() < setup_chunks) ds_.chunks.resize(setup_chunks);
+    std::vector<Bins>& chunk_bins = ds_.chunk_bins;
+    if (chunk_bins.size() < setup_chunks) chunk_bins.resize(setup_chunks);
+    const float* const pos = all_position;
+    for_chunks(in.pool, setup_chunks, [&](size_t c, unsigned) {
+        SetupChunk& chunk = ds_.chunks[c];
+        chunk.prims.clear();
+        Setup setup(rs);
+        const size_t begin = c * kSetupChunk, end = std::min(prim_total, begin + kSetupChunk);
+        uint32_t instance = uint32_t(begin / prims_per_instance);
+        size_t p = begin % prims_per_instance;
+        for (size_t number = begin; number < end; ++number, ++p) {
+            if (p == prims_per_instance) p = 0, ++instance;
+            uint32_t v[3];
+            primitive_vertices(call.mode, call.count, uint32_t(p), v);
+            const uint32_t base = uint32_t(instance * n);
+            for (int k = 0; k < per; ++k) v[k] = base + (call.indices ? slot_of_position[v[k]] : v[k]);
+            if (per == 3) setup.triangle(pos + 4 * v[0], pos + 4 * v[1], pos + 4 * v[2], v[0], v[1], v[2], uint32_t(number), chunk.prims);
+            else if (per == 2) setup.line(pos + 4 * v[0], pos + 4 * v[1], v[0], v[1], uint32_t(number), chunk.prims);
+            else setup.point(pos + 4 * v[0], all_point_size[v[0]], v[0], uint32_t(number), chunk.prims);
+        }
+        chunk.stats = setup.stats;
+        if (no_output) return;
+        chunk_bins[c].reset(grid);
+        chunk_bins[c].add(chunk.prims.data(), chunk.prims.size(), 0);
+    });
+    SetupStats setup_stats;
+    for (size_t c = 0; c < setup_chunks; ++c) setup_stats.add(ds_.chunks[c].stats);
+    st.primitives = setup_stats.primitives;
+    st.primitives_culled = setup_stats.culled;
+    st.primitives_clipped = setup_stats.clipped;
+    st.primitives_outside = setup_stats.outside;
+    st.primitives_invalid = setup_stats.invalid;
+    st.primitives_zero_area = setup_stats.zero_area;
+    st.primitives_rasterized = setup_stats.emitted;
+
+    if (no_output) {
         st.draws_skipped_no_output = 1;   // nothing can change: skip rasterisation and shading
         st.seconds_setup = since(t0);
         total.add(st);
@@ -240,16 +300,37 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
     const bool early = !fs.may_discard() && !fs.writes_depth() && !coverage_ops;
     const bool tests = ds.depth_test || ds.stencil_test;
     if (early && tests) st.draws_early_depth = 1;
-    if (prims.empty()) {
+    if (setup_stats.emitted == 0) {
         st.seconds_setup = since(t0);
         total.add(st);
         return;
     }
 
-    const TileGrid grid(fb.width(), fb.height());
-    Bins& bins = ds_.bins;
-    bins.reset(grid);
-    bins.add(prims);
+    // Number the primitives (chunk << shift | position in the chunk) and gather each tile's list
+    // in chunk order.
+    PrimitiveTable& prims = ds_.prims;
+    size_t largest = 1;
+    for (size_t c = 0; c < setup_chunks; ++c) largest = std::max(largest, ds_.chunks[c].prims.size());
+    prims.shift = 0;
+    while ((size_t(1) << prims.shift) < largest) ++prims.shift;
+    prims.mask = uint32_t((uint64_t(1) << prims.shift) - 1);
+    // Reached only past 2^29 primitives (chunks emit at most 8 * kSetupChunk records).
+    if ((uint64_t(setup_chunks) << prims.shift) > (uint64_t(1) << 32))
+        throw std::length_error("draw: too many primitives for one draw call");
+    prims.chunk.clear();
+    std::vector<uint32_t>& index_base = ds_.index_base;
+    index_base.clear();
+    for (size_t c = 0; c < setup_chunks; ++c) {
+        prims.chunk.push_back(ds_.chunks[c].prims.data());
+        index_base.push_back(uint32_t(c << prims.shift));
+    }
+    const Bins* binned = &chunk_bins[0];   // one chunk: its bins are the draw's
+    if (setup_chunks > 1) {
+        ds_.bins.reset(grid);
+        in.pool.parallel_for(grid.count(), [&](size_t t, unsigned) { ds_.bins.gather_tile(t, chunk_bins.data(), setup_chunks, index_base.data()); });
+        binned = &ds_.bins;
+    }
+    const Bins& bins = *binned;
     // Only tiles with work go to the pool (a draw of one small primitive wakes no thread).
     std::vector<uint32_t>& tiles = ds_.tiles;
     tiles.clear();
@@ -277,6 +358,25 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
     const bool all_channels = blend.write[0] && blend.write[1] && blend.write[2] && blend.write[3];
     const float* unorm8_table = unorm8_to_float_table();
     const bool shader_depth = fs.writes_depth();
+    const size_t pitch = size_t(fb.width());   // pixels from one row to the next
+    // The common early depth test, one sample on the drawing buffer's 24-bit depth and no stencil,
+    // runs a quad at a time (pipeline/early_depth); anything else sample by sample below.
+    DefaultFramebuffer* const default_fb = fb.default_framebuffer();
+    const bool single_depth = early && ds.depth_test && !ds.stencil_test && S == 1 && !sink && default_fb;
+    EarlyDepth single_depth_test;
+    if (single_depth) {
+        single_depth_test.sample_x = pattern.x[0], single_depth_test.sample_y = pattern.y[0];
+        single_depth_test.func = ds.depth_func;
+        single_depth_test.write = ds.depth_write;
+        single_depth_test.depth = default_fb->depth_samples(0, 0);
+        single_depth_test.pitch = pitch;
+    }
+
+    // Single-sampled drawing buffer pixels (as 32-bit words) for prefetching; null when not touched.
+    const uint32_t* const color_pixels = drawing_buffer && S == 1 && writes_color
+        ? reinterpret_cast<const uint32_t*>(drawing_buffer->color_sample(0, 0, 0)) : nullptr;
+    const uint32_t* const depth_pixels = single_depth ? single_depth_test.depth : nullptr;
+    constexpr int32_t kPrefetchRows = 16;
 
     auto run_tile = [&](size_t index, unsigned worker) {
         const size_t tile = tiles[index];
@@ -284,8 +384,31 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
         Scratch& w = scratch[worker];
         w.stats.tiles_touched++;
         const TileRect rect = grid.rect(tile);
-        for (uint32_t k : list) {
-            const PrimitiveSetup& p = prims[k];
+        w.masks.resize(4 * kChunkQuads);
+        w.pixels.resize(4 * kChunkQuads);
+        for (size_t li = 0; li < list.size(); ++li) {
+            // A tile's primitives lie far apart in memory when there are many small ones: fetch the
+            // setup two primitives ahead and the vertex values one ahead, so they arrive in time.
+            if (li + 2 < list.size()) {
+                const char* next = reinterpret_cast<const char*>(&prims[list[li + 2]]);
+                for (size_t off = 0; off < sizeof(PrimitiveSetup); off += 64) __builtin_prefetch(next + off);
+            }
+            if (li + 1 < list.size()) {
+                const PrimitiveSetup& next = prims[list[li + 1]];
+                if (words > 0)
+                    for (int v = 0; v < 3; ++v) __builtin_prefetch(&all.varyings[size_t(next.vertex[v]) * size_t(words)]);
+                // A small primitive's pixels are cold in the colour and depth buffers: fetch its
+                // rows (first and last pixel of each) while this one is drawn.
+                const int32_t x0 = std::max(next.x0, rect.x0), x1 = std::min(next.x1, rect.x1);
+                const int32_t y0 = std::max(next.y0, rect.y0), y1 = std::min(next.y1, rect.y1);
+                if (x0 < x1 && y0 < y1 && y1 - y0 <= kPrefetchRows)
+                    for (int32_t y = y0; y < y1; ++y) {
+                        const size_t first = size_t(y) * pitch + size_t(x0), last = size_t(y) * pitch + size_t(x1 - 1);
+                        if (color_pixels) __builtin_prefetch(color_pixels + first, 1), __builtin_prefetch(color_pixels + last, 1);
+                        if (depth_pixels) __builtin_prefetch(depth_pixels + first, 1), __builtin_prefetch(depth_pixels + last, 1);
+                    }
+            }
+            const PrimitiveSetup& p = prims[list[li]];
             w.quads.clear();
             w.areas.clear();
             const bool area = S == 1 && ((p.kind == PrimitiveKind::Triangle && state.smooth.polygon) ||
@@ -302,38 +425,50 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
             }
             if (w.quads.empty()) continue;
 
+            // What the primitive gives every chunk: vertex values of the interpolated words.
+            const uint32_t provoking = p.kind == PrimitiveKind::Triangle ? p.vertex[2]
+                                     : p.kind == PrimitiveKind::Line ? p.vertex[1] : p.vertex[0];
+            const int interpolated = p.kind == PrimitiveKind::Triangle ? 3 : p.kind == PrimitiveKind::Line ? 2 : 0;
+            VaryingInterpolation vi;
+            if (interpolated && !smooth_words.empty()) {
+                w.values.resize(size_t(interpolated) * smooth_words.size());
+                for (int v = 0; v < interpolated; ++v)
+                    for (size_t i = 0; i < smooth_words.size(); ++i)
+                        w.values[size_t(v) * smooth_words.size() + i] =
+                            double(as_float(all.varyings[size_t(p.vertex[v]) * size_t(words) + size_t(smooth_words[i])]));
+                vi.prim = &p;
+                vi.vertices = interpolated;
+                vi.count = smooth_words.size();
+                vi.words = smooth_words.data();
+                vi.values = w.values.data();
+            }
+
             // Chunks of kChunkQuads quads keep every per-lane array in L1.
             for (size_t c0 = 0; c0 < w.quads.size(); c0 += kChunkQuads) {
-                const size_t c1 = std::min(w.quads.size(), c0 + kChunkQuads);
-                w.cq.assign(w.quads.begin() + long(c0), w.quads.begin() + long(c1));
-                if (area) w.ca.assign(w.areas.begin() + long(c0), w.areas.begin() + long(c1));
-                // Early depth/stencil (legal when the shader cannot discard or write depth).
-                const size_t lanes = w.cq.size() * 4;
-                w.masks.resize(lanes);
+                // The chunk's quads, compacted in place by early depth/stencil to the `kept` that
+                // still cover a sample (lane 4*i + j is pixel j of cq[i]).
+                Quad* const cq = w.quads.data() + c0;
+                QuadArea* const ca = area ? w.areas.data() + c0 : nullptr;
+                const size_t chunk = std::min(kChunkQuads, w.quads.size() - c0);
+                uint16_t* const masks = w.masks.data();   // surviving sample mask per lane
                 size_t kept = 0;
                 if (early && tests) {
-                    for (size_t qi = 0; qi < w.cq.size(); ++qi) {
-                        const Quad quad = w.cq[qi];
-                        uint16_t m4[4];
-                        uint16_t any = 0;
-                        for (int j = 0; j < 4; ++j) {
-                            uint16_t mask = uint16_t(quad_pixel_mask(quad, j));
-                            if (mask) {
-                                const int32_t x = quad.x + (j & 1), y = quad.y + (j >> 1);
-                                uint32_t* depth = fb.depth_samples(x, y);
-                                if (!ds.stencil_test) {
-                                    for (int s = 0; s < S; ++s) {
-                                        if (!(mask & (1u << s))) continue;
-                                        const uint32_t z = fb.depth_word(p.depth_at(int64_t(x) * kSubPixel + pattern.x[s],
-                                                                              int64_t(y) * kSubPixel + pattern.y[s]));
-                                        if (sink) sink->before_depth_stencil(ds, p, x, y, s, z, depth + s, nullptr, true);
-                                        if (!depth_only_test(ds.depth_func, ds.depth_write, z, depth + s)) {
-                                            mask = uint16_t(mask & ~(1u << s));
-                                            w.stats.fragments_killed_early++;
-                                        }
-                                    }
-                                } else {
-                                    uint8_t* stencil = fb.stencil_samples(x, y);
+                    // Early depth/stencil (legal when the shader cannot discard or write depth),
+                    // then the quads with a surviving sample move to the front (kept <= qi).
+                    uint64_t killed_early = 0;
+                    if (single_depth) {
+                        EarlyDepth t = single_depth_test;
+                        t.prim = &p;
+                        killed_early = early_depth_test(t, cq, chunk, masks);
+                    } else {
+                        for (size_t qi = 0; qi < chunk; ++qi) {
+                            const Quad& quad = cq[qi];
+                            for (int j = 0; j < 4; ++j) {
+                                uint16_t mask = uint16_t(quad_pixel_mask(quad, j));
+                                if (mask) {
+                                    const int32_t x = quad.x + (j & 1), y = quad.y + (j >> 1);
+                                    uint32_t* depth = fb.depth_samples(x, y);
+                                    uint8_t* stencil = ds.stencil_test ? fb.stencil_samples(x, y) : nullptr;
                                     for (int s = 0; s < S; ++s) {
                                         if (!(mask & (1u << s))) continue;
                                         const uint32_t z = fb.depth_word(p.depth_at(int64_t(x) * kSubPixel + pattern.x[s],
@@ -342,27 +477,29 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                                         if (!depth_stencil_test(ds, p.front_facing, z, depth ? depth + s : nullptr,
                                                                 stencil ? stencil + s : nullptr)) {
                                             mask = uint16_t(mask & ~(1u << s));
-                                            w.stats.fragments_killed_early++;
+                                            ++killed_early;
                                         }
                                     }
                                 }
+                                masks[qi * 4 + size_t(j)] = mask;
                             }
-                            m4[j] = mask;
-                            any |= mask;
-                        }
-                        if (any) {
-                            w.cq[kept] = quad;
-                            if (area) w.ca[kept] = w.ca[qi];
-                            std::copy_n(m4, 4, &w.masks[kept * 4]);
-                            ++kept;
                         }
                     }
+                    for (size_t qi = 0; qi < chunk; ++qi) {
+                        uint64_t m4;
+                        std::memcpy(&m4, &masks[qi * 4], 8);
+                        if (!m4) continue;
+                        cq[kept] = cq[qi];
+                        if (area) ca[kept] = ca[qi];
+                        std::memcpy(&masks[kept * 4], &m4, 8);
+                        ++kept;
+                    }
+                    w.stats.fragments_killed_early += killed_early;
                 } else {
-                    for (size_t qi = 0; qi < w.cq.size(); ++qi)
-                        for (int j = 0; j < 4; ++j) w.masks[qi * 4 + size_t(j)] = uint16_t(quad_pixel_mask(w.cq[qi], j));
-                    kept = w.cq.size();
+                    for (size_t qi = 0; qi < chunk; ++qi)
+                        for (int j = 0; j < 4; ++j) masks[qi * 4 + size_t(j)] = uint16_t(quad_pixel_mask(cq[qi], j));
+                    kept = chunk;
                 }
-                w.cq.resize(kept);
                 if (kept == 0) continue;
                 w.stats.quads += kept;
 
@@ -375,60 +512,11 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                 b.front_facing.resize(L);
                 b.point_coord.resize(2 * L);
                 b.covered.resize(L);
-                for (size_t lane = 0; lane < L; ++lane) b.covered[lane] = w.masks[lane] ? 1 : 0;
+                uint8_t* const covered = b.covered.data();
+                for (size_t lane = 0; lane < L; ++lane) covered[lane] = masks[lane] ? 1 : 0;
                 if (builtins & kFrontFacing) std::fill_n(b.front_facing.data(), L, uint8_t(p.front_facing ? 1 : 0));
-                const uint32_t provoking = p.kind == PrimitiveKind::Triangle ? p.vertex[2]
-                                         : p.kind == PrimitiveKind::Line ? p.vertex[1] : p.vertex[0];
-                const int interpolated = p.kind == PrimitiveKind::Triangle ? 3 : p.kind == PrimitiveKind::Line ? 2 : 0;
-                const bool need_xy = (builtins & (kFragCoordX | kFragCoordY)) || (builtins & (kPointCoordS | kPointCoordT));
-                const bool need_planes = (interpolated && !smooth_words.empty()) || (builtins & (kFragCoordZ | kFragCoordW));
-                if (need_planes) {
-                    // Pixel-centre offsets from the plane origin, exactly PrimitiveSetup::eval's terms.
-                    w.fx.resize(L);
-                    w.fy.resize(L);
-                    for (size_t qi = 0; qi < kept; ++qi) {
-                        const Quad& quad = w.cq[qi];
-                        const double fx0 = double(int64_t(quad.x) * kSubPixel + kSubPixel / 2 - p.origin_x) * (1.0 / kSubPixel);
-                        const double fx1 = double(int64_t(quad.x + 1) * kSubPixel + kSubPixel / 2 - p.origin_x) * (1.0 / kSubPixel);
-                        const double fy0 = double(int64_t(quad.y) * kSubPixel + kSubPixel / 2 - p.origin_y) * (1.0 / kSubPixel);
-                        const double fy1 = double(int64_t(quad.y + 1) * kSubPixel + kSubPixel / 2 - p.origin_y) * (1.0 / kSubPixel);
-                        double* fx = &w.fx[qi * 4];
-                        double* fy = &w.fy[qi * 4];
-                        fx[0] = fx0; fx[1] = fx1; fx[2] = fx0; fx[3] = fx1;
-                        fy[0] = fy0; fy[1] = fy0; fy[2] = fy1; fy[3] = fy1;
-                    }
-                }
-                const double* fx = w.fx.data();
-                const double* fy = w.fy.data();
-                auto eval = [&](const Plane& pl, double* out) {
-                    const double a = pl.a, bb = pl.b, c = pl.c;
-                    for (size_t l = 0; l < L; ++l) out[l] = c + a * fx[l] + bb * fy[l];
-                };
-                if (interpolated && !smooth_words.empty()) {
-                    w.q.resize(L);
-                    double* q = w.q.data();
-                    eval(p.inv_w, q);
-                    for (size_t l = 0; l < L; ++l) q[l] = 1.0 / q[l];
-                    for (int c = 0; c < interpolated; ++c) {
-                        w.w[c].resize(L);
-                        double* wc = w.w[c].data();
-                        eval(p.weight[c], wc);
-                        for (size_t l = 0; l < L; ++l) wc[l] = wc[l] * q[l];
-                    }
-                    for (int word : smooth_words) {
-                        float* dst = reinterpret_cast<float*>(&b.varyings[size_t(word) * L]);
-                        const double v0 = double(as_float(all.varyings[size_t(p.vertex[0]) * size_t(words) + size_t(word)]));
-                        const double v1 = double(as_float(all.varyings[size_t(p.vertex[1]) * size_t(words) + size_t(word)]));
-                        const double* w0 = w.w[0].data();
-                        const double* w1 = w.w[1].data();
-                        if (interpolated == 3) {
-                            const double v2 = double(as_float(all.varyings[size_t(p.vertex[2]) * size_t(words) + size_t(word)]));
-                            const double* w2 = w.w[2].data();
-                            for (size_t l = 0; l < L; ++l) dst[l] = float(((0.0 + w0[l] * v0) + w1[l] * v1) + w2[l] * v2);
-                        } else {
-                            for (size_t l = 0; l < L; ++l) dst[l] = float((0.0 + w0[l] * v0) + w1[l] * v1);
-                        }
-                    }
+                if (vi.prim) {
+                    interpolate_varyings(vi, cq, kept, b.varyings.data(), L);
                 } else {
                     for (int word : smooth_words)   // points: no interpolation, the vertex's value
                         std::fill_n(&b.varyings[size_t(word) * L], L,
@@ -436,10 +524,10 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                 }
                 for (int word : flat_words)
                     std::fill_n(&b.varyings[size_t(word) * L], L, all.varyings[size_t(provoking) * size_t(words) + size_t(word)]);
-                if (need_xy || (builtins & (kFragCoordZ | kFragCoordW))) {
+                if (builtins & (kFragCoordX | kFragCoordY | kPointCoordS | kPointCoordT | kFragCoordZ | kFragCoordW)) {
                     float* fc = b.frag_coord.data();
                     for (size_t qi = 0; qi < kept; ++qi) {
-                        const Quad& quad = w.cq[qi];
+                        const Quad& quad = cq[qi];
                         for (int j = 0; j < 4; ++j) {
                             const size_t lane = qi * 4 + size_t(j);
                             const int32_t x = quad.x + (j & 1), y = quad.y + (j >> 1);
@@ -449,21 +537,14 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                             if (p.kind == PrimitiveKind::Point) p.point_coord(x, y, pc);
                             b.point_coord[lane] = pc[0];
                             b.point_coord[L + lane] = pc[1];
+                            // The planes at the pixel centre, as PrimitiveSetup::eval computes them.
+                            const double fx = pixel_centre_offset(x, p.origin_x), fy = pixel_centre_offset(y, p.origin_y);
+                            if (builtins & kFragCoordZ) {   // p.depth_at: plane + offset, clamped to [0, 1]
+                                const double z = (p.depth.c + p.depth.a * fx + p.depth.b * fy) + p.depth_offset;
+                                fc[2 * L + lane] = float(z < 0 ? 0 : (z > 1 ? 1 : z));
+                            }
+                            if (builtins & kFragCoordW) fc[3 * L + lane] = float(p.inv_w.c + p.inv_w.a * fx + p.inv_w.b * fy);
                         }
-                    }
-                    if (builtins & kFragCoordZ) {
-                        // p.depth_at at the pixel centre: plane + offset, clamped to [0, 1].
-                        w.q.resize(L);
-                        eval(p.depth, w.q.data());
-                        for (size_t l = 0; l < L; ++l) {
-                            const double z = w.q[l] + p.depth_offset;
-                            fc[2 * L + l] = float(z < 0 ? 0 : (z > 1 ? 1 : z));
-                        }
-                    }
-                    if (builtins & kFragCoordW) {
-                        w.q.resize(L);
-                        eval(p.inv_w, w.q.data());
-                        for (size_t l = 0; l < L; ++l) fc[3 * L + l] = float(w.q[l]);
                     }
                 }
                 fs.run(b, w.results, worker);
@@ -482,9 +563,9 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                     auto write_all = [&](auto kernel_tag) {
                         constexpr ColorKernel K = decltype(kernel_tag)::value;
                         for (size_t lane = 0; lane < L; ++lane) {
-                            const uint16_t mask = w.masks[lane];
+                            const uint16_t mask = masks[lane];
                             if (!mask) continue;
-                            const Quad& quad = w.cq[lane / 4];
+                            const Quad& quad = cq[lane / 4];
                             const int j = int(lane % 4);
                             const int32_t x = quad.x + (j & 1), y = quad.y + (j >> 1);
                             const float color[4] = {col[lane], col[L + lane], col[2 * L + lane], col[3 * L + lane]};
@@ -503,22 +584,39 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                     };
                     const uint64_t before = w.stats.samples_written;
                     if (S == 1 && kernel != ColorKernel::Generic) {
-                        // Gather the destination pixels, blend all lanes at once, scatter back.
-                        w.pixels.resize(L);
-                        uint32_t* d = w.pixels.data();
-                        const bool read = kernel != ColorKernel::Plain || !all_channels;
-                        for (size_t lane = 0; lane < L; ++lane) {
-                            if (!w.masks[lane] || !read) { d[lane] = 0; continue; }
-                            const Quad& quad = w.cq[lane / 4];
-                            std::memcpy(&d[lane], drawing_buffer->color_sample(quad.x + int32_t(lane & 1), quad.y + int32_t((lane >> 1) & 1), 0), 4);
-                        }
+                        // Gather the destination pixels (only when the kernel reads them), blend all
+                        // lanes at once, scatter back. A whole quad moves as two 8-byte rows (lanes
+                        // 0, 1 and 2, 3 are pixels x, x + 1 of rows y and y + 1), a partial one pixel
+                        // by pixel: uncovered pixels are not touched (they may lie outside the buffer).
+                        uint32_t* const d = w.pixels.data();
+                        uint8_t* const color = drawing_buffer->color_sample(0, 0, 0);
+                        constexpr uint64_t kWholeQuad = 0x0001000100010001u;   // four masks of 1 (S == 1)
+                        auto move_quads = [&](auto to_buffer) {
+                            auto move = [](uint8_t* px, uint32_t* lanes, size_t bytes) {
+                                if constexpr (decltype(to_buffer)::value) std::memcpy(px, lanes, bytes);
+                                else std::memcpy(lanes, px, bytes);
+                            };
+                            uint64_t moved = 0;
+                            for (size_t qi = 0; qi < kept; ++qi) {
+                                uint8_t* const px = color + 4 * (size_t(cq[qi].y) * pitch + size_t(cq[qi].x));
+                                uint32_t* const lanes = d + 4 * qi;
+                                uint64_t m4;
+                                std::memcpy(&m4, masks + 4 * qi, 8);
+                                if (m4 == kWholeQuad) {
+                                    move(px, lanes, 8);
+                                    move(px + 4 * pitch, lanes + 2, 8);
+                                    moved += 4;
+                                } else {
+                                    for (size_t j = 0; j < 4; ++j)
+                                        if (masks[4 * qi + j]) move(px + 4 * ((j >> 1) * pitch + (j & 1)), lanes + j, 4), ++moved;
+                                }
+                            }
+                            return moved;
+                        };
+                        if (kernel != ColorKernel::Plain || !all_channels) move_quads(std::false_type{});
                         write_color_lanes(kernel, blend, col, L, d, L);
-                        for (size_t lane = 0; lane < L; ++lane) {
-                            if (!w.masks[lane]) continue;
-                            const Quad& quad = w.cq[lane / 4];
-                            std::memcpy(drawing_buffer->color_sample(quad.x + int32_t(lane & 1), quad.y + int32_t((lane >> 1) & 1), 0), &d[lane], 4);
-                            w.stats.samples_written++;
-                        }
+                        const uint64_t written = move_quads(std::true_type{});
+                        w.stats.samples_written += written;
                     } else switch (kernel) {
                         case ColorKernel::Plain: write_all(std::integral_constant<ColorKernel, ColorKernel::Plain>{}); break;
                         case ColorKernel::AlphaOver: write_all(std::integral_constant<ColorKernel, ColorKernel::AlphaOver>{}); break;
@@ -529,14 +627,14 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                     continue;
                 }
                 for (size_t lane = 0; lane < L; ++lane) {
-                    uint16_t mask = w.masks[lane];
+                    uint16_t mask = masks[lane];
                     if (!mask) continue;
                     if (any_killed && r.killed[lane]) {
                         w.stats.fragments_discarded++;
-                        if (sink) sink->discarded(p, w.cq[lane / 4], int(lane % 4), mask);
+                        if (sink) sink->discarded(p, cq[lane / 4], int(lane % 4), mask);
                         continue;
                     }
-                    const Quad& quad = w.cq[lane / 4];
+                    const Quad& quad = cq[lane / 4];
                     const int j = int(lane % 4);
                     const int32_t x = quad.x + (j & 1), y = quad.y + (j >> 1);
                     if (sink) {
@@ -568,7 +666,7 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                     }
                     if (!writes_color || !mask) continue;
                     float color[4] = {col[lane], col[L + lane], col[2 * L + lane], col[3 * L + lane]};
-                    if (area) color[3] = float(double(color[3]) * w.ca[lane / 4].fraction[j]);
+                    if (area) color[3] = float(double(color[3]) * ca[lane / 4].fraction[j]);
                     if (fog.enabled) {
                         const int64_t X = int64_t(x) * kSubPixel + kSubPixel / 2, Y = int64_t(y) * kSubPixel + kSubPixel / 2;
                         apply_fog(fog, fog_coordinate(fog, float(p.depth_at(X, Y)), float(p.eval(p.inv_w, X, Y))), color);
@@ -579,7 +677,7 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                     for (int o = 1; o < r.outputs; ++o) {
                         const float* oc = col + size_t(4 * o) * L;
                         for (int c = 0; c < 4; ++c) more[o][c] = oc[size_t(c) * L + lane];
-                        if (area) more[o][3] = float(double(more[o][3]) * w.ca[lane / 4].fraction[j]);
+                        if (area) more[o][3] = float(double(more[o][3]) * ca[lane / 4].fraction[j]);
                         if (fog.enabled) {
                             const int64_t X = int64_t(x) * kSubPixel + kSubPixel / 2, Y = int64_t(y) * kSubPixel + kSubPixel / 2;
                             apply_fog(fog, fog_coordinate(fog, float(p.depth_at(X, Y)), float(p.eval(p.inv_w, X, Y))), more[o]);

@@ -1,6 +1,7 @@
-// A draw call from shaded vertices to pixels: vertex fetch and shading, primitive assembly,
-// clip/setup, binning, then per tile on the thread pool: raster, early tests, fragment shading,
-// late tests, blending and the write (DESIGN §2). The API layer validates before calling here.
+// A draw call from shaded vertices to pixels: vertex fetch and shading, then primitive assembly,
+// clip/setup and binning (both in chunks on the thread pool, gathered in primitive order), then per
+// tile on the thread pool: raster, early tests, fragment shading, late tests, blending and the
+// write (DESIGN §2). The API layer validates before calling here.
 #pragma once
 #include <array>
 #include <cstdint>

@@ -62,14 +62,23 @@ void GlslVertexShader::run(const std::array<AttributeStream, kMaxVertexAttribs>&
     std::vector<std::vector<Scalar>> results(ir.outputs.size(), std::vector<Scalar>(count));
     std::vector<Scalar*> outputs(ir.outputs.size());
     for (size_t i = 0; i < outputs.size(); ++i) outputs[i] = results[i].data();
-    if (!executor_) executor_ = std::make_unique<glsl::Executor>(ir);
+    std::unique_ptr<glsl::Executor> executor;
+    {
+        std::lock_guard<std::mutex> lock(executors_mutex_);
+        if (!idle_executors_.empty()) executor = std::move(idle_executors_.back()), idle_executors_.pop_back();
+    }
+    if (!executor) executor = std::make_unique<glsl::Executor>(ir);
     glsl::StageRun run;
     run.lane_count = int(count);
     run.inputs = inputs.data();
     run.outputs = outputs.data();
     run.uniforms = uniforms_;
     run.sampler = textures_ ? textures_ : &sampler_;
-    executor_->run(run);
+    executor->run(run);
+    {
+        std::lock_guard<std::mutex> lock(executors_mutex_);
+        idle_executors_.push_back(std::move(executor));
+    }
 
     out.count = count;
     out.position.assign(count * 4, 0.0f);
@@ -102,7 +111,11 @@ GlslFragmentShader::GlslFragmentShader(std::shared_ptr<const glsl::LinkedProgram
         if (s.name == "gl_FragCoord") input_builtin_[i] = s.component;
         else if (s.name == "gl_FrontFacing") input_builtin_[i] = 4;
         else if (s.name == "gl_PointCoord") input_builtin_[i] = 5 + s.component;
-        if (input_builtin_[i] >= 0) builtins_read_ |= 1u << input_builtin_[i];   // FragmentBuiltin bits
+        // FragmentBuiltin bits; the IR declares the built-ins whether or not the shader reads them.
+        const glsl::ShaderUsage& usage = program_->reflection.fragment_usage;
+        const bool read = input_builtin_[i] < 4 ? usage.reads_frag_coord
+                        : input_builtin_[i] == 4 ? usage.reads_front_facing : usage.reads_point_coord;
+        if (input_builtin_[i] >= 0 && read) builtins_read_ |= 1u << input_builtin_[i];
     }
     // DESIGN §4: a shader whose outputs depend only on uniforms gives every lane the same values
     // (lanes are independent; derivatives of uniform values are the same in every lane), so one
@@ -183,7 +196,10 @@ void GlslFragmentShader::run(const FragmentBatch& b, FragmentResults& out, unsig
     if (R < L) {
         for (size_t k = 0; k < 4 * written; ++k) {
             float* col = &out.color[k * L];
-            for (size_t lane = R; lane < L; ++lane) col[lane] = col[lane & 3];
+            const float quad[4] = {col[0], col[1], col[2], col[3]};
+            size_t lane = R;
+            for (; (lane & 3) == 0 && lane + 4 <= L; lane += 4) std::memcpy(&col[lane], quad, sizeof quad);
+            for (; lane < L; ++lane) col[lane] = quad[lane & 3];
         }
         if (depth_slot_ >= 0)
             for (size_t lane = R; lane < L; ++lane) out.depth[lane] = out.depth[lane & 3];

@@ -42,7 +42,9 @@ private:
     uint32_t used_ = 0;
     VaryingLayout layout_;
     const glsl::Scalar* uniforms_ = nullptr;
-    mutable std::unique_ptr<glsl::Executor> executor_;   // the vertex stage runs on one thread
+    // run() may be called from several threads at once: each call borrows an idle executor.
+    mutable std::mutex executors_mutex_;
+    mutable std::vector<std::unique_ptr<glsl::Executor>> idle_executors_;
     mutable IncompleteTextureSampler sampler_;
 };
 

@@ -31,6 +31,13 @@ const double kPos16[16][2] = {{0.5625, 0.5625}, {0.4375, 0.3125}, {0.3125, 0.625
                               {0.0, 0.5},       {0.9375, 0.25},   {0.875, 0.9375},
                               {0.0625, 0.0}};
 
+// Appends a quad field by field: a Quad built aside and copied whole makes the CPU load 16 bytes
+// just stored as 4 + 4 + 8 (a store-forwarding stall on every quad).
+inline void emit(std::vector<Quad>& out, int32_t x, int32_t y, uint64_t coverage) {
+    Quad& q = out.emplace_back();
+    q.x = x, q.y = y, q.coverage = coverage;
+}
+
 template <int N>
 void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, int32_t y1,
                   const SamplePattern& sp, std::vector<Quad>& out, RasterStats& stats) {
@@ -81,7 +88,7 @@ void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, i
                         if (row1 && col0) cov |= full_pixel << (2 * kQuadPixelBits);
                         if (row1 && col1) cov |= full_pixel << (3 * kQuadPixelBits);
                         if (cov) {
-                            out.push_back(Quad{qx, qy, cov});
+                            emit(out, qx, qy, cov);
                             ++stats.quads;
                         }
                     }
@@ -102,28 +109,30 @@ void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, i
                     const bool col0 = qx >= cx0, col1 = qx + 1 < cx1;
                     const bool present[4] = {row0 && col0, row0 && col1, row1 && col0, row1 && col1};
                     uint64_t cov = 0;
-                    for (int j = 0; j < 4; ++j) {
+                    if (S == 1) {
+                        // Branch-free: a pixel is inside when no edge value is negative, i.e. the
+                        // OR of the values has no sign bit.
+                        for (int j = 0; j < 4; ++j) {
+                            int64_t edge_or = 0;
+                            for (int i = 0; i < N; ++i)
+                                edge_or |= er[i] + ((j & 1) ? dx[i] : 0) + ((j >> 1) ? dy[i] : 0);
+                            cov |= uint64_t(edge_or >= 0 && present[j]) << (kQuadPixelBits * j);
+                        }
+                    } else for (int j = 0; j < 4; ++j) {
                         if (!present[j]) continue;
                         int64_t e[N];
                         for (int i = 0; i < N; ++i) e[i] = er[i] + ((j & 1) ? dx[i] : 0) + ((j >> 1) ? dy[i] : 0);
-                        uint64_t m;
-                        if (S == 1) {
+                        uint64_t m = 0;
+                        for (int s = 0; s < S; ++s) {
                             bool in = true;
-                            for (int i = 0; i < N; ++i) in &= e[i] >= 0;
-                            m = uint64_t(in);
-                        } else {
-                            m = 0;
-                            for (int s = 0; s < S; ++s) {
-                                bool in = true;
-                                for (int i = 0; i < N; ++i) in &= e[i] + so[i][s] >= 0;
-                                m |= uint64_t(in) << s;
-                            }
+                            for (int i = 0; i < N; ++i) in &= e[i] + so[i][s] >= 0;
+                            m |= uint64_t(in) << s;
                         }
                         cov |= m << (kQuadPixelBits * j);
                     }
                     for (int i = 0; i < N; ++i) er[i] += 2 * dx[i];
                     if (cov) {
-                        out.push_back(Quad{qx, qy, cov});
+                        emit(out, qx, qy, cov);
                         ++stats.quads;
                     }
                 }

@@ -19,7 +19,11 @@ int64_t floor_div(int64_t a, int64_t b) {   // b > 0
 // guard-band clipping may leave outside the band (and keeps the conversion defined).
 int64_t snap(double window) {
     window = std::min(std::max(window, -kGuardBand), kGuardBand);
-    return int64_t(std::floor(window * double(kSubPixel) + 0.5));
+    // floor(x) for |x| <= 2^28 + 1/2, exactly, without a libm call: truncate, then step down for
+    // negative non-integers.
+    const double x = window * double(kSubPixel) + 0.5;
+    const int64_t t = int64_t(x);
+    return double(t) > x ? t - 1 : t;
 }
 
 // Edge from (xj, yj) to (xk, yk) of a counter-clockwise polygon (window y up): E >= 0 inside.
@@ -77,16 +81,19 @@ void SetupStats::add(const SetupStats& o) {
     culled += o.culled; zero_area += o.zero_area; emitted += o.emitted;
 }
 
-Setup::Setup(const RasterState& state) : state_(state), clipper_(state.viewport) {}
+Setup::Setup(const RasterState& state)
+    : state_(state), clipper_(state.viewport),
+      transform_{state.viewport.scale_x(), state.viewport.offset_x(), state.viewport.scale_y(),
+                 state.viewport.offset_y(), state.viewport.scale_z(), state.viewport.offset_z()} {}
 
 Setup::WindowVertex Setup::project(const ClipVertex& cv) const {
     // ES 3.0 §2.12: perspective division, then the viewport transform.
-    const Viewport& vp = state_.viewport;
+    const ViewportTransform& vp = transform_;
     const Vec4d& p = cv.position;
     WindowVertex w;
-    w.X = snap(vp.scale_x() * (p.x / p.w) + vp.offset_x());
-    w.Y = snap(vp.scale_y() * (p.y / p.w) + vp.offset_y());
-    w.z = vp.scale_z() * (p.z / p.w) + vp.offset_z();
+    w.X = snap(vp.scale_x * (p.x / p.w) + vp.offset_x);
+    w.Y = snap(vp.scale_y * (p.y / p.w) + vp.offset_y);
+    w.z = vp.scale_z * (p.z / p.w) + vp.offset_z;
     w.inv_w = 1.0 / p.w;
     for (int k = 0; k < 3; ++k) w.weight[k] = cv.weight[k];
     return w;
@@ -185,7 +192,7 @@ void Setup::emit_triangle(WindowVertex v0, WindowVertex v1, WindowVertex v2, int
         std::swap(v1, v2);
         area2 = -area2;
     }
-    PrimitiveSetup s;
+    PrimitiveSetup& s = out.emplace_back();   // built in place (no copy of the large record)
     const WindowVertex* v[3] = {&v0, &v1, &v2};
     for (int i = 0; i < 3; ++i) {
         const WindowVertex& j = *v[(i + 1) % 3];
@@ -197,7 +204,7 @@ void Setup::emit_triangle(WindowVertex v0, WindowVertex v1, WindowVertex v2, int
     s.area_shape = AreaShape::Polygon;
     const int64_t xmin = std::min({v0.X, v1.X, v2.X}), xmax = std::max({v0.X, v1.X, v2.X});
     const int64_t ymin = std::min({v0.Y, v1.Y, v2.Y}), ymax = std::max({v0.Y, v1.Y, v2.Y});
-    if (!finish_bbox(s, xmin, ymin, xmax, ymax)) { ++stats.outside; return; }
+    if (!finish_bbox(s, xmin, ymin, xmax, ymax)) { ++stats.outside; out.pop_back(); return; }
 
     s.origin_x = v0.X;
     s.origin_y = v0.Y;
@@ -225,7 +232,6 @@ void Setup::emit_triangle(WindowVertex v0, WindowVertex v1, WindowVertex v2, int
     s.edge_count = 3;
     s.front_facing = front;
     s.point_x = s.point_y = s.point_size = 0;
-    out.push_back(s);
     ++stats.emitted;
 }
 
@@ -237,11 +243,14 @@ void Setup::point(const float* p, float size, uint32_t index, uint32_t primitive
     // ES 3.0 §2.17: a point is clipped by its centre, but only against w, near and far here: in x
     // and y a wide point whose centre is off-screen still draws its visible part (WebGL
     // conformance clipping-wide-points). Centres beyond the guard band are dropped (they are
-    // 2^20 pixels away from any pixel).
-    if (clipper_.outcode(v) & (kClipW | kClipNear | kClipFar)) { ++stats.outside; return; }
-    const Viewport& vp = state_.viewport;
-    const double xw = vp.scale_x() * (v.x / v.w) + vp.offset_x();
-    const double yw = vp.scale_y() * (v.y / v.w) + vp.offset_y();
+    // 2^20 pixels away from any pixel). w = 0 leaves only the origin, which is no point (clip.h).
+    if ((clipper_.outcode(v) & (kClipW | kClipNear | kClipFar)) || !(v.w > 0)) {
+        ++stats.outside;
+        return;
+    }
+    const ViewportTransform& vp = transform_;
+    const double xw = vp.scale_x * (v.x / v.w) + vp.offset_x;
+    const double yw = vp.scale_y * (v.y / v.w) + vp.offset_y;
     if (!(std::fabs(xw) <= kGuardBand && std::fabs(yw) <= kGuardBand)) { ++stats.outside; return; }
     // ES 3.0 §3.4: the size is clamped to the implementation's range. NaN becomes the minimum.
     double sz = size;
@@ -261,7 +270,7 @@ void Setup::point(const float* p, float size, uint32_t index, uint32_t primitive
     if (h == 0 || !finish_bbox(s, l, b, r, t)) { ++stats.outside; return; }
     s.origin_x = X;
     s.origin_y = Y;
-    s.depth = constant_plane(vp.scale_z() * (v.z / v.w) + vp.offset_z());
+    s.depth = constant_plane(vp.scale_z * (v.z / v.w) + vp.offset_z);
     s.depth_offset = 0;                         // polygon offset applies to polygons only
     s.inv_w = constant_plane(1.0 / v.w);
     s.weight[0] = constant_plane(1.0 / v.w);    // weights (1, 0, 0)
@@ -383,7 +392,7 @@ void Setup::line(const float* p0, const float* p1, uint32_t i0, uint32_t i1, uin
     if (dx == 0 && dy == 0) { ++stats.zero_area; return; }
     const bool x_major = (dx < 0 ? -dx : dx) >= (dy < 0 ? -dy : dy);
 
-    PrimitiveSetup s;
+    PrimitiveSetup& s = out.emplace_back();   // built in place; removed again if dropped
     for (int i = 0; i < 4; ++i) s.area_offset[i] = 0;
     s.area_shape = AreaShape::Polygon;
     int64_t bxmin, bymin, bxmax, bymax;   // fixed-point bounding box of the shape
@@ -448,17 +457,20 @@ void Setup::line(const float* p0, const float* p1, uint32_t i0, uint32_t i1, uin
             int64_t first, last;
             if (!diamond_exit_span(sax, say, sbx, sby, x_major, first, last)) {
                 ++stats.zero_area;
+                out.pop_back();
                 return;
             }
             const int64_t lo = first * kSubPixel, hi = (last + 1) * kSubPixel;   // [lo, hi)
             // Band edges are the ones parallel to the segment: i with (a, b) not along the major axis.
             int k = 0;
-            PrimitiveSetup band = s;
+            const int64_t ba[4] = {s.a[0], s.a[1], s.a[2], s.a[3]}, bb[4] = {s.b[0], s.b[1], s.b[2], s.b[3]};
+            const int64_t bc[4] = {s.c[0], s.c[1], s.c[2], s.c[3]};
+            const double boff[4] = {s.area_offset[0], s.area_offset[1], s.area_offset[2], s.area_offset[3]};
             for (int i = 0; i < 4; ++i) {
-                const bool end_edge = x_major ? band.b[i] == 0 : band.a[i] == 0;
+                const bool end_edge = x_major ? bb[i] == 0 : ba[i] == 0;
                 if (end_edge) continue;
-                s.a[k] = band.a[i]; s.b[k] = band.b[i]; s.c[k] = band.c[i];
-                s.area_offset[k] = band.area_offset[i];
+                s.a[k] = ba[i]; s.b[k] = bb[i]; s.c[k] = bc[i];
+                s.area_offset[k] = boff[i];
                 ++k;
             }
             if (x_major) {
@@ -481,6 +493,7 @@ void Setup::line(const float* p0, const float* p1, uint32_t i0, uint32_t i1, uin
     }
     if (!finish_bbox(s, bxmin, bymin, bxmax, bymax)) {
         ++stats.outside;
+        out.pop_back();
         return;
     }
     // ES 3.0 §3.5.1 eq. 3.7: values along the line use t = ((p - pa) . (pb - pa)) / |pb - pa|^2,
@@ -506,7 +519,6 @@ void Setup::line(const float* p0, const float* p1, uint32_t i0, uint32_t i1, uin
     s.edge_count = 4;
     s.front_facing = true;
     s.point_x = s.point_y = s.point_size = 0;
-    out.push_back(s);
     ++stats.emitted;
 }
 

@@ -80,6 +80,9 @@ enum class PrimitiveKind : uint8_t { Triangle, Line, Point };
 enum class AreaShape : uint8_t { Polygon, Disk };
 
 struct PrimitiveSetup {
+    // Setup writes every field; records are built in place in large arrays, not zero-filled first.
+    PrimitiveSetup() {}
+
     // Coverage: a sample at fixed-point window position (X, Y) (units of 1/256 pixel) is inside when
     // a[i]*X + b[i]*Y + c[i] >= 0 for every edge i < edge_count (the tie rule is folded into c).
     int64_t a[4], b[4], c[4];
@@ -173,8 +176,14 @@ private:
     bool finish_bbox(PrimitiveSetup& s, int64_t xmin, int64_t ymin, int64_t xmax, int64_t ymax);
     double resolvable_difference(double max_abs_z) const;
 
+    // Viewport::scale_x() etc., computed once (ES 3.0 §2.12.1).
+    struct ViewportTransform {
+        double scale_x, offset_x, scale_y, offset_y, scale_z, offset_z;
+    };
+
     RasterState state_;
     Clipper clipper_;
+    ViewportTransform transform_;
 };
 
 }  // namespace softgl

@@ -144,6 +144,17 @@ void fetch_attribute(const VertexArray& vao, const CurrentAttrib& current, int l
                                                                                  : CurrentAttrib::Kind::Uint;
     const uint8_t* base = a.buffer->data.data() + a.offset;
     const uint64_t stride = effective_stride(a);
+    if (a.type == gl::FLOAT && !a.integer && !a.divisor) {
+        // The common case: float components copied as they are, missing ones (0, 0, 0, 1).
+        const int size = a.size;
+        uint32_t* comp[4] = {out.comp[0].data(), out.comp[1].data(), out.comp[2].data(), out.comp[3].data()};
+        for (int c = size; c < 4; ++c) std::fill_n(comp[c], count, c == 3 ? float_bits(1.0f) : 0u);
+        for (size_t v = 0; v < count; ++v) {
+            const uint8_t* p = base + uint64_t(vertex_ids ? vertex_ids[v] : first + v) * stride;
+            for (int c = 0; c < size; ++c) std::memcpy(&comp[c][v], p + 4 * c, 4);
+        }
+        return;
+    }
     for (size_t v = 0; v < count; ++v) {
         const uint64_t element = a.divisor ? instance / a.divisor : (vertex_ids ? vertex_ids[v] : first + v);
         const uint8_t* p = base + element * stride;

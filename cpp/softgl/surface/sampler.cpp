@@ -1,8 +1,13 @@
 #include "softgl/surface/sampler.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
+
+#if defined(__x86_64__) || defined(__i386__)
+#include <immintrin.h>
+#endif
 
 namespace softgl {
 
@@ -222,7 +227,7 @@ void incomplete_result(const glsl::TextureQuery& q, int l) {
 
 }  // namespace
 
-void TextureUnitSampler::sample(const glsl::TextureQuery& q) {
+void TextureUnitSampler::sample_lanes(const glsl::TextureQuery& q) const {
     const int dim = dim_index(q.dim);
     const bool cube = q.dim == SamplerDim::Cube, is3d = q.dim == SamplerDim::Tex3D;
     for (int l = 0; l < q.lane_count; ++l) {
@@ -383,6 +388,430 @@ void TextureUnitSampler::sample(const glsl::TextureQuery& q) {
                 }
         }
     }
+}
+
+// ---------------------------------------------------------------------------- the 2D fast path
+//
+// The same formulas as sample_lanes in the same order (so the same bits), with what does not
+// change across a query resolved once: the texture, its level images, the filters and wraps.
+// Texels are read straight from the float storage (Image::texel of a Float-kind format). With
+// AVX2, blocks of 8 lanes that use the same level(s) compute their texel addresses and weights
+// 8 at a time (the same float operations, lane by lane; no FMA).
+
+namespace {
+
+std::atomic<int> path_level{int(SamplerPath::Best)};
+std::atomic<uint64_t> fast_path_queries{0};
+std::atomic<bool> count_queries{false};   // only the testing hook counts (no shared writes otherwise)
+
+// One level of a 2D / 2D array texture.
+struct Plane {
+    const float* texels;   // 4 floats per texel, layer-major then row-major
+    int32_t width, height, layers;
+    bool width_pot, height_pot;
+};
+
+// wrap() of a texel coordinate and of its right/upper neighbour, as LINEAR uses them (REPEAT of
+// a power of two masks: the same as the modulo for any int in two's complement).
+inline void wrap_pair(GLenum mode, int32_t i, int32_t size, bool pot, int32_t& a, int32_t& b) {
+    switch (mode) {
+        case gl::REPEAT:
+            a = pot ? i & (size - 1) : wrap(mode, i, size);
+            b = a + 1 == size ? 0 : a + 1;
+            return;
+        case gl::CLAMP_TO_EDGE:
+            a = std::clamp(i, 0, size - 1);
+            b = std::clamp(i + 1, 0, size - 1);
+            return;
+        default:
+            a = wrap(mode, i, size);
+            b = wrap(mode, i + 1, size);
+            return;
+    }
+}
+
+inline int32_t wrap_one(GLenum mode, int32_t i, int32_t size, bool pot) {
+    return mode == gl::REPEAT && pot ? i & (size - 1) : wrap(mode, i, size);
+}
+
+// The level(s) a lambda selects (ES 3.0 §3.8.11, as in sample_lanes): planes[first], blended
+// with planes[second] by frac when second >= 0.
+struct LevelChoice {
+    int32_t first = 0, second = -1;
+    bool linear = false;
+    float frac = 0.0f;
+    bool same_levels(const LevelChoice& o) const { return first == o.first && second == o.second && linear == o.linear; }
+};
+
+struct Fast2D {
+    std::array<Plane, 16> planes;
+    GLenum wrap_s, wrap_t;
+    int off_s, off_t;
+    int32_t base, top;
+    GLenum min_filter;
+    bool mag_linear, min_linear, mipmapped;
+    float min_lod, max_lod;
+
+    LevelChoice choose(float lambda) const {
+        lambda = std::clamp(lambda, min_lod, max_lod);   // NaN stays NaN: magnification
+        if (!(lambda > 0.0f)) return {0, -1, mag_linear, 0.0f};
+        if (!mipmapped) return {0, -1, min_linear, 0.0f};
+        if (min_filter == gl::NEAREST_MIPMAP_NEAREST || min_filter == gl::LINEAR_MIPMAP_NEAREST) {
+            int32_t level;
+            if (lambda <= 0.5f) level = base;
+            else if (float(base) + lambda <= float(top) + 0.5f) level = int32_t(std::ceil(float(base) + lambda + 0.5f)) - 1;
+            else level = top;
+            return {level - base, -1, min_linear, 0.0f};
+        }
+        int32_t d1, d2;
+        if (lambda >= float(top - base)) d1 = d2 = top;
+        else d1 = base + int32_t(std::floor(lambda)), d2 = d1 + 1;
+        if (d1 == d2) return {d1 - base, -1, min_linear, 0.0f};
+        return {d1 - base, d2 - base, min_linear, lambda - std::floor(lambda)};
+    }
+
+    // Level::filter of one plane.
+    void filter(const Plane& p, bool linear, float s, float t, float r, float out[4]) const {
+        const float u = s * float(p.width) + float(off_s), v = t * float(p.height) + float(off_t);
+        const int32_t layer = p.layers == 1 ? 0 : std::clamp(ifloor(r + 0.5f), 0, p.layers - 1);
+        const float* plane = p.texels + size_t(layer) * size_t(p.height) * size_t(p.width) * 4;
+        if (!linear) {
+            const int32_t i = wrap_one(wrap_s, ifloor(u), p.width, p.width_pot);
+            const int32_t j = wrap_one(wrap_t, ifloor(v), p.height, p.height_pot);
+            const float* texel = plane + (size_t(j) * size_t(p.width) + size_t(i)) * 4;
+            for (int c = 0; c < 4; ++c) out[c] = texel[c];
+            return;
+        }
+        const float u0 = u - 0.5f, v0 = v - 0.5f;
+        int32_t i0, i1, j0, j1;
+        wrap_pair(wrap_s, ifloor(u0), p.width, p.width_pot, i0, i1);
+        wrap_pair(wrap_t, ifloor(v0), p.height, p.height_pot, j0, j1);
+        const float a = u0 - std::floor(u0), b = v0 - std::floor(v0);
+        const float* row0 = plane + size_t(j0) * size_t(p.width) * 4;
+        const float* row1 = plane + size_t(j1) * size_t(p.width) * 4;
+        const float* t00 = row0 + size_t(i0) * 4;
+        const float* t10 = row0 + size_t(i1) * 4;
+        const float* t01 = row1 + size_t(i0) * 4;
+        const float* t11 = row1 + size_t(i1) * 4;
+        const float w00 = (1 - a) * (1 - b), w10 = a * (1 - b), w01 = (1 - a) * b, w11 = a * b;
+        for (int c = 0; c < 4; ++c) out[c] = w00 * t00[c] + w10 * t10[c] + w01 * t01[c] + w11 * t11[c];
+    }
+
+    void filter(const LevelChoice& ch, float s, float t, float r, float out[4]) const {
+        filter(planes[size_t(ch.first)], ch.linear, s, t, r, out);
+        if (ch.second < 0) return;
+        float b[4];
+        filter(planes[size_t(ch.second)], ch.linear, s, t, r, b);
+        for (int c = 0; c < 4; ++c) out[c] = (1 - ch.frac) * out[c] + ch.frac * b[c];
+    }
+};
+
+// lambda = log2(rho) with rho = sqrt(rho2), as float (ES 3.0 eq. 3.17-3.19). A pure function of
+// rho2, memoized per thread: log2 is dear, and lanes of neighbouring quads share derivatives.
+class LambdaMemo {
+public:
+    float operator()(double rho2) {
+        if (!(rho2 == rho2)) return -INFINITY;   // NaN: rho > 0 fails, as in sample_lanes
+        uint64_t bits;
+        std::memcpy(&bits, &rho2, 8);
+        Entry& e = entries_[(bits ^ (bits >> 20) ^ (bits >> 40)) % kEntries];
+        if (e.not_key == ~bits) return e.lambda;
+        const double rho = std::sqrt(rho2);
+        const float lambda = rho > 0 ? float(std::log2(rho)) : -INFINITY;
+        e = {~bits, lambda};
+        return lambda;
+    }
+    static LambdaMemo& of_this_thread() {
+        thread_local LambdaMemo memo;
+        return memo;
+    }
+
+private:
+    static constexpr size_t kEntries = 256;
+    struct Entry { uint64_t not_key; float lambda; };   // ~bits of rho2 (zero: never a non-NaN)
+    Entry entries_[kEntries] = {};
+};
+
+#if defined(__x86_64__) || defined(__i386__)
+#define SOFTGL_SAMPLER_AVX2 1
+
+bool cpu_has_avx2() {
+    static const bool has = [] { __builtin_cpu_init(); return __builtin_cpu_supports("avx2") != 0; }();
+    return has;
+}
+
+// ifloor of values that are already integral (or NaN, or infinite): NaN -> 0, saturated.
+__attribute__((target("avx2"))) inline __m256i ifloor_floored8(__m256 fl) {
+    const __m256 lo = _mm256_set1_ps(-1073741824.0f), hi = _mm256_set1_ps(1073741824.0f);
+    __m256i i = _mm256_cvttps_epi32(_mm256_min_ps(_mm256_max_ps(fl, lo), hi));   // NaN -> lo here
+    i = _mm256_min_epi32(i, _mm256_set1_epi32(1073741823));
+    return _mm256_and_si256(i, _mm256_castps_si256(_mm256_cmp_ps(fl, fl, _CMP_ORD_Q)));
+}
+
+// wrap_pair / wrap_one of 8 lanes: REPEAT of a power of two and CLAMP_TO_EDGE here, the rest
+// lane by lane.
+__attribute__((target("avx2"))) inline void wrap8(GLenum mode, __m256i i, int32_t size, bool pot, bool pair,
+                                                  int32_t a[8], int32_t b[8]) {
+    const __m256i last = _mm256_set1_epi32(size - 1), one = _mm256_set1_epi32(1);
+    if (mode == gl::REPEAT && pot) {
+        _mm256_store_si256(reinterpret_cast<__m256i*>(a), _mm256_and_si256(i, last));
+        if (pair) _mm256_store_si256(reinterpret_cast<__m256i*>(b), _mm256_and_si256(_mm256_add_epi32(i, one), last));
+    } else if (mode == gl::CLAMP_TO_EDGE) {
+        const __m256i zero = _mm256_setzero_si256();
+        _mm256_store_si256(reinterpret_cast<__m256i*>(a), _mm256_max_epi32(_mm256_min_epi32(i, last), zero));
+        if (pair)
+            _mm256_store_si256(reinterpret_cast<__m256i*>(b),
+                               _mm256_max_epi32(_mm256_min_epi32(_mm256_add_epi32(i, one), last), zero));
+    } else {
+        alignas(32) int32_t raw[8];
+        _mm256_store_si256(reinterpret_cast<__m256i*>(raw), i);
+        for (int l = 0; l < 8; ++l) {
+            if (pair) wrap_pair(mode, raw[l], size, pot, a[l], b[l]);
+            else a[l] = wrap_one(mode, raw[l], size, pot);
+        }
+    }
+}
+
+static_assert(sizeof(glsl::Scalar) == sizeof(float), "8 lanes of coordinates load as 8 floats");
+
+// Fast2D::filter of one plane for 8 lanes (r: the layers of a 2D array, else null).
+__attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bool linear, const float* s,
+                                             const float* t, const float* r, float out[8][4]) {
+    const float* layer[8];
+    for (int l = 0; l < 8; ++l)
+        layer[l] = p.texels + (r ? size_t(std::clamp(ifloor(r[l] + 0.5f), 0, p.layers - 1)) * size_t(p.height) * size_t(p.width) * 4 : 0);
+    const __m256 u = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(s), _mm256_set1_ps(float(p.width))), _mm256_set1_ps(float(f.off_s)));
+    const __m256 v = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(t), _mm256_set1_ps(float(p.height))), _mm256_set1_ps(float(f.off_t)));
+    alignas(32) int32_t i0[8], i1[8], j0[8], j1[8];
+    if (!linear) {
+        wrap8(f.wrap_s, ifloor_floored8(_mm256_floor_ps(u)), p.width, p.width_pot, false, i0, i1);
+        wrap8(f.wrap_t, ifloor_floored8(_mm256_floor_ps(v)), p.height, p.height_pot, false, j0, j1);
+        for (int l = 0; l < 8; ++l)
+            _mm_storeu_ps(out[l], _mm_loadu_ps(layer[l] + (size_t(j0[l]) * size_t(p.width) + size_t(i0[l])) * 4));
+        return;
+    }
+    const __m256 half = _mm256_set1_ps(0.5f), one = _mm256_set1_ps(1.0f);
+    const __m256 u0 = _mm256_sub_ps(u, half), v0 = _mm256_sub_ps(v, half);
+    const __m256 fu = _mm256_floor_ps(u0), fv = _mm256_floor_ps(v0);
+    wrap8(f.wrap_s, ifloor_floored8(fu), p.width, p.width_pot, true, i0, i1);
+    wrap8(f.wrap_t, ifloor_floored8(fv), p.height, p.height_pot, true, j0, j1);
+    const __m256 a = _mm256_sub_ps(u0, fu), b = _mm256_sub_ps(v0, fv);
+    const __m256 na = _mm256_sub_ps(one, a), nb = _mm256_sub_ps(one, b);
+    alignas(32) float w00[8], w10[8], w01[8], w11[8];
+    _mm256_store_ps(w00, _mm256_mul_ps(na, nb));
+    _mm256_store_ps(w10, _mm256_mul_ps(a, nb));
+    _mm256_store_ps(w01, _mm256_mul_ps(na, b));
+    _mm256_store_ps(w11, _mm256_mul_ps(a, b));
+    for (int l = 0; l < 8; ++l) {
+        const float* row0 = layer[l] + size_t(j0[l]) * size_t(p.width) * 4;
+        const float* row1 = layer[l] + size_t(j1[l]) * size_t(p.width) * 4;
+        __m128 sum = _mm_mul_ps(_mm_set1_ps(w00[l]), _mm_loadu_ps(row0 + size_t(i0[l]) * 4));
+        sum = _mm_add_ps(sum, _mm_mul_ps(_mm_set1_ps(w10[l]), _mm_loadu_ps(row0 + size_t(i1[l]) * 4)));
+        sum = _mm_add_ps(sum, _mm_mul_ps(_mm_set1_ps(w01[l]), _mm_loadu_ps(row1 + size_t(i0[l]) * 4)));
+        sum = _mm_add_ps(sum, _mm_mul_ps(_mm_set1_ps(w11[l]), _mm_loadu_ps(row1 + size_t(i1[l]) * 4)));
+        _mm_storeu_ps(out[l], sum);
+    }
+}
+
+__attribute__((target("avx2"))) inline __m256 load8(const glsl::Scalar* p, int l) {
+    return p ? _mm256_loadu_ps(&p[l].f) : _mm256_setzero_ps();
+}
+
+// (double) v² of lanes 4 * half .. 4 * half + 3.
+__attribute__((target("avx2"))) inline __m256d square_wide(__m256 v, int half) {
+    const __m256d d = _mm256_cvtps_pd(half ? _mm256_extractf128_ps(v, 1) : _mm256_castps256_ps128(v));
+    return _mm256_mul_pd(d, d);
+}
+
+// The lambdas of lanes l..l+7 (Implicit, Bias, Gradient), as lambda_at in sample_2d computes them:
+// rho² 8 at a time (float products, widened, squared and summed in double), log2 lane by lane.
+__attribute__((target("avx2"))) void lambda8(const glsl::TextureQuery& q, int l, float w, float h, LambdaMemo& lambda_of,
+                                             float out[8]) {
+    const __m256 ws = _mm256_set1_ps(w), hs = _mm256_set1_ps(h), zero = _mm256_setzero_ps();
+    const __m256 x0 = _mm256_mul_ps(load8(q.ddx[0], l), ws), x1 = _mm256_mul_ps(load8(q.ddx[1], l), hs);
+    const __m256 y0 = _mm256_mul_ps(load8(q.ddy[0], l), ws), y1 = _mm256_mul_ps(load8(q.ddy[1], l), hs);
+    const __m256 x2 = _mm256_mul_ps(load8(q.ddx[2], l), zero), y2 = _mm256_mul_ps(load8(q.ddy[2], l), zero);
+    alignas(32) double rho2[8];
+    for (int half = 0; half < 2; ++half) {
+        __m256d lx2 = _mm256_add_pd(square_wide(x0, half), square_wide(x1, half));
+        __m256d ly2 = _mm256_add_pd(square_wide(y0, half), square_wide(y1, half));
+        if (q.ddx[2]) lx2 = _mm256_add_pd(lx2, square_wide(x2, half));
+        if (q.ddy[2]) ly2 = _mm256_add_pd(ly2, square_wide(y2, half));
+        _mm256_store_pd(rho2 + 4 * half, _mm256_max_pd(ly2, lx2));   // = std::max(lx2, ly2), NaN included
+    }
+    for (int k = 0; k < 8; ++k) {
+        out[k] = lambda_of(rho2[k]);
+        if (q.lod_mode == TextureLod::Bias && q.lod) out[k] += q.lod[l + k].f;
+    }
+}
+
+// Fast2D::choose of 8 lanes when they all magnify, all minify without mipmaps, or all blend the
+// same two levels (*_MIPMAP_LINEAR) or take the last one: the common cases, as lambda varies
+// little inside a block. False (ch unspecified) otherwise.
+__attribute__((target("avx2"))) bool choose8(const Fast2D& f, const float lambda[8], LevelChoice ch[8]) {
+    const __m256 lo = _mm256_set1_ps(f.min_lod), hi = _mm256_set1_ps(f.max_lod);
+    __m256 v = _mm256_loadu_ps(lambda);
+    // std::clamp(v, lo, hi) = v < lo ? lo : hi < v ? hi : v (NaN stays NaN).
+    v = _mm256_blendv_ps(_mm256_blendv_ps(v, hi, _mm256_cmp_ps(hi, v, _CMP_LT_OQ)), lo, _mm256_cmp_ps(v, lo, _CMP_LT_OQ));
+    const int minified = _mm256_movemask_ps(_mm256_cmp_ps(v, _mm256_setzero_ps(), _CMP_GT_OQ));
+    if (minified == 0) return std::fill(ch, ch + 8, LevelChoice{0, -1, f.mag_linear, 0.0f}), true;
+    if (minified != 0xFF) return false;
+    if (!f.mipmapped) return std::fill(ch, ch + 8, LevelChoice{0, -1, f.min_linear, 0.0f}), true;
+    if (f.min_filter != gl::NEAREST_MIPMAP_LINEAR && f.min_filter != gl::LINEAR_MIPMAP_LINEAR) return false;
+    const int32_t last = f.top - f.base;
+    const int below_last = _mm256_movemask_ps(_mm256_cmp_ps(v, _mm256_set1_ps(float(last)), _CMP_LT_OQ));
+    if (below_last == 0) return std::fill(ch, ch + 8, LevelChoice{last, -1, f.min_linear, 0.0f}), true;
+    const __m256 whole = _mm256_floor_ps(v);
+    const __m256 same = _mm256_cmp_ps(whole, _mm256_permutevar8x32_ps(whole, _mm256_setzero_si256()), _CMP_EQ_OQ);
+    if (below_last != 0xFF || _mm256_movemask_ps(same) != 0xFF) return false;
+    alignas(32) float frac[8];
+    _mm256_store_ps(frac, _mm256_sub_ps(v, whole));
+    const int32_t d1 = int32_t(_mm256_cvtss_f32(whole));
+    for (int k = 0; k < 8; ++k) ch[k] = {d1, d1 + 1, f.min_linear, frac[k]};
+    return true;
+}
+
+// Fast2D::filter(LevelChoice) of 8 lanes that share the levels (frac per lane).
+__attribute__((target("avx2"))) void filter8(const Fast2D& f, const LevelChoice ch[8], const float* s, const float* t,
+                                             const float* r, float out[8][4]) {
+    filter8(f, f.planes[size_t(ch[0].first)], ch[0].linear, s, t, r, out);
+    if (ch[0].second < 0) return;
+    float b[8][4];
+    filter8(f, f.planes[size_t(ch[0].second)], ch[0].linear, s, t, r, b);
+    for (int l = 0; l < 8; ++l) {
+        const __m128 x = _mm_mul_ps(_mm_set1_ps(1 - ch[l].frac), _mm_loadu_ps(out[l]));
+        _mm_storeu_ps(out[l], _mm_add_ps(x, _mm_mul_ps(_mm_set1_ps(ch[l].frac), _mm_loadu_ps(b[l]))));
+    }
+}
+#endif
+
+}  // namespace
+
+uint64_t set_sampler_path(SamplerPath path) {
+    path_level = int(path);
+    count_queries = true;
+    return fast_path_queries.exchange(0);
+}
+
+bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, bool simd) const {
+    if (q.kind != TextureKind::Sample || q.shadow || q.result != BaseType::Float ||
+        (q.dim != SamplerDim::Tex2D && q.dim != SamplerDim::Tex2DArray))
+        return false;
+    // One unit for every active lane (sampler uniforms are uniform; anything else goes per lane).
+    int first = 0;
+    while (first < q.lane_count && q.active && !q.active[first]) ++first;
+    if (first == q.lane_count) return false;
+    const int32_t unit = q.unit[first].i;
+    for (int l = first + 1; l < q.lane_count; ++l)
+        if ((!q.active || q.active[l]) && q.unit[l].i != unit) return false;
+    if (unit < 0 || unit >= kSamplerUnits) return false;
+    const BoundTexture& bt = units[size_t(unit)][size_t(dim_index(q.dim))];
+    if (!bt.texture) return false;
+    const Texture& tex = *bt.texture;
+    const SamplerParams& p = bt.params;
+
+    Fast2D f;
+    // The levels [base, top] (all defined, of one float-sampled format, on a complete texture).
+    if (bt.q < bt.base || bt.q - bt.base >= int32_t(f.planes.size())) return false;
+    for (int32_t level = bt.base; level <= bt.q; ++level) {
+        const Image* img = tex.find(0, level);
+        if (!img || img->format->kind() != SampleKind::Float || img->color.size() != img->texel_count() * 4) return false;
+        f.planes[size_t(level - bt.base)] = {img->color.data(), img->width, img->height, img->depth,
+                                             is_power_of_two(img->width), is_power_of_two(img->height)};
+    }
+    f.wrap_s = p.wrap_s, f.wrap_t = p.wrap_t;
+    f.off_s = q.offset[0], f.off_t = q.offset[1];
+    f.base = bt.base, f.top = bt.q;
+    f.min_filter = p.min_filter;
+    f.mag_linear = p.mag_filter == gl::LINEAR;
+    const GLenum mf = p.min_filter;
+    f.min_linear = mf == gl::LINEAR || mf == gl::LINEAR_MIPMAP_NEAREST || mf == gl::LINEAR_MIPMAP_LINEAR;
+    f.mipmapped = !(mf == gl::NEAREST || mf == gl::LINEAR || f.top == f.base);
+    f.min_lod = p.min_lod, f.max_lod = p.max_lod;
+    // Without mipmaps and with the same filter both ways, lambda picks nothing: skip it.
+    const bool needs_lambda = f.mipmapped || f.min_linear != f.mag_linear;
+    const float w = float(f.planes[0].width), h = float(f.planes[0].height);
+
+    LambdaMemo& lambda_of = LambdaMemo::of_this_thread();
+    const auto lambda_at = [&](int l) {
+        // ES 3.0 §3.8.10.1-2 as in sample_lanes; max(sqrt(x), sqrt(y)) = sqrt(max(x, y)) as sqrt
+        // is correctly rounded (monotonic), and std::max keeps the same NaN.
+        if (q.lod_mode == TextureLod::Explicit) return q.lod ? q.lod[l].f : 0.0f;
+        float dx[3] = {0, 0, 0}, dy[3] = {0, 0, 0};
+        for (int k = 0; k < 3; ++k) {
+            if (q.ddx[k]) dx[k] = q.ddx[k][l].f;
+            if (q.ddy[k]) dy[k] = q.ddy[k][l].f;
+        }
+        double lx2 = double(dx[0] * w) * (dx[0] * w) + double(dx[1] * h) * (dx[1] * h);
+        double ly2 = double(dy[0] * w) * (dy[0] * w) + double(dy[1] * h) * (dy[1] * h);
+        // The third term (d = 0 off 3D) is +0, which adds nothing, unless dx[2] is not finite.
+        if (q.ddx[2]) lx2 += double(dx[2] * 0.0f) * (dx[2] * 0.0f);
+        if (q.ddy[2]) ly2 += double(dy[2] * 0.0f) * (dy[2] * 0.0f);
+        float lambda = lambda_of(std::max(lx2, ly2));
+        if (q.lod_mode == TextureLod::Bias && q.lod) lambda += q.lod[l].f;
+        return lambda;
+    };
+    const LevelChoice fixed{0, -1, f.mag_linear, 0.0f};
+    const auto one_lane = [&](int l) {
+        float result[4] = {0, 0, 0, 1};   // inactive lanes: as sample_lanes gives them
+        if (!q.active || q.active[l]) {
+            const float s = q.coord[0] ? q.coord[0][l].f : 0.0f, t = q.coord[1] ? q.coord[1][l].f : 0.0f;
+            const float r = q.coord[2] ? q.coord[2][l].f : 0.0f;
+            f.filter(needs_lambda ? f.choose(lambda_at(l)) : fixed, s, t, r, result);
+        }
+        for (int c = 0; c < 4; ++c) if (q.out[c]) q.out[c][l].f = result[c];
+    };
+
+    int l = 0;
+#ifdef SOFTGL_SAMPLER_AVX2
+    // Blocks of 8 active lanes that share their levels; the other blocks lane by lane.
+    if (simd && q.coord[0] && q.coord[1]) {
+        const float* r = f.planes[0].layers > 1 && q.coord[2] ? &q.coord[2][0].f : nullptr;
+        for (; l + 8 <= q.lane_count; l += 8) {
+            bool all_active = true;
+            for (int k = 0; k < 8 && q.active; ++k) all_active = all_active && q.active[l + k];
+            LevelChoice ch[8];
+            bool same = all_active;
+            if (same && needs_lambda) {
+                float lambda[8];
+                if (q.lod_mode == TextureLod::Explicit) for (int k = 0; k < 8; ++k) lambda[k] = lambda_at(l + k);
+                else lambda8(q, l, w, h, lambda_of, lambda);
+                if (!choose8(f, lambda, ch)) {
+                    for (int k = 0; k < 8 && same; ++k) {
+                        ch[k] = f.choose(lambda[k]);
+                        same = ch[k].same_levels(ch[0]);
+                    }
+                }
+            } else {
+                std::fill(ch, ch + 8, fixed);
+            }
+            if (same) {
+                float result[8][4];
+                filter8(f, ch, &q.coord[0][l].f, &q.coord[1][l].f, r ? r + l : nullptr, result);
+                for (int c = 0; c < 4; ++c)
+                    if (q.out[c]) for (int k = 0; k < 8; ++k) q.out[c][l + k].f = result[k][c];
+                continue;
+            }
+            for (int k = 0; k < 8; ++k) one_lane(l + k);
+        }
+    }
+#endif
+    for (; l < q.lane_count; ++l) one_lane(l);
+    return true;
+}
+
+void TextureUnitSampler::sample(const glsl::TextureQuery& q) {
+    const SamplerPath path = SamplerPath(path_level.load(std::memory_order_relaxed));
+#ifdef SOFTGL_SAMPLER_AVX2
+    const bool simd = path == SamplerPath::Best && cpu_has_avx2();
+#else
+    const bool simd = false;
+#endif
+    if (path != SamplerPath::General && sample_2d(q, simd)) {
+        if (count_queries.load(std::memory_order_relaxed)) fast_path_queries.fetch_add(1, std::memory_order_relaxed);
+        return;
+    }
+    sample_lanes(q);
 }
 
 }  // namespace softgl

@@ -31,7 +31,21 @@ public:
     // units[unit][dim]: dim 0 = 2D, 1 = 3D, 2 = cube, 3 = 2D array.
     std::array<std::array<BoundTexture, 4>, kSamplerUnits> units;
     void sample(const glsl::TextureQuery& query) override;
+
+private:
+    // The general path: every lane on its own, any texture kind and dimension.
+    void sample_lanes(const glsl::TextureQuery& query) const;
+    // The common case, resolved once per query: filtered lookups of one 2D / 2D array texture of
+    // a colour format that samples as float (AVX2 blocks of 8 lanes when `simd`). False (nothing
+    // written) when the query is not that.
+    bool sample_2d(const glsl::TextureQuery& query, bool simd) const;
 };
+
+// Which path lookups take: the general per-lane path only, the 2D fast path without SIMD, or
+// with the best SIMD the CPU has (the default). All give the same bits (NaNs aside: which NaN).
+enum class SamplerPath : int { General, Scalar, Best };
+// Testing: sets the path and returns how many queries the fast path served since the last call.
+uint64_t set_sampler_path(SamplerPath path);
 
 int dim_index(glsl::SamplerDim dim);
 

@@ -1,0 +1,162 @@
+#include "softgl/pipeline/interpolate.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#define SOFTGL_HAVE_AVX2_INTERPOLATION 1
+#endif
+
+namespace softgl {
+
+namespace {
+
+uint32_t float_bits(double v) {
+    const float f = float(v);
+    uint32_t u;
+    std::memcpy(&u, &f, 4);
+    return u;
+}
+
+// The reference: one lane at a time, the expressions of the header comment.
+void interpolate_scalar(const VaryingInterpolation& v, const Quad* quads, size_t n, uint32_t* out, size_t stride) {
+    const PrimitiveSetup& p = *v.prim;
+    auto eval = [](const Plane& pl, double fx, double fy) { return pl.c + pl.a * fx + pl.b * fy; };
+    for (size_t i = 0; i < n; ++i) {
+        for (int j = 0; j < 4; ++j) {
+            const size_t lane = 4 * i + size_t(j);
+            const double fx = pixel_centre_offset(quads[i].x + (j & 1), p.origin_x);
+            const double fy = pixel_centre_offset(quads[i].y + (j >> 1), p.origin_y);
+            const double q = 1.0 / eval(p.inv_w, fx, fy);
+            double w[3];
+            for (int k = 0; k < v.vertices; ++k) w[k] = eval(p.weight[k], fx, fy) * q;
+            for (size_t k = 0; k < v.count; ++k) {
+                double s = (0.0 + w[0] * v.values[k]) + w[1] * v.values[v.count + k];
+                if (v.vertices == 3) s = s + w[2] * v.values[2 * v.count + k];
+                out[size_t(v.words[k]) * stride + lane] = float_bits(s);
+            }
+        }
+    }
+}
+
+// When all vertices have the same w (every 2D draw), inv_w is a constant plane (a = b = 0) and
+// c + 0*fx + 0*fy == c for any finite non-zero c and finite offsets (adding a zero of either
+// sign to a non-zero number leaves it unchanged), so every lane's q is 1 / c: computed once.
+bool constant_inv_w(const Plane& pl) {
+    return pl.a == 0 && pl.b == 0 && std::isfinite(pl.c) && pl.c != 0;
+}
+
+#if defined(__SSE2__)
+// Two lanes per register: a quad's lower row (lanes 0, 1: fy0) then its upper row (lanes 2, 3: fy1).
+template <int V>
+void interpolate_sse2(const VaryingInterpolation& v, const Quad* quads, size_t n, uint32_t* out, size_t stride) {
+    const PrimitiveSetup& p = *v.prim;
+    // Locals: stores to `out` could otherwise alias the words and force reloads.
+    const double* const values = v.values;
+    const int* const words = v.words;
+    const size_t count = v.count;
+    const bool constant_q = constant_inv_w(p.inv_w);
+    const __m128d one = _mm_set1_pd(1.0), zero = _mm_setzero_pd(), q_constant = _mm_set1_pd(1.0 / p.inv_w.c);
+    auto eval = [](const Plane& pl, __m128d fx, __m128d fy) {
+        return _mm_add_pd(_mm_add_pd(_mm_set1_pd(pl.c), _mm_mul_pd(_mm_set1_pd(pl.a), fx)),
+                          _mm_mul_pd(_mm_set1_pd(pl.b), fy));
+    };
+    for (size_t i = 0; i < n; ++i) {
+        const __m128d fx = _mm_setr_pd(pixel_centre_offset(quads[i].x, p.origin_x),
+                                       pixel_centre_offset(quads[i].x + 1, p.origin_x));
+        for (int row = 0; row < 2; ++row) {
+            const __m128d fy = _mm_set1_pd(pixel_centre_offset(quads[i].y + row, p.origin_y));
+            const __m128d q = constant_q ? q_constant : _mm_div_pd(one, eval(p.inv_w, fx, fy));
+            __m128d w[V];
+            for (int k = 0; k < V; ++k) w[k] = _mm_mul_pd(eval(p.weight[k], fx, fy), q);
+            const size_t lane = 4 * i + 2 * size_t(row);
+            for (size_t k = 0; k < count; ++k) {
+                __m128d s = _mm_add_pd(zero, _mm_mul_pd(w[0], _mm_set1_pd(values[k])));
+                s = _mm_add_pd(s, _mm_mul_pd(w[1], _mm_set1_pd(values[count + k])));
+                if constexpr (V == 3) s = _mm_add_pd(s, _mm_mul_pd(w[2], _mm_set1_pd(values[2 * count + k])));
+                _mm_storel_pd(reinterpret_cast<double*>(out + size_t(words[k]) * stride + lane),
+                              _mm_castps_pd(_mm_cvtpd_ps(s)));
+            }
+        }
+    }
+}
+#endif
+
+#if defined(SOFTGL_HAVE_AVX2_INTERPOLATION)
+// One quad per register (lanes 0..3). Compiled for AVX2 (no FMA) here only; called only when the
+// CPU has it.
+__attribute__((target("avx2"))) inline __m256d eval_avx2(__m256d a, __m256d b, __m256d c, __m256d fx, __m256d fy) {
+    return _mm256_add_pd(_mm256_add_pd(c, _mm256_mul_pd(a, fx)), _mm256_mul_pd(b, fy));
+}
+
+template <int V>
+__attribute__((target("avx2"))) void interpolate_avx2(const VaryingInterpolation& v, const Quad* quads, size_t n,
+                                                      uint32_t* out, size_t stride) {
+    const PrimitiveSetup& p = *v.prim;
+    const double* const values = v.values;
+    const int* const words = v.words;
+    const size_t count = v.count;
+    const bool constant_q = constant_inv_w(p.inv_w);
+    const __m256d one = _mm256_set1_pd(1.0), zero = _mm256_setzero_pd(), q_constant = _mm256_set1_pd(1.0 / p.inv_w.c);
+    __m256d pa[V + 1], pb[V + 1], pc[V + 1];   // weight[0..V-1], then inv_w
+    for (int k = 0; k <= V; ++k) {
+        const Plane& pl = k < V ? p.weight[k] : p.inv_w;
+        pa[k] = _mm256_set1_pd(pl.a), pb[k] = _mm256_set1_pd(pl.b), pc[k] = _mm256_set1_pd(pl.c);
+    }
+    // Runs of up to 32 quads: the weights of a run first (4 lanes per quad), then each word over
+    // the run with its vertex values in registers and its output contiguous.
+    constexpr size_t kRun = 32;
+    alignas(32) double weights[V][4 * kRun];
+    for (size_t i0 = 0; i0 < n; i0 += kRun) {
+        const size_t m = std::min(kRun, n - i0);
+        for (size_t i = 0; i < m; ++i) {
+            const Quad& quad = quads[i0 + i];
+            const double fx0 = pixel_centre_offset(quad.x, p.origin_x), fx1 = pixel_centre_offset(quad.x + 1, p.origin_x);
+            const double fy0 = pixel_centre_offset(quad.y, p.origin_y), fy1 = pixel_centre_offset(quad.y + 1, p.origin_y);
+            const __m256d fx = _mm256_setr_pd(fx0, fx1, fx0, fx1), fy = _mm256_setr_pd(fy0, fy0, fy1, fy1);
+            const __m256d q = constant_q ? q_constant : _mm256_div_pd(one, eval_avx2(pa[V], pb[V], pc[V], fx, fy));
+            for (int k = 0; k < V; ++k) _mm256_store_pd(&weights[k][4 * i], _mm256_mul_pd(eval_avx2(pa[k], pb[k], pc[k], fx, fy), q));
+        }
+        for (size_t k = 0; k < count; ++k) {
+            const __m256d v0 = _mm256_set1_pd(values[k]), v1 = _mm256_set1_pd(values[count + k]);
+            const __m256d v2 = _mm256_set1_pd(V == 3 ? values[2 * count + k] : 0.0);
+            float* const dst = reinterpret_cast<float*>(out + size_t(words[k]) * stride + 4 * i0);
+            for (size_t i = 0; i < m; ++i) {
+                __m256d s = _mm256_add_pd(zero, _mm256_mul_pd(_mm256_load_pd(&weights[0][4 * i]), v0));
+                s = _mm256_add_pd(s, _mm256_mul_pd(_mm256_load_pd(&weights[1][4 * i]), v1));
+                if constexpr (V == 3) s = _mm256_add_pd(s, _mm256_mul_pd(_mm256_load_pd(&weights[2][4 * i]), v2));
+                _mm_storeu_ps(dst + 4 * i, _mm256_cvtpd_ps(s));
+            }
+        }
+    }
+}
+#endif
+
+}  // namespace
+
+void interpolate_varyings_at(SimdLevel level, const VaryingInterpolation& v, const Quad* quads, size_t n,
+                             uint32_t* out, size_t stride) {
+    switch (level) {
+        case SimdLevel::Scalar: break;
+        case SimdLevel::AVX2:
+#if defined(SOFTGL_HAVE_AVX2_INTERPOLATION)
+            return v.vertices == 3 ? interpolate_avx2<3>(v, quads, n, out, stride)
+                                   : interpolate_avx2<2>(v, quads, n, out, stride);
+#endif
+            [[fallthrough]];
+        case SimdLevel::SSE2:
+#if defined(__SSE2__)
+            return v.vertices == 3 ? interpolate_sse2<3>(v, quads, n, out, stride)
+                                   : interpolate_sse2<2>(v, quads, n, out, stride);
+#endif
+            break;
+    }
+    interpolate_scalar(v, quads, n, out, stride);
+}
+
+}  // namespace softgl

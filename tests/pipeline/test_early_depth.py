@@ -1,0 +1,102 @@
+"""The single-sample early depth test (cpp/softgl/pipeline/early_depth.h) gives the same
+survivors, kill count and depth buffer at every instruction-set level (scalar through the
+definitions depth_at / depth_word / compare; AVX2 a quad at a time where the CPU has it), and
+those equal an independent float64 evaluation here: ES 3.0 §4.1.6 with the window depth
+z = clamp((c + a*fx + b*fy) + offset) stored as floor(z * (2^24 - 1) + 0.5) (NaN -> 0).
+
+Buffers have odd sizes, so quads on the right and top border have pixels outside the buffer
+(never covered): the kernels must neither read nor write them.
+"""
+import numpy as np
+import pytest
+
+import softgl
+from softgl import _core
+
+SUB = 256
+FUNCS = ["NEVER", "LESS", "EQUAL", "LEQUAL", "GREATER", "NOTEQUAL", "GEQUAL", "ALWAYS"]
+W, H = 37, 29
+
+
+def word(z):
+    with np.errstate(invalid="ignore"):
+        z = np.where(z < 0, 0.0, np.where(z > 1, 1.0, z))   # depth_at's clamp (NaN stays)
+        d = np.where(np.isnan(z), 0.0, np.clip(z, 0.0, 1.0))
+    return np.floor(d * 16777215.0 + 0.5).astype(np.uint32)
+
+
+def passes(func, z, stored):
+    z, stored = int(z), int(stored)
+    return {"NEVER": False, "LESS": z < stored, "EQUAL": z == stored, "LEQUAL": z <= stored,
+            "GREATER": z > stored, "NOTEQUAL": z != stored, "GEQUAL": z >= stored, "ALWAYS": True}[func]
+
+
+def reference(plane, offset, ox, oy, sample, func, write, quads, depth):
+    depth = depth.copy()
+    survived = np.zeros((len(quads), 4), np.uint16)
+    killed = 0
+    for i, (qx, qy, cov) in enumerate(quads):
+        for j in range(4):
+            if not (int(cov) >> (16 * j)) & 1:
+                continue
+            x, y = qx + (j & 1), qy + (j >> 1)
+            fx = float(x * SUB + sample[0] - ox) * (1.0 / SUB)
+            fy = float(y * SUB + sample[1] - oy) * (1.0 / SUB)
+            z = word(np.float64((plane[2] + plane[0] * fx) + plane[1] * fy) + offset)
+            if passes(func, z, depth[y, x]):
+                if write:
+                    depth[y, x] = z
+                survived[i, j] = 1
+            else:
+                killed += 1
+    return survived, killed, depth
+
+
+def random_quads(rng, n):
+    quads = []
+    for _ in range(n):
+        x, y = 2 * rng.integers(0, (W + 1) // 2), 2 * rng.integers(0, (H + 1) // 2)
+        cov = 0
+        for j in range(4):
+            inside = x + (j & 1) < W and y + (j >> 1) < H
+            if inside and rng.random() < 0.8:
+                cov |= 1 << (16 * j)
+        quads.append((x, y, cov))
+    return np.array(quads, np.int64)
+
+
+def check(rng, func, write, plane, offset=0.0):
+    ox, oy = (int(v) for v in rng.integers(-40 * SUB, 40 * SUB, 2))
+    sample = (128, 128) if rng.random() < 0.7 else tuple(int(v) for v in rng.integers(0, SUB, 2))
+    quads = random_quads(rng, int(rng.integers(1, 40)))
+    depth = rng.integers(0, 1 << 24, (H, W)).astype(np.uint32)
+    depth[rng.random((H, W)) < 0.05] = 0xFFFFFFFF   # beyond 24 bits: the comparison is unsigned
+    # Some stored values equal to the incoming word, so EQUAL and friends see ties.
+    _, _, exact = reference(plane, offset, ox, oy, sample, "ALWAYS", True, quads, depth)
+    ties = rng.random((H, W)) < 0.3
+    depth[ties] = exact[ties]
+    want = reference(plane, offset, ox, oy, sample, func, write, quads, depth)
+    for level in range(_core.testing.simd_level() + 1):
+        got = _core.testing.early_depth_test(level, plane, offset, ox, oy, sample, getattr(softgl, func), write,
+                                             quads, depth)
+        np.testing.assert_array_equal(got[0], want[0], err_msg=f"survived, simd level {level}")
+        assert got[1] == want[1], f"killed, simd level {level}"
+        np.testing.assert_array_equal(got[2], want[2], err_msg=f"depth buffer, simd level {level}")
+
+
+@pytest.mark.parametrize("func", FUNCS)
+@pytest.mark.parametrize("write", [True, False])
+def test_levels_match_the_float64_definition(func, write):
+    rng = np.random.default_rng(FUNCS.index(func) + 10 * write)
+    for _ in range(15):
+        # Depth planes crossing 0 and 1 inside the buffer: both clamps are exercised.
+        plane = (rng.normal(0, 0.05), rng.normal(0, 0.05), rng.uniform(-0.5, 1.5))
+        check(rng, func, write, plane, offset=float(rng.choice([0.0, 1e-7, -3e-3])))
+
+
+@pytest.mark.parametrize("c", [np.nan, np.inf, -np.inf, -0.0, 0.0, 1.0])
+def test_special_depths(c):
+    # NaN depth is stored as 0; +-inf clamp to 1 and 0; -0 is 0.
+    rng = np.random.default_rng(3)
+    for func in FUNCS:
+        check(rng, func, True, (0.0, 0.0, c))
