@@ -31,7 +31,7 @@ enum class Op : uint8_t {
     FSin, FCos, FTan, FAsin, FAcos, FAtan, FAtan2, FSinh, FCosh, FTanh, FAsinh, FAcosh, FAtanh,
     FExp, FLog, FExp2, FLog2, FPow,
     FClamp, FMix, FSmoothstep,  // three operands
-    FDot,  // executor-internal, never in an IrProgram: a fused chain of FMul/FAdd (see Executor)
+    FDot,  // executor-internal (never produced by lowering or optimize): fused FMul/FAdd chain, see Executor
     FIsNan, FIsInf,
     FLess, FLessEqual, FGreater, FGreaterEqual, FEqual, FNotEqual,
     // Signed integers (two's complement, wrapping)
