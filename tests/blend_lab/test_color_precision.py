@@ -439,3 +439,18 @@ def test_blit_and_copy_from_a_float_drawing_buffer():
     got = gl.readPixels(0, 0, 4, 4, gl.RGBA, gl.FLOAT)
     np.testing.assert_array_equal(got[:2, :2], np.float32([-3.0, 7.0, 0.5, 2.0]) * np.ones((2, 2, 1), np.float32))
     np.testing.assert_array_equal(got[2:, 2:], want[2:, 2:])
+
+
+@pytest.mark.parametrize("fmt", ["rgba16f", "rgba32f"])
+def test_every_nan_is_stored_as_the_one_quiet_nan(fmt):
+    """Which NaN an IEEE operation returns depends on operand order, which SIMD and scalar code
+    need not share; float buffers therefore store every NaN as the canonical quiet NaN
+    0x7fc00000 (so the bytes are the same on every CPU). Input NaNs with other signs and payloads
+    reach the buffer unchanged through a point's (uninterpolated) varying."""
+    gl = make(fmt, size=2)
+    payloads = np.array([0xFFC00000, 0x7FC00001, 0xFFFFFFFF, 0x7FA00000], np.uint32)
+    colors = np.zeros((4, 4), np.float32)
+    colors.view(np.uint32)[:] = payloads[:, None]
+    draw_points(gl, colors)
+    bits = read(gl).astype(np.float32).view(np.uint32)
+    assert np.all(bits == 0x7FC00000), [hex(b) for b in np.unique(bits)]

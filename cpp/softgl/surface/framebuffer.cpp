@@ -165,8 +165,8 @@ int DefaultFramebuffer::color_bits() const {
 
 float DefaultFramebuffer::quantize(float v) const {
     switch (config_.color_format) {
-        case ColorFormat::RGBA16F: return half_to_float(float_to_half(v));
-        case ColorFormat::RGBA32F: return v;
+        case ColorFormat::RGBA16F: return half_to_float(float_to_half(canonical_nan(v)));
+        case ColorFormat::RGBA32F: return canonical_nan(v);
         default: return float(float_to_unorm8(v)) / 255.0f;
     }
 }

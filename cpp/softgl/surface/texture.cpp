@@ -188,10 +188,10 @@ void quantize_color(const FormatInfo& f, const float in[4], float out[4]) {
                 out[c] = std::max(float(std::floor(double(x) * 127.0 + 0.5)) / 127.0f, -1.0f);
                 break;
             }
-            case Encoding::Float16: out[c] = half_to_float(float_to_half(v)); break;
-            case Encoding::Float11_11_10: out[c] = round_small_float(v, c == 2 ? 5 : 6); break;
+            case Encoding::Float16: out[c] = half_to_float(float_to_half(canonical_nan(v))); break;
+            case Encoding::Float11_11_10: out[c] = round_small_float(canonical_nan(v), c == 2 ? 5 : 6); break;
             case Encoding::Rgb9e5: break;   // below, all channels at once
-            default: out[c] = v; break;
+            default: out[c] = canonical_nan(v); break;
         }
     }
     if (f.encoding == Encoding::Rgb9e5) round_rgb9e5(in, out);
