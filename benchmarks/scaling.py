@@ -20,6 +20,8 @@ import sys
 import time
 from pathlib import Path
 
+# NumPy's BLAS threads spin after each call and would steal a core from both renderers.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import scenes as S  # noqa: E402
 from reference_gl import LlvmpipeProcess, machine_name  # noqa: E402

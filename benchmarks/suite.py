@@ -24,7 +24,9 @@ import sys
 import time
 from pathlib import Path
 
-import numpy as np
+# NumPy's BLAS threads spin after each call and would steal a core from both renderers.
+os.environ.setdefault("OPENBLAS_NUM_THREADS", "1")
+import numpy as np  # noqa: E402
 
 sys.path.insert(0, str(Path(__file__).resolve().parent))
 import scenes as S  # noqa: E402
