@@ -330,3 +330,26 @@ def test_blend_lab_sees_one_draw_in_batches(batch_size):
     assert {r["draw"] for f in ref_log for r in f} == {0, 1}
     assert image == ref_image and log == ref_log
     assert np.array_equal(resolved, ref_resolved)
+
+
+def test_uniform_only_fragment_shader_in_batches(batch_size):
+    """The uniform-only shortcut (one quad shaded per chunk, its colour copied) across batches."""
+    rng = np.random.default_rng(17)
+    pos, color = vertices(rng, 600, scale=0.2)
+    fs = """#version 300 es
+precision highp float;
+uniform vec4 uColor;
+out vec4 fragColor;
+void main() { fragColor = uColor; }
+"""
+
+    def make(t):
+        p = Painter(t, pos, color)
+        prog = softgl.program(p.gl, VS, fs)
+        p.gl.useProgram(prog)
+        p.gl.uniform4f(p.gl.getUniformLocation(prog, "uColor"), 0.9, 0.3, 0.2, 0.4)
+        return p
+
+    for mode in ("TRIANGLES", "TRIANGLE_FAN", "POINTS"):
+        _, reference = draw_twice(make, lambda p: p.gl.drawArrays(getattr(p.gl, mode), 0, 600), 13, batch_size)
+        assert reference["samples_blended"] > 100

@@ -129,7 +129,6 @@ std::atomic<uint32_t> batch_primitives{kDrawBatchPrimitives};
 // allocations; buffers only grow, so a repeated draw touches no fresh pages).
 struct DrawScratch {
     std::vector<uint32_t> ids, slot_of_position, tiles, index_base;
-    std::vector<uint8_t> touched;   // per tile: had work in an earlier batch of the draw
     std::unordered_map<uint32_t, uint32_t> slot;
     std::vector<VertexWorker> vertex_workers;
     VertexShaderOutputs all;
@@ -138,6 +137,7 @@ struct DrawScratch {
     PrimitiveTable prims;
     Bins bins;
     std::vector<Scratch> workers;
+    std::vector<uint8_t> touched;   // per tile: had work in an earlier batch of the draw
 };
 
 DrawScratch& draw_scratch() {
@@ -225,18 +225,12 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
     // ---- the per-tile pass's constants ----
     const SamplePattern& pattern = sample_pattern(config.samples);
     const int S = config.samples;
-    std::vector<Scratch>& scratch = ds_.workers;
-    if (scratch.size() < in.pool.size()) scratch.resize(in.pool.size());
+    std::vector<Scratch>& scratch = ds_.workers;   // grown before the first tile pass
     for (Scratch& w : scratch) w.raster = RasterStats{}, w.stats = DrawStats{};
-    if (rasterizes) fs.prepare(in.pool.size());
 
     // What the fragment shader reads: only these inputs are computed per lane.
     const uint32_t builtins = fs.builtins_read();
-    std::vector<int> smooth_words, flat_words;
-    for (int word = 0; word < words; ++word) {
-        if (size_t(word) < layout.read_by_fragment.size() && !layout.read_by_fragment[size_t(word)]) continue;
-        (layout.flat[size_t(word)] ? flat_words : smooth_words).push_back(word);
-    }
+    std::vector<int> smooth_words, flat_words;   // filled before the first tile pass
     const ColorKernel kernel = color_kernel(blend);
     const bool all_channels = blend.write[0] && blend.write[1] && blend.write[2] && blend.write[3];
     const float* unorm8_table = unorm8_to_float_table();
@@ -628,13 +622,14 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
     };
     if (whole_instances) list_vertices(0, per_instance);
     const uint32_t used = vs.used_attributes();
-    if (ds_.vertex_workers.size() < in.pool.size()) ds_.vertex_workers.resize(in.pool.size());
     std::vector<uint8_t>& touched = ds_.touched;   // tiles_touched counts each tile once per draw
-    if (rasterizes) touched.assign(grid.count(), 0);
     SetupStats setup_stats;
+    bool tile_pass_prepared = false;
 
-    // Instances [instance, instance + instances), primitives [p0, p1) of each.
-    auto run_batch = [&](uint32_t instance, uint32_t instances, uint32_t p0, uint32_t p1) {
+    // Instances [instance, instance + instances), primitives [p0, p1) of each. Inlined: with one
+    // thread the tile pass runs on the caller, and a frame more in between measured ~2% slower on
+    // shading-bound scenes (stack addresses aliasing the per-lane arrays).
+    auto run_batch = [&](uint32_t instance, uint32_t instances, uint32_t p0, uint32_t p1) __attribute__((always_inline)) {
         // ---- vertex stage: each of the batch's vertices once per instance ----
         auto t0 = Clock::now();
         if (!whole_instances) list_vertices(p0, p1);
@@ -643,6 +638,7 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
         float* const all_position = at_least(all.position, all.count * 4);
         float* const all_point_size = at_least(all.point_size, all.count);
         uint32_t* const all_varyings = at_least(all.varyings, all.count * size_t(words));
+        if (ds_.vertex_workers.size() < in.pool.size()) ds_.vertex_workers.resize(in.pool.size());
         const size_t vertex_chunks = (n + kVertexChunk - 1) / kVertexChunk;
         for_chunks(in.pool, vertex_chunks * instances, [&](size_t job, unsigned worker) {
             const uint32_t j = uint32_t(job / vertex_chunks);
@@ -727,15 +723,25 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
         }
         // Only tiles with work go to the pool (a draw of one small primitive wakes no thread).
         tiles.clear();
-        for (size_t t = 0; t < grid.count(); ++t) {
-            if (bins->tile(t).empty()) continue;
-            tiles.push_back(uint32_t(t));
-            if (!touched[t]) touched[t] = 1, ++st.tiles_touched;
-        }
+        for (size_t t = 0; t < grid.count(); ++t)
+            if (!bins->tile(t).empty()) tiles.push_back(uint32_t(t));
         st.seconds_setup += since(t0);
 
         // ---- per tile on the pool: raster, tests, shading, blending ----
         t0 = Clock::now();
+        if (!tile_pass_prepared) {   // once per draw, before the first tile pass
+            if (scratch.size() < in.pool.size()) scratch.resize(in.pool.size());
+            fs.prepare(in.pool.size());
+            // What the fragment shader reads: only these varying words are computed per lane.
+            for (int word = 0; word < words; ++word) {
+                if (size_t(word) < layout.read_by_fragment.size() && !layout.read_by_fragment[size_t(word)]) continue;
+                (layout.flat[size_t(word)] ? flat_words : smooth_words).push_back(word);
+            }
+            touched.assign(grid.count(), 0);
+            tile_pass_prepared = true;
+        }
+        for (uint32_t t : tiles)
+            if (!touched[t]) touched[t] = 1, ++st.tiles_touched;
         in.pool.parallel_for(tiles.size(), run_tile);
         st.seconds_fragment += since(t0);
     };
