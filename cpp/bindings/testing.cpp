@@ -132,6 +132,13 @@ void bind_testing(py::module_& m) {
         softgl::assemble(mode, count, out);
         return out;
     });
+    t.def("primitive_vertex_range", [](uint32_t mode, uint32_t count, uint32_t p0, uint32_t p1) {
+        const softgl::VertexRange r = softgl::primitive_vertex_range(mode, count, p0, p1);
+        return py::make_tuple(r.begin, r.end, r.and_zero);
+    });
+    // Draws run in batches of this many primitives (all contexts, all threads); 0 = the default.
+    // Returns the previous size.
+    t.def("set_draw_batch_primitives", &softgl::set_draw_batch_primitives, py::arg("primitives"));
     // GLM as the reference for softgl.transforms (the C++ side's math library).
     t.def("glm_perspective", [](float fovy, float aspect, float n, float f) { return from_glm(glm::perspective(fovy, aspect, n, f)); });
     t.def("glm_ortho", [](float l, float r, float b, float tp, float n, float f) { return from_glm(glm::ortho(l, r, b, tp, n, f)); });

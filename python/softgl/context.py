@@ -190,7 +190,14 @@ class Context(_core.Context):
 
     def stats(self, reset: bool = False) -> dict:
         """softgl's counters since the context was made (or last reset): what the draws did and
-        what they skipped (DESIGN §4), with seconds per stage."""
+        what they skipped (DESIGN §4), with seconds per stage.
+
+        A draw runs in batches of 65,536 primitives (bounded memory). ``tiles_touched`` counts
+        the tiles a draw has work in once per draw, however many of its batches reach a tile.
+        ``vertices_shaded`` counts vertex shader runs: each distinct vertex once per instance
+        and batch, so in a draw of more batches than one, a vertex whose primitives fall in two
+        batches (a strip's two vertices at a boundary, a fan's centre, an index reused far
+        apart) counts in each."""
         return self._stats(reset)
 
     @property

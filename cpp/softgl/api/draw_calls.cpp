@@ -44,13 +44,6 @@ bool Context::validate_draw_state(const char* call) {
 }
 
 void Context::run_draw(const DrawCall& call) {
-    // A draw keeps its shaded vertices and set-up primitives for the whole draw (about this many
-    // bytes per vertex); refuse what cannot fit rather than fail halfway.
-    constexpr uint64_t kBytesPerVertex = 640;
-    const uint64_t need = uint64_t(call.count) * uint64_t(call.instance_count) * kBytesPerVertex;
-    if (need > memory_budget())
-        return error(gl::OUT_OF_MEMORY, "draw", "the draw would need " + std::to_string(need >> 20) +
-                     " MiB of working memory, more than half of this machine's memory");
     Program& p = *current_program_;
     // gl_DepthRange is a built-in uniform: (near, far, far - near) from the current state.
     for (const auto& u : p.linked->reflection.uniforms) {
@@ -116,6 +109,16 @@ void Context::draw_elements(GLenum mode, int32_t count, GLenum type, int64_t off
     // ends the current strip, fan or loop and is never a vertex.
     const uint32_t restart = size == 1 ? 0xFFu : size == 2 ? 0xFFFFu : 0xFFFFFFFFu;
     const bool restart_enabled = version() >= 2;
+    // The pipeline's working memory is bounded (it draws in batches of primitives), but the
+    // indices are read into 32-bit words here, and a restart expands them into up to 3 words each:
+    // refuse what cannot fit rather than fail halfway.
+    auto too_large = [&](uint64_t words) {
+        if (words * 4 <= memory_budget()) return false;
+        error(gl::OUT_OF_MEMORY, call, "the draw's " + std::to_string(words) +
+              " index words would need more than half of this machine's memory");
+        return true;
+    };
+    if (too_large(uint64_t(count))) return;
     std::vector<uint32_t> indices(static_cast<size_t>(count));
     const uint8_t* src = elements->data.data() + offset;
     uint32_t max_index = 0;
@@ -135,6 +138,7 @@ void Context::draw_elements(GLenum mode, int32_t count, GLenum type, int64_t off
     DrawCall dc;
     dc.mode = mode;
     if (restarts) {
+        if (too_large(4 * uint64_t(count))) return;   // the indices and their expansion
         // Assemble each run between restart indices on its own, as an independent list of points,
         // lines or triangles (the provoking vertex stays last, strips keep their winding).
         std::vector<uint32_t> expanded, positions;

@@ -36,6 +36,15 @@ inline void primitive_vertices(GLenum mode, uint32_t count, uint32_t p, uint32_t
     }
 }
 
+// The vertex numbers primitives [p0, p1) use (p0 < p1 <= primitive_count(mode, count)): every
+// number in [begin, end), and vertex 0 too when `and_zero` (a fan's centre, a loop's closing line,
+// when vertex 0 is not in the range). A draw in batches of primitives shades only these.
+struct VertexRange {
+    uint32_t begin = 0, end = 0;
+    bool and_zero = false;
+};
+VertexRange primitive_vertex_range(GLenum mode, uint32_t count, uint32_t p0, uint32_t p1);
+
 // Appends the vertex numbers of every primitive, in order (primitive_vertices for each).
 void assemble(GLenum mode, uint32_t count, std::vector<uint32_t>& out);
 

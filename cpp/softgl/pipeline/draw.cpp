@@ -118,6 +118,13 @@ struct PrimitiveTable {
     const PrimitiveSetup& operator[](uint32_t k) const { return chunk[k >> shift][k & mask]; }
 };
 
+// Primitives per batch. A batch's working memory is about 340 bytes per primitive (its set-up
+// record, a clipped one more) plus its vertices (20 + 4 * varying words bytes each, up to three
+// per primitive): ~30 MB for 2^16 triangles with 8 varying words. Large enough that a batch's
+// fixed costs (waking the pool three times, the tail of its tile pass) stay below 1% of its work.
+constexpr uint32_t kDrawBatchPrimitives = 1u << 16;
+std::atomic<uint32_t> batch_primitives{kDrawBatchPrimitives};
+
 // Everything a draw allocates, kept between draws on the calling thread (DESIGN §4: no per-draw
 // allocations; buffers only grow, so a repeated draw touches no fresh pages).
 struct DrawScratch {
@@ -130,6 +137,7 @@ struct DrawScratch {
     PrimitiveTable prims;
     Bins bins;
     std::vector<Scratch> workers;
+    std::vector<uint8_t> touched;   // per tile: had work in an earlier batch of the draw
 };
 
 DrawScratch& draw_scratch() {
@@ -162,6 +170,12 @@ void for_chunks(ThreadPool& pool, size_t count, const Job& job) {
 
 }  // namespace
 
+uint32_t draw_batch_primitives() { return batch_primitives.load(std::memory_order_relaxed); }
+
+uint32_t set_draw_batch_primitives(uint32_t primitives) {
+    return batch_primitives.exchange(primitives ? std::min(primitives, kDrawBatchPrimitivesMax) : kDrawBatchPrimitives);
+}
+
 void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
     DrawStats st;
     st.draws = 1;
@@ -180,117 +194,17 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
     const VaryingLayout& layout = vs.varying_layout();
     const int words = layout.words;
 
-    // ---- vertex stage: shade each distinct vertex once per instance ----
-    auto t0 = Clock::now();
-    std::vector<uint32_t>& ids = ds_.ids;       // distinct vertex ids, in first-use order
-    std::vector<uint32_t>& slot_of_position = ds_.slot_of_position;
-    ids.clear();
-    if (call.indices) {
-        slot_of_position.resize(call.count);
-        std::unordered_map<uint32_t, uint32_t>& slot = ds_.slot;
-        slot.clear();
-        slot.reserve(call.count * 2);
-        for (uint32_t k = 0; k < call.count; ++k) {
-            auto [it, added] = slot.emplace(call.indices[k], uint32_t(ids.size()));
-            if (added) ids.push_back(call.indices[k]);
-            slot_of_position[k] = it->second;
-        }
-    } else {
-        ids.resize(call.count);
-        for (uint32_t k = 0; k < call.count; ++k) ids[k] = call.first + k;
-    }
-    const size_t n = ids.size();
-    VertexShaderOutputs& all = ds_.all;   // instance i's vertex v at i * n + v
-    all.count = n * call.instance_count;
-    float* const all_position = at_least(all.position, all.count * 4);
-    float* const all_point_size = at_least(all.point_size, all.count);
-    uint32_t* const all_varyings = at_least(all.varyings, all.count * size_t(words));
-    const uint32_t used = vs.used_attributes();
-    if (ds_.vertex_workers.size() < in.pool.size()) ds_.vertex_workers.resize(in.pool.size());
-    const size_t vertex_chunks = (n + kVertexChunk - 1) / kVertexChunk;
-    for_chunks(in.pool, vertex_chunks * call.instance_count, [&](size_t job, unsigned worker) {
-        const uint32_t instance = uint32_t(job / vertex_chunks);
-        const size_t begin = (job % vertex_chunks) * kVertexChunk, count = std::min(kVertexChunk, n - begin);
-        VertexWorker& w = ds_.vertex_workers[worker];
-        for (int loc = 0; loc < kMaxVertexAttribs; ++loc)
-            if (used & (1u << loc))
-                fetch_attribute(in.vertex_array, in.current_attribs[size_t(loc)], loc, ids.data() + begin, 0,
-                                count, instance, w.attribs[size_t(loc)]);
-        vs.run(w.attribs, count, ids.data() + begin, instance, w.shaded);
-        const size_t at = size_t(instance) * n + begin;
-        std::copy_n(w.shaded.position.data(), count * 4, all_position + at * 4);
-        std::copy_n(w.shaded.point_size.data(), count, all_point_size + at);
-        std::copy_n(w.shaded.varyings.data(), count * size_t(words), all_varyings + at * size_t(words));
-    });
-    st.vertices_shaded = all.count;
-    st.seconds_vertex = since(t0);
-
-    // ES 3.0 §2.15: with RASTERIZER_DISCARD, primitives are dropped right after the vertex stage.
-    if (state.rasterizer_discard) {
-        total.add(st);
-        return;
-    }
-
     // ---- what the per-fragment work needs (DESIGN §4) ----
-    t0 = Clock::now();
     const auto& config = fb.config();
     const BlendOp blend = BlendOp::from_state(state, config.alpha);
     const DepthStencilOp ds = DepthStencilOp::from_state(state, config.depth, config.stencil);
     const bool writes_color = blend.write[0] || blend.write[1] || blend.write[2] || blend.write[3];
     const bool writes_depth_stencil = (ds.depth_test && ds.depth_write) || ds.stencil_test;
     const bool no_output = !writes_color && !writes_depth_stencil;
-
-    // ---- primitive assembly, clip, setup and binning, in chunks of primitives on the pool ----
     const RasterState rs = raster_state(state, fb);
     const TileGrid grid(fb.width(), fb.height());
     const int per = vertices_per_primitive(call.mode);
-    const size_t prims_per_instance = primitive_count(call.mode, call.count);
-    const size_t prim_total = prims_per_instance * call.instance_count;
-    const size_t setup_chunks = (prim_total + kSetupChunk - 1) / kSetupChunk;
-    if (ds_.chunks.size() < setup_chunks) ds_.chunks.resize(setup_chunks);
-    std::vector<Bins>& chunk_bins = ds_.chunk_bins;
-    if (chunk_bins.size() < setup_chunks) chunk_bins.resize(setup_chunks);
-    const float* const pos = all_position;
-    for_chunks(in.pool, setup_chunks, [&](size_t c, unsigned) {
-        SetupChunk& chunk = ds_.chunks[c];
-        chunk.prims.clear();
-        Setup setup(rs);
-        const size_t begin = c * kSetupChunk, end = std::min(prim_total, begin + kSetupChunk);
-        uint32_t instance = uint32_t(begin / prims_per_instance);
-        size_t p = begin % prims_per_instance;
-        for (size_t number = begin; number < end; ++number, ++p) {
-            if (p == prims_per_instance) p = 0, ++instance;
-            uint32_t v[3];
-            primitive_vertices(call.mode, call.count, uint32_t(p), v);
-            const uint32_t base = uint32_t(instance * n);
-            for (int k = 0; k < per; ++k) v[k] = base + (call.indices ? slot_of_position[v[k]] : v[k]);
-            if (per == 3) setup.triangle(pos + 4 * v[0], pos + 4 * v[1], pos + 4 * v[2], v[0], v[1], v[2], uint32_t(number), chunk.prims);
-            else if (per == 2) setup.line(pos + 4 * v[0], pos + 4 * v[1], v[0], v[1], uint32_t(number), chunk.prims);
-            else setup.point(pos + 4 * v[0], all_point_size[v[0]], v[0], uint32_t(number), chunk.prims);
-        }
-        chunk.stats = setup.stats;
-        if (no_output) return;
-        chunk_bins[c].reset(grid);
-        chunk_bins[c].add(chunk.prims.data(), chunk.prims.size(), 0);
-    });
-    SetupStats setup_stats;
-    for (size_t c = 0; c < setup_chunks; ++c) setup_stats.add(ds_.chunks[c].stats);
-    st.primitives = setup_stats.primitives;
-    st.primitives_culled = setup_stats.culled;
-    st.primitives_clipped = setup_stats.clipped;
-    st.primitives_outside = setup_stats.outside;
-    st.primitives_invalid = setup_stats.invalid;
-    st.primitives_zero_area = setup_stats.zero_area;
-    st.primitives_rasterized = setup_stats.emitted;
-
-    if (no_output) {
-        st.draws_skipped_no_output = 1;   // nothing can change: skip rasterisation and shading
-        st.seconds_setup = since(t0);
-        total.add(st);
-        return;
-    }
     const bool plain_write = blend.is_plain_write();
-    if (plain_write) st.draws_plain_write = 1;
     // Multisample coverage operations come before the depth and stencil tests (ES 3.0 §4.1.3).
     const bool coverage_ops = config.samples > 1 && (state.sample_alpha_to_coverage || state.sample_coverage);
     const uint32_t coverage_mask = !state.sample_coverage ? 0xFFFFu
@@ -299,61 +213,24 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
     const FogOp fog = FogOp::from_state(state);
     const bool early = !fs.may_discard() && !fs.writes_depth() && !coverage_ops;
     const bool tests = ds.depth_test || ds.stencil_test;
-    if (early && tests) st.draws_early_depth = 1;
-    if (setup_stats.emitted == 0) {
-        st.seconds_setup = since(t0);
-        total.add(st);
-        return;
+    // ES 3.0 §2.15: with RASTERIZER_DISCARD, primitives are dropped right after the vertex stage.
+    // With no output possible, primitives are set up (and counted) but nothing is rasterised.
+    const bool rasterizes = !state.rasterizer_discard && !no_output;
+    if (!state.rasterizer_discard) {
+        if (no_output) st.draws_skipped_no_output = 1;
+        if (!no_output && plain_write) st.draws_plain_write = 1;
+        if (!no_output && early && tests) st.draws_early_depth = 1;
     }
 
-    // Number the primitives (chunk << shift | position in the chunk) and gather each tile's list
-    // in chunk order.
-    PrimitiveTable& prims = ds_.prims;
-    size_t largest = 1;
-    for (size_t c = 0; c < setup_chunks; ++c) largest = std::max(largest, ds_.chunks[c].prims.size());
-    prims.shift = 0;
-    while ((size_t(1) << prims.shift) < largest) ++prims.shift;
-    prims.mask = uint32_t((uint64_t(1) << prims.shift) - 1);
-    // Reached only past 2^29 primitives (chunks emit at most 8 * kSetupChunk records).
-    if ((uint64_t(setup_chunks) << prims.shift) > (uint64_t(1) << 32))
-        throw std::length_error("draw: too many primitives for one draw call");
-    prims.chunk.clear();
-    std::vector<uint32_t>& index_base = ds_.index_base;
-    index_base.clear();
-    for (size_t c = 0; c < setup_chunks; ++c) {
-        prims.chunk.push_back(ds_.chunks[c].prims.data());
-        index_base.push_back(uint32_t(c << prims.shift));
-    }
-    const Bins* binned = &chunk_bins[0];   // one chunk: its bins are the draw's
-    if (setup_chunks > 1) {
-        ds_.bins.reset(grid);
-        in.pool.parallel_for(grid.count(), [&](size_t t, unsigned) { ds_.bins.gather_tile(t, chunk_bins.data(), setup_chunks, index_base.data()); });
-        binned = &ds_.bins;
-    }
-    const Bins& bins = *binned;
-    // Only tiles with work go to the pool (a draw of one small primitive wakes no thread).
-    std::vector<uint32_t>& tiles = ds_.tiles;
-    tiles.clear();
-    for (size_t t = 0; t < grid.count(); ++t)
-        if (!bins.tile(t).empty()) tiles.push_back(uint32_t(t));
-    st.seconds_setup = since(t0);
-
-    // ---- per tile on the pool: raster, tests, shading, blending ----
-    t0 = Clock::now();
+    // ---- the per-tile pass's constants ----
     const SamplePattern& pattern = sample_pattern(config.samples);
     const int S = config.samples;
-    std::vector<Scratch>& scratch = ds_.workers;
-    if (scratch.size() < in.pool.size()) scratch.resize(in.pool.size());
+    std::vector<Scratch>& scratch = ds_.workers;   // grown before the first tile pass
     for (Scratch& w : scratch) w.raster = RasterStats{}, w.stats = DrawStats{};
-    fs.prepare(in.pool.size());
 
     // What the fragment shader reads: only these inputs are computed per lane.
     const uint32_t builtins = fs.builtins_read();
-    std::vector<int> smooth_words, flat_words;
-    for (int word = 0; word < words; ++word) {
-        if (size_t(word) < layout.read_by_fragment.size() && !layout.read_by_fragment[size_t(word)]) continue;
-        (layout.flat[size_t(word)] ? flat_words : smooth_words).push_back(word);
-    }
+    std::vector<int> smooth_words, flat_words;   // filled before the first tile pass
     const ColorKernel kernel = color_kernel(blend);
     const bool all_channels = blend.write[0] && blend.write[1] && blend.write[2] && blend.write[3];
     const float* unorm8_table = unorm8_to_float_table();
@@ -378,11 +255,16 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
     const uint32_t* const depth_pixels = single_depth ? single_depth_test.depth : nullptr;
     constexpr int32_t kPrefetchRows = 16;
 
+    // The current batch (see below): its shaded vertices (instance i's vertex v at i * n + v), its
+    // set-up primitives, their bins and the tiles with work.
+    VertexShaderOutputs& all = ds_.all;
+    PrimitiveTable& prims = ds_.prims;
+    const Bins* bins = nullptr;
+    std::vector<uint32_t>& tiles = ds_.tiles;
     auto run_tile = [&](size_t index, unsigned worker) {
         const size_t tile = tiles[index];
-        const std::vector<uint32_t>& list = bins.tile(tile);
+        const std::vector<uint32_t>& list = bins->tile(tile);
         Scratch& w = scratch[worker];
-        w.stats.tiles_touched++;
         const TileRect rect = grid.rect(tile);
         w.masks.resize(4 * kChunkQuads);
         w.pixels.resize(4 * kChunkQuads);
@@ -699,12 +581,191 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
             }
         }
     };
-    in.pool.parallel_for(tiles.size(), run_tile);
+    // ---- the draw in batches ----
+    // At most draw_batch_primitives() primitives at a time go through the vertex stage (only the
+    // vertices they use), setup and binning, and the per-tile pass, before the next batch: working
+    // memory is bounded whatever the draw's size, and every pixel still sees the primitives in
+    // draw order (ES 3.0 §4), batch after batch. A batch holds whole instances when one instance's
+    // primitives fit (the draw's vertex list then serves every batch), else part of one instance.
+    const uint32_t limit = draw_batch_primitives();
+    const uint32_t per_instance = primitive_count(call.mode, call.count);
+    const bool whole_instances = per_instance <= limit;
+    const uint32_t instances_per_batch = whole_instances
+        ? uint32_t(std::min<uint64_t>(call.instance_count, limit / std::max<uint32_t>(per_instance, 1))) : 1;
+    const uint32_t step = whole_instances ? std::max<uint32_t>(per_instance, 1) : limit;
+
+    // The batch's vertices: `ids` (distinct, in first-use order) and, for the vertex numbers in
+    // `range` (draw order), the slot of each: begin..end - 1 are positions 0.., vertex 0 outside
+    // the range (a fan's centre, a loop's end) is the last position.
+    std::vector<uint32_t>& ids = ds_.ids;
+    std::vector<uint32_t>& slot_of_position = ds_.slot_of_position;
+    VertexRange range;
+    auto list_vertices = [&](uint32_t p0, uint32_t p1) {
+        range = whole_instances ? VertexRange{0, call.count, false} : primitive_vertex_range(call.mode, call.count, p0, p1);
+        const uint32_t inside = range.end - range.begin, count = inside + (range.and_zero ? 1 : 0);
+        ids.clear();
+        if (call.indices) {
+            slot_of_position.resize(count);
+            std::unordered_map<uint32_t, uint32_t>& slot = ds_.slot;
+            slot.clear();
+            slot.reserve(size_t(count) * 2);
+            for (uint32_t k = 0; k < count; ++k) {
+                const uint32_t index = call.indices[k < inside ? range.begin + k : 0];
+                auto [it, added] = slot.emplace(index, uint32_t(ids.size()));
+                if (added) ids.push_back(index);
+                slot_of_position[k] = it->second;
+            }
+        } else {
+            ids.resize(count);
+            for (uint32_t k = 0; k < count; ++k) ids[k] = call.first + (k < inside ? range.begin + k : 0);
+        }
+    };
+    if (whole_instances) list_vertices(0, per_instance);
+    const uint32_t used = vs.used_attributes();
+    std::vector<uint8_t>& touched = ds_.touched;   // tiles_touched counts each tile once per draw
+    SetupStats setup_stats;
+    bool tile_pass_prepared = false;
+
+    // Instances [instance, instance + instances), primitives [p0, p1) of each. Inlined: with one
+    // thread the tile pass runs on the caller, and a frame more in between measured ~2% slower on
+    // shading-bound scenes (stack addresses aliasing the per-lane arrays).
+    auto run_batch = [&](uint32_t instance, uint32_t instances, uint32_t p0, uint32_t p1) __attribute__((always_inline)) {
+        // ---- vertex stage: each of the batch's vertices once per instance ----
+        auto t0 = Clock::now();
+        if (!whole_instances) list_vertices(p0, p1);
+        const size_t n = ids.size();
+        all.count = n * instances;
+        float* const all_position = at_least(all.position, all.count * 4);
+        float* const all_point_size = at_least(all.point_size, all.count);
+        uint32_t* const all_varyings = at_least(all.varyings, all.count * size_t(words));
+        if (ds_.vertex_workers.size() < in.pool.size()) ds_.vertex_workers.resize(in.pool.size());
+        const size_t vertex_chunks = (n + kVertexChunk - 1) / kVertexChunk;
+        for_chunks(in.pool, vertex_chunks * instances, [&](size_t job, unsigned worker) {
+            const uint32_t j = uint32_t(job / vertex_chunks);
+            const size_t begin = (job % vertex_chunks) * kVertexChunk, count = std::min(kVertexChunk, n - begin);
+            VertexWorker& w = ds_.vertex_workers[worker];
+            for (int loc = 0; loc < kMaxVertexAttribs; ++loc)
+                if (used & (1u << loc))
+                    fetch_attribute(in.vertex_array, in.current_attribs[size_t(loc)], loc, ids.data() + begin, 0,
+                                    count, instance + j, w.attribs[size_t(loc)]);
+            vs.run(w.attribs, count, ids.data() + begin, instance + j, w.shaded);
+            const size_t at = size_t(j) * n + begin;
+            std::copy_n(w.shaded.position.data(), count * 4, all_position + at * 4);
+            std::copy_n(w.shaded.point_size.data(), count, all_point_size + at);
+            std::copy_n(w.shaded.varyings.data(), count * size_t(words), all_varyings + at * size_t(words));
+        });
+        st.vertices_shaded += all.count;
+        st.seconds_vertex += since(t0);
+        if (state.rasterizer_discard) return;
+
+        // ---- primitive assembly, clip, setup and binning, in chunks of primitives on the pool ----
+        t0 = Clock::now();
+        const uint32_t span = p1 - p0;
+        const size_t batch_total = size_t(span) * instances;
+        const size_t setup_chunks = (batch_total + kSetupChunk - 1) / kSetupChunk;
+        if (ds_.chunks.size() < setup_chunks) ds_.chunks.resize(setup_chunks);
+        std::vector<Bins>& chunk_bins = ds_.chunk_bins;
+        if (chunk_bins.size() < setup_chunks) chunk_bins.resize(setup_chunks);
+        const uint32_t inside = range.end - range.begin;
+        for_chunks(in.pool, setup_chunks, [&](size_t c, unsigned) {
+            SetupChunk& chunk = ds_.chunks[c];
+            chunk.prims.clear();
+            Setup setup(rs);
+            const size_t begin = c * kSetupChunk, end = std::min(batch_total, begin + kSetupChunk);
+            uint32_t j = uint32_t(begin / span), p = p0 + uint32_t(begin % span);
+            for (size_t k = begin; k < end; ++k, ++p) {
+                if (p == p1) p = p0, ++j;
+                uint32_t v[3];
+                primitive_vertices(call.mode, call.count, p, v);
+                const uint32_t base = uint32_t(j * n);
+                for (int i = 0; i < per; ++i) {
+                    const uint32_t position = v[i] >= range.begin ? v[i] - range.begin : inside;
+                    v[i] = base + (call.indices ? slot_of_position[position] : position);
+                }
+                // The primitive's number in the draw (modulo 2^32).
+                const uint32_t number = uint32_t(uint64_t(instance + j) * per_instance + p);
+                if (per == 3) setup.triangle(all_position + 4 * v[0], all_position + 4 * v[1], all_position + 4 * v[2], v[0], v[1], v[2], number, chunk.prims);
+                else if (per == 2) setup.line(all_position + 4 * v[0], all_position + 4 * v[1], v[0], v[1], number, chunk.prims);
+                else setup.point(all_position + 4 * v[0], all_point_size[v[0]], v[0], number, chunk.prims);
+            }
+            chunk.stats = setup.stats;
+            if (!rasterizes) return;
+            chunk_bins[c].reset(grid);
+            chunk_bins[c].add(chunk.prims.data(), chunk.prims.size(), 0);
+        });
+        uint64_t emitted = 0;
+        for (size_t c = 0; c < setup_chunks; ++c) setup_stats.add(ds_.chunks[c].stats), emitted += ds_.chunks[c].stats.emitted;
+        if (!rasterizes || emitted == 0) {
+            st.seconds_setup += since(t0);
+            return;
+        }
+
+        // Number the primitives (chunk << shift | position in the chunk) and gather each tile's
+        // list in chunk order. A batch's chunks emit at most 8 * kSetupChunk records each, so the
+        // numbers of kDrawBatchPrimitivesMax primitives fit in 32 bits.
+        size_t largest = 1;
+        for (size_t c = 0; c < setup_chunks; ++c) largest = std::max(largest, ds_.chunks[c].prims.size());
+        prims.shift = 0;
+        while ((size_t(1) << prims.shift) < largest) ++prims.shift;
+        prims.mask = uint32_t((uint64_t(1) << prims.shift) - 1);
+        prims.chunk.clear();
+        std::vector<uint32_t>& index_base = ds_.index_base;
+        index_base.clear();
+        for (size_t c = 0; c < setup_chunks; ++c) {
+            prims.chunk.push_back(ds_.chunks[c].prims.data());
+            index_base.push_back(uint32_t(c << prims.shift));
+        }
+        bins = &chunk_bins[0];   // one chunk: its bins are the batch's
+        if (setup_chunks > 1) {
+            ds_.bins.reset(grid);
+            in.pool.parallel_for(grid.count(), [&](size_t t, unsigned) { ds_.bins.gather_tile(t, chunk_bins.data(), setup_chunks, index_base.data()); });
+            bins = &ds_.bins;
+        }
+        // Only tiles with work go to the pool (a draw of one small primitive wakes no thread).
+        tiles.clear();
+        for (size_t t = 0; t < grid.count(); ++t)
+            if (!bins->tile(t).empty()) tiles.push_back(uint32_t(t));
+        st.seconds_setup += since(t0);
+
+        // ---- per tile on the pool: raster, tests, shading, blending ----
+        t0 = Clock::now();
+        if (!tile_pass_prepared) {   // once per draw, before the first tile pass
+            if (scratch.size() < in.pool.size()) scratch.resize(in.pool.size());
+            fs.prepare(in.pool.size());
+            // What the fragment shader reads: only these varying words are computed per lane.
+            for (int word = 0; word < words; ++word) {
+                if (size_t(word) < layout.read_by_fragment.size() && !layout.read_by_fragment[size_t(word)]) continue;
+                (layout.flat[size_t(word)] ? flat_words : smooth_words).push_back(word);
+            }
+            touched.assign(grid.count(), 0);
+            tile_pass_prepared = true;
+        }
+        for (uint32_t t : tiles)
+            if (!touched[t]) touched[t] = 1, ++st.tiles_touched;
+        in.pool.parallel_for(tiles.size(), run_tile);
+        st.seconds_fragment += since(t0);
+    };
+    for (uint32_t instance = 0; instance < call.instance_count; instance += instances_per_batch) {
+        const uint32_t instances = std::min(instances_per_batch, call.instance_count - instance);
+        uint32_t p0 = 0;
+        do {
+            const uint32_t p1 = uint32_t(std::min<uint64_t>(per_instance, uint64_t(p0) + step));
+            run_batch(instance, instances, p0, p1);
+            p0 = p1;
+        } while (p0 < per_instance);
+    }
+
+    st.primitives = setup_stats.primitives;
+    st.primitives_culled = setup_stats.culled;
+    st.primitives_clipped = setup_stats.clipped;
+    st.primitives_outside = setup_stats.outside;
+    st.primitives_invalid = setup_stats.invalid;
+    st.primitives_zero_area = setup_stats.zero_area;
+    st.primitives_rasterized = setup_stats.emitted;
     for (size_t k = 0; k < scratch.size(); ++k) {
         st.add(scratch[k].stats);
         st.blocks_accepted_whole += scratch[k].raster.blocks_accepted;
     }
-    st.seconds_fragment = since(t0);
     total.add(st);
 }
 

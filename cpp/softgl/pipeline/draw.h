@@ -25,11 +25,12 @@ struct DrawCall {
 // Counters for gl.stats(): what was done and what was skipped (DESIGN §4).
 struct DrawStats {
     uint64_t draws = 0;
-    uint64_t vertices_shaded = 0;
+    uint64_t vertices_shaded = 0;       // vertex shader runs: distinct vertices x instances, per batch
     uint64_t primitives = 0, primitives_culled = 0, primitives_clipped = 0,
              primitives_outside = 0, primitives_invalid = 0, primitives_zero_area = 0,
              primitives_rasterized = 0;
-    uint64_t tiles_touched = 0, quads = 0, blocks_accepted_whole = 0;
+    uint64_t tiles_touched = 0;         // tiles with work, each counted once per draw (not per batch)
+    uint64_t quads = 0, blocks_accepted_whole = 0;
     uint64_t fragments_shaded = 0;      // lanes run through the fragment shader (helpers included)
     uint64_t fragments_killed_early = 0, fragments_killed_late = 0, fragments_discarded = 0;
     uint64_t samples_written = 0, samples_blended = 0;
@@ -53,6 +54,15 @@ struct DrawInputs {
     FragmentSink* sink = nullptr;   // blend lab hooks (pipeline/fragment_sink.h); null = off
 };
 
+// Runs a draw call in batches of at most draw_batch_primitives() primitives (pipeline/draw.cpp):
+// its working memory is bounded, whatever the number of vertices and instances.
 void draw(const DrawInputs& in, const DrawCall& call, DrawStats& stats);
+
+// For tests: the batch size, set to split small draws into many batches (the bytes must not
+// change). 0 restores the default; sizes are capped at kDrawBatchPrimitivesMax. Returns the
+// previous size.
+inline constexpr uint32_t kDrawBatchPrimitivesMax = 1u << 24;
+uint32_t draw_batch_primitives();
+uint32_t set_draw_batch_primitives(uint32_t primitives);
 
 }  // namespace softgl

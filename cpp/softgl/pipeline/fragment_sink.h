@@ -3,8 +3,9 @@
 // context has exact transparency (A-buffer) or introspection enabled, so when both are off the
 // hooks cost one predicted branch each and change nothing.
 //
-// Threading: draw.cpp runs the per-fragment work per screen tile on the thread pool; each tile
-// is owned by one worker for the whole draw and sees its primitives in order. Implementations
+// Threading: draw.cpp runs the per-fragment work per screen tile on the thread pool, batch of
+// primitives after batch; within a batch each tile is owned by one worker, and it sees the
+// draw's primitives in order. Implementations
 // keep their records per tile (kTileSize squares), so no locks are needed and the records are in
 // submission order within each tile, for any thread count.
 #pragma once
