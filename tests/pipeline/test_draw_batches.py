@@ -7,8 +7,8 @@ few hundred primitives cross many batch boundaries, at every kind of position: i
 instance, at instance boundaries, between a strip's odd and even triangles, before a fan's or a
 loop's last primitive. Each is compared with the same draw in one batch (the batch size set huge)
 and, where the primitives are independent, with the same primitives drawn as several small draws.
-Blending and the depth test (LEQUAL) are on, so a primitive drawn out of order changes the bytes;
-a flat varying and gl_PointSize come from the vertices, so a vertex mixed up changes them too.
+The scene (blended_draws.py) is order-sensitive: a primitive out of order or a vertex mixed up
+changes the bytes.
 """
 import numpy as np
 import pytest
@@ -16,29 +16,10 @@ import pytest
 import softgl
 from softgl._core import testing
 
+from blended_draws import VS, BlendedDraws
+
 HUGE = 1 << 24   # one batch for every draw here
 SIZE = 48
-
-VS = """#version 300 es
-in vec4 aPos;
-in vec4 aColor;
-in vec2 aOffset;
-out vec4 vColor;
-flat out vec4 vFlat;
-void main() {
-    vColor = aColor;
-    vFlat = aColor.bgra;
-    gl_Position = aPos + vec4(aOffset * aPos.w, 0.0, 0.0);
-    gl_PointSize = 1.0 + 5.0 * aColor.r;
-}
-"""
-FS = """#version 300 es
-precision highp float;
-in vec4 vColor;
-flat in vec4 vFlat;
-out vec4 fragColor;
-void main() { fragColor = vec4(vColor.rgb, 0.6) * 0.8 + vFlat * 0.2; }
-"""
 
 MODES = ("POINTS", "LINES", "LINE_STRIP", "LINE_LOOP", "TRIANGLES", "TRIANGLE_STRIP", "TRIANGLE_FAN")
 
@@ -81,43 +62,8 @@ def expected_vertices_shaded(mode, count, instances, batch, ids=None):
     return instances * per_instance
 
 
-class Painter:
-    def __init__(self, threads, pos, color, offsets=None, version=2, samples=0):
-        kw = dict(antialias=samples > 0, threads=threads, preserveDrawingBuffer=True)
-        if samples:
-            kw["samples"] = samples
-        self.gl = gl = softgl.Context(SIZE, SIZE, **kw)
-        prog = softgl.program(gl, VS, FS)
-        gl.useProgram(prog)
-        gl.bindVertexArray(gl.createVertexArray())
-        for name, data, divisor in (("aPos", pos, 0), ("aColor", color, 0), ("aOffset", offsets, 1)):
-            loc = gl.getAttribLocation(prog, name)
-            if data is None:
-                gl.vertexAttrib2f(loc, 0.0, 0.0)
-                continue
-            data = np.ascontiguousarray(data, np.float32)
-            gl.bindBuffer(gl.ARRAY_BUFFER, gl.createBuffer())
-            gl.bufferData(gl.ARRAY_BUFFER, data, gl.STATIC_DRAW)
-            gl.enableVertexAttribArray(loc)
-            gl.vertexAttribPointer(loc, data.shape[1], gl.FLOAT, False, 0, 0)
-            gl.vertexAttribDivisor(loc, divisor)
-        gl.enable(gl.BLEND)
-        gl.blendFunc(gl.SRC_ALPHA, gl.ONE_MINUS_SRC_ALPHA)
-        gl.enable(gl.DEPTH_TEST)
-        gl.depthFunc(gl.LEQUAL)
-        gl.clearColor(0.1, 0.2, 0.3, 1.0)
-        gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT)
-        gl.stats(reset=True)
-
-    def elements(self, indices, dtype=np.uint16):
-        gl = self.gl
-        gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, gl.createBuffer())
-        gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, np.asarray(indices, dtype), gl.STATIC_DRAW)
-
-    def result(self):
-        gl = self.gl
-        image = gl.readPixels(0, 0, SIZE, SIZE, gl.RGBA, gl.UNSIGNED_BYTE).tobytes()
-        return image, {k: v for k, v in gl.stats().items() if not k.startswith("seconds")}
+class Painter(BlendedDraws):
+    size = SIZE
 
 
 def vertices(rng, n, scale=0.12):

@@ -9,71 +9,13 @@ both, so a primitive reordered inside a tile would change the bytes.
 import numpy as np
 import pytest
 
-import softgl
+from blended_draws import BlendedDraws
 
 THREADS = (1, 2, 3, 8)
 SIZE = 80
 
-VS = """#version 300 es
-in vec4 aPos;
-in vec4 aColor;
-in vec2 aOffset;
-out vec4 vColor;
-flat out vec4 vFlat;
-void main() {
-    vColor = aColor;
-    vFlat = aColor.bgra;
-    gl_Position = aPos + vec4(aOffset * aPos.w, 0.0, 0.0);
-    gl_PointSize = 1.0 + 5.0 * aColor.r;
-}
-"""
-FS = """#version 300 es
-precision highp float;
-in vec4 vColor;
-flat in vec4 vFlat;
-out vec4 fragColor;
-void main() { fragColor = vec4(vColor.rgb, 0.6) * 0.8 + vFlat * 0.2; }
-"""
-
-
-def _counters(stats):
-    return {k: v for k, v in stats.items() if not k.startswith("seconds")}
-
-
-class Painter:
-    def __init__(self, threads, pos, color, offsets=None):
-        self.gl = gl = softgl.Context(SIZE, SIZE, antialias=False, threads=threads, preserveDrawingBuffer=True)
-        prog = softgl.program(gl, VS, FS)
-        gl.useProgram(prog)
-        gl.bindVertexArray(gl.createVertexArray())
-        for name, data, divisor in (("aPos", pos, 0), ("aColor", color, 0), ("aOffset", offsets, 1)):
-            loc = gl.getAttribLocation(prog, name)
-            if data is None:
-                gl.vertexAttrib2f(loc, 0.0, 0.0)
-                continue
-            data = np.ascontiguousarray(data, np.float32)
-            gl.bindBuffer(gl.ARRAY_BUFFER, gl.createBuffer())
-            gl.bufferData(gl.ARRAY_BUFFER, data, gl.STATIC_DRAW)
-            gl.enableVertexAttribArray(loc)
-            gl.vertexAttribPointer(loc, data.shape[1], gl.FLOAT, False, 0, 0)
-            gl.vertexAttribDivisor(loc, divisor)
-        gl.enable(gl.BLEND)
-        gl.blendFunc(gl.SRC_ALPHA, gl.ONE_MINUS_SRC_ALPHA)
-        gl.enable(gl.DEPTH_TEST)
-        gl.depthFunc(gl.LEQUAL)
-        gl.clearColor(0.1, 0.2, 0.3, 1.0)
-        gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT)
-        gl.stats(reset=True)
-
-    def elements(self, indices, dtype):
-        gl = self.gl
-        gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, gl.createBuffer())
-        gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, np.asarray(indices, dtype), gl.STATIC_DRAW)
-
-    def result(self):
-        gl = self.gl
-        img = gl.readPixels(0, 0, SIZE, SIZE, gl.RGBA, gl.UNSIGNED_BYTE)
-        return img.tobytes(), _counters(gl.stats())
+class Painter(BlendedDraws):
+    size = SIZE
 
 
 def _vertices(rng, n, scale, z_range=(-0.9, 0.9), w_range=(1.0, 1.0)):

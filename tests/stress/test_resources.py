@@ -235,17 +235,24 @@ def test_contexts_in_parallel_threads_match_serial_runs(n_threads):
         np.testing.assert_array_equal(out[i], serial[i])
 
 
-def test_draws_release_the_gil():
-    """While one thread draws a heavy scene, another runs Python code."""
+def heavy_additive_draw(layers):
+    """A 256x256 context set up to draw `layers` full-screen triangles added up (ONE, ONE): a draw
+    long enough for another thread to run meanwhile. Returns (gl, painter, vertex count)."""
     gl = context(256, 256)
     p = Painter(gl)
-    pos = np.array([[-1, -1, 0, 1], [3, -1, 0, 1], [-1, 3, 0, 1]] * 400, np.float32)
+    pos = np.array([[-1, -1, 0, 1], [3, -1, 0, 1], [-1, 3, 0, 1]] * layers, np.float32)
     gl.bindBuffer(gl.ARRAY_BUFFER, p.pos_buf)
     gl.bufferData(gl.ARRAY_BUFFER, pos, gl.STATIC_DRAW)
     gl.enableVertexAttribArray(0)
     gl.vertexAttribPointer(0, 4, gl.FLOAT, False, 0, 0)
     gl.enable(gl.BLEND)
     gl.blendFunc(gl.ONE, gl.ONE)
+    return gl, p, len(pos)
+
+
+def test_draws_release_the_gil():
+    """While one thread draws a heavy scene, another runs Python code."""
+    gl, _, n = heavy_additive_draw(400)
     ticks = []
     done = threading.Event()
 
@@ -255,7 +262,7 @@ def test_draws_release_the_gil():
     t = threading.Thread(target=ticker)
     t.start()
     before = len(ticks)
-    gl.drawArrays(gl.TRIANGLES, 0, len(pos))      # ~80M fragments: tens of milliseconds at least
+    gl.drawArrays(gl.TRIANGLES, 0, n)             # 26M fragments: tens of milliseconds at least
     during = len(ticks) - before
     done.set()
     t.join()
@@ -268,17 +275,9 @@ def test_state_calls_during_another_threads_draw_are_refused():
     The second thread's calls do not affect what the draw reads (clear colour, a buffer the draw
     does not use), so the pixels must equal a single-threaded run."""
     def setup():
-        gl = context(256, 256)
-        p = Painter(gl)
-        pos = np.array([[-1, -1, 0, 1], [3, -1, 0, 1], [-1, 3, 0, 1]] * 300, np.float32)
-        gl.bindBuffer(gl.ARRAY_BUFFER, p.pos_buf)
-        gl.bufferData(gl.ARRAY_BUFFER, pos, gl.STATIC_DRAW)
-        gl.enableVertexAttribArray(0)
-        gl.vertexAttribPointer(0, 4, gl.FLOAT, False, 0, 0)
-        gl.enable(gl.BLEND)
-        gl.blendFunc(gl.ONE, gl.ONE)
+        gl, p, n = heavy_additive_draw(300)
         p.color((0.002, 0.001, 0.003, 0.004))
-        return gl, len(pos)
+        return gl, n
 
     gl, n = setup()
     gl.drawArrays(gl.TRIANGLES, 0, n)
