@@ -127,9 +127,11 @@ void lanes(const BlendOp& op, const float* src, size_t stride, uint32_t* dst, si
 
 #if defined(SOFTGL_HAVE_AVX2_KERNELS)
 // The lane kernel eight lanes at a time, compiled for AVX2 only here and called only when the CPU
-// has it. The blend arithmetic is the SSE2 kernel's (float multiply and add, no contraction);
-// the two conversions are integer forms that are exact, so they give the same bytes as the
-// scalar path (tests/pipeline/test_fragment_ops.py checks every float in [0, 1] and every byte).
+// has it. The blend arithmetic is the SSE2 kernel's (the table's division by 255, float multiply
+// and add, no contraction); float -> unorm8 is an exact integer form, so the bytes are the scalar
+// path's (tests/pipeline/test_fragment_ops.py checks every float in [0, 1]). The division stays:
+// exact division-free forms of d / 255.0f (t = float(d * 257); (t + t * (2^-16 + 2^-32)) * 2^-16)
+// and a gather from the table both measured slower.
 __attribute__((target("avx2"))) inline __m256 clamp01_ps8(__m256 v) {
     return _mm256_min_ps(_mm256_max_ps(v, _mm256_setzero_ps()), _mm256_set1_ps(1.0f));   // as clamp01_ps
 }
@@ -145,15 +147,6 @@ __attribute__((target("avx2"))) inline __m256i unorm8_clamped_ps8(__m256 v) {
     const __m256i shift = _mm256_sub_epi32(_mm256_set1_epi32(149), _mm256_srli_epi32(bits, 23));   // s - 1
     return _mm256_srli_epi32(_mm256_add_epi32(_mm256_srlv_epi32(m255, shift), _mm256_set1_epi32(1)), 1);
 }
-// The table's float(d) / 255.0f for bytes d (one per 32-bit lane) without a division: with
-// t = float(d * 257) (exact), (t + t * c) * 2^-16 with c = 2^-16 + 2^-32 is d/255 = d*257/65535
-// rounded the same way for all 256 values (checked in the tests through every destination byte).
-__attribute__((target("avx2"))) inline __m256 unorm8_to_float_ps8(__m256i d) {
-    const __m256 t = _mm256_cvtepi32_ps(_mm256_or_si256(d, _mm256_slli_epi32(d, 8)));
-    const __m256 c = _mm256_set1_ps(1.0f / 65536.0f + 1.0f / 4294967296.0f);
-    return _mm256_mul_ps(_mm256_add_ps(t, _mm256_mul_ps(t, c)), _mm256_set1_ps(1.0f / 65536.0f));
-}
-
 template <ColorKernel K>
 __attribute__((target("avx2"))) void lanes_avx2(const BlendOp& op, const float* src, size_t stride, uint32_t* dst,
                                                size_t n) {
@@ -162,6 +155,7 @@ __attribute__((target("avx2"))) void lanes_avx2(const BlendOp& op, const float* 
         if (!op.write[size_t(c)]) keep |= 0xFFu << (8 * c);
     const __m256i keep_v = _mm256_set1_epi32(int(keep));
     const __m256i byte = _mm256_set1_epi32(0xFF);
+    const __m256 k255 = _mm256_set1_ps(255.0f);
     size_t l = 0;
     for (; l + 8 <= n; l += 8) {
         const __m256i d32 = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(dst + l));
@@ -175,7 +169,7 @@ __attribute__((target("avx2"))) void lanes_avx2(const BlendOp& op, const float* 
             } else {
                 __m256 d;
                 if (c == 3 && !op.has_alpha) d = _mm256_set1_ps(1.0f);
-                else d = unorm8_to_float_ps8(_mm256_and_si256(_mm256_srli_epi32(d32, 8 * c), byte));
+                else d = _mm256_div_ps(_mm256_cvtepi32_ps(_mm256_and_si256(_mm256_srli_epi32(d32, 8 * c), byte)), k255);
                 if constexpr (K == ColorKernel::AlphaOver) {
                     const __m256 sf = s[3], df = _mm256_sub_ps(_mm256_set1_ps(1.0f), s[3]);
                     out = _mm256_add_ps(_mm256_mul_ps(s[c], sf), _mm256_mul_ps(d, df));
