@@ -137,16 +137,26 @@ __attribute__((target("avx2"))) inline __m256 clamp01_ps8(__m256 v) {
 }
 // float_to_unorm8(v) for v already in [0, 1], in integers with no rounding anywhere: v = m * 2^(e-150)
 // (m the significand with its implicit bit, e the biased exponent), so v*255 = (m*255) * 2^-s with
-// s = 150 - e, and floor(v*255 + 0.5) = floor((m*255 / 2^(s-1) + 1) / 2) = ((m*255 >> (s-1)) + 1) >> 1.
-// m*255 = (m << 8) - m < 2^32. vpsrlvd gives 0 for counts of 32 or more: the right answer for
-// v < 2^-9, where v*255 < 0.5 (0 and subnormals included).
-__attribute__((target("avx2"))) inline __m256i unorm8_clamped_ps8(__m256 v) {
+// s = 150 - e, and floor(v*255 + 0.5) = floor((floor(v*510) + 1) / 2) with
+// floor(v*510) = m*255 >> (s-1). m*255 = (m << 8) - m < 2^32. vpsrlvd gives 0 for counts of 32 or
+// more: the right answer for v < 2^-9, where v*255 < 0.5 (0 and subnormals included).
+// Returns floor(v*510) + 1 (at most 511): the byte is its bits 1..8, which unorm8_at_byte_ps8 moves
+// into place with one shift.
+__attribute__((target("avx2"))) inline __m256i floor_v510_plus_1_ps8(__m256 v) {
     const __m256i bits = _mm256_castps_si256(v);
     const __m256i m = _mm256_or_si256(_mm256_and_si256(bits, _mm256_set1_epi32(0x7FFFFF)), _mm256_set1_epi32(0x800000));
     const __m256i m255 = _mm256_sub_epi32(_mm256_slli_epi32(m, 8), m);
     const __m256i shift = _mm256_sub_epi32(_mm256_set1_epi32(149), _mm256_srli_epi32(bits, 23));   // s - 1
-    return _mm256_srli_epi32(_mm256_add_epi32(_mm256_srlv_epi32(m255, shift), _mm256_set1_epi32(1)), 1);
+    return _mm256_add_epi32(_mm256_srlv_epi32(m255, shift), _mm256_set1_epi32(1));
 }
+// float_to_unorm8(v) of clamped v as byte c of each lane: (x >> 1) << 8c, the second shift folded
+// into the first and a mask (shifts have fewer ports than logic).
+__attribute__((target("avx2"))) inline __m256i unorm8_at_byte_ps8(__m256 v, int c) {
+    const __m256i x = floor_v510_plus_1_ps8(v);
+    if (c == 0) return _mm256_srli_epi32(x, 1);
+    return _mm256_and_si256(_mm256_slli_epi32(x, 8 * c - 1), _mm256_set1_epi32(int(0xFFu << (8 * c))));
+}
+
 template <ColorKernel K>
 __attribute__((target("avx2"))) void lanes_avx2(const BlendOp& op, const float* src, size_t stride, uint32_t* dst,
                                                size_t n) {
@@ -179,7 +189,7 @@ __attribute__((target("avx2"))) void lanes_avx2(const BlendOp& op, const float* 
                 }
                 out = clamp01_ps8(out);
             }
-            packed = _mm256_or_si256(packed, _mm256_slli_epi32(unorm8_clamped_ps8(out), 8 * c));
+            packed = _mm256_or_si256(packed, unorm8_at_byte_ps8(out, c));
         }
         if (keep) packed = _mm256_or_si256(_mm256_andnot_si256(keep_v, packed), _mm256_and_si256(keep_v, d32));
         _mm256_storeu_si256(reinterpret_cast<__m256i*>(dst + l), packed);
