@@ -127,8 +127,8 @@ void lanes(const BlendOp& op, const float* src, size_t stride, uint32_t* dst, si
 
 #if defined(SOFTGL_HAVE_AVX2_KERNELS)
 // The lane kernel eight lanes at a time, compiled for AVX2 only here and called only when the CPU
-// has it. The blend arithmetic is the SSE2 kernel's (the table's division by 255, float multiply
-// and add, no contraction); float -> unorm8 is an exact integer form, so the bytes are the scalar
+// has it. The blend arithmetic is the SSE2 kernel's (the table's float(d) / 255.0f as a division,
+// float multiply and add, no contraction); float -> unorm8 is an exact integer form, so the bytes are the scalar
 // path's (tests/pipeline/test_fragment_ops.py checks every float in [0, 1]). The division stays:
 // exact division-free forms of d / 255.0f (t = float(d * 257); (t + t * (2^-16 + 2^-32)) * 2^-16)
 // and a gather from the table both measured slower.
@@ -175,7 +175,7 @@ __attribute__((target("avx2"))) void lanes_avx2(const BlendOp& op, const float* 
         for (int c = 0; c < 4; ++c) {
             __m256 out;
             if constexpr (K == ColorKernel::Plain) {
-                out = s[c];
+                out = s[c];   // clamped already
             } else {
                 __m256 d;
                 if (c == 3 && !op.has_alpha) d = _mm256_set1_ps(1.0f);
