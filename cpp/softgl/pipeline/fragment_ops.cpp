@@ -130,8 +130,8 @@ void lanes(const BlendOp& op, const float* src, size_t stride, uint32_t* dst, si
 // has it. The blend arithmetic is the SSE2 kernel's (the table's float(d) / 255.0f as a division,
 // float multiply and add, no contraction); float -> unorm8 is an exact integer form, so the bytes are the scalar
 // path's (tests/pipeline/test_fragment_ops.py checks every float in [0, 1]). The division stays:
-// exact division-free forms of d / 255.0f (t = float(d * 257); (t + t * (2^-16 + 2^-32)) * 2^-16)
-// and a gather from the table both measured slower.
+// exact division-free forms of d / 255.0f (float(double(d) * (1.0 / 255)); t = float(d * 257),
+// (t + t * (2^-16 + 2^-32)) * 2^-16) and a gather from the table all measured slower.
 __attribute__((target("avx2"))) inline __m256 clamp01_ps8(__m256 v) {
     return _mm256_min_ps(_mm256_max_ps(v, _mm256_setzero_ps()), _mm256_set1_ps(1.0f));   // as clamp01_ps
 }
