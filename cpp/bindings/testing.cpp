@@ -192,6 +192,37 @@ void bind_testing(py::module_& m) {
           },
           py::arg("funcs_and_equations"), py::arg("constant"), py::arg("mask"), py::arg("has_alpha"), py::arg("src"),
           py::arg("dst"), py::arg("lanes"), py::arg("level") = -1);
+    // The lane kernels' float -> unorm8 conversion against float_to_unorm8 (surface/formats.h) on
+    // the float bit patterns first, first + step, ... <= last: runs the Plain kernel at `level` on
+    // all four channels of each value and returns how many bytes differ. In C++ so that every
+    // float in [0, 1] (about 1.07e9) can be checked in seconds.
+    t.def("unorm8_conversion_mismatches",
+          [](int level, uint32_t first, uint32_t last, uint32_t step) {
+              softgl::State state;   // blending off, every channel written
+              const softgl::BlendOp op = softgl::BlendOp::from_state(state, true);
+              constexpr size_t block = 4096;
+              std::vector<float> src(block);
+              std::vector<uint32_t> px(block);
+              uint64_t mismatches = 0;
+              py::gil_scoped_release release;
+              for (uint64_t b = first; b <= last;) {
+                  size_t n = 0;
+                  for (; n < block && b <= last; ++n, b += step) {
+                      const uint32_t bits = uint32_t(b);
+                      std::memcpy(&src[n], &bits, 4);
+                  }
+                  // stride 0: the four channels of lane l all read src[l].
+                  softgl::write_color_lanes_at(softgl::SimdLevel(level), softgl::ColorKernel::Plain, op, src.data(), 0,
+                                               px.data(), n);
+                  for (size_t i = 0; i < n; ++i) {
+                      const uint32_t want = softgl::float_to_unorm8(src[i]) * 0x01010101u;
+                      if (px[i] != want)
+                          for (int c = 0; c < 4; ++c) mismatches += ((px[i] ^ want) >> (8 * c) & 0xFF) != 0;
+                  }
+              }
+              return mismatches;
+          },
+          py::arg("level"), py::arg("first"), py::arg("last"), py::arg("step") = 1);
     // The lane kernels' instruction-set levels: 0 scalar, 1 SSE2, 2 AVX2; the best this CPU runs.
     t.def("simd_level", [] { return int(softgl::best_simd_level()); });
     // pipeline/interpolate at one instruction-set level: planes (4, 3) float64 rows (a, b, c) of

@@ -6,7 +6,10 @@ the reference itself); the specialised ones (blending off / ONE,ZERO; SRC_ALPHA,
 ONE_MINUS_SRC_ALPHA; ONE,ONE) are checked exhaustively over all 256 destination values in every
 channel against a dense set of source values: every float that rounds to a different unorm8
 boundary neighbourhood, out-of-range values, -0, NaN and infinities, with every colour mask, with
-and without destination alpha, per pixel and in the SSE2 lane kernel.
+and without destination alpha, per pixel and in the lane kernels at every instruction-set level.
+The lanes' float -> unorm8 conversion (an integer form in the AVX2 kernel) is also checked on its
+own against float_to_unorm8 over a dense sweep of float bit patterns (a one-off run over every
+float in [0, 1] and every 32-bit pattern found no difference).
 """
 import itertools
 
@@ -94,3 +97,32 @@ def test_every_factor_and_equation_dispatches_to_an_equal_kernel():
     # Separate alpha factors/equations must not be mistaken for a specialised kernel.
     check(("SRC_ALPHA", "ONE_MINUS_SRC_ALPHA", "ONE", "ZERO"), ("FUNC_ADD", "FUNC_ADD"), (True,) * 4, True, src, dst)
     check(("ONE", "ONE", "ONE", "ONE"), ("FUNC_ADD", "MAX"), (True,) * 4, True, src, dst)
+
+
+F32_ONE = 0x3F800000   # bit pattern of 1.0f; every float in [0, 1] is a pattern 0..F32_ONE
+
+
+def bits_of(x):
+    return int(np.float32(x).view(np.uint32))
+
+
+@pytest.mark.parametrize("level", range(_core.testing.simd_level() + 1))
+def test_lane_conversion_equals_float_to_unorm8(level):
+    mismatches = _core.testing.unorm8_conversion_mismatches
+    # Every 29th float in [0, 1] (each exponent, each mantissa residue class over the sweep).
+    assert mismatches(level, 0, F32_ONE, 29) == 0
+    # Every float within 64 ulps of each rounding boundary (k + 0.5) / 255 and each k / 255,
+    # where an inexact conversion would go wrong first.
+    for k in range(256):
+        for centre in ((k + 0.5) / 255, k / 255):
+            b = bits_of(min(centre, 1.0))
+            assert mismatches(level, max(b - 64, 0), b + 64) == 0, (k, centre)
+    # Around every power of two (exponent steps change the integer form's shift) and the
+    # subnormals, where the shift count passes 32.
+    for e in range(-149, 2):
+        b = bits_of(2.0 ** e)
+        assert mismatches(level, max(b - 64, 0), b + 64) == 0, e
+    # Outside [0, 1]: negatives, -0, values above 1, infinities and NaNs clamp first.
+    assert mismatches(level, F32_ONE, 0xFFFFFFFF, 4099) == 0
+    assert mismatches(level, 0x7F7FFFF0, 0x80000010) == 0   # largest floats, inf, NaN, -0
+    assert mismatches(level, 0xFF7FFFF0, 0xFFFFFFFF) == 0   # -inf, negative NaNs

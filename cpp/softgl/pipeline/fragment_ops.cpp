@@ -71,11 +71,9 @@ void lanes_scalar(const BlendOp& op, const float* src, size_t stride, uint32_t* 
 
 #if defined(__SSE2__)
 inline __m128 clamp01_ps(__m128 v) {
-    // v > 0 ? (v < 1 ? v : 1) : 0, NaN -> 0, exactly clamp01.
-    const __m128 one = _mm_set1_ps(1.0f);
-    const __m128 lt1 = _mm_cmplt_ps(v, one);
-    const __m128 t = _mm_or_ps(_mm_and_ps(lt1, v), _mm_andnot_ps(lt1, one));
-    return _mm_and_ps(_mm_cmpgt_ps(v, _mm_setzero_ps()), t);
+    // maxps(a, b) is a > b ? a : b and minps(a, b) is a < b ? a : b (the second operand when
+    // either is NaN): v > 0 ? (v < 1 ? v : 1) : 0 with NaN and -0 -> +0, exactly clamp01.
+    return _mm_min_ps(_mm_max_ps(v, _mm_setzero_ps()), _mm_set1_ps(1.0f));
 }
 // unorm8_from_float on four lanes: clamp (same decisions as its branches), then
 // trunc(double(v) * 255 + 0.5) in double precision.
@@ -128,22 +126,35 @@ void lanes(const BlendOp& op, const float* src, size_t stride, uint32_t* dst, si
 }
 
 #if defined(SOFTGL_HAVE_AVX2_KERNELS)
-// The SSE2 kernel eight lanes at a time: the same IEEE operations (compare/select clamp, float
-// multiply and add without contraction, division by 255, double-precision v*255+0.5 and
-// truncation), so the bytes are the same. Compiled for AVX2 only here; called only when the CPU
-// has it.
+// The lane kernel eight lanes at a time, compiled for AVX2 only here and called only when the CPU
+// has it. The blend arithmetic is the SSE2 kernel's (the table's float(d) / 255.0f as a division,
+// float multiply and add, no contraction); float -> unorm8 is an exact integer form, so the bytes are the scalar
+// path's (tests/pipeline/test_fragment_ops.py checks every float in [0, 1]). The division stays:
+// exact division-free forms of d / 255.0f (float(double(d) * (1.0 / 255)); t = float(d * 257),
+// (t + t * (2^-16 + 2^-32)) * 2^-16) and a gather from the table all measured slower.
 __attribute__((target("avx2"))) inline __m256 clamp01_ps8(__m256 v) {
-    const __m256 one = _mm256_set1_ps(1.0f);
-    const __m256 lt1 = _mm256_cmp_ps(v, one, _CMP_LT_OQ);
-    const __m256 t = _mm256_or_ps(_mm256_and_ps(lt1, v), _mm256_andnot_ps(lt1, one));
-    return _mm256_and_ps(_mm256_cmp_ps(v, _mm256_setzero_ps(), _CMP_GT_OQ), t);
+    return _mm256_min_ps(_mm256_max_ps(v, _mm256_setzero_ps()), _mm256_set1_ps(1.0f));   // as clamp01_ps
 }
-__attribute__((target("avx2"))) inline __m256i unorm8_ps8(__m256 v) {
-    v = clamp01_ps8(v);
-    const __m256d k = _mm256_set1_pd(255.0), h = _mm256_set1_pd(0.5);
-    const __m256d lo = _mm256_add_pd(_mm256_mul_pd(_mm256_cvtps_pd(_mm256_castps256_ps128(v)), k), h);
-    const __m256d hi = _mm256_add_pd(_mm256_mul_pd(_mm256_cvtps_pd(_mm256_extractf128_ps(v, 1)), k), h);
-    return _mm256_set_m128i(_mm256_cvttpd_epi32(hi), _mm256_cvttpd_epi32(lo));
+// float_to_unorm8(v) for v already in [0, 1], in integers with no rounding anywhere: v = m * 2^(e-150)
+// (m the significand with its implicit bit, e the biased exponent), so v*255 = (m*255) * 2^-s with
+// s = 150 - e, and floor(v*255 + 0.5) = floor((floor(v*510) + 1) / 2) with
+// floor(v*510) = m*255 >> (s-1). m*255 = (m << 8) - m < 2^32. vpsrlvd gives 0 for counts of 32 or
+// more: the right answer for v < 2^-9, where v*255 < 0.5 (0 and subnormals included).
+// Returns floor(v*510) + 1 (at most 511): the byte is its bits 1..8, which unorm8_at_byte_ps8 moves
+// into place with one shift.
+__attribute__((target("avx2"))) inline __m256i floor_v510_plus_1_ps8(__m256 v) {
+    const __m256i bits = _mm256_castps_si256(v);
+    const __m256i m = _mm256_or_si256(_mm256_and_si256(bits, _mm256_set1_epi32(0x7FFFFF)), _mm256_set1_epi32(0x800000));
+    const __m256i m255 = _mm256_sub_epi32(_mm256_slli_epi32(m, 8), m);
+    const __m256i shift = _mm256_sub_epi32(_mm256_set1_epi32(149), _mm256_srli_epi32(bits, 23));   // s - 1
+    return _mm256_add_epi32(_mm256_srlv_epi32(m255, shift), _mm256_set1_epi32(1));
+}
+// float_to_unorm8(v) of clamped v as byte c of each lane: (x >> 1) << 8c, the second shift folded
+// into the first and a mask (shifts have fewer ports than logic).
+__attribute__((target("avx2"))) inline __m256i unorm8_at_byte_ps8(__m256 v, int c) {
+    const __m256i x = floor_v510_plus_1_ps8(v);
+    if (c == 0) return _mm256_srli_epi32(x, 1);
+    return _mm256_and_si256(_mm256_slli_epi32(x, 8 * c - 1), _mm256_set1_epi32(int(0xFFu << (8 * c))));
 }
 
 template <ColorKernel K>
@@ -164,7 +175,7 @@ __attribute__((target("avx2"))) void lanes_avx2(const BlendOp& op, const float* 
         for (int c = 0; c < 4; ++c) {
             __m256 out;
             if constexpr (K == ColorKernel::Plain) {
-                out = s[c];
+                out = s[c];   // clamped already
             } else {
                 __m256 d;
                 if (c == 3 && !op.has_alpha) d = _mm256_set1_ps(1.0f);
@@ -176,8 +187,9 @@ __attribute__((target("avx2"))) void lanes_avx2(const BlendOp& op, const float* 
                     const __m256 one = _mm256_set1_ps(1.0f);
                     out = _mm256_add_ps(_mm256_mul_ps(s[c], one), _mm256_mul_ps(d, one));
                 }
+                out = clamp01_ps8(out);
             }
-            packed = _mm256_or_si256(packed, _mm256_slli_epi32(unorm8_ps8(out), 8 * c));
+            packed = _mm256_or_si256(packed, unorm8_at_byte_ps8(out, c));
         }
         if (keep) packed = _mm256_or_si256(_mm256_andnot_si256(keep_v, packed), _mm256_and_si256(keep_v, d32));
         _mm256_storeu_si256(reinterpret_cast<__m256i*>(dst + l), packed);
