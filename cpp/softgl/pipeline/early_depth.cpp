@@ -68,24 +68,40 @@ __attribute__((target("avx2"))) size_t early_depth_avx2(const EarlyDepth& t, con
         const uint64_t cov = quad.coverage;
         const __m128i covered = _mm_setr_epi32(cov & 1 ? -1 : 0, (cov >> 16) & 1 ? -1 : 0, (cov >> 32) & 1 ? -1 : 0,
                                                (cov >> 48) & 1 ? -1 : 0);
+        const int tested = _mm_movemask_ps(_mm_castsi128_ps(covered));
         uint32_t* row0 = &t.depth[size_t(quad.y) * t.pitch + size_t(quad.x)];
         const bool upper = (cov >> 32) & 0x10001u;
         uint32_t* row1 = upper ? row0 + t.pitch : row0;   // a pointer into the buffer either way
-        const __m128i m0 = _mm_unpacklo_epi64(covered, _mm_setzero_si128());   // lanes 0, 1 -> row 0
-        const __m128i m1 = _mm_unpackhi_epi64(covered, _mm_setzero_si128());   // lanes 2, 3 -> row 1
-        const __m128i s0 = _mm_maskload_epi32(reinterpret_cast<const int*>(row0), m0);
-        const __m128i s1 = _mm_maskload_epi32(reinterpret_cast<const int*>(row1), m1);
-        const __m128i stored = _mm_unpacklo_epi64(s0, s1);
+        // A fully covered quad (most quads of large primitives) is four pixels of this tile:
+        // plain 8-byte row loads and stores, which are much cheaper than masked ones. Otherwise
+        // masked accesses, because uncovered pixels may lie outside the buffer or the tile.
+        const bool full = tested == 0xF;
+        __m128i stored;
+        if (full) {
+            stored = _mm_unpacklo_epi64(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(row0)),
+                                        _mm_loadl_epi64(reinterpret_cast<const __m128i*>(row1)));
+        } else {
+            const __m128i m0 = _mm_unpacklo_epi64(covered, _mm_setzero_si128());   // lanes 0, 1 -> row 0
+            const __m128i m1 = _mm_unpackhi_epi64(covered, _mm_setzero_si128());   // lanes 2, 3 -> row 1
+            stored = _mm_unpacklo_epi64(_mm_maskload_epi32(reinterpret_cast<const int*>(row0), m0),
+                                        _mm_maskload_epi32(reinterpret_cast<const int*>(row1), m1));
+        }
         const __m128i zs = _mm_xor_si128(word, sign), ss = _mm_xor_si128(stored, sign);   // unsigned order
         const __m128i lt = _mm_cmplt_epi32(zs, ss), eq = _mm_cmpeq_epi32(zs, ss), gt = _mm_cmpgt_epi32(zs, ss);
         const __m128i pass = _mm_and_si128(covered, _mm_or_si128(_mm_or_si128(_mm_and_si128(lt, less), _mm_and_si128(eq, equal)),
                                                                  _mm_and_si128(gt, greater)));
-        if (t.write) {
-            _mm_maskstore_epi32(reinterpret_cast<int*>(row0), _mm_unpacklo_epi64(pass, _mm_setzero_si128()), word);
-            _mm_maskstore_epi32(reinterpret_cast<int*>(row1), _mm_unpackhi_epi64(pass, _mm_setzero_si128()),
-                                _mm_unpackhi_epi64(word, word));
+        const int passed = _mm_movemask_ps(_mm_castsi128_ps(pass));
+        if (t.write && passed) {
+            if (full) {   // failed pixels get their stored word back
+                const __m128i out = _mm_blendv_epi8(stored, word, pass);
+                _mm_storel_epi64(reinterpret_cast<__m128i*>(row0), out);
+                _mm_storel_epi64(reinterpret_cast<__m128i*>(row1), _mm_unpackhi_epi64(out, out));
+            } else {
+                _mm_maskstore_epi32(reinterpret_cast<int*>(row0), _mm_unpacklo_epi64(pass, _mm_setzero_si128()), word);
+                _mm_maskstore_epi32(reinterpret_cast<int*>(row1), _mm_unpackhi_epi64(pass, _mm_setzero_si128()),
+                                    _mm_unpackhi_epi64(word, word));
+            }
         }
-        const int passed = _mm_movemask_ps(_mm_castsi128_ps(pass)), tested = _mm_movemask_ps(_mm_castsi128_ps(covered));
         for (int j = 0; j < 4; ++j) survived[4 * i + size_t(j)] = uint16_t((passed >> j) & 1);
         killed += size_t(__builtin_popcount(unsigned(tested & ~passed)));
     }
