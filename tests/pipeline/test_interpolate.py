@@ -91,3 +91,19 @@ def test_negative_zero_values_give_positive_zero():
     out = _core.testing.interpolate_varyings(0, planes, 0, 0, np.array([[0, 0]]), values)
     assert not np.signbit(out).any()
     check(planes, 0, 0, [[0, 0], [4, 6]], values)
+
+
+@pytest.mark.parametrize("vertices", [3, 2])
+@pytest.mark.parametrize("constant_w", [False, True])
+def test_quads_in_raster_order(vertices, constant_w):
+    # The SIMD levels reuse per-row and per-column partial terms between quads: quads of 8x8 blocks
+    # row by row (rows and columns repeating, within and across runs of 32 quads), then columns 16
+    # apart (sharing a table slot) and negative coordinates, alternating rows.
+    rng = np.random.default_rng(21 + vertices + 10 * constant_w)
+    blocks = [(bx, by) for by in (-8, 0, 8) for bx in (-16, -8, 0, 8)]
+    raster = [(bx + qx, by + qy) for bx, by in blocks for qy in range(0, 8, 2) for qx in range(0, 8, 2)]
+    colliding = [(x, y) for y in (-6, 4, -6, 4) for x in (-34, -18, -2, 14, 30, -2, -34)]
+    for quads in (raster, colliding, colliding + raster[:40] + colliding):
+        for _ in range(5):
+            planes, ox, oy, _, values = random_case(rng, 1, vertices, constant_w)
+            check(planes, ox, oy, quads, values)

@@ -90,10 +90,6 @@ void interpolate_sse2(const VaryingInterpolation& v, const Quad* quads, size_t n
 #if defined(SOFTGL_HAVE_AVX2_INTERPOLATION)
 // One quad per register (lanes 0..3). Compiled for AVX2 (no FMA) here only; called only when the
 // CPU has it.
-__attribute__((target("avx2"))) inline __m256d eval_avx2(__m256d a, __m256d b, __m256d c, __m256d fx, __m256d fy) {
-    return _mm256_add_pd(_mm256_add_pd(c, _mm256_mul_pd(a, fx)), _mm256_mul_pd(b, fy));
-}
-
 template <int V>
 __attribute__((target("avx2"))) void interpolate_avx2(const VaryingInterpolation& v, const Quad* quads, size_t n,
                                                       uint32_t* out, size_t stride) {
@@ -108,6 +104,19 @@ __attribute__((target("avx2"))) void interpolate_avx2(const VaryingInterpolation
         const Plane& pl = k < V ? p.weight[k] : p.inv_w;
         pa[k] = _mm256_set1_pd(pl.a), pb[k] = _mm256_set1_pd(pl.b), pc[k] = _mm256_set1_pd(pl.c);
     }
+    // b*fy depends only on a quad's row and c + a*fx only on its column, and quads come in rows
+    // of a few columns: each partial term is computed once (the last row, a small table of
+    // columns) and reused, so every lane still evaluates ((c + a*fx) + b*fy) * q, those operations.
+    __m256d row_term[V + 1];
+    int32_t row_y = 0;
+    bool have_row = false;
+    struct Column {
+        int32_t x;
+        __m256d term[V + 1];
+    };
+    constexpr int kColumns = 8;   // slot (x / 2) % 8
+    Column columns[kColumns];
+    for (int j = 0; j < kColumns; ++j) columns[j].x = 2 * j + 2;   // a tag that never maps to slot j
     // Runs of up to 32 quads: the weights of a run first (4 lanes per quad), then each word over
     // the run with its vertex values in registers and its output contiguous.
     constexpr size_t kRun = 32;
@@ -116,11 +125,22 @@ __attribute__((target("avx2"))) void interpolate_avx2(const VaryingInterpolation
         const size_t m = std::min(kRun, n - i0);
         for (size_t i = 0; i < m; ++i) {
             const Quad& quad = quads[i0 + i];
-            const double fx0 = pixel_centre_offset(quad.x, p.origin_x), fx1 = pixel_centre_offset(quad.x + 1, p.origin_x);
-            const double fy0 = pixel_centre_offset(quad.y, p.origin_y), fy1 = pixel_centre_offset(quad.y + 1, p.origin_y);
-            const __m256d fx = _mm256_setr_pd(fx0, fx1, fx0, fx1), fy = _mm256_setr_pd(fy0, fy0, fy1, fy1);
-            const __m256d q = constant_q ? q_constant : _mm256_div_pd(one, eval_avx2(pa[V], pb[V], pc[V], fx, fy));
-            for (int k = 0; k < V; ++k) _mm256_store_pd(&weights[k][4 * i], _mm256_mul_pd(eval_avx2(pa[k], pb[k], pc[k], fx, fy), q));
+            if (!have_row || quad.y != row_y) {
+                const double fy0 = pixel_centre_offset(quad.y, p.origin_y), fy1 = pixel_centre_offset(quad.y + 1, p.origin_y);
+                const __m256d fy = _mm256_setr_pd(fy0, fy0, fy1, fy1);
+                for (int k = 0; k <= V; ++k) row_term[k] = _mm256_mul_pd(pb[k], fy);
+                row_y = quad.y, have_row = true;
+            }
+            Column& column = columns[(quad.x >> 1) & (kColumns - 1)];
+            if (column.x != quad.x) {
+                const double fx0 = pixel_centre_offset(quad.x, p.origin_x), fx1 = pixel_centre_offset(quad.x + 1, p.origin_x);
+                const __m256d fx = _mm256_setr_pd(fx0, fx1, fx0, fx1);
+                for (int k = 0; k <= V; ++k) column.term[k] = _mm256_add_pd(pc[k], _mm256_mul_pd(pa[k], fx));
+                column.x = quad.x;
+            }
+            const __m256d q = constant_q ? q_constant : _mm256_div_pd(one, _mm256_add_pd(column.term[V], row_term[V]));
+            for (int k = 0; k < V; ++k)
+                _mm256_store_pd(&weights[k][4 * i], _mm256_mul_pd(_mm256_add_pd(column.term[k], row_term[k]), q));
         }
         for (size_t k = 0; k < count; ++k) {
             const __m256d v0 = _mm256_set1_pd(values[k]), v1 = _mm256_set1_pd(values[count + k]);

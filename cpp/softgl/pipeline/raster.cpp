@@ -75,6 +75,16 @@ void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, i
             if (accept) ++stats.blocks_accepted;
             else ++stats.blocks_partial;
 
+            if (accept && ((cx0 | cx1 | cy0 | cy1) & 1) == 0) {
+                // Whole block inside every edge and its clipped rectangle made of whole quads:
+                // every quad is fully covered, no per-pixel bounds to test.
+                const uint64_t full_quad = full_pixel | full_pixel << kQuadPixelBits |
+                                           full_pixel << (2 * kQuadPixelBits) | full_pixel << (3 * kQuadPixelBits);
+                for (int32_t qy = cy0; qy < cy1; qy += 2)
+                    for (int32_t qx = cx0; qx < cx1; qx += 2) emit(out, qx, qy, full_quad);
+                stats.quads += (uint64_t(cx1 - cx0) / 2) * (uint64_t(cy1 - cy0) / 2);
+                continue;
+            }
             if (accept) {
                 // Whole block inside every edge: full coverage, only the clip to [cx0, cx1) x
                 // [cy0, cy1) decides which pixels of each quad are present.
