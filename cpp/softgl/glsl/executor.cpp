@@ -117,35 +117,6 @@ bool same_in_all_lanes(const Scalar* v, int n) {
 
 enum class FrameKind : uint8_t { If, Loop, Switch, Function };
 
-// Registers an instruction reads (a masked Mov or StoreIndexed also keeps old lanes: counted as
-// reads of its targets unless the caller knows every lane is active).
-template <class F>
-void for_each_read(const IrProgram& p, const Instruction& i, F&& f) {
-    if (i.op == Op::Texture) {
-        const TextureOperands& t = p.textures[i.texture];
-        for (Reg r : {t.unit, t.coord[0], t.coord[1], t.coord[2], t.coord[3], t.compare, t.lod, t.grad_x[0], t.grad_x[1],
-                      t.grad_x[2], t.grad_y[0], t.grad_y[1], t.grad_y[2]})
-            if (r != kNoReg) f(r);
-        return;
-    }
-    if (i.op == Op::LoadIndexed || i.op == Op::StoreIndexed)
-        for (int32_t k = 0; k < i.imm[2]; ++k) f(static_cast<Reg>(i.imm[0] + k));
-    for (Reg r : {i.a, i.b, i.c}) if (r != kNoReg) f(r);
-}
-
-template <class F>
-void for_each_write(const IrProgram& p, const Instruction& i, F&& f) {
-    if (i.op == Op::Texture) {
-        for (Reg r : p.textures[i.texture].dst) if (r != kNoReg) f(r);
-        return;
-    }
-    if (i.op == Op::StoreIndexed) {
-        for (int32_t k = 0; k < i.imm[2]; ++k) f(static_cast<Reg>(i.imm[0] + k));
-        return;
-    }
-    if (i.dst != kNoReg) f(i.dst);
-}
-
 }  // namespace
 
 struct ExecutorFrame {
@@ -187,7 +158,7 @@ Executor::Executor(const IrProgram& program, int batch_lanes) : program_(program
     bool prefix = true;
     for (const Instruction& i : program.code) {
         if (op_is_control(i.op) && i.op != Op::FunctionBegin) prefix = false;
-        for_each_read(program, i, [&](Reg r) { seen[r] = 1; });
+        for_each_read(program, i, [&](Reg r) { seen[r] = 1; }, false);
         for_each_write(program, i, [&](Reg r) {
             written[r] = 1;
             if (!seen[r] && prefix && i.op != Op::Texture && i.op != Op::StoreIndexed) full_write_first[r] = 1;

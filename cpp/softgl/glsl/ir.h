@@ -130,6 +130,38 @@ struct IrProgram {
     std::string dump() const;  // a readable listing, for tests and debugging
 };
 
+// Calls f(reg) for every register instruction i reads. A masked write keeps the old value in
+// inactive lanes, so StoreIndexed also reads its targets, and so does a Mov of a variable unless
+// `mov_reads_target` is false (for callers that only reason about lanes the Mov writes).
+template <class F>
+void for_each_read(const IrProgram& p, const Instruction& i, F&& f, bool mov_reads_target = true) {
+    if (i.op == Op::Texture) {
+        const TextureOperands& t = p.textures[i.texture];
+        for (Reg r : {t.unit, t.coord[0], t.coord[1], t.coord[2], t.coord[3], t.compare, t.lod, t.grad_x[0], t.grad_x[1],
+                      t.grad_x[2], t.grad_y[0], t.grad_y[1], t.grad_y[2]})
+            if (r != kNoReg) f(r);
+        return;
+    }
+    if (i.op == Op::LoadIndexed || i.op == Op::StoreIndexed)
+        for (int32_t k = 0; k < i.imm[2]; ++k) f(static_cast<Reg>(i.imm[0] + k));
+    if (mov_reads_target && i.op == Op::Mov && p.is_variable[i.dst]) f(i.dst);
+    for (Reg r : {i.a, i.b, i.c}) if (r != kNoReg) f(r);
+}
+
+// Calls f(reg) for every register instruction i writes.
+template <class F>
+void for_each_write(const IrProgram& p, const Instruction& i, F&& f) {
+    if (i.op == Op::Texture) {
+        for (Reg r : p.textures[i.texture].dst) if (r != kNoReg) f(r);
+        return;
+    }
+    if (i.op == Op::StoreIndexed) {
+        for (int32_t k = 0; k < i.imm[2]; ++k) f(static_cast<Reg>(i.imm[0] + k));
+        return;
+    }
+    if (i.dst != kNoReg) f(i.dst);
+}
+
 // For every instruction, the index of the end of its straight-line region: the first Else,
 // IfEnd, LoopContinuePoint, LoopEnd, SwitchEnd or FunctionEnd at its own nesting level (or the
 // program's size). Between an instruction and its region end (nested constructs included) the

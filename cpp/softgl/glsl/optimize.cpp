@@ -9,42 +9,6 @@
 namespace softgl::glsl {
 namespace {
 
-// Calls f(reg) for every register instruction i reads.
-template <class F>
-void for_each_read(const IrProgram& p, const Instruction& i, F&& f) {
-    if (i.op == Op::Texture) {
-        const TextureOperands& t = p.textures[i.texture];
-        for (Reg r : {t.unit, t.coord[0], t.coord[1], t.coord[2], t.coord[3], t.compare, t.lod, t.grad_x[0], t.grad_x[1],
-                      t.grad_x[2], t.grad_y[0], t.grad_y[1], t.grad_y[2]})
-            if (r != kNoReg) f(r);
-        return;
-    }
-    if (i.op == Op::LoadIndexed) {
-        for (int32_t k = 0; k < i.imm[2]; ++k) f(static_cast<Reg>(i.imm[0] + k));
-    }
-    if (i.op == Op::StoreIndexed || i.op == Op::Mov) {
-        // A masked write keeps the old value in inactive lanes: it also "reads" its target.
-        if (i.op == Op::Mov && p.is_variable[i.dst]) f(i.dst);
-        if (i.op == Op::StoreIndexed)
-            for (int32_t k = 0; k < i.imm[2]; ++k) f(static_cast<Reg>(i.imm[0] + k));
-    }
-    for (Reg r : {i.a, i.b, i.c}) if (r != kNoReg) f(r);
-}
-
-// Calls f(reg) for every register instruction i writes.
-template <class F>
-void for_each_write(const IrProgram& p, const Instruction& i, F&& f) {
-    if (i.op == Op::Texture) {
-        for (Reg r : p.textures[i.texture].dst) if (r != kNoReg) f(r);
-        return;
-    }
-    if (i.op == Op::StoreIndexed) {
-        for (int32_t k = 0; k < i.imm[2]; ++k) f(static_cast<Reg>(i.imm[0] + k));
-        return;
-    }
-    if (i.dst != kNoReg) f(i.dst);
-}
-
 bool foldable(Op op) {
     if (op_is_control(op)) return false;
     switch (op) {
