@@ -223,7 +223,7 @@ void bind_testing(py::module_& m) {
               return mismatches;
           },
           py::arg("level"), py::arg("first"), py::arg("last"), py::arg("step") = 1);
-    // The lane kernels' instruction-set levels: 0 scalar, 1 SSE2, 2 AVX2; the best this CPU runs.
+    // The lane kernels' instruction-set levels: 0 scalar, 1 SSE2, 2 AVX2, 3 AVX-512; the best this CPU runs.
     t.def("simd_level", [] { return int(softgl::best_simd_level()); });
     // pipeline/interpolate at one instruction-set level: planes (4, 3) float64 rows (a, b, c) of
     // weight[0..2] and inv_w, origin in 1/256 pixel, quads (n, 2) int32 lower-left pixels,

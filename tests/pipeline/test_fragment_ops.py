@@ -80,9 +80,11 @@ def test_specialised_kernels_equal_the_reference_exhaustively(name, has_alpha):
     check((sf, df, sf, df), ("FUNC_ADD", "FUNC_ADD"), (True,) * 4, has_alpha, src, dst)
 
 
-def test_the_machine_runs_the_avx2_kernel_when_it_has_avx2():
+def test_the_machine_runs_the_best_kernels_it_has():
     flags = open("/proc/cpuinfo").read() if __import__("os").path.exists("/proc/cpuinfo") else ""
-    if " avx2" in flags:
+    if all(f" {f}" in flags for f in ("avx512f", "avx512bw", "avx512dq", "avx512vl")):
+        assert _core.testing.simd_level() == 3
+    elif " avx2" in flags:
         assert _core.testing.simd_level() == 2
 
 

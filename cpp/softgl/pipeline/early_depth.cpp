@@ -113,7 +113,7 @@ __attribute__((target("avx2"))) size_t early_depth_avx2(const EarlyDepth& t, con
 
 size_t early_depth_test_at(SimdLevel level, const EarlyDepth& t, const Quad* quads, size_t n, uint16_t* survived) {
 #if defined(SOFTGL_HAVE_AVX2_EARLY_DEPTH)
-    if (level == SimdLevel::AVX2) return early_depth_avx2(t, quads, n, survived);
+    if (level == SimdLevel::AVX2 || level == SimdLevel::AVX512) return early_depth_avx2(t, quads, n, survived);
 #endif
     (void)level;
     return early_depth_scalar(t, quads, n, survived);

@@ -204,6 +204,7 @@ void lanes_at(SimdLevel level, const BlendOp& op, const float* src, size_t strid
         case SimdLevel::Scalar: return lanes_scalar<K>(op, src, stride, dst, 0, n);
         case SimdLevel::SSE2: return lanes<K>(op, src, stride, dst, n);
         case SimdLevel::AVX2:
+        case SimdLevel::AVX512:
 #if defined(SOFTGL_HAVE_AVX2_KERNELS)
             return lanes_avx2<K>(op, src, stride, dst, n);
 #else
@@ -218,6 +219,9 @@ SimdLevel best_simd_level() {
     static const SimdLevel level = [] {
 #if defined(SOFTGL_HAVE_AVX2_KERNELS)
         __builtin_cpu_init();
+        if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
+            __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512vl"))
+            return SimdLevel::AVX512;
         if (__builtin_cpu_supports("avx2")) return SimdLevel::AVX2;
 #endif
 #if defined(__SSE2__)

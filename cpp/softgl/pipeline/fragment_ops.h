@@ -94,7 +94,8 @@ void write_color_lanes(ColorKernel kernel, const BlendOp& op, const float* src, 
 // operations in the same order; no FMA, DESIGN §3). write_color_lanes runs the best the CPU
 // supports (runtime dispatch: the module itself is built for any x86-64); the explicit form is
 // for the tests that prove the levels equal.
-enum class SimdLevel : uint8_t { Scalar, SSE2, AVX2 };
+// AVX512: AVX-512 F+BW+DQ+VL; a stage without an AVX-512 kernel runs its AVX2 one at that level.
+enum class SimdLevel : uint8_t { Scalar, SSE2, AVX2, AVX512 };
 SimdLevel best_simd_level();
 void write_color_lanes_at(SimdLevel level, ColorKernel kernel, const BlendOp& op, const float* src, size_t stride,
                           uint32_t* dst, size_t n);

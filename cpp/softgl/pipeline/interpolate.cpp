@@ -163,6 +163,7 @@ void interpolate_varyings_at(SimdLevel level, const VaryingInterpolation& v, con
                              uint32_t* out, size_t stride) {
     switch (level) {
         case SimdLevel::Scalar: break;
+        case SimdLevel::AVX512:
         case SimdLevel::AVX2:
 #if defined(SOFTGL_HAVE_AVX2_INTERPOLATION)
             return v.vertices == 3 ? interpolate_avx2<3>(v, quads, n, out, stride)
