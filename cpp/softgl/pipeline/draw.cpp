@@ -79,6 +79,7 @@ RasterState raster_state(const State& s, const RenderTarget& fb) {
 
 // Per-worker scratch, reused across primitives and draws.
 constexpr size_t kChunkQuads = 32;   // 128 lanes: the executor's batch
+constexpr size_t kChunkLanes = 4 * kChunkQuads;
 
 struct Scratch {
     std::vector<Quad> quads;          // the primitive's quads in this tile
@@ -138,6 +139,8 @@ struct DrawScratch {
     Bins bins;
     std::vector<Scratch> workers;
     std::vector<uint8_t> touched;   // per tile: had work in an earlier batch of the draw
+    FragmentResults constant;         // a uniform-only shader's results (FragmentShader::run_constant)
+    std::vector<float> constant_color;   // its output 0 as a chunk's lanes: [c * kChunkLanes + lane]
 };
 
 DrawScratch& draw_scratch() {
@@ -261,6 +264,10 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
     PrimitiveTable& prims = ds_.prims;
     const Bins* bins = nullptr;
     std::vector<uint32_t>& tiles = ds_.tiles;
+    // A uniform-only shader runs once per draw (DESIGN §4) and its colour goes straight to the
+    // colour kernels, for every chunk that needs no per-lane colour (set before the first tile pass).
+    bool constant = false;
+    const bool constant_kernels = !(!early && tests) && writes_color && !coverage_ops && !fog.enabled && !sink && drawing_buffer;
     auto run_tile = [&](size_t index, unsigned worker) {
         const size_t tile = tiles[index];
         const std::vector<uint32_t>& list = bins->tile(tile);
@@ -306,6 +313,7 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                 rasterize(p, rect, pattern, w.quads, w.raster);
             }
             if (w.quads.empty()) continue;
+            const bool constant_chunks = constant && constant_kernels && !area;
 
             // What the primitive gives every chunk: vertex values of the interpolated words.
             const uint32_t provoking = p.kind == PrimitiveKind::Triangle ? p.vertex[2]
@@ -385,58 +393,64 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                 if (kept == 0) continue;
                 w.stats.quads += kept;
 
-                // Build the fragment batch: the inputs the shader reads, per lane, structure of arrays.
-                FragmentBatch& b = w.batch;
                 const size_t L = kept * 4;
-                b.lanes = L;
-                b.varyings.resize(size_t(words) * L);
-                b.frag_coord.resize(4 * L);
-                b.front_facing.resize(L);
-                b.point_coord.resize(2 * L);
-                b.covered.resize(L);
-                uint8_t* const covered = b.covered.data();
-                for (size_t lane = 0; lane < L; ++lane) covered[lane] = masks[lane] ? 1 : 0;
-                if (builtins & kFrontFacing) std::fill_n(b.front_facing.data(), L, uint8_t(p.front_facing ? 1 : 0));
-                if (vi.prim) {
-                    interpolate_varyings(vi, cq, kept, b.varyings.data(), L);
-                } else {
-                    for (int word : smooth_words)   // points: no interpolation, the vertex's value
-                        std::fill_n(&b.varyings[size_t(word) * L], L,
-                                    all.varyings[size_t(provoking) * size_t(words) + size_t(word)]);
-                }
-                for (int word : flat_words)
-                    std::fill_n(&b.varyings[size_t(word) * L], L, all.varyings[size_t(provoking) * size_t(words) + size_t(word)]);
-                if (builtins & (kFragCoordX | kFragCoordY | kPointCoordS | kPointCoordT | kFragCoordZ | kFragCoordW)) {
-                    float* fc = b.frag_coord.data();
-                    for (size_t qi = 0; qi < kept; ++qi) {
-                        const Quad& quad = cq[qi];
-                        for (int j = 0; j < 4; ++j) {
-                            const size_t lane = qi * 4 + size_t(j);
-                            const int32_t x = quad.x + (j & 1), y = quad.y + (j >> 1);
-                            fc[lane] = float(x) + 0.5f;
-                            fc[L + lane] = float(y) + 0.5f;
-                            float pc[2] = {0, 0};
-                            if (p.kind == PrimitiveKind::Point) p.point_coord(x, y, pc);
-                            b.point_coord[lane] = pc[0];
-                            b.point_coord[L + lane] = pc[1];
-                            // The planes at the pixel centre, as PrimitiveSetup::eval computes them.
-                            const double fx = pixel_centre_offset(x, p.origin_x), fy = pixel_centre_offset(y, p.origin_y);
-                            if (builtins & kFragCoordZ) {   // p.depth_at: plane + offset, clamped to [0, 1]
-                                const double z = (p.depth.c + p.depth.a * fx + p.depth.b * fy) + p.depth_offset;
-                                fc[2 * L + lane] = float(z < 0 ? 0 : (z > 1 ? 1 : z));
+                w.stats.fragments_shaded += L;
+                // The colour of lane l, channel c of output 0: col[c * cs + l].
+                const FragmentResults& r = w.results;
+                const float* col = ds_.constant_color.data();
+                size_t cs = kChunkLanes;
+                bool any_killed = false;
+                if (!constant_chunks) {
+                    // Build the fragment batch: the inputs the shader reads, per lane, structure of arrays.
+                    FragmentBatch& b = w.batch;
+                    b.lanes = L;
+                    b.varyings.resize(size_t(words) * L);
+                    b.frag_coord.resize(4 * L);
+                    b.front_facing.resize(L);
+                    b.point_coord.resize(2 * L);
+                    b.covered.resize(L);
+                    uint8_t* const covered = b.covered.data();
+                    for (size_t lane = 0; lane < L; ++lane) covered[lane] = masks[lane] ? 1 : 0;
+                    if (builtins & kFrontFacing) std::fill_n(b.front_facing.data(), L, uint8_t(p.front_facing ? 1 : 0));
+                    if (vi.prim) {
+                        interpolate_varyings(vi, cq, kept, b.varyings.data(), L);
+                    } else {
+                        for (int word : smooth_words)   // points: no interpolation, the vertex's value
+                            std::fill_n(&b.varyings[size_t(word) * L], L,
+                                        all.varyings[size_t(provoking) * size_t(words) + size_t(word)]);
+                    }
+                    for (int word : flat_words)
+                        std::fill_n(&b.varyings[size_t(word) * L], L, all.varyings[size_t(provoking) * size_t(words) + size_t(word)]);
+                    if (builtins & (kFragCoordX | kFragCoordY | kPointCoordS | kPointCoordT | kFragCoordZ | kFragCoordW)) {
+                        float* fc = b.frag_coord.data();
+                        for (size_t qi = 0; qi < kept; ++qi) {
+                            const Quad& quad = cq[qi];
+                            for (int j = 0; j < 4; ++j) {
+                                const size_t lane = qi * 4 + size_t(j);
+                                const int32_t x = quad.x + (j & 1), y = quad.y + (j >> 1);
+                                fc[lane] = float(x) + 0.5f;
+                                fc[L + lane] = float(y) + 0.5f;
+                                float pc[2] = {0, 0};
+                                if (p.kind == PrimitiveKind::Point) p.point_coord(x, y, pc);
+                                b.point_coord[lane] = pc[0];
+                                b.point_coord[L + lane] = pc[1];
+                                // The planes at the pixel centre, as PrimitiveSetup::eval computes them.
+                                const double fx = pixel_centre_offset(x, p.origin_x), fy = pixel_centre_offset(y, p.origin_y);
+                                if (builtins & kFragCoordZ) {   // p.depth_at: plane + offset, clamped to [0, 1]
+                                    const double z = (p.depth.c + p.depth.a * fx + p.depth.b * fy) + p.depth_offset;
+                                    fc[2 * L + lane] = float(z < 0 ? 0 : (z > 1 ? 1 : z));
+                                }
+                                if (builtins & kFragCoordW) fc[3 * L + lane] = float(p.inv_w.c + p.inv_w.a * fx + p.inv_w.b * fy);
                             }
-                            if (builtins & kFragCoordW) fc[3 * L + lane] = float(p.inv_w.c + p.inv_w.a * fx + p.inv_w.b * fy);
                         }
                     }
+                    fs.run(b, w.results, worker);
+                    for (uint8_t kill : r.killed) any_killed |= kill != 0;
+                    col = r.color.data();
+                    cs = L;
                 }
-                fs.run(b, w.results, worker);
-                w.stats.fragments_shaded += L;
 
                 // Late tests, blending and the write, per covered sample.
-                const FragmentResults& r = w.results;
-                bool any_killed = false;
-                for (uint8_t kill : r.killed) any_killed |= kill != 0;
-                const float* col = r.color.data();
                 // Per-lane color changes (area alpha, coverage ops, fog) take the general path.
                 // Framebuffer objects (any format) also write through RenderTarget::write_color.
                 const bool per_lane_color = area || coverage_ops || fog.enabled || sink || !drawing_buffer;
@@ -450,7 +464,7 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                             const Quad& quad = cq[lane / 4];
                             const int j = int(lane % 4);
                             const int32_t x = quad.x + (j & 1), y = quad.y + (j >> 1);
-                            const float color[4] = {col[lane], col[L + lane], col[2 * L + lane], col[3 * L + lane]};
+                            const float color[4] = {col[lane], col[cs + lane], col[2 * cs + lane], col[3 * cs + lane]};
                             uint8_t* px = drawing_buffer->color_sample(x, y, 0);
                             if (S == 1) {
                                 write_color<K>(blend, all_channels, unorm8_table, color, px);
@@ -496,7 +510,7 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                             return moved;
                         };
                         if (kernel != ColorKernel::Plain || !all_channels) move_quads(std::false_type{});
-                        write_color_lanes(kernel, blend, col, L, d, L);
+                        write_color_lanes(kernel, blend, col, cs, d, L);
                         const uint64_t written = move_quads(std::true_type{});
                         w.stats.samples_written += written;
                     } else switch (kernel) {
@@ -508,6 +522,7 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                     if (!plain_write) w.stats.samples_blended += w.stats.samples_written - before;
                     continue;
                 }
+                // Only shaded chunks come here (constant_chunks implies the case above): cs == L.
                 for (size_t lane = 0; lane < L; ++lane) {
                     uint16_t mask = masks[lane];
                     if (!mask) continue;
@@ -580,6 +595,27 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                 }
             }
         }
+    };
+    // A tile pass over a few pixels (a point, a short line) runs on the caller: waking the pool
+    // costs more than the work. Tiles do not depend on which thread draws them, so the bytes are
+    // the same either way.
+    auto small_tile_pass = [&](size_t tile_count) {
+        if (in.pool.size() == 1 || tile_count <= 1) return true;
+        constexpr size_t kInlineEntries = 16, kInlinePixels = 2048;
+        size_t entries = 0;
+        int64_t pixels = 0;
+        for (size_t index = 0; index < tile_count; ++index) {
+            const std::vector<uint32_t>& list = bins->tile(tiles[index]);
+            if ((entries += list.size()) > kInlineEntries) return false;
+            const TileRect rect = grid.rect(tiles[index]);
+            for (uint32_t k : list) {
+                const PrimitiveSetup& p = prims[k];
+                const int64_t x0 = std::max(p.x0, rect.x0), x1 = std::min(p.x1, rect.x1);
+                const int64_t y0 = std::max(p.y0, rect.y0), y1 = std::min(p.y1, rect.y1);
+                if (x0 < x1 && y0 < y1) pixels += (x1 - x0) * (y1 - y0);
+            }
+        }
+        return pixels <= int64_t(kInlinePixels);
     };
     // ---- the draw in batches ----
     // At most draw_batch_primitives() primitives at a time go through the vertex stage (only the
@@ -732,6 +768,11 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
         if (!tile_pass_prepared) {   // once per draw, before the first tile pass
             if (scratch.size() < in.pool.size()) scratch.resize(in.pool.size());
             fs.prepare(in.pool.size());
+            constant = fs.run_constant(ds_.constant, 0);
+            if (constant) {
+                float* const lanes = at_least(ds_.constant_color, 4 * kChunkLanes);
+                for (size_t c = 0; c < 4; ++c) std::fill_n(lanes + c * kChunkLanes, kChunkLanes, ds_.constant.color[c]);
+            }
             // What the fragment shader reads: only these varying words are computed per lane.
             for (int word = 0; word < words; ++word) {
                 if (size_t(word) < layout.read_by_fragment.size() && !layout.read_by_fragment[size_t(word)]) continue;
@@ -742,7 +783,11 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
         }
         for (uint32_t t : tiles)
             if (!touched[t]) touched[t] = 1, ++st.tiles_touched;
-        in.pool.parallel_for(tiles.size(), run_tile);
+        if (small_tile_pass(tiles.size())) {
+            for (size_t index = 0; index < tiles.size(); ++index) run_tile(index, 0);
+        } else {
+            in.pool.parallel_for(tiles.size(), run_tile);
+        }
         st.seconds_fragment += since(t0);
     };
     for (uint32_t instance = 0; instance < call.instance_count; instance += instances_per_batch) {

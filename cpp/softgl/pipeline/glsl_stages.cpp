@@ -208,4 +208,30 @@ void GlslFragmentShader::run(const FragmentBatch& b, FragmentResults& out, unsig
         for (size_t o = 1; o < O; ++o) std::copy_n(out.color.data(), 4 * L, &out.color[o * 4 * L]);
 }
 
+bool GlslFragmentShader::run_constant(FragmentResults& out, unsigned worker) const {
+    if (!uniform_only_) return false;
+    // One quad, as run() shades it for a batch (the inputs it declares but whose values never
+    // reach an output read zeros); every lane holds the same values, lane 0 is kept.
+    Worker& w = workers_[worker];
+    FragmentBatch& b = w.quad;
+    const size_t L = 4;
+    int words = 0;
+    for (int word : input_word_) words = std::max(words, word + 1);
+    b.lanes = L;
+    b.varyings.assign(size_t(words) * L, 0);
+    b.frag_coord.assign(4 * L, 0.0f);
+    b.front_facing.assign(L, 0);
+    b.point_coord.assign(2 * L, 0.0f);
+    b.covered.assign(L, 1);
+    run(b, w.quad_results, worker);
+    const FragmentResults& r = w.quad_results;
+    out.outputs = r.outputs;
+    out.color.resize(4 * size_t(r.outputs));
+    for (size_t k = 0; k < out.color.size(); ++k) out.color[k] = r.color[k * L];
+    out.depth.clear();
+    if (depth_slot_ >= 0) out.depth.assign(1, r.depth[0]);
+    out.killed.clear();   // uniform_only_: the shader has no discard
+    return true;
+}
+
 }  // namespace softgl

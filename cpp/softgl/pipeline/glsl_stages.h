@@ -56,6 +56,7 @@ public:
     uint32_t builtins_read() const override { return builtins_read_; }
     void prepare(unsigned workers) const override;
     void run(const FragmentBatch& batch, FragmentResults& out, unsigned worker) const override;
+    bool run_constant(FragmentResults& out, unsigned worker) const override;
     void set_uniforms(const glsl::Scalar* uniforms) { uniforms_ = uniforms; }
     // The bound textures for this draw (null: every lookup reads an incomplete texture). The
     // sampler must be safe to call from several workers at once (TextureUnitSampler is).
@@ -79,6 +80,8 @@ private:
         std::vector<glsl::Scalar> outputs;
         std::vector<const glsl::Scalar*> input_ptrs;
         std::vector<glsl::Scalar*> output_ptrs;
+        FragmentBatch quad;                          // run_constant: one quad, inputs all zero
+        FragmentResults quad_results;
         IncompleteTextureSampler sampler;
     };
     mutable std::vector<Worker> workers_;

@@ -80,6 +80,10 @@ public:
     virtual void prepare(unsigned workers) const { (void)workers; }
     // Runs on worker thread `worker` (< the prepared count), each with its own batch and results.
     virtual void run(const FragmentBatch& batch, FragmentResults& out, unsigned worker) const = 0;
+    // DESIGN §4: a shader whose results depend only on uniforms gives every fragment of a draw
+    // the same values. Such a shader fills `out` for one lane (lanes = 1 in the layout above) on
+    // `worker` and returns true; any other returns false. After prepare(), like run().
+    virtual bool run_constant(FragmentResults& out, unsigned worker) const { (void)out, (void)worker; return false; }
 };
 
 }  // namespace softgl

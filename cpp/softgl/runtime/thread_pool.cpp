@@ -42,6 +42,10 @@ void ThreadPool::worker_main(unsigned worker) {
             wake_.wait(lock, [&] { return stop_ || generation_ != seen; });
             if (stop_) return;
             seen = generation_;
+            // A worker that wakes after the caller has finished the call finds no job: the
+            // caller never waits for a thread that is still asleep (tiny draws, busy machines).
+            if (!job_) continue;
+            ++active_;
         }
         run_items(worker);
         {
@@ -64,7 +68,6 @@ void ThreadPool::parallel_for(size_t count, const Job& job) {
         count_ = count;
         next_.store(0, std::memory_order_relaxed);
         error_ = nullptr;
-        active_ = unsigned(workers_.size());
         ++generation_;
     }
     wake_.notify_all();
@@ -72,6 +75,7 @@ void ThreadPool::parallel_for(size_t count, const Job& job) {
     std::exception_ptr error;
     {
         std::unique_lock<std::mutex> lock(mutex_);
+        // Every index has been taken (run_items returned); wait for the workers still running one.
         done_.wait(lock, [&] { return active_ == 0; });
         job_ = nullptr;
         error = error_;

@@ -49,7 +49,7 @@ private:
     bool stop_ = false;
     const Job* job_ = nullptr;
     size_t count_ = 0;
-    unsigned active_ = 0;
+    unsigned active_ = 0;     // workers inside run_items for the current call
     std::exception_ptr error_;
     std::atomic<size_t> next_{0};
 };
