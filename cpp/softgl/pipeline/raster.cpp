@@ -137,15 +137,16 @@ void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, i
             // their extremes over it are at corners chosen by the coefficients' signs.
             const int64_t X0 = int64_t(cx0) * kSubPixel + sx0, X1 = int64_t(cx1 - 1) * kSubPixel + sx1;
             const int64_t Y0 = int64_t(cy0) * kSubPixel + sy0, Y1 = int64_t(cy1 - 1) * kSubPixel + sy1;
-            bool reject = false, accept = true;
+            // Rejected when some edge's maximum is negative, accepted when no edge's minimum is
+            // (branch-free: the OR of the values is negative when one of them is).
+            int64_t max_or = 0, min_or = 0;
             for (int i = 0; i < N; ++i) {
                 const int64_t a = p.a[i], b = p.b[i], c = p.c[i];
-                const int64_t emax = a * (a > 0 ? X1 : X0) + b * (b > 0 ? Y1 : Y0) + c;
-                const int64_t emin = a * (a > 0 ? X0 : X1) + b * (b > 0 ? Y0 : Y1) + c;
-                if (emax < 0) { reject = true; break; }
-                if (emin < 0) accept = false;
+                max_or |= a * (a > 0 ? X1 : X0) + b * (b > 0 ? Y1 : Y0) + c;
+                min_or |= a * (a > 0 ? X0 : X1) + b * (b > 0 ? Y0 : Y1) + c;
             }
-            if (reject) { ++stats.blocks_rejected; continue; }
+            const bool accept = min_or >= 0;
+            if (max_or < 0) { ++stats.blocks_rejected; continue; }
             if (accept) ++stats.blocks_accepted;
             else ++stats.blocks_partial;
 
@@ -166,38 +167,34 @@ void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, i
                 const uint64_t row_bits = ((uint64_t(1) << k1) - (uint64_t(1) << k0)) * 0x0101010101010101ull;
                 const uint64_t present = row_bits & ((r1 == 8 ? ~uint64_t(0) : (uint64_t(1) << (8 * r1)) - 1) &
                                                      ~((uint64_t(1) << (8 * r0)) - 1));
-                uint64_t mask[16];
-                uint64_t any = 0;
-                if (accept) {
-                    mask[0] = present;   // full coverage, only the clip decides
-                    any = present;
-                } else {
+                uint64_t mask[16];   // partial blocks: the pixels covering sample s
+                uint64_t any = present;
+                if (!accept) {
                     const int64_t X = int64_t(bx) * kSubPixel, Y = int64_t(cy0) * kSubPixel;
                     int64_t e0[N], e[N];
                     for (int i = 0; i < N; ++i) e0[i] = p.a[i] * X + p.b[i] * Y + p.c[i];
+                    any = 0;
                     for (int s = 0; s < S; ++s) {
                         for (int i = 0; i < N; ++i) e[i] = e0[i] + so[i][s];
                         mask[s] = inside_rows(steps, e, r0, r1) & present;
                         any |= mask[s];
                     }
                 }
-                // Quads in order: row pairs bottom-up, then left to right.
-                for (int q = r0 & ~1; q < r1 && any >> (8 * q); q += 2) {
-                    if (((any >> (8 * q)) & 0xFFFF) == 0) continue;
-                    for (int k = k0 & ~1; k < k1; k += 2) {
-                        const int sh = 8 * q + k;
-                        if (((any >> sh) & 0x303) == 0) continue;
-                        uint64_t cov;
-                        if (accept) {
-                            cov = spread_quad_bits((present >> sh & 3) | (present >> (sh + 8) & 3) << 2) * full_pixel;
-                        } else {
-                            cov = 0;
-                            for (int s = 0; s < S; ++s)
-                                cov |= spread_quad_bits((mask[s] >> sh & 3) | (mask[s] >> (sh + 8) & 3) << 2) << s;
-                        }
-                        emit(out, bx + k, by + q, cov);
-                        ++stats.quads;
+                // The non-empty quads: bit 16*p + 2*k for the quad of rows 2p, 2p + 1 and columns
+                // 2k, 2k + 1. Ascending bits are the scalar path's order (rows, then columns).
+                const uint64_t pairs = (any | any >> 8) & 0x00FF00FF00FF00FFull;
+                for (uint64_t quads = (pairs | pairs >> 1) & 0x0055005500550055ull; quads; quads &= quads - 1) {
+                    const int sh = __builtin_ctzll(quads);
+                    uint64_t cov;
+                    if (S == 1 || accept) {   // one sample, or full pixels where present
+                        cov = spread_quad_bits((any >> sh & 3) | (any >> (sh + 8) & 3) << 2) * full_pixel;
+                    } else {
+                        cov = 0;
+                        for (int s = 0; s < S; ++s)
+                            cov |= spread_quad_bits((mask[s] >> sh & 3) | (mask[s] >> (sh + 8) & 3) << 2) << s;
                     }
+                    emit(out, bx + (sh & 7), by + (sh >> 3), cov);
+                    ++stats.quads;
                 }
                 continue;
             }
