@@ -44,11 +44,10 @@ inline void emit(std::vector<Quad>& out, int32_t x, int32_t y, uint64_t coverage
 }
 
 // ---- SIMD partial blocks ----
-// One sample position (offset so from each pixel's corner) over the rows [r0, r1) of an 8x8 block:
-// bit 8*r + k of the result is set when pixel (k, r) has every edge value >= 0. e[i] is edge i at
-// column 0 of row r0 (sample offset included), col[i][k] = k * dx[i], dy[i] one row's step. The
-// values are the same exact integers the scalar path computes (the sums are associative in int64,
-// and the lanes wrap like the scalar sums never need to).
+// One sample position over the rows [r0, r1) of an 8x8 block: bit 8*r + k of the result is set
+// when pixel (k, r) has every edge value >= 0. e[i] is edge i at column 0 of row r0 (sample offset
+// included), col[i][k] = k * dx[i], dy[i] one row's step. Integer sums do not depend on their
+// order, so each lane holds exactly the value the scalar path computes for its pixel.
 template <int N>
 struct BlockSteps {
     int64_t col[N][8];
