@@ -116,7 +116,7 @@ def random_case(rng, kind):
         sw, sh = (int(v) for v in rng.integers(1, 40, 2))
         bbox = [max(bbox[0], sx), max(bbox[1], sy), min(bbox[2], sx + sw), min(bbox[3], sy + sh)]
     bbox = [max(bbox[0], tx - 100), max(bbox[1], ty - 100), min(bbox[2], tx + 164), min(bbox[3], ty + 164)]
-    if rng.random() < 0.2:         # a wider tile, not on the block grid: more than 8 blocks a row
+    if rng.random() < 0.2:         # a wider tile, not on the block grid
         return edges, bbox, [tx - 6, ty - 2, tx + 132, ty + 66]
     return edges, bbox, [tx, ty, tx + 64, ty + 64]
 

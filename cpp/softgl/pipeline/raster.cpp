@@ -55,13 +55,6 @@ struct BlockSteps {
 };
 template <int N>
 using InsideRowsFn = uint64_t (*)(const BlockSteps<N>& st, const int64_t* e, int r0, int r1);
-struct RowClass {
-    uint32_t reject, accept;
-    int rejected, accepted;   // their popcounts
-};
-template <int N>
-using ClassifyRowFn = RowClass (*)(const PrimitiveSetup& p, int32_t bx0, int count, int32_t x0, int32_t x1,
-                                   int64_t Y0, int64_t Y1, int32_t sx0, int32_t sx1);
 
 #if defined(SOFTGL_HAVE_SIMD_RASTER)
 template <int N>
@@ -105,41 +98,6 @@ __attribute__((target("avx512f,avx512bw,avx512dq,avx512vl"))) uint64_t inside_ro
     }
     return inside;
 }
-
-// Block tests of up to 8 blocks of one block row at once (AVX-512 lanes = blocks): bit j of reject /
-// accept for the block at bx0 + 8j, with the same corner choice and the same exact values as the
-// per-block test in raster_edges (a * X + (b * Y + c) is the same integer as a * X + b * Y + c).
-template <int N>
-__attribute__((target("avx512f,avx512bw,avx512dq,avx512vl,popcnt"))) RowClass classify_row_avx512(
-        const PrimitiveSetup& p, int32_t bx0, int count, int32_t x0, int32_t x1, int64_t Y0, int64_t Y1,
-        int32_t sx0, int32_t sx1) {
-    const __m512i bx = _mm512_add_epi64(_mm512_set1_epi64(bx0), _mm512_set_epi64(56, 48, 40, 32, 24, 16, 8, 0));
-    // cx0 = max(bx, x0), cx1 = min(bx + 8, x1) (blends: GCC 12's max/min/shift intrinsics warn).
-    const __m512i vx0 = _mm512_set1_epi64(x0), vx1 = _mm512_set1_epi64(x1);
-    const __m512i bx_end = _mm512_add_epi64(bx, _mm512_set1_epi64(kBlockSize));
-    const __m512i cx0 = _mm512_mask_blend_epi64(_mm512_cmplt_epi64_mask(bx, vx0), bx, vx0);
-    const __m512i cx1 = _mm512_mask_blend_epi64(_mm512_cmpgt_epi64_mask(bx_end, vx1), bx_end, vx1);
-    const __m512i sub = _mm512_set1_epi64(kSubPixel);
-    const __m512i X0 = _mm512_add_epi64(_mm512_mullo_epi64(cx0, sub), _mm512_set1_epi64(sx0));
-    const __m512i X1 = _mm512_add_epi64(_mm512_mullo_epi64(_mm512_sub_epi64(cx1, _mm512_set1_epi64(1)), sub),
-                                        _mm512_set1_epi64(sx1));
-    __m512i max_or = _mm512_setzero_si512(), min_or = _mm512_setzero_si512();
-    for (int i = 0; i < N; ++i) {
-        const int64_t a = p.a[i], b = p.b[i], c = p.c[i];
-        const __m512i va = _mm512_set1_epi64(a);
-        max_or = _mm512_or_si512(max_or, _mm512_add_epi64(_mm512_mullo_epi64(va, a > 0 ? X1 : X0),
-                                                          _mm512_set1_epi64(b * (b > 0 ? Y1 : Y0) + c)));
-        min_or = _mm512_or_si512(min_or, _mm512_add_epi64(_mm512_mullo_epi64(va, a > 0 ? X0 : X1),
-                                                          _mm512_set1_epi64(b * (b > 0 ? Y0 : Y1) + c)));
-    }
-    const uint32_t valid = (1u << count) - 1;
-    RowClass rc;
-    rc.reject = uint32_t(_mm512_movepi64_mask(max_or)) & valid;
-    rc.accept = uint32_t(uint8_t(~_mm512_movepi64_mask(min_or))) & valid & ~rc.reject;
-    rc.rejected = __builtin_popcount(rc.reject);
-    rc.accepted = __builtin_popcount(rc.accept);
-    return rc;
-}
 #endif
 
 // The 4 pixel bits b (bit j = pixel j of a quad) moved to bits 16*j: the four partial products
@@ -148,8 +106,8 @@ inline uint64_t spread_quad_bits(uint64_t b) { return (b * 0x0000200040008001ull
 
 template <int N>
 void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, int32_t y1,
-                  const SamplePattern& sp, ClassifyRowFn<N> classify_row, InsideRowsFn<N> inside_rows,
-                  std::vector<Quad>& out, RasterStats& stats) {
+                  const SamplePattern& sp, InsideRowsFn<N> inside_rows, std::vector<Quad>& out,
+                  RasterStats& stats) {
     const int S = sp.count;
     const uint64_t full_pixel = S == 16 ? 0xFFFFu : ((uint64_t(1) << S) - 1);
     int64_t so[N][16];     // edge value offset of each sample from its pixel's corner
@@ -172,12 +130,25 @@ void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, i
 
     for (int32_t by = y0 & ~(kBlockSize - 1); by < y1; by += kBlockSize) {
         const int32_t cy0 = std::max(by, y0), cy1 = std::min(by + kBlockSize, y1);
-        // The rectangle spanned by the block's samples, in fixed point; edges are linear, so their
-        // extremes over it are at corners chosen by the coefficients' signs.
-        const int64_t Y0 = int64_t(cy0) * kSubPixel + sy0, Y1 = int64_t(cy1 - 1) * kSubPixel + sy1;
-        // A block that is not rejected: emits its quads.
-        auto block = [&](int32_t bx, bool accept) __attribute__((always_inline)) {
+        for (int32_t bx = x0 & ~(kBlockSize - 1); bx < x1; bx += kBlockSize) {
             const int32_t cx0 = std::max(bx, x0), cx1 = std::min(bx + kBlockSize, x1);
+            // The rectangle spanned by the block's samples, in fixed point; edges are linear, so
+            // their extremes over it are at corners chosen by the coefficients' signs.
+            const int64_t X0 = int64_t(cx0) * kSubPixel + sx0, X1 = int64_t(cx1 - 1) * kSubPixel + sx1;
+            const int64_t Y0 = int64_t(cy0) * kSubPixel + sy0, Y1 = int64_t(cy1 - 1) * kSubPixel + sy1;
+            // Rejected when some edge's maximum is negative, accepted when no edge's minimum is
+            // (branch-free: the OR of the values is negative when one of them is).
+            int64_t max_or = 0, min_or = 0;
+            for (int i = 0; i < N; ++i) {
+                const int64_t a = p.a[i], b = p.b[i], c = p.c[i];
+                max_or |= a * (a > 0 ? X1 : X0) + b * (b > 0 ? Y1 : Y0) + c;
+                min_or |= a * (a > 0 ? X0 : X1) + b * (b > 0 ? Y0 : Y1) + c;
+            }
+            const bool accept = min_or >= 0;
+            if (max_or < 0) { ++stats.blocks_rejected; continue; }
+            if (accept) ++stats.blocks_accepted;
+            else ++stats.blocks_partial;
+
             if (accept && ((cx0 | cx1 | cy0 | cy1) & 1) == 0) {
                 // Whole block inside every edge and its clipped rectangle made of whole quads:
                 // every quad is fully covered, no per-pixel bounds to test.
@@ -186,7 +157,7 @@ void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, i
                 for (int32_t qy = cy0; qy < cy1; qy += 2)
                     for (int32_t qx = cx0; qx < cx1; qx += 2) emit(out, qx, qy, full_quad);
                 stats.quads += (uint64_t(cx1 - cx0) / 2) * (uint64_t(cy1 - cy0) / 2);
-                return;
+                continue;
             }
             if (inside_rows) {
                 // Pixel masks of the block (bit 8*r + k: pixel (bx + k, by + r)), one per sample,
@@ -224,7 +195,7 @@ void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, i
                     emit(out, bx + (sh & 7), by + (sh >> 3), cov);
                     ++stats.quads;
                 }
-                return;
+                continue;
             }
             if (accept) {
                 // Whole block inside every edge: full coverage, only the clip to [cx0, cx1) x
@@ -244,7 +215,7 @@ void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, i
                         }
                     }
                 }
-                return;
+                continue;
             }
             // Partial block: edge values stepped across the block (exact integers, so the same
             // values as evaluating every pixel); one sample folds its offset into the start.
@@ -288,37 +259,6 @@ void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, i
                     }
                 }
             }
-        };
-        if (classify_row) {
-            for (int32_t bx0 = x0 & ~(kBlockSize - 1); bx0 < x1; bx0 += 8 * kBlockSize) {
-                const int count = std::min(8, (x1 - bx0 + kBlockSize - 1) / kBlockSize);
-                const RowClass rc = classify_row(p, bx0, count, x0, x1, Y0, Y1, sx0, sx1);
-                stats.blocks_rejected += uint64_t(rc.rejected);
-                stats.blocks_accepted += uint64_t(rc.accepted);
-                stats.blocks_partial += uint64_t(count - rc.rejected - rc.accepted);
-                for (uint32_t live = ((1u << count) - 1) & ~rc.reject; live; live &= live - 1) {
-                    const int j = __builtin_ctz(live);
-                    block(bx0 + j * kBlockSize, (rc.accept >> j) & 1);
-                }
-            }
-            continue;
-        }
-        for (int32_t bx = x0 & ~(kBlockSize - 1); bx < x1; bx += kBlockSize) {
-            const int32_t cx0 = std::max(bx, x0), cx1 = std::min(bx + kBlockSize, x1);
-            const int64_t X0 = int64_t(cx0) * kSubPixel + sx0, X1 = int64_t(cx1 - 1) * kSubPixel + sx1;
-            // Rejected when some edge's maximum is negative, accepted when no edge's minimum is
-            // (branch-free: the OR of the values is negative when one of them is).
-            int64_t max_or = 0, min_or = 0;
-            for (int i = 0; i < N; ++i) {
-                const int64_t a = p.a[i], b = p.b[i], c = p.c[i];
-                max_or |= a * (a > 0 ? X1 : X0) + b * (b > 0 ? Y1 : Y0) + c;
-                min_or |= a * (a > 0 ? X0 : X1) + b * (b > 0 ? Y0 : Y1) + c;
-            }
-            if (max_or < 0) { ++stats.blocks_rejected; continue; }
-            const bool accept = min_or >= 0;
-            if (accept) ++stats.blocks_accepted;
-            else ++stats.blocks_partial;
-            block(bx, accept);
         }
     }
 }
@@ -344,23 +284,16 @@ void rasterize_at(SimdLevel level, const PrimitiveSetup& prim, const TileRect& t
     const int32_t x0 = std::max(prim.x0, tile.x0), y0 = std::max(prim.y0, tile.y0);
     const int32_t x1 = std::min(prim.x1, tile.x1), y1 = std::min(prim.y1, tile.y1);
     if (x0 >= x1 || y0 >= y1) return;
-    // Below AVX2 the scalar reference; AVX2 adds the row kernels, AVX-512 also the block-row tests.
-    ClassifyRowFn<3> classify3 = nullptr;
-    ClassifyRowFn<4> classify4 = nullptr;
     InsideRowsFn<3> rows3 = nullptr;
     InsideRowsFn<4> rows4 = nullptr;
 #if defined(SOFTGL_HAVE_SIMD_RASTER)
-    if (level == SimdLevel::AVX512) {
-        classify3 = classify_row_avx512<3>, classify4 = classify_row_avx512<4>;
-        rows3 = inside_rows_avx512<3>, rows4 = inside_rows_avx512<4>;
-    } else if (level == SimdLevel::AVX2) {
-        rows3 = inside_rows_avx2<3>, rows4 = inside_rows_avx2<4>;
-    }
+    if (level == SimdLevel::AVX512) rows3 = inside_rows_avx512<3>, rows4 = inside_rows_avx512<4>;
+    else if (level == SimdLevel::AVX2) rows3 = inside_rows_avx2<3>, rows4 = inside_rows_avx2<4>;
 #else
     (void)level;
 #endif
-    if (prim.edge_count == 3) raster_edges<3>(prim, x0, y0, x1, y1, pattern, classify3, rows3, out, stats);
-    else raster_edges<4>(prim, x0, y0, x1, y1, pattern, classify4, rows4, out, stats);
+    if (prim.edge_count == 3) raster_edges<3>(prim, x0, y0, x1, y1, pattern, rows3, out, stats);
+    else raster_edges<4>(prim, x0, y0, x1, y1, pattern, rows4, out, stats);
 }
 
 }  // namespace softgl
