@@ -3,6 +3,11 @@
 #include <algorithm>
 #include <stdexcept>
 
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#define SOFTGL_HAVE_SIMD_RASTER 1
+#endif
+
 namespace softgl {
 
 namespace {
@@ -38,9 +43,71 @@ inline void emit(std::vector<Quad>& out, int32_t x, int32_t y, uint64_t coverage
     q.x = x, q.y = y, q.coverage = coverage;
 }
 
+// ---- SIMD partial blocks ----
+// One sample position over the rows [r0, r1) of an 8x8 block: bit 8*r + k of the result is set
+// when pixel (k, r) has every edge value >= 0. e[i] is edge i at column 0 of row r0 (sample offset
+// included), col[i][k] = k * dx[i], dy[i] one row's step. Integer sums do not depend on their
+// order, so each lane holds exactly the value the scalar path computes for its pixel.
+template <int N>
+struct BlockSteps {
+    int64_t col[N][8];
+    int64_t dy[N];
+};
+template <int N>
+using InsideRowsFn = uint64_t (*)(const BlockSteps<N>& st, const int64_t* e, int r0, int r1);
+
+#if defined(SOFTGL_HAVE_SIMD_RASTER)
+template <int N>
+__attribute__((target("avx2"))) uint64_t inside_rows_avx2(const BlockSteps<N>& st, const int64_t* e, int r0,
+                                                          int r1) {
+    __m256i lo[N], hi[N], step[N];
+    for (int i = 0; i < N; ++i) {
+        const __m256i base = _mm256_set1_epi64x(e[i]);
+        lo[i] = _mm256_add_epi64(base, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&st.col[i][0])));
+        hi[i] = _mm256_add_epi64(base, _mm256_loadu_si256(reinterpret_cast<const __m256i*>(&st.col[i][4])));
+        step[i] = _mm256_set1_epi64x(st.dy[i]);
+    }
+    uint64_t inside = 0;
+    for (int r = r0; r < r1; ++r) {
+        // A pixel is inside when the OR of its edge values has no sign bit.
+        __m256i ol = lo[0], oh = hi[0];
+        for (int i = 1; i < N; ++i) ol = _mm256_or_si256(ol, lo[i]), oh = _mm256_or_si256(oh, hi[i]);
+        const unsigned neg = unsigned(_mm256_movemask_pd(_mm256_castsi256_pd(ol))) |
+                             unsigned(_mm256_movemask_pd(_mm256_castsi256_pd(oh))) << 4;
+        inside |= uint64_t(~neg & 0xFFu) << (8 * r);
+        for (int i = 0; i < N; ++i) lo[i] = _mm256_add_epi64(lo[i], step[i]), hi[i] = _mm256_add_epi64(hi[i], step[i]);
+    }
+    return inside;
+}
+
+template <int N>
+__attribute__((target("avx512f,avx512bw,avx512dq,avx512vl"))) uint64_t inside_rows_avx512(const BlockSteps<N>& st,
+                                                                                          const int64_t* e, int r0,
+                                                                                          int r1) {
+    __m512i v[N], step[N];
+    for (int i = 0; i < N; ++i) {
+        v[i] = _mm512_add_epi64(_mm512_set1_epi64(e[i]), _mm512_loadu_si512(&st.col[i][0]));
+        step[i] = _mm512_set1_epi64(st.dy[i]);
+    }
+    uint64_t inside = 0;
+    for (int r = r0; r < r1; ++r) {
+        __m512i o = v[0];
+        for (int i = 1; i < N; ++i) o = _mm512_or_si512(o, v[i]);
+        inside |= uint64_t(uint8_t(~_mm512_movepi64_mask(o))) << (8 * r);
+        for (int i = 0; i < N; ++i) v[i] = _mm512_add_epi64(v[i], step[i]);
+    }
+    return inside;
+}
+#endif
+
+// The 4 pixel bits b (bit j = pixel j of a quad) moved to bits 16*j: the four partial products
+// land in disjoint bit ranges [15j, 15j + 4), so nothing carries.
+inline uint64_t spread_quad_bits(uint64_t b) { return (b * 0x0000200040008001ull) & 0x0001000100010001ull; }
+
 template <int N>
 void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, int32_t y1,
-                  const SamplePattern& sp, std::vector<Quad>& out, RasterStats& stats) {
+                  const SamplePattern& sp, InsideRowsFn<N> inside_rows, std::vector<Quad>& out,
+                  RasterStats& stats) {
     const int S = sp.count;
     const uint64_t full_pixel = S == 16 ? 0xFFFFu : ((uint64_t(1) << S) - 1);
     int64_t so[N][16];     // edge value offset of each sample from its pixel's corner
@@ -48,6 +115,12 @@ void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, i
         for (int s = 0; s < S; ++s) so[i][s] = p.a[i] * sp.x[s] + p.b[i] * sp.y[s];
     int64_t dx[N], dy[N];  // edge steps of one pixel in x and in y
     for (int i = 0; i < N; ++i) dx[i] = p.a[i] * kSubPixel, dy[i] = p.b[i] * kSubPixel;
+    BlockSteps<N> steps;
+    if (inside_rows)
+        for (int i = 0; i < N; ++i) {
+            for (int k = 0; k < 8; ++k) steps.col[i][k] = k * dx[i];
+            steps.dy[i] = dy[i];
+        }
     // The extent of the samples within a pixel: block tests cover exactly the samples' hull.
     int32_t sx0 = sp.x[0], sx1 = sp.x[0], sy0 = sp.y[0], sy1 = sp.y[0];
     for (int s = 1; s < S; ++s) {
@@ -63,15 +136,16 @@ void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, i
             // their extremes over it are at corners chosen by the coefficients' signs.
             const int64_t X0 = int64_t(cx0) * kSubPixel + sx0, X1 = int64_t(cx1 - 1) * kSubPixel + sx1;
             const int64_t Y0 = int64_t(cy0) * kSubPixel + sy0, Y1 = int64_t(cy1 - 1) * kSubPixel + sy1;
-            bool reject = false, accept = true;
+            // Rejected when some edge's maximum is negative, accepted when no edge's minimum is
+            // (branch-free: the OR of the values is negative when one of them is).
+            int64_t max_or = 0, min_or = 0;
             for (int i = 0; i < N; ++i) {
                 const int64_t a = p.a[i], b = p.b[i], c = p.c[i];
-                const int64_t emax = a * (a > 0 ? X1 : X0) + b * (b > 0 ? Y1 : Y0) + c;
-                const int64_t emin = a * (a > 0 ? X0 : X1) + b * (b > 0 ? Y0 : Y1) + c;
-                if (emax < 0) { reject = true; break; }
-                if (emin < 0) accept = false;
+                max_or |= a * (a > 0 ? X1 : X0) + b * (b > 0 ? Y1 : Y0) + c;
+                min_or |= a * (a > 0 ? X0 : X1) + b * (b > 0 ? Y0 : Y1) + c;
             }
-            if (reject) { ++stats.blocks_rejected; continue; }
+            const bool accept = min_or >= 0;
+            if (max_or < 0) { ++stats.blocks_rejected; continue; }
             if (accept) ++stats.blocks_accepted;
             else ++stats.blocks_partial;
 
@@ -83,6 +157,44 @@ void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, i
                 for (int32_t qy = cy0; qy < cy1; qy += 2)
                     for (int32_t qx = cx0; qx < cx1; qx += 2) emit(out, qx, qy, full_quad);
                 stats.quads += (uint64_t(cx1 - cx0) / 2) * (uint64_t(cy1 - cy0) / 2);
+                continue;
+            }
+            if (inside_rows) {
+                // Pixel masks of the block (bit 8*r + k: pixel (bx + k, by + r)), one per sample,
+                // limited to the clipped rectangle; then each quad's bits are gathered from them.
+                const int r0 = cy0 - by, r1 = cy1 - by, k0 = cx0 - bx, k1 = cx1 - bx;
+                const uint64_t row_bits = ((uint64_t(1) << k1) - (uint64_t(1) << k0)) * 0x0101010101010101ull;
+                const uint64_t present = row_bits & ((r1 == 8 ? ~uint64_t(0) : (uint64_t(1) << (8 * r1)) - 1) &
+                                                     ~((uint64_t(1) << (8 * r0)) - 1));
+                uint64_t mask[16];   // partial blocks: the pixels covering sample s
+                uint64_t any = present;
+                if (!accept) {
+                    const int64_t X = int64_t(bx) * kSubPixel, Y = int64_t(cy0) * kSubPixel;
+                    int64_t e0[N], e[N];
+                    for (int i = 0; i < N; ++i) e0[i] = p.a[i] * X + p.b[i] * Y + p.c[i];
+                    any = 0;
+                    for (int s = 0; s < S; ++s) {
+                        for (int i = 0; i < N; ++i) e[i] = e0[i] + so[i][s];
+                        mask[s] = inside_rows(steps, e, r0, r1) & present;
+                        any |= mask[s];
+                    }
+                }
+                // The non-empty quads: bit 16*p + 2*k for the quad of rows 2p, 2p + 1 and columns
+                // 2k, 2k + 1. Ascending bits are the scalar path's order (rows, then columns).
+                const uint64_t pairs = (any | any >> 8) & 0x00FF00FF00FF00FFull;
+                for (uint64_t quads = (pairs | pairs >> 1) & 0x0055005500550055ull; quads; quads &= quads - 1) {
+                    const int sh = __builtin_ctzll(quads);
+                    uint64_t cov;
+                    if (S == 1 || accept) {   // one sample, or full pixels where present
+                        cov = spread_quad_bits((any >> sh & 3) | (any >> (sh + 8) & 3) << 2) * full_pixel;
+                    } else {
+                        cov = 0;
+                        for (int s = 0; s < S; ++s)
+                            cov |= spread_quad_bits((mask[s] >> sh & 3) | (mask[s] >> (sh + 8) & 3) << 2) << s;
+                    }
+                    emit(out, bx + (sh & 7), by + (sh >> 3), cov);
+                    ++stats.quads;
+                }
                 continue;
             }
             if (accept) {
@@ -167,13 +279,21 @@ const SamplePattern& sample_pattern(int samples) {
     }
 }
 
-void rasterize(const PrimitiveSetup& prim, const TileRect& tile, const SamplePattern& pattern,
-               std::vector<Quad>& out, RasterStats& stats) {
+void rasterize_at(SimdLevel level, const PrimitiveSetup& prim, const TileRect& tile, const SamplePattern& pattern,
+                  std::vector<Quad>& out, RasterStats& stats) {
     const int32_t x0 = std::max(prim.x0, tile.x0), y0 = std::max(prim.y0, tile.y0);
     const int32_t x1 = std::min(prim.x1, tile.x1), y1 = std::min(prim.y1, tile.y1);
     if (x0 >= x1 || y0 >= y1) return;
-    if (prim.edge_count == 3) raster_edges<3>(prim, x0, y0, x1, y1, pattern, out, stats);
-    else raster_edges<4>(prim, x0, y0, x1, y1, pattern, out, stats);
+    InsideRowsFn<3> rows3 = nullptr;
+    InsideRowsFn<4> rows4 = nullptr;
+#if defined(SOFTGL_HAVE_SIMD_RASTER)
+    if (level == SimdLevel::AVX512) rows3 = inside_rows_avx512<3>, rows4 = inside_rows_avx512<4>;
+    else if (level == SimdLevel::AVX2) rows3 = inside_rows_avx2<3>, rows4 = inside_rows_avx2<4>;
+#else
+    (void)level;
+#endif
+    if (prim.edge_count == 3) raster_edges<3>(prim, x0, y0, x1, y1, pattern, rows3, out, stats);
+    else raster_edges<4>(prim, x0, y0, x1, y1, pattern, rows4, out, stats);
 }
 
 }  // namespace softgl

@@ -10,6 +10,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "softgl/pipeline/fragment_ops.h"
 #include "softgl/pipeline/setup.h"
 
 namespace softgl {
@@ -53,8 +54,14 @@ inline constexpr int kBlockSize = 8;
 
 // Appends to `out` the quads of `prim` inside `tile` (intersected with the primitive's bounding
 // box), in a fixed order (blocks bottom-up then left-right, quads likewise). Quads with no covered
-// sample are not emitted.
-void rasterize(const PrimitiveSetup& prim, const TileRect& tile, const SamplePattern& pattern,
-               std::vector<Quad>& out, RasterStats& stats);
+// sample are not emitted. `level` picks the partial-block kernel (AVX2 / AVX-512 evaluate a block's
+// rows of edge values in int64 lanes; below AVX2 the scalar reference); every level gives the same
+// quads and stats.
+void rasterize_at(SimdLevel level, const PrimitiveSetup& prim, const TileRect& tile, const SamplePattern& pattern,
+                  std::vector<Quad>& out, RasterStats& stats);
+inline void rasterize(const PrimitiveSetup& prim, const TileRect& tile, const SamplePattern& pattern,
+                      std::vector<Quad>& out, RasterStats& stats) {
+    rasterize_at(best_simd_level(), prim, tile, pattern, out, stats);
+}
 
 }  // namespace softgl
