@@ -1,7 +1,7 @@
 """The single-sample early depth test (cpp/softgl/pipeline/early_depth.h) gives the same
 survivors, kill count and depth buffer at every instruction-set level (scalar through the
-definitions depth_at / depth_word / compare; AVX2 a quad at a time, AVX-512 two quads at a time
-where the CPU has them), and
+definitions depth_at / depth_word / compare; AVX2 a quad at a time where the CPU has it, also at
+the AVX-512 level), and
 those equal an independent float64 evaluation here: ES 3.0 §4.1.6 with the window depth
 z = clamp((c + a*fx + b*fy) + offset) stored as floor(z * (2^24 - 1) + 0.5) (NaN -> 0).
 
@@ -119,8 +119,8 @@ def raster_quads(rng, n, start):
 
 @pytest.mark.parametrize("func", ["LESS", "EQUAL", "GEQUAL"])
 def test_every_run_length(func):
-    # The AVX-512 level tests quads two at a time: every count 1..17 (odd ones end with a lone
-    # quad), pairs across rows (odd starts) and the buffer's border.
+    # Every count 1..17 of distinct quads in raster order, starting at a row's start, mid-row and
+    # near the buffer's top border (a kernel taking several quads at once must handle every tail).
     rng = np.random.default_rng(30 + FUNCS.index(func))
     for n in range(1, 18):
         for start in (0, 1, 18 * 7 - 3):
@@ -131,7 +131,7 @@ def test_every_run_length(func):
 @pytest.mark.parametrize("func", ["LESS", "ALWAYS", "NOTEQUAL"])
 def test_repeated_quads(func):
     # Not from one primitive, but allowed: a quad tested again right after itself sees its own
-    # writes, as in pixel order.
+    # writes, as in pixel order (a kernel testing neighbouring quads at once must not read early).
     rng = np.random.default_rng(50 + FUNCS.index(func))
     for _ in range(10):
         quads = np.repeat(random_quads(rng, int(rng.integers(1, 9))), rng.integers(1, 4), axis=0)

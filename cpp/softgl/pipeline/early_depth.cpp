@@ -107,76 +107,13 @@ __attribute__((target("avx2"))) size_t early_depth_avx2(const EarlyDepth& t, con
     }
     return killed;
 }
-
-// Two quads per step (lanes 0..3 quads[i], 4..7 quads[i + 1]; a quad without a partner twice, its
-// copy neither stored nor counted), otherwise early_depth_avx2's arithmetic. AVX-512 masked loads
-// and stores suppress faults and are cheap, so every quad row goes through a coverage mask, and the
-// unsigned comparison gives bit masks directly.
-__attribute__((target("avx512f,avx512bw,avx512dq,avx512vl"))) size_t early_depth_avx512(
-    const EarlyDepth& t, const Quad* quads, size_t n, uint16_t* survived) {
-    const PrimitiveSetup& p = *t.prim;
-    const __m512d a = _mm512_set1_pd(p.depth.a), b = _mm512_set1_pd(p.depth.b), c = _mm512_set1_pd(p.depth.c);
-    const __m512d offset = _mm512_set1_pd(p.depth_offset), zero = _mm512_setzero_pd(), one = _mm512_set1_pd(1.0);
-    const __m512d scale = _mm512_set1_pd(16777215.0), half = _mm512_set1_pd(0.5), unit = _mm512_set1_pd(1.0 / kSubPixel);
-    const unsigned less = compare(t.func, 0, 1) ? 0xFF : 0, equal = compare(t.func, 1, 1) ? 0xFF : 0;
-    const unsigned greater = compare(t.func, 1, 0) ? 0xFF : 0;
-    auto covered = [](uint64_t cov) {   // sample 0 of each 16-bit pixel mask -> bits 0..3
-        return unsigned((cov & 1) | ((cov >> 15) & 2) | ((cov >> 30) & 4) | ((cov >> 45) & 8));
-    };
-    size_t killed = 0;
-    bool pair = false;
-    for (size_t i = 0; i < n; i += pair ? 2 : 1) {
-        // Both quads are read before either is written: a quad repeated right after itself (never
-        // within one primitive, whose quads are distinct and 2-aligned) is tested alone.
-        pair = i + 1 < n && (quads[i + 1].x != quads[i].x || quads[i + 1].y != quads[i].y);
-        const Quad& q0 = quads[i];
-        const Quad& q1 = quads[pair ? i + 1 : i];
-        const int64_t X0 = int64_t(q0.x) * kSubPixel + t.sample_x - p.origin_x, X1 = int64_t(q1.x) * kSubPixel + t.sample_x - p.origin_x;
-        const int64_t Y0 = int64_t(q0.y) * kSubPixel + t.sample_y - p.origin_y, Y1 = int64_t(q1.y) * kSubPixel + t.sample_y - p.origin_y;
-        const int64_t S = kSubPixel;
-        const __m512d fx = _mm512_mul_pd(_mm512_cvtepi64_pd(_mm512_setr_epi64(X0, X0 + S, X0, X0 + S, X1, X1 + S, X1, X1 + S)), unit);
-        const __m512d fy = _mm512_mul_pd(_mm512_cvtepi64_pd(_mm512_setr_epi64(Y0, Y0, Y0 + S, Y0 + S, Y1, Y1, Y1 + S, Y1 + S)), unit);
-        const __m512d z = _mm512_add_pd(_mm512_add_pd(_mm512_add_pd(c, _mm512_mul_pd(a, fx)), _mm512_mul_pd(b, fy)), offset);
-        // depth_word's clamp: z < 1 ? z : 1, then NaN and z <= 0 -> 0.
-        const __m512d d = _mm512_maskz_mov_pd(_mm512_cmp_pd_mask(z, zero, _CMP_GT_OQ),
-                                              _mm512_mask_mov_pd(one, _mm512_cmp_pd_mask(z, one, _CMP_LT_OQ), z));
-        const __m256i word = _mm512_maskz_cvttpd_epi32(0xFF, _mm512_add_pd(_mm512_mul_pd(d, scale), half));
-        const unsigned cov = covered(q0.coverage) | (pair ? covered(q1.coverage) << 4 : 0);
-        // Rows of quad h: pixels (lanes 4h, 4h+1) and (4h+2, 4h+3); uncovered pixels are not touched.
-        uint32_t* rows[4];
-        for (int h = 0; h < 2; ++h) {
-            const Quad& q = h ? q1 : q0;
-            rows[2 * h] = &t.depth[size_t(q.y) * t.pitch + size_t(q.x)];
-            rows[2 * h + 1] = (cov >> (4 * h + 2)) & 3 ? rows[2 * h] + t.pitch : rows[2 * h];   // in the buffer either way
-        }
-        auto row_mask = [](unsigned m, int r) { return __mmask8((m >> (2 * r)) & 3); };
-        const __m128i r0 = _mm_maskz_loadu_epi32(row_mask(cov, 0), rows[0]), r1 = _mm_maskz_loadu_epi32(row_mask(cov, 1), rows[1]);
-        const __m128i r2 = _mm_maskz_loadu_epi32(row_mask(cov, 2), rows[2]), r3 = _mm_maskz_loadu_epi32(row_mask(cov, 3), rows[3]);
-        const __m256i stored = _mm256_setr_m128i(_mm_unpacklo_epi64(r0, r1), _mm_unpacklo_epi64(r2, r3));
-        const unsigned lt = _mm256_cmplt_epu32_mask(word, stored), eq = _mm256_cmpeq_epu32_mask(word, stored);
-        const unsigned passed = cov & ((lt & less) | (eq & equal) | (~(lt | eq) & greater));
-        if (t.write && passed) {
-            const __m128i w0 = _mm256_castsi256_si128(word), w1 = _mm256_extracti128_si256(word, 1);
-            _mm_mask_storeu_epi32(rows[0], row_mask(passed, 0), w0);
-            _mm_mask_storeu_epi32(rows[1], row_mask(passed, 1), _mm_unpackhi_epi64(w0, w0));
-            _mm_mask_storeu_epi32(rows[2], row_mask(passed, 2), w1);
-            _mm_mask_storeu_epi32(rows[3], row_mask(passed, 3), _mm_unpackhi_epi64(w1, w1));
-        }
-        const __m128i out = _mm_maskz_mov_epi16(__mmask8(passed), _mm_set1_epi16(1));
-        if (pair) _mm_storeu_si128(reinterpret_cast<__m128i*>(survived + 4 * i), out);
-        else _mm_storel_epi64(reinterpret_cast<__m128i*>(survived + 4 * i), out);
-        killed += size_t(__builtin_popcount(cov & ~passed));
-    }
-    return killed;
-}
 #endif
 
 }  // namespace
 
 size_t early_depth_test_at(SimdLevel level, const EarlyDepth& t, const Quad* quads, size_t n, uint16_t* survived) {
 #if defined(SOFTGL_HAVE_AVX2_EARLY_DEPTH)
-    if (level == SimdLevel::AVX512) return early_depth_avx512(t, quads, n, survived);
-    if (level == SimdLevel::AVX2) return early_depth_avx2(t, quads, n, survived);
+    if (level == SimdLevel::AVX2 || level == SimdLevel::AVX512) return early_depth_avx2(t, quads, n, survived);
 #endif
     (void)level;
     return early_depth_scalar(t, quads, n, survived);
