@@ -1,6 +1,7 @@
 """The single-sample early depth test (cpp/softgl/pipeline/early_depth.h) gives the same
 survivors, kill count and depth buffer at every instruction-set level (scalar through the
-definitions depth_at / depth_word / compare; AVX2 a quad at a time where the CPU has it), and
+definitions depth_at / depth_word / compare; AVX2 a quad at a time where the CPU has it, also at
+the AVX-512 level), and
 those equal an independent float64 evaluation here: ES 3.0 §4.1.6 with the window depth
 z = clamp((c + a*fx + b*fy) + offset) stored as floor(z * (2^24 - 1) + 0.5) (NaN -> 0).
 
@@ -65,10 +66,10 @@ def random_quads(rng, n):
     return np.array(quads, np.int64)
 
 
-def check(rng, func, write, plane, offset=0.0):
-    ox, oy = (int(v) for v in rng.integers(-40 * SUB, 40 * SUB, 2))
+def check(rng, func, write, plane, offset=0.0, quads=None, origin=None):
+    ox, oy = (int(v) for v in rng.integers(-40 * SUB, 40 * SUB, 2)) if origin is None else origin
     sample = (128, 128) if rng.random() < 0.7 else tuple(int(v) for v in rng.integers(0, SUB, 2))
-    quads = random_quads(rng, int(rng.integers(1, 40)))
+    quads = random_quads(rng, int(rng.integers(1, 40))) if quads is None else quads
     depth = rng.integers(0, 1 << 24, (H, W)).astype(np.uint32)
     depth[rng.random((H, W)) < 0.05] = 0xFFFFFFFF   # beyond 24 bits: the comparison is unsigned
     # Some stored values equal to the incoming word, so EQUAL and friends see ties.
@@ -100,3 +101,49 @@ def test_special_depths(c):
     rng = np.random.default_rng(3)
     for func in FUNCS:
         check(rng, func, True, (0.0, 0.0, c))
+
+
+def raster_quads(rng, n, start):
+    # Distinct quads in raster order (rows of the buffer's quads), partly covered at random, some
+    # not at all; pixels outside the buffer never.
+    quads = random_quads(rng, 0).tolist()
+    for y in range(0, H + 1, 2):
+        for x in range(0, W + 1, 2):
+            cov = 0
+            for j in range(4):
+                if x + (j & 1) < W and y + (j >> 1) < H and rng.random() < 0.85:
+                    cov |= 1 << (16 * j)
+            quads.append((x, y, cov))
+    return np.array(quads[start:start + n], np.int64).reshape(-1, 3)
+
+
+@pytest.mark.parametrize("func", ["LESS", "EQUAL", "GEQUAL"])
+def test_every_run_length(func):
+    # Every count 1..17 of distinct quads in raster order, starting at a row's start, mid-row and
+    # near the buffer's top border (a kernel taking several quads at once must handle every tail).
+    rng = np.random.default_rng(30 + FUNCS.index(func))
+    for n in range(1, 18):
+        for start in (0, 1, 18 * 7 - 3):
+            plane = (rng.normal(0, 0.05), rng.normal(0, 0.05), rng.uniform(-0.2, 1.2))
+            check(rng, func, True, plane, quads=raster_quads(rng, n, start))
+
+
+@pytest.mark.parametrize("func", ["LESS", "ALWAYS", "NOTEQUAL"])
+def test_repeated_quads(func):
+    # Not from one primitive, but allowed: a quad tested again right after itself sees its own
+    # writes, as in pixel order (a kernel testing neighbouring quads at once must not read early).
+    rng = np.random.default_rng(50 + FUNCS.index(func))
+    for _ in range(10):
+        quads = np.repeat(random_quads(rng, int(rng.integers(1, 9))), rng.integers(1, 4), axis=0)
+        plane = (rng.normal(0, 0.05), rng.normal(0, 0.05), rng.uniform(0, 1))
+        check(rng, func, True, plane, offset=float(rng.choice([0.0, -1e-3])), quads=quads)
+
+
+def test_huge_offsets():
+    # Plane origins far from the pixels (2^40 pixels): the offsets lose precision the same way.
+    rng = np.random.default_rng(70)
+    for func in FUNCS:
+        for _ in range(3):
+            plane = (rng.normal(0, 1e-12), rng.normal(0, 1e-12), rng.uniform(0, 1))
+            origin = tuple(int(v) for v in rng.integers(-(1 << 48), 1 << 48, 2))
+            check(rng, func, True, plane, origin=origin)

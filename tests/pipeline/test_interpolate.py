@@ -1,5 +1,5 @@
 """Varying interpolation (cpp/softgl/pipeline/interpolate.h) gives the same bits at every
-instruction-set level (scalar, SSE2, AVX2 where the CPU has it), and those bits are the header's
+instruction-set level (scalar, SSE2, AVX2 and AVX-512 where the CPU has them), and those bits are the header's
 float64 formula evaluated independently here with numpy, lane by lane:
 
     fx, fy = pixel centre - origin (pixels)
@@ -107,3 +107,61 @@ def test_quads_in_raster_order(vertices, constant_w):
         for _ in range(5):
             planes, ox, oy, _, values = random_case(rng, 1, vertices, constant_w)
             check(planes, ox, oy, quads, values)
+
+
+def raster_quads(n, start=0):
+    # 8x8-pixel blocks of 4x4 quads, row by row, blocks left to right then up: the rasterizer's order.
+    blocks = [(bx, by) for by in range(-16, 48, 8) for bx in range(-24, 40, 8)]
+    quads = [(bx + qx, by + qy) for bx, by in blocks for qy in range(0, 8, 2) for qx in range(0, 8, 2)]
+    return quads[start:start + n]
+
+
+@pytest.mark.parametrize("vertices", [3, 2])
+@pytest.mark.parametrize("constant_w", [False, True])
+def test_every_run_length(vertices, constant_w):
+    # The AVX-512 level takes quads two at a time in runs of 32: odd counts leave a lone last quad
+    # (in every run), and starting mid-row makes pairs straddle rows and blocks.
+    rng = np.random.default_rng(40 + vertices + 10 * constant_w)
+    for n in list(range(1, 18)) + [31, 33, 63, 65, 97]:
+        for start in (0, 1, 3):
+            planes, ox, oy, _, values = random_case(rng, 1, vertices, constant_w)
+            check(planes, ox, oy, raster_quads(n, start), values)
+
+
+SPECIAL = np.array([np.nan, np.inf, -np.inf, 1e-45, -1e-40, 1.17e-38, 3.4e38, -3.4e38, -0.0, 0.0, 1.0, -2.5],
+                   np.float32)
+
+
+@pytest.mark.parametrize("vertices", [3, 2])
+@pytest.mark.parametrize("constant_w", [False, True])
+def test_special_vertex_values(vertices, constant_w):
+    # NaN, infinities, denormals and float extremes as vertex values, one of them per vertex and
+    # word, so sums meet inf - inf, 0 * inf and overflow in every lane position.
+    rng = np.random.default_rng(60 + vertices + 10 * constant_w)
+    for n in (1, 2, 5, 16):
+        for _ in range(6):
+            planes, ox, oy, _, _ = random_case(rng, 1, vertices, constant_w)
+            values = rng.choice(SPECIAL, (vertices, 9))
+            check(planes, ox, oy, raster_quads(n, int(rng.integers(0, 8))), values)
+
+
+@pytest.mark.parametrize("vertices", [3, 2])
+@pytest.mark.parametrize("constant_w", [False, True])
+def test_extreme_planes_and_offsets(vertices, constant_w):
+    # Pixel offsets near 2^40 pixels (far beyond float precision of the terms), denormal and huge
+    # plane coefficients, and non-finite ones: every lane must still round the same way.
+    rng = np.random.default_rng(80 + vertices + 10 * constant_w)
+    for scale in (1e-310, 1e-3, 1e150, 1e300):
+        for _ in range(4):
+            planes, _, _, _, values = random_case(rng, 1, vertices, constant_w)
+            planes[:vertices, :2] *= scale
+            if not constant_w:
+                planes[3, :2] *= scale
+            ox, oy = (int(v) for v in rng.integers(-(1 << 48), 1 << 48, 2))
+            quads = rng.integers(-(1 << 29), 1 << 29, (int(rng.integers(1, 12)), 2)) * 2
+            check(planes, ox, oy, quads, values)
+    planes, ox, oy, quads, values = random_case(rng, 7, vertices, constant_w)
+    for k, a, v in [(0, 0, np.nan), (1, 1, np.inf), (3, 0, np.inf), (3, 1, -np.inf), (3, 2, np.nan)]:
+        p = planes.copy()
+        p[k, a] = v
+        check(p, ox, oy, quads, values)

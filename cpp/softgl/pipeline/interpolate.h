@@ -6,8 +6,8 @@
 //   q   = 1 / (inv_w.c + inv_w.a * fx + inv_w.b * fy)
 //   w_k = (weight[k].c + weight[k].a * fx + weight[k].b * fy) * q
 //   out = float(((0 + w_0 * v_0) + w_1 * v_1) + w_2 * v_2)          (lines: two terms)
-// The SSE2 and AVX2 levels run these IEEE operations on 2 / 4 lanes at once, in the same order
-// and without FMA (DESIGN §3), so every level gives the same bits.
+// The SSE2, AVX2 and AVX-512 levels run these IEEE operations on 2 / 4 / 8 lanes at once, in the
+// same order and without FMA (DESIGN §3), so every level gives the same bits.
 #pragma once
 #include <cstddef>
 #include <cstdint>
