@@ -111,6 +111,14 @@ bool all_set(const uint32_t* m, int n) {
     return acc == ~0u;
 }
 
+// d = a in the lanes of `mask`. Through uint32_t pointers: GCC 12 does not vectorise this
+// read-modify-write through the Scalar union ("unsupported data-type").
+__attribute__((always_inline)) inline void masked_copy(Scalar* d, const Scalar* a, const uint32_t* mask, int n) {
+    uint32_t* du = reinterpret_cast<uint32_t*>(d);
+    const uint32_t* au = reinterpret_cast<const uint32_t*>(a);
+    for (int l = 0; l < n; ++l) du[l] = (au[l] & mask[l]) | (du[l] & ~mask[l]);
+}
+
 // A value in every lane (written through .u so the loop vectorises).
 void fill(Scalar* d, int n, Scalar v) {
     for (int l = 0; l < n; ++l) d[l].u = v.u;
@@ -409,7 +417,7 @@ __attribute__((always_inline)) inline void Executor::execute(const int n, const 
             Scalar* d = D;
             const Scalar* a = A;
             if (all) { if (d != a) std::memcpy(d, a, sizeof(Scalar) * n); }
-            else LANES { d[l].u = (a[l].u & mask[l]) | (d[l].u & ~mask[l]); }
+            else masked_copy(d, a, mask, n);
             break;
         }
         case Op::FAdd: F2(x + y)
@@ -568,7 +576,7 @@ __attribute__((always_inline)) inline void Executor::execute(const int n, const 
                 const int32_t k = std::min(std::max(offset + idx[0].i, 0), size - 1);
                 Scalar* d = reg(static_cast<Reg>(start + k));
                 if (all) { if (d != src) std::memcpy(d, src, sizeof(Scalar) * n); }
-                else LANES { d[l].u = (src[l].u & mask[l]) | (d[l].u & ~mask[l]); }
+                else masked_copy(d, src, mask, n);
                 break;
             }
             LANES {
