@@ -153,14 +153,20 @@ py::tuple link_py(const std::string& vertex, const std::string& fragment, int ve
     return py::make_tuple(r.ok, r.info_log, r.ok ? py::object(program_dict(*r.program)) : py::object(py::none()));
 }
 
+// The executor's SIMD levels by name, in order; those up to best_simd_level() run on this CPU.
+const char* const kSimdLevelNames[] = {"portable", "avx2", "avx512"};
+
+glsl::SimdLevel simd_level_named(const std::string& name) {
+    for (int k = 0; k <= int(glsl::best_simd_level()); ++k)
+        if (name == kSimdLevelNames[k]) return glsl::SimdLevel(k);
+    throw py::value_error("simd '" + name + "' is not available (see glsl_simd_levels())");
+}
+
 // Runs one stage of `source` over `lanes` lanes. inputs: name -> array (lanes,) or (lanes, n);
 // uniforms: WebGL uniform name (or base name) -> values; textures: unit -> (h, w, 4) float array.
 py::dict run_py(const std::string& source, const std::string& stage, int version, py::dict inputs, py::dict uniforms,
                 int lanes, py::dict textures, int batch, int repeat, std::string simd) {
-    glsl::SimdLevel level = glsl::best_simd_level();
-    if (simd == "portable") level = glsl::SimdLevel::Portable;
-    else if (simd == "avx2" && glsl::best_simd_level() == glsl::SimdLevel::AVX2) level = glsl::SimdLevel::AVX2;
-    else if (!simd.empty()) throw py::value_error("simd '" + simd + "' is not available (see glsl_simd_levels())");
+    const glsl::SimdLevel level = simd.empty() ? glsl::best_simd_level() : simd_level_named(simd);
     glsl::CompileResult compiled = glsl::compile(source, stage_from(stage), version);
     if (!compiled.ok) throw py::value_error("compile failed:\n" + compiled.info_log);
     const glsl::CompiledShader& shader = *compiled.shader;
@@ -279,10 +285,16 @@ void bind_glsl(py::module_& m) {
           py::arg("uniforms") = py::dict(), py::arg("lanes") = 4, py::arg("textures") = py::dict(), py::arg("batch") = 128,
           py::arg("repeat") = 1, py::arg("simd") = "",
           "Run one shader stage over `lanes` lanes (fragment lanes are 2x2 quads) -> dict of output arrays; "
-          "simd: '' (the best the CPU has), 'portable' or 'avx2'");
+          "simd: '' (the best the CPU has) or one of glsl_simd_levels()");
     m.def("glsl_simd_levels", [] {
-        std::vector<std::string> levels{"portable"};
-        if (glsl::best_simd_level() == glsl::SimdLevel::AVX2) levels.push_back("avx2");
+        std::vector<std::string> levels;
+        for (int k = 0; k <= int(glsl::best_simd_level()); ++k) levels.push_back(kSimdLevelNames[k]);
         return levels;
-    }, "The executor's SIMD levels this CPU can run");
+    }, "The executor's SIMD levels this CPU can run: 'portable', 'avx2', 'avx512'");
+    m.def("glsl_set_default_simd_level", [](const std::string& simd) {
+        glsl::set_default_simd_level(simd.empty() ? glsl::best_simd_level() : simd_level_named(simd));
+    }, py::arg("simd"),
+       "The level of executors created from now on (draws of programs linked later): one of "
+       "glsl_simd_levels(), '' for the best the CPU has");
+    m.def("glsl_default_simd_level", [] { return std::string(kSimdLevelNames[int(glsl::default_simd_level())]); });
 }

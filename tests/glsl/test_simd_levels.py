@@ -1,10 +1,13 @@
-"""The executor's lane loops are compiled once per SIMD level (portable SSE2, AVX2) and the CPU's
-best is chosen at run time: every level must give the same bits. Runs the built-in function
-tests' expressions, a set of integer/conversion/control-flow programs and the seed corpus at
-each available level over lanes with ordinary and special values (inf, denormals, signed zeros,
-NaN), with a lane count that leaves partial vectors, and compares the outputs bit for bit
-(NaN payloads aside, see assert_same_bits)."""
+"""The executor's lane loops are compiled once per SIMD level (portable SSE2, AVX2, AVX-512) and
+the CPU's best is chosen at run time: every level must give the same bits. Runs the built-in
+function tests' expressions, a set of integer/conversion/control-flow programs and the seed
+corpus at each available level over lanes with ordinary and special values (inf, denormals,
+signed zeros, NaN), with lane counts that leave partial vectors at every width, and compares the
+outputs bit for bit (NaN payloads aside, see assert_same_bits); and draws benchmark scenes
+through the whole pipeline at each level."""
+import hashlib
 import pathlib
+import sys
 import zlib
 
 import numpy as np
@@ -62,19 +65,19 @@ void main() {
 }"""
 
 
-def lane_values(rng, columns, integer=False):
+def lane_values(rng, columns, integer=False, lanes=LANES):
     if integer:
-        return rng.integers(-50, 50, size=(LANES, columns)).astype(np.int32)
-    v = (rng.normal(size=(LANES, columns)) * rng.choice([0.01, 1.0, 1e4], size=(LANES, columns))).astype(np.float32)
-    special = rng.random((LANES, columns)) < 0.2
+        return rng.integers(-50, 50, size=(lanes, columns)).astype(np.int32)
+    v = (rng.normal(size=(lanes, columns)) * rng.choice([0.01, 1.0, 1e4], size=(lanes, columns))).astype(np.float32)
+    special = rng.random((lanes, columns)) < 0.2
     v[special] = rng.choice(SPECIAL, size=int(special.sum()))
     return v
 
 
-def run_all_levels(source, stage, version, inputs, uniforms, textures):
+def run_all_levels(source, stage, version, inputs, uniforms, textures, lanes=LANES):
     results = {}
     for level in LEVELS:
-        out = _core.glsl_run(source, stage, version, inputs, uniforms, LANES, textures, 128, 1, level)
+        out = _core.glsl_run(source, stage, version, inputs, uniforms, lanes, textures, 128, 1, level)
         out.pop("seconds")
         results[level] = out
     return results
@@ -128,3 +131,53 @@ def test_corpus_bits_equal_at_every_level(path):
         else:
             uniforms[u["base_name"]] = rng.normal(size=u["size"] * u["stride"]).astype(np.float32)
     assert_same_bits(run_all_levels(source, stage, version, inputs, uniforms, textures))
+
+
+# Lane counts around the vector widths (4, 8, 16 floats) and the batch (128): loops end in
+# partial vectors and masked or scalar tails.
+TAIL_LANES = list(range(1, 34)) + [127, 128, 129]
+TAIL_EXPR = ("mix(a, b, c) * sqrt(abs(a)) / b + floor(c) - vec4(ivec4(a) / ivec4(b)) + vec4(uvec4(c) >> 3u)"
+             " + vec4(dFdx(a.x), dFdy(b.y), float(uint(c.z)), max(c.w, a.w))")
+
+
+@pytest.mark.parametrize("lanes", TAIL_LANES)
+def test_partial_vectors_bits_equal_at_every_level(lanes):
+    rng = np.random.default_rng(lanes)
+    inputs = {k: lane_values(rng, 4, lanes=lanes) for k in "abc"}
+    assert_same_bits(run_all_levels(FRAG_EXPR.format(expr=TAIL_EXPR), "fragment", 2, inputs, {}, {}, lanes))
+    uniforms = {"uArray": rng.normal(size=16).astype(np.float32)}
+    assert_same_bits(run_all_levels(CONTROL_FLOW, "fragment", 2, inputs, uniforms, {}, lanes))
+
+
+def test_pack_nan_is_zero_at_every_level():
+    # NaN is undefined for packUnorm/packSnorm (ES 3.00 §8.4); softgl packs it as 0 at every level
+    # (the vector float->int conversions of each instruction set disagree on NaN).
+    a = np.tile(np.float32([np.nan, 0.5, -np.nan, 1.0]), (37, 1))
+    source = FRAG_EXPR.format(expr="vec4(uintBitsToFloat(packUnorm2x16(a.xy)), uintBitsToFloat(packSnorm2x16(a.zw)),"
+                                   " uintBitsToFloat(packUnorm2x16(a.zx)), 0.0)")
+    for level in LEVELS:
+        o = _core.glsl_run(source, "fragment", 2, {"a": a}, {}, len(a), {}, 128, 1, level)["o"].view(np.uint32)
+        np.testing.assert_array_equal(o[:, 0], 32768 << 16, err_msg=level)   # x NaN -> 0, y round(0.5 * 65535) = 32768
+        np.testing.assert_array_equal(o[:, 1], 32767 << 16, err_msg=level)   # z NaN -> 0, w 1.0 -> 32767
+        np.testing.assert_array_equal(o[:, 2], 0, err_msg=level)
+
+
+BENCHMARKS = pathlib.Path(__file__).resolve().parents[2] / "benchmarks"
+
+
+@pytest.mark.parametrize("scene", ["exec_color", "exec_spot", "exec_tex2", "spot_mesh", "small_blend"])
+def test_pipeline_bytes_equal_at_every_level(scene):
+    # New executors (here: a new context's programs) run at the level set as the default.
+    sys.path.insert(0, str(BENCHMARKS))
+    import scenes
+    spec = {s.key: s for s in scenes.SUITE + scenes.EXECUTOR}[scene]
+    digests = {}
+    try:
+        for level in LEVELS:
+            _core.glsl_set_default_simd_level(level)
+            assert _core.glsl_default_simd_level() == level
+            r = scenes.SoftglRenderer(64, 64, threads=2)
+            digests[level] = hashlib.sha256(r.render(spec.build(64)).tobytes()).hexdigest()
+    finally:
+        _core.glsl_set_default_simd_level("")
+    assert len(set(digests.values())) == 1, digests

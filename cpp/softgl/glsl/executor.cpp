@@ -1,6 +1,7 @@
 #include "softgl/glsl/executor.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -84,10 +85,16 @@ inline float half_to_float(uint32_t h) {
     std::memcpy(&f, &bits, 4);
     return f;
 }
+// NaN (undefined in ES 3.00 §8.4) packs to 0: casting it is undefined in C++, and the
+// vector conversions of each SIMD level give different bits for it.
 inline uint32_t pack_snorm16(float x) {
-    return static_cast<uint32_t>(static_cast<int32_t>(std::round(f_clamp(x, -1.0f, 1.0f) * 32767.0f))) & 0xffffu;
+    const float v = std::round(f_clamp(x, -1.0f, 1.0f) * 32767.0f);
+    return v == v ? static_cast<uint32_t>(static_cast<int32_t>(v)) & 0xffffu : 0u;
 }
-inline uint32_t pack_unorm16(float x) { return static_cast<uint32_t>(std::round(f_clamp(x, 0.0f, 1.0f) * 65535.0f)); }
+inline uint32_t pack_unorm16(float x) {
+    const float v = std::round(f_clamp(x, 0.0f, 1.0f) * 65535.0f);
+    return v == v ? static_cast<uint32_t>(v) : 0u;
+}
 inline float unpack_snorm16(uint32_t v) {
     return f_clamp(static_cast<float>(static_cast<int16_t>(static_cast<uint16_t>(v))) / 32767.0f, -1.0f, 1.0f);
 }
@@ -102,6 +109,14 @@ bool all_set(const uint32_t* m, int n) {
     uint32_t acc = ~0u;
     for (int l = 0; l < n; ++l) acc &= m[l];
     return acc == ~0u;
+}
+
+// d = a in the lanes of `mask`. Through uint32_t pointers: GCC 12 does not vectorise this
+// read-modify-write through the Scalar union ("unsupported data-type").
+__attribute__((always_inline)) inline void masked_copy(Scalar* d, const Scalar* a, const uint32_t* mask, int n) {
+    uint32_t* du = reinterpret_cast<uint32_t*>(d);
+    const uint32_t* au = reinterpret_cast<const uint32_t*>(a);
+    for (int l = 0; l < n; ++l) du[l] = (au[l] & mask[l]) | (du[l] & ~mask[l]);
 }
 
 // A value in every lane (written through .u so the loop vectorises).
@@ -133,6 +148,9 @@ SimdLevel best_simd_level() {
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
     static const SimdLevel level = [] {
         __builtin_cpu_init();
+        if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
+            __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512vl"))
+            return SimdLevel::AVX512;
         return __builtin_cpu_supports("avx2") ? SimdLevel::AVX2 : SimdLevel::Portable;
     }();
     return level;
@@ -141,7 +159,16 @@ SimdLevel best_simd_level() {
 #endif
 }
 
-Executor::Executor(const IrProgram& program, int batch_lanes) : program_(program), simd_(best_simd_level()) {
+static std::atomic<SimdLevel>& default_level() {
+    static std::atomic<SimdLevel> level{best_simd_level()};
+    return level;
+}
+SimdLevel default_simd_level() { return default_level().load(std::memory_order_relaxed); }
+void set_default_simd_level(SimdLevel level) {
+    default_level().store(std::min(level, best_simd_level()), std::memory_order_relaxed);
+}
+
+Executor::Executor(const IrProgram& program, int batch_lanes) : program_(program), simd_(default_simd_level()) {
     batch_ = std::max(4, (batch_lanes + 3) / 4 * 4);
     registers_.assign(static_cast<size_t>(program.register_count) * batch_, Scalar{});
     reg_ptr_.resize(program.register_count);
@@ -301,8 +328,11 @@ void Executor::run_batch(const StageRun& run, int first, int lanes) {
         if (src) { if (i >= input_alias_.size() || !input_alias_[i]) std::memcpy(reg(program_.inputs[i].reg), src + first, sizeof(Scalar) * lanes); }
         else if (program_.is_variable[program_.inputs[i].reg]) std::memset(static_cast<void*>(reg(program_.inputs[i].reg)), 0, sizeof(Scalar) * lanes);
     }
-    if (simd_ == SimdLevel::AVX2) execute_avx2(lanes, run);
-    else execute_portable(lanes, run);
+    switch (simd_) {
+    case SimdLevel::AVX512: execute_avx512(lanes, run); break;
+    case SimdLevel::AVX2: execute_avx2(lanes, run); break;
+    case SimdLevel::Portable: execute_portable(lanes, run); break;
+    }
     for (size_t i = 0; i < program_.outputs.size(); ++i) {
         Scalar* dst = run.outputs ? run.outputs[i] : nullptr;
         if (dst && (i >= output_alias_.size() || !output_alias_[i])) std::memcpy(dst + first, reg(program_.outputs[i].reg), sizeof(Scalar) * lanes);
@@ -387,7 +417,7 @@ __attribute__((always_inline)) inline void Executor::execute(const int n, const 
             Scalar* d = D;
             const Scalar* a = A;
             if (all) { if (d != a) std::memcpy(d, a, sizeof(Scalar) * n); }
-            else LANES { d[l].u = (a[l].u & mask[l]) | (d[l].u & ~mask[l]); }
+            else masked_copy(d, a, mask, n);
             break;
         }
         case Op::FAdd: F2(x + y)
@@ -546,7 +576,7 @@ __attribute__((always_inline)) inline void Executor::execute(const int n, const 
                 const int32_t k = std::min(std::max(offset + idx[0].i, 0), size - 1);
                 Scalar* d = reg(static_cast<Reg>(start + k));
                 if (all) { if (d != src) std::memcpy(d, src, sizeof(Scalar) * n); }
-                else LANES { d[l].u = (src[l].u & mask[l]) | (d[l].u & ~mask[l]); }
+                else masked_copy(d, src, mask, n);
                 break;
             }
             LANES {
@@ -679,8 +709,12 @@ __attribute__((always_inline)) inline void Executor::execute(const int n, const 
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 __attribute__((target("avx2"))) void Executor::execute_avx2(int n, const StageRun& run) { execute(n, run); }
+// prefer-vector-width=512: GCC otherwise vectorises AVX-512 code with 256-bit vectors.
+__attribute__((target("avx512f,avx512bw,avx512dq,avx512vl,prefer-vector-width=512")))
+void Executor::execute_avx512(int n, const StageRun& run) { execute(n, run); }
 #else
 void Executor::execute_avx2(int n, const StageRun& run) { execute(n, run); }
+void Executor::execute_avx512(int n, const StageRun& run) { execute(n, run); }
 #endif
 void Executor::execute_portable(int n, const StageRun& run) { execute(n, run); }
 

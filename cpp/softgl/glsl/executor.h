@@ -67,11 +67,16 @@ struct StageRun {
 struct ExecutorFrame;
 
 // The instruction set the lane loops are compiled for. Portable is the baseline build (SSE2 on
-// x86-64); AVX2 is the same code compiled a second time for 8-float vectors (no FMA), chosen at
-// run time when the CPU has it. Every level gives the same bits: the loops use only IEEE
-// operations that round identically at any width, and the same libm functions.
-enum class SimdLevel : uint8_t { Portable, AVX2 };
-SimdLevel best_simd_level();
+// x86-64); AVX2 and AVX512 are the same code compiled again for 8- and 16-float vectors (no FMA),
+// chosen at run time when the CPU has them (AVX512: F+BW+DQ+VL). Every level gives the same
+// bits: the loops use only IEEE operations that round identically at any width, and the same
+// libm functions (called per lane).
+enum class SimdLevel : uint8_t { Portable, AVX2, AVX512 };
+SimdLevel best_simd_level();   // the best this CPU runs
+// The level new Executors start at: best_simd_level(), unless lowered (tests, benchmarks: A/B
+// of the levels through the whole pipeline in one process). Must not exceed best_simd_level().
+SimdLevel default_simd_level();
+void set_default_simd_level(SimdLevel level);
 
 class Executor {
 public:
@@ -94,6 +99,7 @@ private:
     void execute(int lanes, const StageRun& run);           // the body, inlined into:
     void execute_portable(int lanes, const StageRun& run);
     void execute_avx2(int lanes, const StageRun& run);
+    void execute_avx512(int lanes, const StageRun& run);
     // Register r's lanes for the current batch: its own storage, or (inputs the program never
     // writes, outputs) the caller's arrays directly, so inputs and outputs are not copied.
     Scalar* reg(Reg r) { return reg_ptr_[r]; }
