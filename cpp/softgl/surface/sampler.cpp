@@ -767,7 +767,8 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512))) void filter16(const Fast2D& f, co
     if (!linear) {
         wrap16(f.wrap_s, ifloor_floored16(_mm512_floor_ps(u)), p.width, p.width_pot, false, i0, i1);
         wrap16(f.wrap_t, ifloor_floored16(_mm512_floor_ps(v)), p.height, p.height_pot, false, j0, j1);
-        texels16(layer, _mm512_add_epi32(_mm512_mullo_epi32(j0, width), i0), out);   // w * h < 2^31 texels
+        // Texel indices in int32: 4 * w * h <= 2^30 floats (kMaxTextureSize is 16384).
+        texels16(layer, _mm512_add_epi32(_mm512_mullo_epi32(j0, width), i0), out);
         return;
     }
     const __m512 half = _mm512_set1_ps(0.5f), one = _mm512_set1_ps(1.0f);
