@@ -249,7 +249,7 @@ __attribute__((target(SOFTGL_AVX512))) inline __m512i blend_ps16(const BlendOp& 
 // One colour for every lane (bit for bit), as a shader that reads only uniforms gives: lane l's
 // result is then a function of its destination byte per channel, which a 256-entry table per
 // channel holds. The table is the kernel's own output on the 256 destinations i * 0x01010101,
-// kept per thread for the next call (the draw passes the same colour for a whole primitive).
+// kept per thread for the next call (a uniform-only shader gives one colour for the whole draw).
 struct UniformColorTable {
     uint32_t colour[4] = {};
     int kernel = -1;
@@ -257,19 +257,23 @@ struct UniformColorTable {
     alignas(64) uint8_t bytes[4][256];   // bytes[c][d]: channel c's result over destination byte d
 };
 
+// Whether every lane's colour has lane 0's bits (colour[c] = channel c). One test at the end: an
+// early exit per block costs more in branch misses than the few loads it saves.
 __attribute__((target(SOFTGL_AVX512))) inline bool uniform_colour(const float* src, size_t stride, size_t n,
                                                                   uint32_t colour[4]) {
-    for (int c = 0; c < 4; ++c) std::memcpy(&colour[c], src + size_t(c) * stride, 4);
+    __m512i want[4], differ = _mm512_setzero_si512();
     for (int c = 0; c < 4; ++c) {
-        const __m512i want = _mm512_set1_epi32(int(colour[c]));
-        const float* row = src + size_t(c) * stride;
-        size_t l = 0;
-        for (; l + 16 <= n; l += 16)
-            if (_mm512_cmpneq_epi32_mask(_mm512_loadu_si512(row + l), want)) return false;
-        const __mmask16 tail = __mmask16((1u << (n - l)) - 1);
-        if (_mm512_mask_cmpneq_epi32_mask(tail, _mm512_maskz_loadu_epi32(tail, row + l), want)) return false;
+        std::memcpy(&colour[c], src + size_t(c) * stride, 4);
+        want[c] = _mm512_set1_epi32(int(colour[c]));
     }
-    return true;
+    size_t l = 0;
+    for (; l + 16 <= n; l += 16)
+        for (int c = 0; c < 4; ++c)
+            differ = _mm512_or_si512(differ, _mm512_xor_si512(_mm512_loadu_si512(src + size_t(c) * stride + l), want[c]));
+    const __mmask16 tail = __mmask16((1u << (n - l)) - 1);
+    for (int c = 0; c < 4; ++c)
+        differ = _mm512_or_si512(differ, _mm512_maskz_xor_epi32(tail, _mm512_maskz_loadu_epi32(tail, src + size_t(c) * stride + l), want[c]));
+    return _mm512_test_epi32_mask(differ, differ) == 0;
 }
 
 template <ColorKernel K>
