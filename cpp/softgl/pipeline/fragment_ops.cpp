@@ -257,22 +257,28 @@ struct UniformColorTable {
     alignas(64) uint8_t bytes[4][256];   // bytes[c][d]: channel c's result over destination byte d
 };
 
-// Whether every lane's colour has lane 0's bits (colour[c] = channel c). One test at the end: an
-// early exit per block costs more in branch misses than the few loads it saves.
+// The bits in which lanes l .. l + 15 (those in `lanes`) differ from want[c], over the channels.
+__attribute__((target(SOFTGL_AVX512))) inline __m512i colour_difference(const float* src, size_t stride, size_t l,
+                                                                       __mmask16 lanes, const __m512i want[4]) {
+    __m512i d = _mm512_setzero_si512();
+    for (int c = 0; c < 4; ++c)
+        d = _mm512_or_si512(d, _mm512_maskz_xor_epi32(lanes, _mm512_maskz_loadu_epi32(lanes, src + size_t(c) * stride + l), want[c]));
+    return d;
+}
+// Whether every lane's colour has lane 0's bits (colour[c] = channel c). The first 16 lanes
+// decide quickly when colours vary; the rest are tested once at the end (an exit per block costs
+// more in branch misses than the loads it saves).
 __attribute__((target(SOFTGL_AVX512))) inline bool uniform_colour(const float* src, size_t stride, size_t n,
                                                                   uint32_t colour[4]) {
-    __m512i want[4], differ = _mm512_setzero_si512();
+    __m512i want[4];
     for (int c = 0; c < 4; ++c) {
         std::memcpy(&colour[c], src + size_t(c) * stride, 4);
         want[c] = _mm512_set1_epi32(int(colour[c]));
     }
-    size_t l = 0;
-    for (; l + 16 <= n; l += 16)
-        for (int c = 0; c < 4; ++c)
-            differ = _mm512_or_si512(differ, _mm512_xor_si512(_mm512_loadu_si512(src + size_t(c) * stride + l), want[c]));
-    const __mmask16 tail = __mmask16((1u << (n - l)) - 1);
-    for (int c = 0; c < 4; ++c)
-        differ = _mm512_or_si512(differ, _mm512_maskz_xor_epi32(tail, _mm512_maskz_loadu_epi32(tail, src + size_t(c) * stride + l), want[c]));
+    const auto lanes_below = [](size_t k) { return __mmask16(k >= 16 ? 0xFFFF : (1u << k) - 1); };
+    __m512i differ = colour_difference(src, stride, 0, lanes_below(n), want);
+    if (_mm512_test_epi32_mask(differ, differ)) return false;
+    for (size_t l = 16; l < n; l += 16) differ = _mm512_or_si512(differ, colour_difference(src, stride, l, lanes_below(n - l), want));
     return _mm512_test_epi32_mask(differ, differ) == 0;
 }
 
@@ -324,15 +330,21 @@ __attribute__((target(SOFTGL_AVX512 ",avx512vbmi"))) void apply_table(const Unif
     }
 }
 
-// Lanes l .. l + 15 (those in `lanes`) of the lane kernel.
-template <ColorKernel K>
+// Lanes l .. l + 15 of the lane kernel (only those in `tail` unless Full: masked loads and
+// stores only where needed).
+template <ColorKernel K, bool Full>
 __attribute__((target(SOFTGL_AVX512))) inline void lanes16(const BlendOp& op, const float* src, size_t stride,
-                                                           uint32_t* dst, size_t l, __mmask16 lanes, __m512i keep) {
-    const __m512i d32 = _mm512_maskz_loadu_epi32(lanes, dst + l);
+                                                           uint32_t* dst, size_t l, __mmask16 tail, __m512i keep) {
+    const __m512i d32 = Full ? _mm512_loadu_si512(dst + l) : _mm512_maskz_loadu_epi32(tail, dst + l);
     __m512 s[4];
-    for (int c = 0; c < 4; ++c) s[c] = clamp01_ps16(_mm512_maskz_loadu_ps(lanes, src + size_t(c) * stride + l));
+    for (int c = 0; c < 4; ++c) {
+        const float* p = src + size_t(c) * stride + l;
+        s[c] = clamp01_ps16(Full ? _mm512_loadu_ps(p) : _mm512_maskz_loadu_ps(tail, p));
+    }
     // keep ? d32 : blended, bit by bit.
-    _mm512_mask_storeu_epi32(dst + l, lanes, _mm512_ternarylogic_epi32(keep, blend_ps16<K>(op, s, d32), d32, 0xAC));
+    const __m512i px = _mm512_ternarylogic_epi32(keep, blend_ps16<K>(op, s, d32), d32, 0xAC);
+    if (Full) _mm512_storeu_si512(dst + l, px);
+    else _mm512_mask_storeu_epi32(dst + l, tail, px);
 }
 
 template <ColorKernel K>
@@ -364,8 +376,8 @@ __attribute__((target(SOFTGL_AVX512))) void lanes_avx512(const BlendOp& op, cons
     }
     const __m512i keep_v = _mm512_set1_epi32(int(keep));
     size_t l = 0;
-    for (; l + 16 <= n; l += 16) lanes16<K>(op, src, stride, dst, l, 0xFFFF, keep_v);
-    if (l < n) lanes16<K>(op, src, stride, dst, l, __mmask16((1u << (n - l)) - 1), keep_v);
+    for (; l + 16 <= n; l += 16) lanes16<K, true>(op, src, stride, dst, l, 0xFFFF, keep_v);
+    if (l < n) lanes16<K, false>(op, src, stride, dst, l, __mmask16((1u << (n - l)) - 1), keep_v);
 }
 #pragma GCC diagnostic pop
 #undef SOFTGL_AVX512
