@@ -307,9 +307,10 @@ void bind_testing(py::module_& m) {
                                                         stats.blocks_partial, stats.quads));
           });
     // Texture lookups: 0 the general per-lane path, 1 the 2D fast path without SIMD, 2 with the
-    // best SIMD (the default); returns how many queries the fast path served since the last call.
+    // best SIMD (the default), 3 with AVX2 at most; returns how many queries the fast path served
+    // since the last call.
     t.def("sampler_path", [](int path) {
-        if (path < 0 || path > 2) throw py::value_error("sampler path: 0, 1 or 2");
+        if (path < 0 || path > 3) throw py::value_error("sampler path: 0, 1, 2 or 3");
         return softgl::set_sampler_path(softgl::SamplerPath(path));
     });
     t.def("blend_unorm8",

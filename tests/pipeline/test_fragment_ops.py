@@ -128,3 +128,40 @@ def test_lane_conversion_equals_float_to_unorm8(level):
     assert mismatches(level, F32_ONE, 0xFFFFFFFF, 4099) == 0
     assert mismatches(level, 0x7F7FFFF0, 0x80000010) == 0   # largest floats, inf, NaN, -0
     assert mismatches(level, 0xFF7FFFF0, 0xFFFFFFFF) == 0   # -inf, negative NaNs
+
+
+def test_lane_kernels_every_tail_length():
+    # n = 1..40 lanes: the SIMD kernels' full blocks (4, 8, 16 lanes) and every tail after them.
+    rng = np.random.default_rng(5)
+    s = sources()
+    for n in range(1, 41):
+        src = rng.choice(s, (n, 4)).astype(np.float32)
+        dst = rng.integers(0, 256, (n, 4)).astype(np.uint8)
+        for name, (sf, df) in SPECIAL.items():
+            for mask in [(True,) * 4, (False, True, True, False)]:
+                check((sf, df, sf, df), ("FUNC_ADD", "FUNC_ADD"), mask, n % 2 == 0, src, dst)
+                # One colour in every lane (a shader that reads only uniforms): the AVX-512
+                # kernel's table path, and the same colour but for one lane.
+                uniform = np.repeat(src[:1], n, axis=0)
+                check((sf, df, sf, df), ("FUNC_ADD", "FUNC_ADD"), mask, n % 2 == 0, uniform, dst)
+                uniform[n - 1, n % 4] = np.nextafter(uniform[n - 1, n % 4], np.float32(2))
+                check((sf, df, sf, df), ("FUNC_ADD", "FUNC_ADD"), mask, n % 2 == 0, uniform, dst)
+
+
+@pytest.mark.parametrize("name", sorted(SPECIAL))
+def test_one_colour_in_every_lane_over_every_destination(name):
+    # The same colour in every lane over all 256 destination values of every channel: colours
+    # at every rounding boundary neighbourhood and the specials (-0, NaN, inf, out of range), one
+    # after another (the AVX-512 kernel keeps the last colour's table per thread).
+    sf, df = SPECIAL[name]
+    s = sources()
+    rng = np.random.default_rng(13)
+    colours = np.concatenate([np.stack([s[:-2000]] * 4, axis=1)[::7],
+                              rng.permutation(s)[:4 * 150].reshape(150, 4)]).astype(np.float32)
+    d = np.arange(256)
+    dst = np.stack([d, d[::-1], (d * 7) % 256, (d * 13 + 5) % 256], axis=1).astype(np.uint8)
+    for i, colour in enumerate(colours):
+        src = np.repeat(colour[None], 256, axis=0)
+        mask = [(True,) * 4, (True, False, True, True), (False, False, False, True)][i % 3]
+        check((sf, df, sf, df), ("FUNC_ADD", "FUNC_ADD"), mask, i % 2 == 0, src, dst)
+        check((sf, df, sf, df), ("FUNC_ADD", "FUNC_ADD"), mask, i % 2 == 1, src[:37], dst[100:137])

@@ -198,15 +198,204 @@ __attribute__((target("avx2"))) void lanes_avx2(const BlendOp& op, const float* 
 }
 #endif
 
+#define SOFTGL_AVX512 "avx512f,avx512bw,avx512dq,avx512vl"
+// GCC 12's AVX-512 intrinsics start from _mm512_undefined_*(), which -W(maybe-)uninitialized
+// reports once they are inlined here (GCC bug 105593, fixed in GCC 13).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+// The lane kernel sixteen lanes at a time: the AVX2 kernel's operations, lane for lane, in 512-bit
+// registers (the same clamps, the same division for d / 255, the same integer float -> unorm8).
+__attribute__((target(SOFTGL_AVX512))) inline __m512 clamp01_ps16(__m512 v) {
+    return _mm512_min_ps(_mm512_max_ps(v, _mm512_setzero_ps()), _mm512_set1_ps(1.0f));   // as clamp01_ps
+}
+// unorm8_at_byte_ps8 of 16 lanes (vpsrlvd gives 0 for counts of 32 or more here too).
+__attribute__((target(SOFTGL_AVX512))) inline __m512i unorm8_at_byte_ps16(__m512 v, int c) {
+    const __m512i bits = _mm512_castps_si512(v);
+    const __m512i m = _mm512_or_si512(_mm512_and_si512(bits, _mm512_set1_epi32(0x7FFFFF)), _mm512_set1_epi32(0x800000));
+    const __m512i m255 = _mm512_sub_epi32(_mm512_slli_epi32(m, 8), m);
+    const __m512i shift = _mm512_sub_epi32(_mm512_set1_epi32(149), _mm512_srli_epi32(bits, 23));
+    const __m512i x = _mm512_add_epi32(_mm512_srlv_epi32(m255, shift), _mm512_set1_epi32(1));   // floor(v*510) + 1
+    if (c == 0) return _mm512_srli_epi32(x, 1);
+    return _mm512_and_si512(_mm512_slli_epi32(x, 8 * c - 1), _mm512_set1_epi32(int(0xFFu << (8 * c))));
+}
+// write_color<K> of 16 lanes with every channel written: s clamped, d32 the destination pixels.
+template <ColorKernel K>
+__attribute__((target(SOFTGL_AVX512))) inline __m512i blend_ps16(const BlendOp& op, const __m512 s[4], __m512i d32) {
+    __m512i packed = _mm512_setzero_si512();
+    for (int c = 0; c < 4; ++c) {
+        __m512 out;
+        if constexpr (K == ColorKernel::Plain) {
+            out = s[c];
+        } else {
+            __m512 d;
+            if (c == 3 && !op.has_alpha) d = _mm512_set1_ps(1.0f);
+            else d = _mm512_div_ps(_mm512_cvtepi32_ps(_mm512_and_si512(_mm512_srli_epi32(d32, 8 * c), _mm512_set1_epi32(0xFF))),
+                                   _mm512_set1_ps(255.0f));
+            if constexpr (K == ColorKernel::AlphaOver) {
+                const __m512 sf = s[3], df = _mm512_sub_ps(_mm512_set1_ps(1.0f), s[3]);
+                out = _mm512_add_ps(_mm512_mul_ps(s[c], sf), _mm512_mul_ps(d, df));
+            } else {   // Additive
+                const __m512 one = _mm512_set1_ps(1.0f);
+                out = _mm512_add_ps(_mm512_mul_ps(s[c], one), _mm512_mul_ps(d, one));
+            }
+            out = clamp01_ps16(out);
+        }
+        packed = _mm512_or_si512(packed, unorm8_at_byte_ps16(out, c));
+    }
+    return packed;
+}
+
+// One colour for every lane (bit for bit), as a shader that reads only uniforms gives: lane l's
+// result is then a function of its destination byte per channel, which a 256-entry table per
+// channel holds. The table is the kernel's own output on the 256 destinations i * 0x01010101,
+// kept per thread for the next call (a uniform-only shader gives one colour for the whole draw).
+struct UniformColorTable {
+    uint32_t colour[4] = {};
+    int kernel = -1;
+    bool has_alpha = false;
+    alignas(64) uint8_t bytes[4][256];   // bytes[c][d]: channel c's result over destination byte d
+};
+
+// The bits in which lanes l .. l + 15 (those in `lanes`) differ from want[c], over the channels.
+__attribute__((target(SOFTGL_AVX512))) inline __m512i colour_difference(const float* src, size_t stride, size_t l,
+                                                                       __mmask16 lanes, const __m512i want[4]) {
+    __m512i d = _mm512_setzero_si512();
+    for (int c = 0; c < 4; ++c)
+        d = _mm512_or_si512(d, _mm512_maskz_xor_epi32(lanes, _mm512_maskz_loadu_epi32(lanes, src + size_t(c) * stride + l), want[c]));
+    return d;
+}
+// Whether every lane's colour has lane 0's bits (colour[c] = channel c). The first 16 lanes
+// decide quickly when colours vary; the rest are tested once at the end (an exit per block costs
+// more in branch misses than the loads it saves).
+__attribute__((target(SOFTGL_AVX512))) inline bool uniform_colour(const float* src, size_t stride, size_t n,
+                                                                  uint32_t colour[4]) {
+    __m512i want[4];
+    for (int c = 0; c < 4; ++c) {
+        std::memcpy(&colour[c], src + size_t(c) * stride, 4);
+        want[c] = _mm512_set1_epi32(int(colour[c]));
+    }
+    const auto lanes_below = [](size_t k) { return __mmask16(k >= 16 ? 0xFFFF : (1u << k) - 1); };
+    __m512i differ = colour_difference(src, stride, 0, lanes_below(n), want);
+    if (_mm512_test_epi32_mask(differ, differ)) return false;
+    for (size_t l = 16; l < n; l += 16) differ = _mm512_or_si512(differ, colour_difference(src, stride, l, lanes_below(n - l), want));
+    return _mm512_test_epi32_mask(differ, differ) == 0;
+}
+
+template <ColorKernel K>
+__attribute__((target(SOFTGL_AVX512))) const UniformColorTable& uniform_colour_table(const BlendOp& op,
+                                                                                   const uint32_t colour[4]) {
+    thread_local UniformColorTable t;
+    if (t.kernel == int(K) && t.has_alpha == op.has_alpha && std::memcmp(t.colour, colour, 16) == 0) return t;
+    __m512 s[4];
+    for (int c = 0; c < 4; ++c) s[c] = clamp01_ps16(_mm512_castsi512_ps(_mm512_set1_epi32(int(colour[c]))));
+    for (int i = 0; i < 256; i += 16) {
+        const __m512i d = _mm512_mullo_epi32(_mm512_add_epi32(_mm512_set1_epi32(i), _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15)),
+                                             _mm512_set1_epi32(0x01010101));
+        const __m512i px = blend_ps16<K>(op, s, d);
+        for (int c = 0; c < 4; ++c)
+            _mm_store_si128(reinterpret_cast<__m128i*>(&t.bytes[c][i]), _mm512_cvtepi32_epi8(_mm512_srli_epi32(px, 8 * c)));
+    }
+    std::memcpy(t.colour, colour, 16);
+    t.kernel = int(K);
+    t.has_alpha = op.has_alpha;
+    return t;
+}
+
+// The table applied to the pixels: per channel two 128-entry byte lookups (vpermi2b, AVX-512
+// VBMI) with bit 7 of the destination byte choosing between them; channels the colour mask
+// leaves out keep their destination bytes.
+__attribute__((target(SOFTGL_AVX512 ",avx512vbmi"))) inline __m512i look_up(const __m512i (&q)[4][4], const BlendOp& op,
+                                                                            __m512i d) {
+    const __mmask64 upper = _mm512_movepi8_mask(d);   // destination bytes >= 128
+    __m512i r = d;
+    for (int c = 0; c < 4; ++c) {
+        if (!op.write[size_t(c)]) continue;
+        const __mmask64 channel = 0x1111111111111111ull << c;
+        r = _mm512_mask_mov_epi8(r, channel & ~upper, _mm512_permutex2var_epi8(q[c][0], d, q[c][1]));
+        r = _mm512_mask_mov_epi8(r, channel & upper, _mm512_permutex2var_epi8(q[c][2], d, q[c][3]));
+    }
+    return r;
+}
+__attribute__((target(SOFTGL_AVX512 ",avx512vbmi"))) void apply_table(const UniformColorTable& t, const BlendOp& op,
+                                                                     uint32_t* dst, size_t n) {
+    __m512i q[4][4];   // q[c][k]: bytes[c][64k .. 64k + 63]
+    for (int c = 0; c < 4; ++c)
+        for (int k = 0; k < 4; ++k) q[c][k] = _mm512_load_si512(&t.bytes[c][64 * k]);
+    size_t l = 0;
+    for (; l + 16 <= n; l += 16) _mm512_storeu_si512(dst + l, look_up(q, op, _mm512_loadu_si512(dst + l)));
+    if (l < n) {
+        const __mmask16 tail = __mmask16((1u << (n - l)) - 1);
+        _mm512_mask_storeu_epi32(dst + l, tail, look_up(q, op, _mm512_maskz_loadu_epi32(tail, dst + l)));
+    }
+}
+
+// Lanes l .. l + 15 of the lane kernel (only those in `tail` unless Full: masked loads and
+// stores only where needed).
+template <ColorKernel K, bool Full>
+__attribute__((target(SOFTGL_AVX512))) inline void lanes16(const BlendOp& op, const float* src, size_t stride,
+                                                           uint32_t* dst, size_t l, __mmask16 tail, __m512i keep) {
+    const __m512i d32 = Full ? _mm512_loadu_si512(dst + l) : _mm512_maskz_loadu_epi32(tail, dst + l);
+    __m512 s[4];
+    for (int c = 0; c < 4; ++c) {
+        const float* p = src + size_t(c) * stride + l;
+        s[c] = clamp01_ps16(Full ? _mm512_loadu_ps(p) : _mm512_maskz_loadu_ps(tail, p));
+    }
+    // keep ? d32 : blended, bit by bit.
+    const __m512i px = _mm512_ternarylogic_epi32(keep, blend_ps16<K>(op, s, d32), d32, 0xAC);
+    if (Full) _mm512_storeu_si512(dst + l, px);
+    else _mm512_mask_storeu_epi32(dst + l, tail, px);
+}
+
+template <ColorKernel K>
+__attribute__((target(SOFTGL_AVX512))) void lanes_avx512(const BlendOp& op, const float* src, size_t stride,
+                                                         uint32_t* dst, size_t n) {
+    static const bool vbmi = __builtin_cpu_supports("avx512vbmi");
+    uint32_t keep = 0;
+    for (int c = 0; c < 4; ++c)
+        if (!op.write[size_t(c)]) keep |= 0xFFu << (8 * c);
+    uint32_t colour[4];
+    if (n > 0 && uniform_colour(src, stride, n, colour)) {
+        if constexpr (K == ColorKernel::Plain) {
+            // Every lane gets the same pixel.
+            __m512 s[4];
+            for (int c = 0; c < 4; ++c) s[c] = clamp01_ps16(_mm512_castsi512_ps(_mm512_set1_epi32(int(colour[c]))));
+            const __m512i packed = blend_ps16<K>(op, s, _mm512_setzero_si512());
+            const __mmask64 write = ~_mm512_movepi8_mask(_mm512_set1_epi32(int(keep)));   // keep has whole bytes of 0xFF
+            size_t l = 0;
+            for (; l + 16 <= n; l += 16)
+                _mm512_storeu_si512(dst + l, _mm512_mask_mov_epi8(_mm512_loadu_si512(dst + l), write, packed));
+            if (l < n) {
+                const __mmask16 tail = __mmask16((1u << (n - l)) - 1);
+                _mm512_mask_storeu_epi32(dst + l, tail, _mm512_mask_mov_epi8(_mm512_maskz_loadu_epi32(tail, dst + l), write, packed));
+            }
+            return;
+        } else if (vbmi) {
+            return apply_table(uniform_colour_table<K>(op, colour), op, dst, n);
+        }
+    }
+    const __m512i keep_v = _mm512_set1_epi32(int(keep));
+    size_t l = 0;
+    for (; l + 16 <= n; l += 16) lanes16<K, true>(op, src, stride, dst, l, 0xFFFF, keep_v);
+    if (l < n) lanes16<K, false>(op, src, stride, dst, l, __mmask16((1u << (n - l)) - 1), keep_v);
+}
+#pragma GCC diagnostic pop
+#undef SOFTGL_AVX512
+
 template <ColorKernel K>
 void lanes_at(SimdLevel level, const BlendOp& op, const float* src, size_t stride, uint32_t* dst, size_t n) {
     switch (level) {
         case SimdLevel::Scalar: return lanes_scalar<K>(op, src, stride, dst, 0, n);
         case SimdLevel::SSE2: return lanes<K>(op, src, stride, dst, n);
         case SimdLevel::AVX2:
-        case SimdLevel::AVX512:
 #if defined(SOFTGL_HAVE_AVX2_KERNELS)
             return lanes_avx2<K>(op, src, stride, dst, n);
+#else
+            return lanes<K>(op, src, stride, dst, n);
+#endif
+        case SimdLevel::AVX512:
+#if defined(SOFTGL_HAVE_AVX2_KERNELS)
+            return lanes_avx512<K>(op, src, stride, dst, n);
 #else
             return lanes<K>(op, src, stride, dst, n);
 #endif

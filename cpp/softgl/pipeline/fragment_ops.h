@@ -8,8 +8,12 @@
 //  * unorm8 -> float uses a table of float(i) / 255.0f, the same division the reference does.
 //  * float -> unorm8 is float_to_unorm8 with floor replaced by truncation, which is the same for
 //    the non-negative values it sees (the argument is clamped first), and avoids a libm call. The
-//    AVX2 lanes compute the same floor(v*255 + 0.5) exactly in integers from v's exponent and
-//    significand (fragment_ops.cpp; checked against float_to_unorm8 on every float in [0, 1]).
+//    AVX2 and AVX-512 lanes compute the same floor(v*255 + 0.5) exactly in integers from v's
+//    exponent and significand (fragment_ops.cpp; checked against float_to_unorm8 on every float
+//    in [0, 1]).
+//  * with one colour in every lane, the AVX-512 kernel looks each channel's result up in a table
+//    of the kernel's own results over the 256 destination values (the result of a lane depends
+//    on nothing else then).
 //  * the blend arithmetic is the reference's, operation for operation, in float (no contraction:
 //    the build uses -ffp-contract=off).
 #pragma once

@@ -683,6 +683,132 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const LevelChoice 
         _mm_storeu_ps(out[l], _mm_add_ps(x, _mm_mul_ps(_mm_set1_ps(ch[l].frac), _mm_loadu_ps(b[l]))));
     }
 }
+
+// ---- AVX-512: blocks of 16 lanes, results straight into the structure-of-arrays outputs.
+#define SOFTGL_SAMPLER_AVX512 "avx512f,avx512bw,avx512dq,avx512vl"
+// GCC 12's AVX-512 intrinsics start from _mm512_undefined_*(), which -W(maybe-)uninitialized
+// reports once they are inlined here (GCC bug 105593, fixed in GCC 13).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+
+bool cpu_has_avx512() {
+    static const bool has = [] {
+        __builtin_cpu_init();
+        return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
+               __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512vl");
+    }();
+    return has;
+}
+
+// ifloor_floored8 of 16 lanes.
+__attribute__((target(SOFTGL_SAMPLER_AVX512))) inline __m512i ifloor_floored16(__m512 fl) {
+    const __m512 lo = _mm512_set1_ps(-1073741824.0f), hi = _mm512_set1_ps(1073741824.0f);
+    const __m512i i = _mm512_min_epi32(_mm512_cvttps_epi32(_mm512_min_ps(_mm512_max_ps(fl, lo), hi)),
+                                       _mm512_set1_epi32(1073741823));
+    return _mm512_maskz_mov_epi32(_mm512_cmp_ps_mask(fl, fl, _CMP_ORD_Q), i);
+}
+
+// wrap_one (pair: false) or the second coordinate of wrap_pair (pair: true) of 16 lanes, i the
+// floored coordinate; REPEAT of a power of two and CLAMP_TO_EDGE here, the rest lane by lane.
+__attribute__((target(SOFTGL_SAMPLER_AVX512))) inline void wrap16(GLenum mode, __m512i i, int32_t size, bool pot,
+                                                                  bool pair, __m512i& a, __m512i& b) {
+    const __m512i last = _mm512_set1_epi32(size - 1), one = _mm512_set1_epi32(1);
+    if (mode == gl::REPEAT && pot) {
+        a = _mm512_and_si512(i, last);
+        if (pair) b = _mm512_and_si512(_mm512_add_epi32(i, one), last);
+    } else if (mode == gl::CLAMP_TO_EDGE) {
+        const __m512i zero = _mm512_setzero_si512();
+        a = _mm512_max_epi32(_mm512_min_epi32(i, last), zero);
+        if (pair) b = _mm512_max_epi32(_mm512_min_epi32(_mm512_add_epi32(i, one), last), zero);
+    } else {
+        alignas(64) int32_t raw[16], wa[16], wb[16] = {};
+        _mm512_store_si512(raw, i);
+        for (int l = 0; l < 16; ++l) {
+            if (pair) wrap_pair(mode, raw[l], size, pot, wa[l], wb[l]);
+            else wa[l] = wrap_one(mode, raw[l], size, pot);
+        }
+        a = _mm512_load_si512(wa);
+        b = _mm512_load_si512(wb);
+    }
+}
+
+// The texels of 16 lanes (layer[l] + 4 * index[l]) as four channel vectors: out[c] lane l =
+// texel l's channel c. Four texels per register (lanes k, k + 4, k + 8, k + 12), then a 4x4
+// transpose in every 128-bit slot.
+__attribute__((target(SOFTGL_SAMPLER_AVX512))) inline void texels16(const float* const layer[16], __m512i index,
+                                                                    __m512 out[4]) {
+    alignas(64) int32_t at[16];
+    _mm512_store_si512(at, _mm512_slli_epi32(index, 2));
+    __m512 r[4];
+    for (int k = 0; k < 4; ++k) {
+        r[k] = _mm512_castps128_ps512(_mm_loadu_ps(layer[k] + at[k]));
+        for (int m = 1; m < 4; ++m) r[k] = _mm512_insertf32x4(r[k], _mm_loadu_ps(layer[k + 4 * m] + at[k + 4 * m]), m);
+    }
+    const __m512d t0 = _mm512_castps_pd(_mm512_unpacklo_ps(r[0], r[1])), t1 = _mm512_castps_pd(_mm512_unpackhi_ps(r[0], r[1]));
+    const __m512d t2 = _mm512_castps_pd(_mm512_unpacklo_ps(r[2], r[3])), t3 = _mm512_castps_pd(_mm512_unpackhi_ps(r[2], r[3]));
+    out[0] = _mm512_castpd_ps(_mm512_unpacklo_pd(t0, t2));
+    out[1] = _mm512_castpd_ps(_mm512_unpackhi_pd(t0, t2));
+    out[2] = _mm512_castpd_ps(_mm512_unpacklo_pd(t1, t3));
+    out[3] = _mm512_castpd_ps(_mm512_unpackhi_pd(t1, t3));
+}
+
+// filter8 of one plane for 16 lanes, out[c] = channel c of the 16 results.
+__attribute__((target(SOFTGL_SAMPLER_AVX512))) void filter16(const Fast2D& f, const Plane& p, bool linear,
+                                                             const float* s, const float* t, const float* r,
+                                                             __m512 out[4]) {
+    const float* layer[16];
+    for (int l = 0; l < 16; ++l)
+        layer[l] = p.texels + (r ? size_t(std::clamp(ifloor(r[l] + 0.5f), 0, p.layers - 1)) * size_t(p.height) * size_t(p.width) * 4 : 0);
+    const __m512 u = _mm512_add_ps(_mm512_mul_ps(_mm512_loadu_ps(s), _mm512_set1_ps(float(p.width))), _mm512_set1_ps(float(f.off_s)));
+    const __m512 v = _mm512_add_ps(_mm512_mul_ps(_mm512_loadu_ps(t), _mm512_set1_ps(float(p.height))), _mm512_set1_ps(float(f.off_t)));
+    const __m512i width = _mm512_set1_epi32(p.width);
+    __m512i i0, i1, j0, j1;
+    if (!linear) {
+        wrap16(f.wrap_s, ifloor_floored16(_mm512_floor_ps(u)), p.width, p.width_pot, false, i0, i1);
+        wrap16(f.wrap_t, ifloor_floored16(_mm512_floor_ps(v)), p.height, p.height_pot, false, j0, j1);
+        // Texel indices in int32: 4 * w * h <= 2^30 floats (kMaxTextureSize is 16384).
+        texels16(layer, _mm512_add_epi32(_mm512_mullo_epi32(j0, width), i0), out);
+        return;
+    }
+    const __m512 half = _mm512_set1_ps(0.5f), one = _mm512_set1_ps(1.0f);
+    const __m512 u0 = _mm512_sub_ps(u, half), v0 = _mm512_sub_ps(v, half);
+    const __m512 fu = _mm512_floor_ps(u0), fv = _mm512_floor_ps(v0);
+    wrap16(f.wrap_s, ifloor_floored16(fu), p.width, p.width_pot, true, i0, i1);
+    wrap16(f.wrap_t, ifloor_floored16(fv), p.height, p.height_pot, true, j0, j1);
+    const __m512 a = _mm512_sub_ps(u0, fu), b = _mm512_sub_ps(v0, fv);
+    const __m512 na = _mm512_sub_ps(one, a), nb = _mm512_sub_ps(one, b);
+    const __m512 w[4] = {_mm512_mul_ps(na, nb), _mm512_mul_ps(a, nb), _mm512_mul_ps(na, b), _mm512_mul_ps(a, b)};
+    const __m512i row0 = _mm512_mullo_epi32(j0, width), row1 = _mm512_mullo_epi32(j1, width);
+    const __m512i corner[4] = {_mm512_add_epi32(row0, i0), _mm512_add_epi32(row0, i1), _mm512_add_epi32(row1, i0),
+                               _mm512_add_epi32(row1, i1)};
+    // w00 * t00 + w10 * t10 + w01 * t01 + w11 * t11, left to right, as Fast2D::filter.
+    for (int k = 0; k < 4; ++k) {
+        __m512 texel[4];
+        texels16(layer, corner[k], texel);
+        for (int c = 0; c < 4; ++c)
+            out[c] = k == 0 ? _mm512_mul_ps(w[0], texel[c]) : _mm512_add_ps(out[c], _mm512_mul_ps(w[k], texel[c]));
+    }
+}
+
+// filter8(LevelChoice) of 16 lanes that share the levels, into lanes l .. l + 15 of the outputs.
+__attribute__((target(SOFTGL_SAMPLER_AVX512))) void filter16(const Fast2D& f, const LevelChoice ch[16], const float* s,
+                                                             const float* t, const float* r, glsl::Scalar* const out[4],
+                                                             int l) {
+    __m512 a[4];
+    filter16(f, f.planes[size_t(ch[0].first)], ch[0].linear, s, t, r, a);
+    if (ch[0].second >= 0) {
+        __m512 b[4];
+        filter16(f, f.planes[size_t(ch[0].second)], ch[0].linear, s, t, r, b);
+        alignas(64) float frac[16];
+        for (int k = 0; k < 16; ++k) frac[k] = ch[k].frac;
+        const __m512 g = _mm512_load_ps(frac), ng = _mm512_sub_ps(_mm512_set1_ps(1.0f), g);
+        for (int c = 0; c < 4; ++c) a[c] = _mm512_add_ps(_mm512_mul_ps(ng, a[c]), _mm512_mul_ps(g, b[c]));
+    }
+    for (int c = 0; c < 4; ++c)
+        if (out[c]) _mm512_storeu_ps(&out[c][l].f, a[c]);
+}
+#pragma GCC diagnostic pop
 #endif
 
 }  // namespace
@@ -693,7 +819,7 @@ uint64_t set_sampler_path(SamplerPath path) {
     return fast_path_queries.exchange(0);
 }
 
-bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, bool simd) const {
+bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd) const {
     if (q.kind != TextureKind::Sample || q.shadow || q.result != BaseType::Float ||
         (q.dim != SamplerDim::Tex2D && q.dim != SamplerDim::Tex2DArray))
         return false;
@@ -764,35 +890,42 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, bool simd) const
 
     int l = 0;
 #ifdef SOFTGL_SAMPLER_AVX2
-    // Blocks of 8 active lanes that share their levels; the other blocks lane by lane.
-    if (simd && q.coord[0] && q.coord[1]) {
+    // Blocks of 16 (AVX-512) or 8 active lanes that share their levels; the other blocks lane by lane.
+    if (simd != SimdBlocks::None && q.coord[0] && q.coord[1]) {
         const float* r = f.planes[0].layers > 1 && q.coord[2] ? &q.coord[2][0].f : nullptr;
-        for (; l + 8 <= q.lane_count; l += 8) {
-            bool all_active = true;
-            for (int k = 0; k < 8 && q.active; ++k) all_active = all_active && q.active[l + k];
-            LevelChoice ch[8];
-            bool same = all_active;
-            if (same && needs_lambda) {
+        // The levels of lanes l .. l + n - 1 if they are all active and share them.
+        LevelChoice ch[16];
+        const auto shared_levels = [&](int n) {
+            for (int k = 0; k < n && q.active; ++k)
+                if (!q.active[l + k]) return false;
+            if (!needs_lambda) return std::fill(ch, ch + n, fixed), true;
+            for (int part = 0; part < n; part += 8) {
                 float lambda[8];
-                if (q.lod_mode == TextureLod::Explicit) for (int k = 0; k < 8; ++k) lambda[k] = lambda_at(l + k);
-                else lambda8(q, l, w, h, lambda_of, lambda);
-                if (!choose8(f, lambda, ch)) {
-                    for (int k = 0; k < 8 && same; ++k) {
-                        ch[k] = f.choose(lambda[k]);
-                        same = ch[k].same_levels(ch[0]);
-                    }
-                }
-            } else {
-                std::fill(ch, ch + 8, fixed);
+                if (q.lod_mode == TextureLod::Explicit) for (int k = 0; k < 8; ++k) lambda[k] = lambda_at(l + part + k);
+                else lambda8(q, l + part, w, h, lambda_of, lambda);
+                if (!choose8(f, lambda, ch + part))
+                    for (int k = 0; k < 8; ++k) ch[part + k] = f.choose(lambda[k]);
             }
-            if (same) {
+            for (int k = 1; k < n; ++k)
+                if (!ch[k].same_levels(ch[0])) return false;
+            return true;
+        };
+        glsl::Scalar* const out[4] = {q.out[0], q.out[1], q.out[2], q.out[3]};
+        while (l + 8 <= q.lane_count) {
+            if (simd == SimdBlocks::Avx512 && l + 16 <= q.lane_count && shared_levels(16)) {
+                filter16(f, ch, &q.coord[0][l].f, &q.coord[1][l].f, r ? r + l : nullptr, out, l);
+                l += 16;
+                continue;
+            }
+            if (shared_levels(8)) {
                 float result[8][4];
                 filter8(f, ch, &q.coord[0][l].f, &q.coord[1][l].f, r ? r + l : nullptr, result);
                 for (int c = 0; c < 4; ++c)
                     if (q.out[c]) for (int k = 0; k < 8; ++k) q.out[c][l + k].f = result[k][c];
-                continue;
+            } else {
+                for (int k = 0; k < 8; ++k) one_lane(l + k);
             }
-            for (int k = 0; k < 8; ++k) one_lane(l + k);
+            l += 8;
         }
     }
 #endif
@@ -802,10 +935,10 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, bool simd) const
 
 void TextureUnitSampler::sample(const glsl::TextureQuery& q) {
     const SamplerPath path = SamplerPath(path_level.load(std::memory_order_relaxed));
+    SimdBlocks simd = SimdBlocks::None;
 #ifdef SOFTGL_SAMPLER_AVX2
-    const bool simd = path == SamplerPath::Best && cpu_has_avx2();
-#else
-    const bool simd = false;
+    if ((path == SamplerPath::Best || path == SamplerPath::Avx2) && cpu_has_avx2()) simd = SimdBlocks::Avx2;
+    if (path == SamplerPath::Best && cpu_has_avx512()) simd = SimdBlocks::Avx512;
 #endif
     if (path != SamplerPath::General && sample_2d(q, simd)) {
         if (count_queries.load(std::memory_order_relaxed)) fast_path_queries.fetch_add(1, std::memory_order_relaxed);

@@ -36,14 +36,16 @@ private:
     // The general path: every lane on its own, any texture kind and dimension.
     void sample_lanes(const glsl::TextureQuery& query) const;
     // The common case, resolved once per query: filtered lookups of one 2D / 2D array texture of
-    // a colour format that samples as float (AVX2 blocks of 8 lanes when `simd`). False (nothing
-    // written) when the query is not that.
-    bool sample_2d(const glsl::TextureQuery& query, bool simd) const;
+    // a colour format that samples as float (in blocks of 8 lanes with AVX2, of 16 and 8 with
+    // AVX-512). False (nothing written) when the query is not that.
+    enum class SimdBlocks { None, Avx2, Avx512 };
+    bool sample_2d(const glsl::TextureQuery& query, SimdBlocks simd) const;
 };
 
-// Which path lookups take: the general per-lane path only, the 2D fast path without SIMD, or
-// with the best SIMD the CPU has (the default). All give the same bits (NaNs aside: which NaN).
-enum class SamplerPath : int { General, Scalar, Best };
+// Which path lookups take: the general per-lane path only, the 2D fast path without SIMD, with
+// the best SIMD the CPU has (the default), or with AVX2 at most (so that a machine with AVX-512
+// tests the AVX2 blocks too). All give the same bits (NaNs aside: which NaN).
+enum class SamplerPath : int { General, Scalar, Best, Avx2 };
 // Testing: sets the path and returns how many queries the fast path served since the last call.
 uint64_t set_sampler_path(SamplerPath path);
 
