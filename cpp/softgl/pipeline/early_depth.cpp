@@ -112,9 +112,11 @@ __attribute__((target("avx2"))) size_t early_depth_avx2(const EarlyDepth& t, con
 // and x stepping by 2, as the rasterizer emits the quad-rows of a block (a covered 8x8 block is
 // four rows of four full quads). That is two pixel rows of up to 8 pixels, 8 double lanes each:
 // fx and c + a*fx once for both rows, then each row's depths in the scalar definition's order
-// ((c + a*fx) + b*fy) + offset. depth_word's clamp is z > 0 ? min(z, 1) : 0 (NaN -> 0). The rows compare as unsigned words (kPredicate is compare()'s
-// function as a _MM_CMPINT predicate) and store the passing words; masked loads and stores touch
-// covered pixels only. The pixels of a row are distinct, so testing them together is in order.
+// ((c + a*fx) + b*fy) + offset, depth_word's clamp as z > 0 ? min(z, 1) : 0 (NaN -> 0). The rows
+// compare as unsigned words (kPredicate is compare()'s function as a vpcmpud predicate) and store
+// the passing words; masked loads and stores touch covered pixels only. The pixels of a row are
+// distinct, so testing them together is in order. pext/pdep (BMI2, which every AVX-512 CPU has)
+// gather the coverage and scatter the results in survived's order.
 #define SOFTGL_AVX512_EARLY_DEPTH __attribute__((target("avx512f,avx512bw,avx512dq,avx512vl,bmi,bmi2")))
 // One pixel row: z = (cax + byf) + offset per lane; returns the passing lanes of `covered`.
 template <int kPredicate>
