@@ -1,8 +1,7 @@
 """The single-sample early depth test (cpp/softgl/pipeline/early_depth.h) gives the same
 survivors, kill count and depth buffer at every instruction-set level (scalar through the
 definitions depth_at / depth_word / compare; AVX2 a quad at a time where the CPU has it, also at
-the AVX-512 level), and
-those equal an independent float64 evaluation here: ES 3.0 §4.1.6 with the window depth
+the AVX-512 level, which takes rows of up to four side-by-side quads at once), and those equal an independent float64 evaluation here: ES 3.0 §4.1.6 with the window depth
 z = clamp((c + a*fx + b*fy) + offset) stored as floor(z * (2^24 - 1) + 0.5) (NaN -> 0).
 
 Buffers have odd sizes, so quads on the right and top border have pixels outside the buffer
@@ -66,16 +65,23 @@ def random_quads(rng, n):
     return np.array(quads, np.int64)
 
 
-def check(rng, func, write, plane, offset=0.0, quads=None, origin=None):
+def random_stored(rng, exact):
+    # Random words, some beyond 24 bits (the comparison is unsigned), 30% equal to the incoming
+    # word so EQUAL and friends see ties.
+    depth = rng.integers(0, 1 << 24, exact.shape).astype(np.uint32)
+    depth[rng.random(exact.shape) < 0.05] = 0xFFFFFFFF
+    ties = rng.random(exact.shape) < 0.3
+    depth[ties] = exact[ties]
+    return depth
+
+
+def check(rng, func, write, plane, offset=0.0, quads=None, origin=None, size=(W, H), stored=random_stored):
     ox, oy = (int(v) for v in rng.integers(-40 * SUB, 40 * SUB, 2)) if origin is None else origin
     sample = (128, 128) if rng.random() < 0.7 else tuple(int(v) for v in rng.integers(0, SUB, 2))
     quads = random_quads(rng, int(rng.integers(1, 40))) if quads is None else quads
-    depth = rng.integers(0, 1 << 24, (H, W)).astype(np.uint32)
-    depth[rng.random((H, W)) < 0.05] = 0xFFFFFFFF   # beyond 24 bits: the comparison is unsigned
-    # Some stored values equal to the incoming word, so EQUAL and friends see ties.
+    depth = np.zeros(size[::-1], np.uint32)
     _, _, exact = reference(plane, offset, ox, oy, sample, "ALWAYS", True, quads, depth)
-    ties = rng.random((H, W)) < 0.3
-    depth[ties] = exact[ties]
+    depth = stored(rng, exact)
     want = reference(plane, offset, ox, oy, sample, func, write, quads, depth)
     for level in range(_core.testing.simd_level() + 1):
         got = _core.testing.early_depth_test(level, plane, offset, ox, oy, sample, getattr(softgl, func), write,
@@ -147,3 +153,79 @@ def test_huge_offsets():
             plane = (rng.normal(0, 1e-12), rng.normal(0, 1e-12), rng.uniform(0, 1))
             origin = tuple(int(v) for v in rng.integers(-(1 << 48), 1 << 48, 2))
             check(rng, func, True, plane, origin=origin)
+
+
+def full_quad_rows(rng, size, rows):
+    # Runs of fully covered quads along quad-rows, as the rasterizer emits covered blocks: each
+    # row (y, x0, count) is `count` quads at x0, x0 + 2, ... Some quads lose a pixel (a broken run).
+    w, h = size
+    quads = []
+    for y, x0, count in rows:
+        for x in range(x0, x0 + 2 * count, 2):
+            cov = 0
+            for j in range(4):
+                if x + (j & 1) < w and y + (j >> 1) < h:
+                    cov |= 1 << (16 * j)
+            if rng.random() < 0.08:
+                cov &= ~(1 << (16 * int(rng.integers(0, 4))))
+            quads.append((x, y, cov))
+    return np.array(quads, np.int64).reshape(-1, 3)
+
+
+def stored_by_region(rng, exact):
+    # Every 8x2 pixel region (a row of four quads) of the stored buffer below, equal to or above
+    # the incoming words, random, or a per-pixel mix: whole runs pass, fail or split.
+    depth = exact.astype(np.int64)
+    h, w = exact.shape
+    for y in range(0, h, 2):
+        for x in range(0, w, 8):
+            region = (slice(y, y + 2), slice(x, x + 8))
+            mode = rng.integers(0, 5)
+            if mode < 3:
+                depth[region] += int(mode) - 1
+            elif mode == 3:
+                depth[region] = rng.integers(0, 1 << 24, depth[region].shape)
+            else:
+                depth[region] += rng.integers(-1, 2, depth[region].shape)
+    return np.clip(depth, 0, 0xFFFFFFFF).astype(np.uint32)
+
+
+@pytest.mark.parametrize("func", FUNCS)
+@pytest.mark.parametrize("write", [True, False])
+def test_runs_of_full_quads(func, write):
+    # Rows of 1..20 side-by-side full quads (a 43x21 buffer: the last quad of a row and the top
+    # quad-row stick out), starting at any even x, also several rows in a row and rows that repeat.
+    size = (43, 21)
+    rng = np.random.default_rng(90 + FUNCS.index(func) + 10 * write)
+    for count in range(1, 21):
+        x0 = 2 * int(rng.integers(0, 23 - count))
+        rows = [(2 * int(rng.integers(0, 11)), x0, count)]
+        if rng.random() < 0.5:   # the next quad-row, or the same row again (it sees its own writes)
+            rows.append((rows[0][0] + 2 * int(rng.integers(0, 2)) if rows[0][0] < 20 else 0, x0, count))
+        plane = (rng.normal(0, 0.05), rng.normal(0, 0.05), rng.uniform(-0.2, 1.2))
+        stored = stored_by_region if rng.random() < 0.7 else random_stored
+        check(rng, func, write, plane, offset=float(rng.choice([0.0, -1e-3])), quads=full_quad_rows(rng, size, rows),
+              size=size, stored=stored)
+
+
+@pytest.mark.parametrize("c", [np.nan, np.inf, -np.inf, -0.0, 0.5, 2.0])
+def test_runs_of_full_quads_special_planes(c):
+    # Flat planes (a = b = 0) and planes that are NaN or infinite across whole runs, and steep
+    # ones clamped to 0 and 1 inside a run.
+    size = (43, 21)
+    rng = np.random.default_rng(110)
+    rows = [(y, 0, 22) for y in range(0, 22, 2)]
+    for func in FUNCS:
+        for plane in [(0.0, 0.0, c), (c, 0.0, 0.5), (0.0, c, 0.5), (0.3, -0.2, c if np.isfinite(c) else 0.5)]:
+            check(rng, func, True, plane, quads=full_quad_rows(rng, size, rows), size=size, stored=stored_by_region)
+
+
+def test_runs_of_full_quads_huge_offsets():
+    rng = np.random.default_rng(120)
+    size = (43, 21)
+    for func in FUNCS:
+        plane = (rng.normal(0, 1e-12), rng.normal(0, 1e-12), rng.uniform(0, 1))
+        origin = tuple(int(v) for v in rng.integers(-(1 << 48), 1 << 48, 2))
+        rows = [(2 * int(rng.integers(0, 11)), 2 * int(rng.integers(0, 10)), int(rng.integers(1, 12))) for _ in range(4)]
+        check(rng, func, True, plane, origin=origin, quads=full_quad_rows(rng, size, rows), size=size,
+              stored=stored_by_region)

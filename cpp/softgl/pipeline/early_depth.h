@@ -2,8 +2,9 @@
 // writes depth) of a run of quads, for the common case: one sample per pixel, 24-bit depth words,
 // no stencil. Each covered pixel compares depth_word(Depth24, prim.depth_at(sample)) with the
 // stored word, and on a pass with depth writes enabled stores it. The pixels of one primitive are
-// distinct, so they are independent: the AVX2 level tests a quad's four pixels at once and gives
-// the same words and decisions as the scalar level (DESIGN §3).
+// distinct, so they are independent: the AVX2 level tests a quad's four pixels at once, the
+// AVX-512 level a row of up to four side-by-side quads (two pixel rows of 8), and both give the
+// same words and decisions as the scalar level (DESIGN §3).
 #pragma once
 #include <cstddef>
 #include <cstdint>
