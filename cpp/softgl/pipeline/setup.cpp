@@ -23,7 +23,7 @@ int64_t snap(double window) {
     // negative non-integers.
     const double x = window * double(kSubPixel) + 0.5;
     const int64_t t = int64_t(x);
-    return double(t) > x ? t - 1 : t;
+    return t - int64_t(double(t) > x);   // no branch: the sign of x's fraction is random
 }
 
 // Edge from (xj, yj) to (xk, yk) of a counter-clockwise polygon (window y up): E >= 0 inside.
@@ -86,16 +86,15 @@ Setup::Setup(const RasterState& state)
       transform_{state.viewport.scale_x(), state.viewport.offset_x(), state.viewport.scale_y(),
                  state.viewport.offset_y(), state.viewport.scale_z(), state.viewport.offset_z()} {}
 
-Setup::WindowVertex Setup::project(const ClipVertex& cv) const {
+inline Setup::WindowVertex Setup::project(const Vec4d& p, const double weight[3]) const {
     // ES 3.0 §2.12: perspective division, then the viewport transform.
     const ViewportTransform& vp = transform_;
-    const Vec4d& p = cv.position;
     WindowVertex w;
     w.X = snap(vp.scale_x * (p.x / p.w) + vp.offset_x);
     w.Y = snap(vp.scale_y * (p.y / p.w) + vp.offset_y);
     w.z = vp.scale_z * (p.z / p.w) + vp.offset_z;
     w.inv_w = 1.0 / p.w;
-    for (int k = 0; k < 3; ++k) w.weight[k] = cv.weight[k];
+    for (int k = 0; k < 3; ++k) w.weight[k] = weight[k];
     return w;
 }
 
@@ -110,7 +109,7 @@ double Setup::resolvable_difference(double max_abs_z) const {
     return std::ldexp(1.0, e - 1 - 23);
 }
 
-bool Setup::finish_bbox(PrimitiveSetup& s, int64_t xmin, int64_t ymin, int64_t xmax,
+inline bool Setup::finish_bbox(PrimitiveSetup& s, int64_t xmin, int64_t ymin, int64_t xmax,
                         int64_t ymax) {
     // Pixel px has samples at px*256 + [0, 255]; it can be covered only if that range meets
     // [xmin, xmax].
@@ -130,6 +129,13 @@ void Setup::triangle(const float* p0, const float* p1, const float* p2, uint32_t
                         {p1[0], p1[1], p1[2], p1[3]},
                         {p2[0], p2[1], p2[2], p2[3]}};
     const uint32_t vertex[3] = {i0, i1, i2};
+    static constexpr double kOwnWeight[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    if (clipper_.accepts(v)) {   // the common case: what clip_triangle would return, unchanged
+        const WindowVertex w[3] = {project(v[0], kOwnWeight[0]), project(v[1], kOwnWeight[1]),
+                                   project(v[2], kOwnWeight[2])};
+        unclipped_triangle(w, vertex, primitive, out);
+        return;
+    }
     ClipVertex poly[kMaxClipVertices];
     const int n = clipper_.clip_triangle(v, poly);
     if (n == 0) {
@@ -138,23 +144,9 @@ void Setup::triangle(const float* p0, const float* p1, const float* p2, uint32_t
         return;
     }
     WindowVertex w[kMaxClipVertices];
-    for (int i = 0; i < n; ++i) w[i] = project(poly[i]);
-
+    for (int i = 0; i < n; ++i) w[i] = project(poly[i].position, poly[i].weight);
     if (n == 3 && poly[0].weight[0] == 1 && poly[1].weight[1] == 1 && poly[2].weight[2] == 1) {
-        // Unclipped. ES 3.0 §3.6.1: the facing comes from the signed area in window coordinates.
-        const int64_t area2 = (w[1].X - w[0].X) * (w[2].Y - w[0].Y) -
-                              (w[2].X - w[0].X) * (w[1].Y - w[0].Y);
-        if (area2 == 0) { ++stats.zero_area; return; }
-        const bool ccw = area2 > 0;
-        const bool front = (state_.front_face == kGlCcw) == ccw;
-        if (state_.cull_face &&
-            (state_.cull_face_mode == kGlFrontAndBack ||
-             (state_.cull_face_mode == kGlFront && front) ||
-             (state_.cull_face_mode == kGlBack && !front))) {
-            ++stats.culled;
-            return;
-        }
-        emit_triangle(w[0], w[1], w[2], area2, front, vertex, primitive, out);
+        unclipped_triangle(w, vertex, primitive, out);
         return;
     }
 
@@ -170,13 +162,7 @@ void Setup::triangle(const float* p0, const float* p1, const float* p2, uint32_t
     if (poly_area2 == 0) { ++stats.zero_area; return; }
     const bool ccw = poly_area2 > 0;
     const bool front = (state_.front_face == kGlCcw) == ccw;
-    if (state_.cull_face &&
-        (state_.cull_face_mode == kGlFrontAndBack ||
-         (state_.cull_face_mode == kGlFront && front) ||
-         (state_.cull_face_mode == kGlBack && !front))) {
-        ++stats.culled;
-        return;
-    }
+    if (culled(front)) { ++stats.culled; return; }
     for (int i = 1; i + 1 < n; ++i) {
         const int64_t area2 = (w[i].X - w[0].X) * (w[i + 1].Y - w[0].Y) -
                               (w[i + 1].X - w[0].X) * (w[i].Y - w[0].Y);
@@ -185,13 +171,32 @@ void Setup::triangle(const float* p0, const float* p1, const float* p2, uint32_t
     }
 }
 
-void Setup::emit_triangle(WindowVertex v0, WindowVertex v1, WindowVertex v2, int64_t area2,
-                          bool front, const uint32_t vertex[3], uint32_t primitive,
+inline bool Setup::culled(bool front) const {
+    return state_.cull_face &&
+           (state_.cull_face_mode == kGlFrontAndBack ||
+            (state_.cull_face_mode == kGlFront && front) ||
+            (state_.cull_face_mode == kGlBack && !front));
+}
+
+inline void Setup::unclipped_triangle(const WindowVertex w[3], const uint32_t vertex[3],
+                               uint32_t primitive, std::vector<PrimitiveSetup>& out) {
+    // ES 3.0 §3.6.1: the facing comes from the signed area in window coordinates.
+    const int64_t area2 = (w[1].X - w[0].X) * (w[2].Y - w[0].Y) -
+                          (w[2].X - w[0].X) * (w[1].Y - w[0].Y);
+    if (area2 == 0) { ++stats.zero_area; return; }
+    const bool front = (state_.front_face == kGlCcw) == (area2 > 0);
+    if (culled(front)) { ++stats.culled; return; }
+    emit_triangle(w[0], w[1], w[2], area2, front, vertex, primitive, out);
+}
+
+inline void Setup::emit_triangle(const WindowVertex& w0, const WindowVertex& w1, const WindowVertex& w2,
+                          int64_t area2, bool front, const uint32_t vertex[3], uint32_t primitive,
                           std::vector<PrimitiveSetup>& out) {
-    if (area2 < 0) {   // make the vertex order counter-clockwise: interior has E >= 0
-        std::swap(v1, v2);
-        area2 = -area2;
-    }
+    // Counter-clockwise vertex order (interior has E >= 0).
+    const WindowVertex& v0 = w0;
+    const WindowVertex& v1 = area2 < 0 ? w2 : w1;
+    const WindowVertex& v2 = area2 < 0 ? w1 : w2;
+    if (area2 < 0) area2 = -area2;
     PrimitiveSetup& s = out.emplace_back();   // built in place (no copy of the large record)
     const WindowVertex* v[3] = {&v0, &v1, &v2};
     for (int i = 0; i < 3; ++i) {
@@ -396,7 +401,7 @@ void Setup::line(const float* p0, const float* p1, uint32_t i0, uint32_t i1, uin
         return;
     }
     if (c[0].weight[0] != 1 || c[1].weight[1] != 1) ++stats.clipped;
-    const WindowVertex a = project(c[0]), e = project(c[1]);
+    const WindowVertex a = project(c[0].position, c[0].weight), e = project(c[1].position, c[1].weight);
     const int64_t dx = e.X - a.X, dy = e.Y - a.Y;
     if (dx == 0 && dy == 0) { ++stats.zero_area; return; }
     const bool x_major = (dx < 0 ? -dx : dx) >= (dy < 0 ? -dy : dy);
