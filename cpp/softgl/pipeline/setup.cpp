@@ -1,6 +1,7 @@
 #include "softgl/pipeline/setup.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <utility>
 
@@ -10,10 +11,9 @@ namespace {
 
 constexpr uint32_t kGlFront = 0x404, kGlBack = 0x405, kGlFrontAndBack = 0x408, kGlCcw = 0x901;
 
-int64_t floor_div(int64_t a, int64_t b) {   // b > 0
-    int64_t q = a / b;
-    return (a % b != 0 && a < 0) ? q - 1 : q;
-}
+// floor(a / kSubPixel): the pixel of a fixed-point coordinate. An arithmetic shift (defined for
+// negative a in C++20, and by GCC and Clang before), no division.
+int64_t floor_pixel(int64_t a) { return a >> kSubPixelBits; }
 
 // Snap a window coordinate to 1/256 pixel, round to nearest. The clamp catches the last ulp that
 // guard-band clipping may leave outside the band (and keeps the conversion defined).
@@ -32,22 +32,25 @@ void make_edge(PrimitiveSetup& s, int i, int64_t xj, int64_t yj, int64_t xk, int
     const int64_t a = yj - yk, b = xk - xj;
     // a > 0: the edge runs downwards (interior to its right): a "left" edge.
     // a == 0, b > 0: horizontal, running right, interior above: a "bottom" edge.
-    const bool included = a > 0 || (a == 0 && b > 0);
+    // Without branches: which edges are included is random for small triangles.
+    const int excluded = !((a > 0) | ((a == 0) & (b > 0)));
     s.a[i] = a;
     s.b[i] = b;
-    s.c[i] = -(a * xj + b * yj) - (included ? 0 : 1);
-    s.area_offset[i] = included ? 0.0 : 1.0;   // the area shape is the untied edge
+    s.c[i] = -(a * xj + b * yj) - excluded;
+    s.area_offset[i] = double(excluded);   // the area shape is the untied edge
 }
 
-// The plane through (0, 0, v0), (dx1, dy1, v1), (dx2, dy2, v2) (pixel offsets from vertex 0);
-// inv_det = 1 / (dx1*dy2 - dx2*dy1).
-Plane plane3(double v0, double v1, double v2, double dx1, double dy1, double dx2, double dy2,
-             double inv_det) {
-    Plane p;
-    p.a = ((v1 - v0) * dy2 - (v2 - v0) * dy1) * inv_det;
-    p.b = ((v2 - v0) * dx1 - (v1 - v0) * dx2) * inv_det;
-    p.c = v0;
-    return p;
+// Two doubles per register (GCC/Clang vector extension): the same IEEE operations lane by lane.
+typedef double Double2 __attribute__((vector_size(16)));
+
+// Two planes (one per lane) through (0, 0, v0), (dx1, dy1, v1), (dx2, dy2, v2) (pixel offsets from
+// vertex 0); inv_det = 1 / (dx1*dy2 - dx2*dy1).
+void plane3(Double2 v0, Double2 v1, Double2 v2, double dx1, double dy1, double dx2, double dy2,
+            double inv_det, Plane& p0, Plane& p1) {
+    const Double2 a = ((v1 - v0) * dy2 - (v2 - v0) * dy1) * inv_det;
+    const Double2 b = ((v2 - v0) * dx1 - (v1 - v0) * dx2) * inv_det;
+    p0.a = a[0]; p0.b = b[0]; p0.c = v0[0];
+    p1.a = a[1]; p1.b = b[1]; p1.c = v0[1];
 }
 
 Plane constant_plane(double v) {
@@ -120,10 +123,10 @@ inline bool Setup::finish_bbox(PrimitiveSetup& s, int64_t xmin, int64_t ymin, in
                         int64_t ymax) {
     // Pixel px has samples at px*256 + [0, 255]; it can be covered only if that range meets
     // [xmin, xmax].
-    const int64_t x0 = std::max<int64_t>(floor_div(xmin, kSubPixel), state_.clip_x0);
-    const int64_t y0 = std::max<int64_t>(floor_div(ymin, kSubPixel), state_.clip_y0);
-    const int64_t x1 = std::min<int64_t>(floor_div(xmax, kSubPixel) + 1, state_.clip_x1);
-    const int64_t y1 = std::min<int64_t>(floor_div(ymax, kSubPixel) + 1, state_.clip_y1);
+    const int64_t x0 = std::max<int64_t>(floor_pixel(xmin), state_.clip_x0);
+    const int64_t y0 = std::max<int64_t>(floor_pixel(ymin), state_.clip_y0);
+    const int64_t x1 = std::min<int64_t>(floor_pixel(xmax) + 1, state_.clip_x1);
+    const int64_t y1 = std::min<int64_t>(floor_pixel(ymax) + 1, state_.clip_y1);
     if (x0 >= x1 || y0 >= y1) return false;
     s.x0 = int32_t(x0); s.y0 = int32_t(y0); s.x1 = int32_t(x1); s.y1 = int32_t(y1);
     return true;
@@ -214,8 +217,9 @@ inline void Setup::emit_triangle(const WindowVertex& w0, const WindowVertex& w1,
     s.a[3] = s.b[3] = s.c[3] = 0;
     s.area_offset[3] = 0;
     s.area_shape = AreaShape::Polygon;
-    const int64_t xmin = std::min({v0.X, v1.X, v2.X}), xmax = std::max({v0.X, v1.X, v2.X});
-    const int64_t ymin = std::min({v0.Y, v1.Y, v2.Y}), ymax = std::max({v0.Y, v1.Y, v2.Y});
+    // Nested min/max: conditional moves (min({...}) is a loop of unpredictable branches).
+    const int64_t xmin = std::min(v0.X, std::min(v1.X, v2.X)), xmax = std::max(v0.X, std::max(v1.X, v2.X));
+    const int64_t ymin = std::min(v0.Y, std::min(v1.Y, v2.Y)), ymax = std::max(v0.Y, std::max(v1.Y, v2.Y));
     if (!finish_bbox(s, xmin, ymin, xmax, ymax)) { ++stats.outside; out.pop_back(); return; }
 
     s.origin_x = v0.X;
@@ -224,11 +228,17 @@ inline void Setup::emit_triangle(const WindowVertex& w0, const WindowVertex& w1,
     const double dx1 = double(v1.X - v0.X) * inv, dy1 = double(v1.Y - v0.Y) * inv;
     const double dx2 = double(v2.X - v0.X) * inv, dy2 = double(v2.Y - v0.Y) * inv;
     const double inv_det = double(kSubPixel * kSubPixel) / double(area2);
-    s.depth = plane3(v0.z, v1.z, v2.z, dx1, dy1, dx2, dy2, inv_det);
-    s.inv_w = plane3(v0.inv_w, v1.inv_w, v2.inv_w, dx1, dy1, dx2, dy2, inv_det);
-    for (int k = 0; k < 3; ++k)
-        s.weight[k] = plane3(v0.weight[k] * v0.inv_w, v1.weight[k] * v1.inv_w,
-                             v2.weight[k] * v2.inv_w, dx1, dy1, dx2, dy2, inv_det);
+    auto values = [](const WindowVertex& v) {   // depth, 1/w, weight_k / w (k = 0, 1, 2)
+        const Double2 inv_w = {v.inv_w, v.inv_w};
+        const Double2 w01 = Double2{v.weight[0], v.weight[1]} * inv_w;
+        const Double2 w2 = Double2{v.weight[2], 0} * inv_w;
+        return std::array<Double2, 3>{Double2{v.z, v.inv_w}, w01, w2};
+    };
+    const std::array<Double2, 3> q0 = values(v0), q1 = values(v1), q2 = values(v2);
+    Plane unused;
+    plane3(q0[0], q1[0], q2[0], dx1, dy1, dx2, dy2, inv_det, s.depth, s.inv_w);
+    plane3(q0[1], q1[1], q2[1], dx1, dy1, dx2, dy2, inv_det, s.weight[0], s.weight[1]);
+    plane3(q0[2], q1[2], q2[2], dx1, dy1, dx2, dy2, inv_det, s.weight[2], unused);
     s.depth_offset = 0;
     if (state_.polygon_offset_fill) {
         // ES 3.0 §3.6.5: o = m * factor + r * units, m = max(|dz/dx|, |dz/dy|) (the allowed
@@ -385,8 +395,8 @@ bool diamond_exit_in(int64_t ax, int64_t ay, int64_t bx, int64_t by, bool x_majo
 // test; for long lines each scan stops after at most three columns. False: no fragment at all.
 bool diamond_exit_span(int64_t ax, int64_t ay, int64_t bx, int64_t by, bool x_major,
                        int64_t& first, int64_t& last) {
-    const int64_t lo = floor_div(std::min(x_major ? ax : ay, x_major ? bx : by), kSubPixel) - 1;
-    const int64_t hi = floor_div(std::max(x_major ? ax : ay, x_major ? bx : by), kSubPixel) + 1;
+    const int64_t lo = floor_pixel(std::min(x_major ? ax : ay, x_major ? bx : by)) - 1;
+    const int64_t hi = floor_pixel(std::max(x_major ? ax : ay, x_major ? bx : by)) + 1;
     first = lo;
     while (first <= hi && !diamond_exit_in(ax, ay, bx, by, x_major, first)) ++first;
     if (first > hi) return false;
