@@ -84,21 +84,6 @@ void read_integer_components(const VertexAttribPointer& a, const uint8_t* p, uin
     }
 }
 
-// Copies the first N float components of each vertex, as they are, into comp[0..N-1]: the common
-// case, with the component count known to the compiler.
-template <int N>
-void copy_float_components(const uint8_t* base, uint64_t stride, const uint32_t* vertex_ids,
-                           uint32_t first, size_t count, uint32_t* const comp[4]) {
-    auto copy = [&](size_t v, uint64_t element) {
-        const uint8_t* p = base + element * stride;
-        for (int c = 0; c < N; ++c) std::memcpy(&comp[c][v], p + 4 * c, 4);
-    };
-    if (vertex_ids)
-        for (size_t v = 0; v < count; ++v) copy(v, vertex_ids[v]);
-    else
-        for (size_t v = 0; v < count; ++v) copy(v, uint64_t(first) + v);
-}
-
 uint64_t effective_stride(const VertexAttribPointer& a) {
     if (a.stride) return uint64_t(a.stride);
     if (a.type == gl::INT_2_10_10_10_REV || a.type == gl::UNSIGNED_INT_2_10_10_10_REV) return 4;
@@ -161,13 +146,12 @@ void fetch_attribute(const VertexArray& vao, const CurrentAttrib& current, int l
     const uint64_t stride = effective_stride(a);
     if (a.type == gl::FLOAT && !a.integer && !a.divisor) {
         // The common case: float components copied as they are, missing ones (0, 0, 0, 1).
-        uint32_t* const comp[4] = {out.comp[0].data(), out.comp[1].data(), out.comp[2].data(), out.comp[3].data()};
-        for (int c = a.size; c < 4; ++c) std::fill_n(comp[c], count, c == 3 ? float_bits(1.0f) : 0u);
-        switch (a.size) {
-            case 1: copy_float_components<1>(base, stride, vertex_ids, first, count, comp); break;
-            case 2: copy_float_components<2>(base, stride, vertex_ids, first, count, comp); break;
-            case 3: copy_float_components<3>(base, stride, vertex_ids, first, count, comp); break;
-            default: copy_float_components<4>(base, stride, vertex_ids, first, count, comp); break;
+        const int size = a.size;
+        uint32_t* comp[4] = {out.comp[0].data(), out.comp[1].data(), out.comp[2].data(), out.comp[3].data()};
+        for (int c = size; c < 4; ++c) std::fill_n(comp[c], count, c == 3 ? float_bits(1.0f) : 0u);
+        for (size_t v = 0; v < count; ++v) {
+            const uint8_t* p = base + uint64_t(vertex_ids ? vertex_ids[v] : first + v) * stride;
+            for (int c = 0; c < size; ++c) std::memcpy(&comp[c][v], p + 4 * c, 4);
         }
         return;
     }
