@@ -362,4 +362,18 @@ void bind_testing(py::module_& m) {
               return py::make_tuple(pos, weights);
           },
           py::arg("triangle"), py::arg("width"), py::arg("height"));
+    // Clipper::accepts (setup's no-clipping fast path) for the same inputs as clip_triangle.
+    t.def("clip_accepts",
+          [](py::array_t<float, py::array::c_style | py::array::forcecast> tri, int32_t width,
+             int32_t height) {
+              if (tri.ndim() != 2 || tri.shape(0) != 3 || tri.shape(1) != 4)
+                  throw py::value_error("triangle must be (3, 4)");
+              softgl::Viewport vp;
+              vp.width = width;
+              vp.height = height;
+              softgl::Vec4d v[3];
+              for (int i = 0; i < 3; ++i) v[i] = {tri.at(i, 0), tri.at(i, 1), tri.at(i, 2), tri.at(i, 3)};
+              return softgl::Clipper(vp).accepts(v);
+          },
+          py::arg("triangle"), py::arg("width"), py::arg("height"));
 }

@@ -31,11 +31,15 @@ void Bins::add(const std::vector<PrimitiveSetup>& prims, size_t first) {
 
 void Bins::gather_tile(size_t t, const Bins* parts, size_t count, const uint32_t* index_base) {
     std::vector<uint32_t>& list = lists_[t];
-    list.clear();
+    size_t total = 0;
+    for (size_t i = 0; i < count; ++i) total += parts[i].lists_[t].size();
+    list.resize(total);   // every element is written below
+    uint32_t* dst = list.data();
     for (size_t i = 0; i < count; ++i) {
         const std::vector<uint32_t>& part = parts[i].lists_[t];
         const uint32_t base = index_base[i];
-        for (uint32_t k : part) list.push_back(base + k);
+        for (size_t k = 0; k < part.size(); ++k) dst[k] = base + part[k];
+        dst += part.size();
     }
 }
 

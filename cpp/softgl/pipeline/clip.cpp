@@ -18,18 +18,6 @@ Clipper::Clipper(const Viewport& vp) {
     set(6, 0, -sy, 0, g - oy);
 }
 
-double Clipper::distance(int i, const Vec4d& v) const {
-    const double* p = plane_[i];
-    return p[0] * v.x + p[1] * v.y + p[2] * v.z + p[3] * v.w;
-}
-
-uint32_t Clipper::outcode(const Vec4d& v) const {
-    uint32_t code = 0;
-    for (int i = 0; i < kClipPlaneCount; ++i)
-        if (!(distance(i, v) >= 0)) code |= 1u << i;
-    return code;
-}
-
 namespace {
 
 // An exact sum of products (Shewchuk's expansion arithmetic: the sum is kept as non-overlapping

@@ -64,11 +64,14 @@ class Clipper {
 public:
     explicit Clipper(const Viewport& viewport);
 
-    // Signed distance of v to plane i (>= 0 inside); a linear function of v, rounded. Only used to
-    // pick the planes to clip against (outcode); clipping recomputes distances exactly.
-    double distance(int plane, const Vec4d& v) const;
-    // Bit i set when v is outside plane i.
+    // Bit i set when finite v is outside plane i by its signed distance, a linear function of v
+    // rounded (terms with a zero coefficient left out: they add +-0). Only used to pick the planes
+    // to clip against; clipping recomputes distances exactly.
     uint32_t outcode(const Vec4d& v) const;
+    // True when clip_triangle would return a triangle of these three vertices unchanged (weights
+    // (1,0,0), (0,1,0), (0,0,1)) without clipping: every vertex finite, inside every plane by
+    // outcode, with w >= kMinClippedW. The common case, tested first by setup.
+    bool accepts(const Vec4d v[3]) const;
 
     // Clips triangle v[0..2]. Returns the number of vertices of the clipped convex polygon written to
     // `out` (0: nothing left, or a non-finite coordinate), in the triangle's winding order; every
@@ -87,6 +90,26 @@ private:
 inline bool finite_vertex(const Vec4d& v) {
     // x - x is 0 for finite x and NaN for NaN and +-Inf.
     return (v.x - v.x) == 0 && (v.y - v.y) == 0 && (v.z - v.z) == 0 && (v.w - v.w) == 0;
+}
+
+// Inline: setup calls these for every primitive.
+inline uint32_t Clipper::outcode(const Vec4d& v) const {
+    // Planes 0-2 have coefficients +-1 and 0 (their products are exact), planes 3-6 one coefficient
+    // on x or y and one on w (see the constructor).
+    const double(&p)[kClipPlaneCount][4] = plane_;
+    return uint32_t(!(v.w >= 0)) << 0 | uint32_t(!(v.z + v.w >= 0)) << 1 |
+           uint32_t(!(v.w - v.z >= 0)) << 2 |
+           uint32_t(!(p[3][0] * v.x + p[3][3] * v.w >= 0)) << 3 |
+           uint32_t(!(p[4][0] * v.x + p[4][3] * v.w >= 0)) << 4 |
+           uint32_t(!(p[5][1] * v.y + p[5][3] * v.w >= 0)) << 5 |
+           uint32_t(!(p[6][1] * v.y + p[6][3] * v.w >= 0)) << 6;
+}
+
+inline bool Clipper::accepts(const Vec4d v[3]) const {
+    bool ok = true;
+    for (int i = 0; i < 3; ++i)   // w >= kMinClippedW covers plane 0; & keeps it free of branches
+        ok &= finite_vertex(v[i]) & (v[i].w >= kMinClippedW) & ((outcode(v[i]) & ~kClipW) == 0);
+    return ok;
 }
 
 }  // namespace softgl

@@ -1,6 +1,7 @@
 #include "softgl/pipeline/setup.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <utility>
 
@@ -10,10 +11,9 @@ namespace {
 
 constexpr uint32_t kGlFront = 0x404, kGlBack = 0x405, kGlFrontAndBack = 0x408, kGlCcw = 0x901;
 
-int64_t floor_div(int64_t a, int64_t b) {   // b > 0
-    int64_t q = a / b;
-    return (a % b != 0 && a < 0) ? q - 1 : q;
-}
+// floor(a / kSubPixel): the pixel of a fixed-point coordinate. An arithmetic shift (defined for
+// negative a in C++20, and by GCC and Clang before), no division.
+int64_t floor_pixel(int64_t a) { return a >> kSubPixelBits; }
 
 // Snap a window coordinate to 1/256 pixel, round to nearest. The clamp catches the last ulp that
 // guard-band clipping may leave outside the band (and keeps the conversion defined).
@@ -23,7 +23,7 @@ int64_t snap(double window) {
     // negative non-integers.
     const double x = window * double(kSubPixel) + 0.5;
     const int64_t t = int64_t(x);
-    return double(t) > x ? t - 1 : t;
+    return t - int64_t(double(t) > x);   // no branch: the sign of x's fraction is random
 }
 
 // Edge from (xj, yj) to (xk, yk) of a counter-clockwise polygon (window y up): E >= 0 inside.
@@ -32,22 +32,25 @@ void make_edge(PrimitiveSetup& s, int i, int64_t xj, int64_t yj, int64_t xk, int
     const int64_t a = yj - yk, b = xk - xj;
     // a > 0: the edge runs downwards (interior to its right): a "left" edge.
     // a == 0, b > 0: horizontal, running right, interior above: a "bottom" edge.
-    const bool included = a > 0 || (a == 0 && b > 0);
+    // Without branches: which edges are included is random for small triangles.
+    const int excluded = !((a > 0) | ((a == 0) & (b > 0)));
     s.a[i] = a;
     s.b[i] = b;
-    s.c[i] = -(a * xj + b * yj) - (included ? 0 : 1);
-    s.area_offset[i] = included ? 0.0 : 1.0;   // the area shape is the untied edge
+    s.c[i] = -(a * xj + b * yj) - excluded;
+    s.area_offset[i] = double(excluded);   // the area shape is the untied edge
 }
 
-// The plane through (0, 0, v0), (dx1, dy1, v1), (dx2, dy2, v2) (pixel offsets from vertex 0);
-// inv_det = 1 / (dx1*dy2 - dx2*dy1).
-Plane plane3(double v0, double v1, double v2, double dx1, double dy1, double dx2, double dy2,
-             double inv_det) {
-    Plane p;
-    p.a = ((v1 - v0) * dy2 - (v2 - v0) * dy1) * inv_det;
-    p.b = ((v2 - v0) * dx1 - (v1 - v0) * dx2) * inv_det;
-    p.c = v0;
-    return p;
+// Two doubles per register (GCC/Clang vector extension): the same IEEE operations lane by lane.
+typedef double Double2 __attribute__((vector_size(16)));
+
+// Two planes (one per lane) through (0, 0, v0), (dx1, dy1, v1), (dx2, dy2, v2) (pixel offsets from
+// vertex 0); inv_det = 1 / (dx1*dy2 - dx2*dy1).
+void plane3(Double2 v0, Double2 v1, Double2 v2, double dx1, double dy1, double dx2, double dy2,
+            double inv_det, Plane& p0, Plane& p1) {
+    const Double2 a = ((v1 - v0) * dy2 - (v2 - v0) * dy1) * inv_det;
+    const Double2 b = ((v2 - v0) * dx1 - (v1 - v0) * dx2) * inv_det;
+    p0.a = a[0]; p0.b = b[0]; p0.c = v0[0];
+    p1.a = a[1]; p1.b = b[1]; p1.c = v0[1];
 }
 
 Plane constant_plane(double v) {
@@ -86,16 +89,22 @@ Setup::Setup(const RasterState& state)
       transform_{state.viewport.scale_x(), state.viewport.offset_x(), state.viewport.scale_y(),
                  state.viewport.offset_y(), state.viewport.scale_z(), state.viewport.offset_z()} {}
 
-Setup::WindowVertex Setup::project(const ClipVertex& cv) const {
+inline Setup::WindowVertex Setup::project(const Vec4d& p, const double weight[3]) const {
     // ES 3.0 §2.12: perspective division, then the viewport transform.
+    // Two divisions per instruction (GCC/Clang vector extension, IEEE division in each lane: the
+    // same results as four scalar divisions, which dominate this function).
+    typedef double Double2 __attribute__((vector_size(16)));
     const ViewportTransform& vp = transform_;
-    const Vec4d& p = cv.position;
+    const Double2 w2 = {p.w, p.w};
+    const Double2 xy = Double2{p.x, p.y} / w2;
+    const Double2 z_inv = Double2{p.z, 1.0} / w2;
+    const Double2 window = Double2{vp.scale_x, vp.scale_y} * xy + Double2{vp.offset_x, vp.offset_y};
     WindowVertex w;
-    w.X = snap(vp.scale_x * (p.x / p.w) + vp.offset_x);
-    w.Y = snap(vp.scale_y * (p.y / p.w) + vp.offset_y);
-    w.z = vp.scale_z * (p.z / p.w) + vp.offset_z;
-    w.inv_w = 1.0 / p.w;
-    for (int k = 0; k < 3; ++k) w.weight[k] = cv.weight[k];
+    w.X = snap(window[0]);
+    w.Y = snap(window[1]);
+    w.z = vp.scale_z * z_inv[0] + vp.offset_z;
+    w.inv_w = z_inv[1];
+    for (int k = 0; k < 3; ++k) w.weight[k] = weight[k];
     return w;
 }
 
@@ -110,14 +119,14 @@ double Setup::resolvable_difference(double max_abs_z) const {
     return std::ldexp(1.0, e - 1 - 23);
 }
 
-bool Setup::finish_bbox(PrimitiveSetup& s, int64_t xmin, int64_t ymin, int64_t xmax,
+inline bool Setup::finish_bbox(PrimitiveSetup& s, int64_t xmin, int64_t ymin, int64_t xmax,
                         int64_t ymax) {
     // Pixel px has samples at px*256 + [0, 255]; it can be covered only if that range meets
     // [xmin, xmax].
-    const int64_t x0 = std::max<int64_t>(floor_div(xmin, kSubPixel), state_.clip_x0);
-    const int64_t y0 = std::max<int64_t>(floor_div(ymin, kSubPixel), state_.clip_y0);
-    const int64_t x1 = std::min<int64_t>(floor_div(xmax, kSubPixel) + 1, state_.clip_x1);
-    const int64_t y1 = std::min<int64_t>(floor_div(ymax, kSubPixel) + 1, state_.clip_y1);
+    const int64_t x0 = std::max<int64_t>(floor_pixel(xmin), state_.clip_x0);
+    const int64_t y0 = std::max<int64_t>(floor_pixel(ymin), state_.clip_y0);
+    const int64_t x1 = std::min<int64_t>(floor_pixel(xmax) + 1, state_.clip_x1);
+    const int64_t y1 = std::min<int64_t>(floor_pixel(ymax) + 1, state_.clip_y1);
     if (x0 >= x1 || y0 >= y1) return false;
     s.x0 = int32_t(x0); s.y0 = int32_t(y0); s.x1 = int32_t(x1); s.y1 = int32_t(y1);
     return true;
@@ -130,6 +139,13 @@ void Setup::triangle(const float* p0, const float* p1, const float* p2, uint32_t
                         {p1[0], p1[1], p1[2], p1[3]},
                         {p2[0], p2[1], p2[2], p2[3]}};
     const uint32_t vertex[3] = {i0, i1, i2};
+    static constexpr double kOwnWeight[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
+    if (clipper_.accepts(v)) {   // the common case: what clip_triangle would return, unchanged
+        const WindowVertex w[3] = {project(v[0], kOwnWeight[0]), project(v[1], kOwnWeight[1]),
+                                   project(v[2], kOwnWeight[2])};
+        unclipped_triangle(w, vertex, primitive, out);
+        return;
+    }
     ClipVertex poly[kMaxClipVertices];
     const int n = clipper_.clip_triangle(v, poly);
     if (n == 0) {
@@ -138,23 +154,9 @@ void Setup::triangle(const float* p0, const float* p1, const float* p2, uint32_t
         return;
     }
     WindowVertex w[kMaxClipVertices];
-    for (int i = 0; i < n; ++i) w[i] = project(poly[i]);
-
+    for (int i = 0; i < n; ++i) w[i] = project(poly[i].position, poly[i].weight);
     if (n == 3 && poly[0].weight[0] == 1 && poly[1].weight[1] == 1 && poly[2].weight[2] == 1) {
-        // Unclipped. ES 3.0 §3.6.1: the facing comes from the signed area in window coordinates.
-        const int64_t area2 = (w[1].X - w[0].X) * (w[2].Y - w[0].Y) -
-                              (w[2].X - w[0].X) * (w[1].Y - w[0].Y);
-        if (area2 == 0) { ++stats.zero_area; return; }
-        const bool ccw = area2 > 0;
-        const bool front = (state_.front_face == kGlCcw) == ccw;
-        if (state_.cull_face &&
-            (state_.cull_face_mode == kGlFrontAndBack ||
-             (state_.cull_face_mode == kGlFront && front) ||
-             (state_.cull_face_mode == kGlBack && !front))) {
-            ++stats.culled;
-            return;
-        }
-        emit_triangle(w[0], w[1], w[2], area2, front, vertex, primitive, out);
+        unclipped_triangle(w, vertex, primitive, out);
         return;
     }
 
@@ -170,13 +172,7 @@ void Setup::triangle(const float* p0, const float* p1, const float* p2, uint32_t
     if (poly_area2 == 0) { ++stats.zero_area; return; }
     const bool ccw = poly_area2 > 0;
     const bool front = (state_.front_face == kGlCcw) == ccw;
-    if (state_.cull_face &&
-        (state_.cull_face_mode == kGlFrontAndBack ||
-         (state_.cull_face_mode == kGlFront && front) ||
-         (state_.cull_face_mode == kGlBack && !front))) {
-        ++stats.culled;
-        return;
-    }
+    if (culled(front)) { ++stats.culled; return; }
     for (int i = 1; i + 1 < n; ++i) {
         const int64_t area2 = (w[i].X - w[0].X) * (w[i + 1].Y - w[0].Y) -
                               (w[i + 1].X - w[0].X) * (w[i].Y - w[0].Y);
@@ -185,13 +181,32 @@ void Setup::triangle(const float* p0, const float* p1, const float* p2, uint32_t
     }
 }
 
-void Setup::emit_triangle(WindowVertex v0, WindowVertex v1, WindowVertex v2, int64_t area2,
-                          bool front, const uint32_t vertex[3], uint32_t primitive,
+inline bool Setup::culled(bool front) const {
+    return state_.cull_face &&
+           (state_.cull_face_mode == kGlFrontAndBack ||
+            (state_.cull_face_mode == kGlFront && front) ||
+            (state_.cull_face_mode == kGlBack && !front));
+}
+
+inline void Setup::unclipped_triangle(const WindowVertex w[3], const uint32_t vertex[3],
+                               uint32_t primitive, std::vector<PrimitiveSetup>& out) {
+    // ES 3.0 §3.6.1: the facing comes from the signed area in window coordinates.
+    const int64_t area2 = (w[1].X - w[0].X) * (w[2].Y - w[0].Y) -
+                          (w[2].X - w[0].X) * (w[1].Y - w[0].Y);
+    if (area2 == 0) { ++stats.zero_area; return; }
+    const bool front = (state_.front_face == kGlCcw) == (area2 > 0);
+    if (culled(front)) { ++stats.culled; return; }
+    emit_triangle(w[0], w[1], w[2], area2, front, vertex, primitive, out);
+}
+
+inline void Setup::emit_triangle(const WindowVertex& w0, const WindowVertex& w1, const WindowVertex& w2,
+                          int64_t area2, bool front, const uint32_t vertex[3], uint32_t primitive,
                           std::vector<PrimitiveSetup>& out) {
-    if (area2 < 0) {   // make the vertex order counter-clockwise: interior has E >= 0
-        std::swap(v1, v2);
-        area2 = -area2;
-    }
+    // Counter-clockwise vertex order (interior has E >= 0).
+    const WindowVertex& v0 = w0;
+    const WindowVertex& v1 = area2 < 0 ? w2 : w1;
+    const WindowVertex& v2 = area2 < 0 ? w1 : w2;
+    if (area2 < 0) area2 = -area2;
     PrimitiveSetup& s = out.emplace_back();   // built in place (no copy of the large record)
     const WindowVertex* v[3] = {&v0, &v1, &v2};
     for (int i = 0; i < 3; ++i) {
@@ -202,8 +217,9 @@ void Setup::emit_triangle(WindowVertex v0, WindowVertex v1, WindowVertex v2, int
     s.a[3] = s.b[3] = s.c[3] = 0;
     s.area_offset[3] = 0;
     s.area_shape = AreaShape::Polygon;
-    const int64_t xmin = std::min({v0.X, v1.X, v2.X}), xmax = std::max({v0.X, v1.X, v2.X});
-    const int64_t ymin = std::min({v0.Y, v1.Y, v2.Y}), ymax = std::max({v0.Y, v1.Y, v2.Y});
+    // Nested min/max: conditional moves (min({...}) is a loop of unpredictable branches).
+    const int64_t xmin = std::min(v0.X, std::min(v1.X, v2.X)), xmax = std::max(v0.X, std::max(v1.X, v2.X));
+    const int64_t ymin = std::min(v0.Y, std::min(v1.Y, v2.Y)), ymax = std::max(v0.Y, std::max(v1.Y, v2.Y));
     if (!finish_bbox(s, xmin, ymin, xmax, ymax)) { ++stats.outside; out.pop_back(); return; }
 
     s.origin_x = v0.X;
@@ -212,11 +228,17 @@ void Setup::emit_triangle(WindowVertex v0, WindowVertex v1, WindowVertex v2, int
     const double dx1 = double(v1.X - v0.X) * inv, dy1 = double(v1.Y - v0.Y) * inv;
     const double dx2 = double(v2.X - v0.X) * inv, dy2 = double(v2.Y - v0.Y) * inv;
     const double inv_det = double(kSubPixel * kSubPixel) / double(area2);
-    s.depth = plane3(v0.z, v1.z, v2.z, dx1, dy1, dx2, dy2, inv_det);
-    s.inv_w = plane3(v0.inv_w, v1.inv_w, v2.inv_w, dx1, dy1, dx2, dy2, inv_det);
-    for (int k = 0; k < 3; ++k)
-        s.weight[k] = plane3(v0.weight[k] * v0.inv_w, v1.weight[k] * v1.inv_w,
-                             v2.weight[k] * v2.inv_w, dx1, dy1, dx2, dy2, inv_det);
+    auto values = [](const WindowVertex& v) {   // depth, 1/w, weight_k / w (k = 0, 1, 2)
+        const Double2 inv_w = {v.inv_w, v.inv_w};
+        const Double2 w01 = Double2{v.weight[0], v.weight[1]} * inv_w;
+        const Double2 w2 = Double2{v.weight[2], 0} * inv_w;
+        return std::array<Double2, 3>{Double2{v.z, v.inv_w}, w01, w2};
+    };
+    const std::array<Double2, 3> q0 = values(v0), q1 = values(v1), q2 = values(v2);
+    Plane unused;
+    plane3(q0[0], q1[0], q2[0], dx1, dy1, dx2, dy2, inv_det, s.depth, s.inv_w);
+    plane3(q0[1], q1[1], q2[1], dx1, dy1, dx2, dy2, inv_det, s.weight[0], s.weight[1]);
+    plane3(q0[2], q1[2], q2[2], dx1, dy1, dx2, dy2, inv_det, s.weight[2], unused);
     s.depth_offset = 0;
     if (state_.polygon_offset_fill) {
         // ES 3.0 §3.6.5: o = m * factor + r * units, m = max(|dz/dx|, |dz/dy|) (the allowed
@@ -373,8 +395,8 @@ bool diamond_exit_in(int64_t ax, int64_t ay, int64_t bx, int64_t by, bool x_majo
 // test; for long lines each scan stops after at most three columns. False: no fragment at all.
 bool diamond_exit_span(int64_t ax, int64_t ay, int64_t bx, int64_t by, bool x_major,
                        int64_t& first, int64_t& last) {
-    const int64_t lo = floor_div(std::min(x_major ? ax : ay, x_major ? bx : by), kSubPixel) - 1;
-    const int64_t hi = floor_div(std::max(x_major ? ax : ay, x_major ? bx : by), kSubPixel) + 1;
+    const int64_t lo = floor_pixel(std::min(x_major ? ax : ay, x_major ? bx : by)) - 1;
+    const int64_t hi = floor_pixel(std::max(x_major ? ax : ay, x_major ? bx : by)) + 1;
     first = lo;
     while (first <= hi && !diamond_exit_in(ax, ay, bx, by, x_major, first)) ++first;
     if (first > hi) return false;
@@ -396,7 +418,7 @@ void Setup::line(const float* p0, const float* p1, uint32_t i0, uint32_t i1, uin
         return;
     }
     if (c[0].weight[0] != 1 || c[1].weight[1] != 1) ++stats.clipped;
-    const WindowVertex a = project(c[0]), e = project(c[1]);
+    const WindowVertex a = project(c[0].position, c[0].weight), e = project(c[1].position, c[1].weight);
     const int64_t dx = e.X - a.X, dy = e.Y - a.Y;
     if (dx == 0 && dy == 0) { ++stats.zero_area; return; }
     const bool x_major = (dx < 0 ? -dx : dx) >= (dy < 0 ? -dy : dy);

@@ -169,9 +169,12 @@ private:
         double z, inv_w;     // window z, 1/w_clip
         double weight[3];
     };
-    WindowVertex project(const ClipVertex& v) const;
-    void emit_triangle(WindowVertex v0, WindowVertex v1, WindowVertex v2, int64_t area2,
-                       bool front, const uint32_t vertex[3], uint32_t primitive,
+    WindowVertex project(const Vec4d& position, const double weight[3]) const;
+    bool culled(bool front) const;   // by cullFace (ES 3.0 §3.6.1)
+    void unclipped_triangle(const WindowVertex w[3], const uint32_t vertex[3], uint32_t primitive,
+                            std::vector<PrimitiveSetup>& out);
+    void emit_triangle(const WindowVertex& v0, const WindowVertex& v1, const WindowVertex& v2,
+                       int64_t area2, bool front, const uint32_t vertex[3], uint32_t primitive,
                        std::vector<PrimitiveSetup>& out);
     bool finish_bbox(PrimitiveSetup& s, int64_t xmin, int64_t ymin, int64_t xmax, int64_t ymax);
     double resolvable_difference(double max_abs_z) const;
