@@ -267,6 +267,9 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
     // A uniform-only shader runs once per draw (DESIGN §4) and its colour goes straight to the
     // colour kernels, for every chunk that needs no per-lane colour (set before the first tile pass).
     bool constant = false;
+    // A shader that only copies one varying vec4 to its one colour output (FragmentShader::copies)
+    // is not run: the colour kernels read that varying's words from the batch (set with `constant`).
+    int copied_word = -1;
     const bool constant_kernels = !(!early && tests) && writes_color && !coverage_ops && !fog.enabled && !sink && drawing_buffer;
     auto run_tile = [&](size_t index, unsigned worker) {
         const size_t tile = tiles[index];
@@ -395,22 +398,21 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
 
                 const size_t L = kept * 4;
                 w.stats.fragments_shaded += L;
-                // The colour of lane l, channel c of output 0: col[c * cs + l].
+                // The colour of lane l, channel c of output o: col[(4 * o + c) * cs + l].
                 const FragmentResults& r = w.results;
                 const float* col = ds_.constant_color.data();
                 size_t cs = kChunkLanes;
+                int outputs = 1;
                 bool any_killed = false;
                 if (!constant_chunks) {
-                    // Build the fragment batch: the inputs the shader reads, per lane, structure of arrays.
+                    // Build the fragment batch: the inputs the shader reads, per lane, structure of
+                    // arrays. The arrays only grow (at their chunk size): no zero fill per chunk.
                     FragmentBatch& b = w.batch;
                     b.lanes = L;
-                    b.varyings.resize(size_t(words) * L);
-                    b.frag_coord.resize(4 * L);
-                    b.front_facing.resize(L);
-                    b.point_coord.resize(2 * L);
-                    b.covered.resize(L);
-                    uint8_t* const covered = b.covered.data();
-                    for (size_t lane = 0; lane < L; ++lane) covered[lane] = masks[lane] ? 1 : 0;
+                    at_least(b.varyings, size_t(words) * kChunkLanes);
+                    at_least(b.frag_coord, 4 * kChunkLanes);
+                    at_least(b.front_facing, kChunkLanes);
+                    at_least(b.point_coord, 2 * kChunkLanes);
                     if (builtins & kFrontFacing) std::fill_n(b.front_facing.data(), L, uint8_t(p.front_facing ? 1 : 0));
                     if (vi.prim) {
                         interpolate_varyings(vi, cq, kept, b.varyings.data(), L);
@@ -444,10 +446,15 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                             }
                         }
                     }
-                    fs.run(b, w.results, worker);
-                    for (uint8_t kill : r.killed) any_killed |= kill != 0;
-                    col = r.color.data();
                     cs = L;
+                    if (copied_word >= 0) {   // the colour is the varying's lanes (FragmentShader::copies)
+                        col = reinterpret_cast<const float*>(b.varyings.data()) + size_t(copied_word) * L;
+                    } else {
+                        fs.run(b, w.results, worker);
+                        for (uint8_t kill : r.killed) any_killed |= kill != 0;
+                        col = r.color.data();
+                        outputs = r.outputs;
+                    }
                 }
 
                 // Late tests, blending and the write, per covered sample.
@@ -571,7 +578,7 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                     // ---- MRT (begin): fragment outputs 1.. (framebuffer objects with drawBuffers),
                     // with the same per-lane changes as output 0 ----
                     float more[kMaxFragmentOutputs][4];
-                    for (int o = 1; o < r.outputs; ++o) {
+                    for (int o = 1; o < outputs; ++o) {
                         const float* oc = col + size_t(4 * o) * L;
                         for (int c = 0; c < 4; ++c) more[o][c] = oc[size_t(c) * L + lane];
                         if (area) more[o][3] = float(double(more[o][3]) * ca[lane / 4].fraction[j]);
@@ -587,7 +594,7 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                                                        shader_depth ? clamp01(r.depth[lane]) : -1.0f))
                             continue;   // the A-buffer keeps the sample instead of blending it
                         fb.write_color(blend, color, x, y, s);
-                        for (int o = 1; o < r.outputs; ++o) fb.write_color(blend, more[o], x, y, s, o);   // MRT
+                        for (int o = 1; o < outputs; ++o) fb.write_color(blend, more[o], x, y, s, o);   // MRT
                         if (sink) sink->after_blend(x, y, s, drawing_buffer->color_sample(x, y, s));
                         w.stats.samples_written++;
                         if (!plain_write) w.stats.samples_blended++;
@@ -777,6 +784,14 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
             for (int word = 0; word < words; ++word) {
                 if (size_t(word) < layout.read_by_fragment.size() && !layout.read_by_fragment[size_t(word)]) continue;
                 (layout.flat[size_t(word)] ? flat_words : smooth_words).push_back(word);
+            }
+            if (const FragmentCopies* copies = fs.copies(); copies && copies->outputs == 1) {
+                const int first = copies->word[0];
+                bool computed = first >= 0 && first + 4 <= words;
+                for (int c = 0; c < 4 && computed; ++c)
+                    computed = copies->word[size_t(c)] == first + c &&
+                               (size_t(first + c) >= layout.read_by_fragment.size() || layout.read_by_fragment[size_t(first + c)]);
+                if (computed) copied_word = first;
             }
             touched.assign(grid.count(), 0);
             tile_pass_prepared = true;

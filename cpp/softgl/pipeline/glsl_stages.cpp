@@ -129,7 +129,10 @@ GlslFragmentShader::GlslFragmentShader(std::shared_ptr<const glsl::LinkedProgram
     int highest = 0;
     for (size_t i = 0; i < ir.outputs.size(); ++i) {
         const glsl::Slot& s = ir.outputs[i];
-        if (s.name == "gl_FragDepth" || s.name == "gl_FragDepthEXT") { depth_slot_ = int(i); continue; }
+        if (s.name == "gl_FragDepth" || s.name == "gl_FragDepthEXT") {
+            if (writes_depth()) depth_slot_ = int(i);   // declared by the IR even when not written
+            continue;
+        }
         if (s.kind != SlotKind::FragmentOutput || s.component > 3) continue;
         for (const auto& o : program_->reflection.outputs) {
             if (o.name != s.name || !o.active) continue;
@@ -143,6 +146,47 @@ GlslFragmentShader::GlslFragmentShader(std::shared_ptr<const glsl::LinkedProgram
     // the extension (WEBGL_draw_buffers); the results then carry it as every output.
     broadcast_ = program_->reflection.fragment_usage.frag_color_broadcast;
     outputs_ = broadcast_ ? kMaxFragmentOutputs : highest + 1;
+    copies_only_ = find_copies();
+}
+
+// DESIGN §4: a program that is nothing but Movs (and main's function markers) from varyings or
+// constants to colour outputs gives every lane its sources' bits (a Mov copies bits, -0.0 and
+// NaN payloads included; with no control flow every lane is active), so run() copies them and
+// the pipeline may read them straight from the batch.
+bool GlslFragmentShader::find_copies() {
+    const glsl::IrProgram& ir = program_->fragment;
+    if (may_discard() || writes_depth()) return false;
+    const size_t R = ir.register_count;
+    std::vector<glsl::Reg> source(R, glsl::kNoReg);   // per register: the Mov that writes it (once)
+    for (const glsl::Instruction& i : ir.code) {
+        if (i.op == glsl::Op::FunctionBegin || i.op == glsl::Op::FunctionEnd) continue;
+        if (i.op != glsl::Op::Mov || i.dst >= R || i.a >= R || source[i.dst] != glsl::kNoReg) return false;
+        source[i.dst] = i.a;
+    }
+    // A source must be a varying's register or a constant's, written by no Mov.
+    std::vector<int> word(R, -1), uses(R, 0);
+    std::vector<uint8_t> constant(R, 0);
+    std::vector<uint32_t> bits(R, 0);
+    for (size_t k = 0; k < ir.inputs.size(); ++k)
+        if (ir.inputs[k].reg < R) ++uses[ir.inputs[k].reg], word[ir.inputs[k].reg] = input_word_[k];
+    for (const glsl::ConstantRegister& c : ir.constants)
+        if (c.reg < R) constant[c.reg] = 1, bits[c.reg] = c.value.u;
+    const size_t written = broadcast_ ? 1 : size_t(outputs_);   // broadcast: output 0 everywhere
+    copies_.outputs = outputs_;
+    for (size_t k = 0; k < 4 * written; ++k) {
+        copies_.word[k] = -1, copies_.bits[k] = 0;   // never written: run() gives 0
+        if (color_slot_[k] < 0) continue;
+        const glsl::Reg out = ir.outputs[size_t(color_slot_[k])].reg;
+        if (out >= R || source[out] == glsl::kNoReg) return false;
+        const glsl::Reg from = source[out];
+        if (source[from] != glsl::kNoReg) return false;
+        if (constant[from] && uses[from] == 0) copies_.bits[k] = bits[from];
+        else if (!constant[from] && uses[from] == 1 && word[from] >= 0) copies_.word[k] = word[from];
+        else return false;
+    }
+    for (size_t k = 4 * written; k < 4 * size_t(outputs_); ++k)
+        copies_.word[k] = copies_.word[k % 4], copies_.bits[k] = copies_.bits[k % 4];
+    return true;
 }
 
 void GlslFragmentShader::prepare(unsigned workers) const {
@@ -156,6 +200,21 @@ void GlslFragmentShader::run(const FragmentBatch& b, FragmentResults& out, unsig
     Worker& w = workers_[worker];
     const glsl::IrProgram& ir = program_->fragment;
     const size_t L = b.lanes;
+    const size_t O = size_t(outputs_);
+    out.outputs = outputs_;
+    if (out.color.size() < 4 * O * L) out.color.resize(4 * O * L);   // grows only: no zero fill per batch
+    if (copies_only_) {   // find_copies: the sources' bits, no executor
+        out.killed.clear();
+        for (size_t k = 0; k < 4 * O; ++k) {
+            if (copies_.word[k] >= 0) std::memcpy(&out.color[k * L], &b.varyings[size_t(copies_.word[k]) * L], 4 * L);
+            else {
+                float value;
+                std::memcpy(&value, &copies_.bits[k], 4);
+                std::fill_n(&out.color[k * L], L, value);
+            }
+        }
+        return;
+    }
     const size_t R = uniform_only_ ? std::min<size_t>(L, 4) : L;   // lanes actually run
     if (builtins_read_ & kFrontFacing) {
         w.builtins.resize(R);
@@ -170,9 +229,6 @@ void GlslFragmentShader::run(const FragmentBatch& b, FragmentResults& out, unsig
         else if (builtin >= 5) w.input_ptrs[i] = reinterpret_cast<const Scalar*>(&b.point_coord[size_t(builtin - 5) * L]);
     }
     // Outputs go straight to the results; outputs nobody reads are not copied out.
-    const size_t O = size_t(outputs_);
-    out.outputs = outputs_;
-    out.color.resize(4 * O * L);
     w.output_ptrs.assign(ir.outputs.size(), nullptr);
     const size_t written = broadcast_ ? 1 : O;   // broadcast: output 0 is copied below
     for (size_t k = 0; k < 4 * written; ++k) {
@@ -222,7 +278,6 @@ bool GlslFragmentShader::run_constant(FragmentResults& out, unsigned worker) con
     b.frag_coord.assign(4 * L, 0.0f);
     b.front_facing.assign(L, 0);
     b.point_coord.assign(2 * L, 0.0f);
-    b.covered.assign(L, 1);
     run(b, w.quad_results, worker);
     const FragmentResults& r = w.quad_results;
     out.outputs = r.outputs;

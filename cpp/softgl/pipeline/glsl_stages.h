@@ -57,12 +57,14 @@ public:
     void prepare(unsigned workers) const override;
     void run(const FragmentBatch& batch, FragmentResults& out, unsigned worker) const override;
     bool run_constant(FragmentResults& out, unsigned worker) const override;
+    const FragmentCopies* copies() const override { return copies_only_ ? &copies_ : nullptr; }
     void set_uniforms(const glsl::Scalar* uniforms) { uniforms_ = uniforms; }
     // The bound textures for this draw (null: every lookup reads an incomplete texture). The
     // sampler must be safe to call from several workers at once (TextureUnitSampler is).
     void set_sampler(glsl::TextureSampler* sampler) { textures_ = sampler; }
 
 private:
+    bool find_copies();
     glsl::TextureSampler* textures_ = nullptr;
     std::shared_ptr<const glsl::LinkedProgram> program_;
     std::vector<int> input_word_;        // per fragment input slot: varying word, or -1
@@ -73,6 +75,8 @@ private:
     int depth_slot_ = -1;
     uint32_t builtins_read_ = 0;         // FragmentBuiltin bits
     bool uniform_only_ = false;          // outputs depend only on uniforms: run one quad, broadcast
+    bool copies_only_ = false;           // the program only copies varyings or constants to colours
+    FragmentCopies copies_;              // ... which ones (when copies_only_)
     const glsl::Scalar* uniforms_ = nullptr;
     struct Worker {
         std::unique_ptr<glsl::Executor> executor;

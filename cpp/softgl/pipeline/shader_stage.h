@@ -45,7 +45,6 @@ struct FragmentBatch {
     std::vector<float> frag_coord;     // [c * lanes + lane], c = x, y, z, w
     std::vector<uint8_t> front_facing; // [lane]
     std::vector<float> point_coord;    // [c * lanes + lane], c = s, t
-    std::vector<uint8_t> covered;      // [lane]: 0 for helper lanes (shaded only for derivatives)
 };
 
 // Colour outputs of a fragment shader: gl_FragColor, gl_FragData[n] (ES 1.00, WEBGL_draw_buffers)
@@ -59,6 +58,15 @@ struct FragmentResults {
     int outputs = 1;                   // colour outputs in `color` (locations 0 .. outputs - 1)
     std::vector<float> depth;          // [lane], when the shader writes gl_FragDepth
     std::vector<uint8_t> killed;       // [lane], 1 where the shader discarded
+};
+
+// The colour outputs of a shader that only copies varyings or constants to them (DESIGN §4:
+// such a shader needs no shading): component c of output o is varying word word[4 * o + c] of
+// the lane, bit for bit, or the constant bits[4 * o + c] where that word is -1.
+struct FragmentCopies {
+    int outputs = 1;
+    std::array<int, 4 * kMaxFragmentOutputs> word{};
+    std::array<uint32_t, 4 * kMaxFragmentOutputs> bits{};
 };
 
 // Built-in fragment inputs, as bits of FragmentShader::builtins_read().
@@ -84,6 +92,9 @@ public:
     // the same values. Such a shader fills `out` for one lane (lanes = 1 in the layout above) on
     // `worker` and returns true; any other returns false. After prepare(), like run().
     virtual bool run_constant(FragmentResults& out, unsigned worker) const { (void)out, (void)worker; return false; }
+    // Non-null when run() only copies (FragmentCopies; no discard, no depth): the pipeline may
+    // read the colours straight from the batch instead of calling run().
+    virtual const FragmentCopies* copies() const { return nullptr; }
 };
 
 }  // namespace softgl
