@@ -14,6 +14,7 @@
 #include "softgl/pipeline/interpolate.h"
 #include "softgl/pipeline/assemble.h"
 #include "softgl/pipeline/draw.h"
+#include "softgl/pipeline/glsl_stages.h"
 #include "softgl/pipeline/passthrough_shaders.h"
 #include "softgl/pipeline/blend.h"
 #include "softgl/pipeline/depth_stencil.h"
@@ -313,6 +314,9 @@ void bind_testing(py::module_& m) {
         if (path < 0 || path > 3) throw py::value_error("sampler path: 0, 1, 2 or 3");
         return softgl::set_sampler_path(softgl::SamplerPath(path));
     });
+    // Fragment shaders that only copy varyings or constants: true takes the shortcut (the
+    // default), false runs them on the executor; returns how many draws took it since the last call.
+    t.def("fragment_copies", &softgl::set_fragment_copies, py::arg("enabled"));
     t.def("blend_unorm8",
           [](const std::array<uint32_t, 6>& funcs_and_equations, const std::array<float, 4>& constant,
              const std::array<bool, 4>& mask, bool has_alpha,

@@ -1,6 +1,7 @@
 #include "softgl/pipeline/glsl_stages.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cstring>
 
 namespace softgl {
@@ -96,6 +97,16 @@ void GlslVertexShader::run(const std::array<AttributeStream, kMaxVertexAttribs>&
     }
 }
 
+namespace {
+std::atomic<bool> fragment_copies_enabled{true};
+std::atomic<uint64_t> fragment_copies_taken{0};
+}  // namespace
+
+uint64_t set_fragment_copies(bool enabled) {
+    fragment_copies_enabled = enabled;
+    return fragment_copies_taken.exchange(0);
+}
+
 GlslFragmentShader::GlslFragmentShader(std::shared_ptr<const glsl::LinkedProgram> program, const VaryingLayout&)
     : program_(std::move(program)) {
     const glsl::IrProgram& ir = program_->fragment;
@@ -189,6 +200,13 @@ bool GlslFragmentShader::find_copies() {
     return true;
 }
 
+// Called once per draw (FragmentShader::copies): the count is per draw, run() is not counted.
+const FragmentCopies* GlslFragmentShader::copies() const {
+    if (!copies_only_ || !fragment_copies_enabled.load(std::memory_order_relaxed)) return nullptr;
+    fragment_copies_taken.fetch_add(1, std::memory_order_relaxed);
+    return &copies_;
+}
+
 void GlslFragmentShader::prepare(unsigned workers) const {
     if (workers_.size() >= workers) return;
     workers_.resize(workers);
@@ -203,7 +221,7 @@ void GlslFragmentShader::run(const FragmentBatch& b, FragmentResults& out, unsig
     const size_t O = size_t(outputs_);
     out.outputs = outputs_;
     if (out.color.size() < 4 * O * L) out.color.resize(4 * O * L);   // grows only: no zero fill per batch
-    if (copies_only_) {   // find_copies: the sources' bits, no executor
+    if (copies_only_ && fragment_copies_enabled.load(std::memory_order_relaxed)) {   // find_copies: no executor
         out.killed.clear();
         for (size_t k = 0; k < 4 * O; ++k) {
             if (copies_.word[k] >= 0) std::memcpy(&out.color[k * L], &b.varyings[size_t(copies_.word[k]) * L], 4 * L);

@@ -48,6 +48,10 @@ private:
     mutable IncompleteTextureSampler sampler_;
 };
 
+// Testing: turns the FragmentCopies shortcut on or off (off: every program runs on the executor)
+// and returns how many draws took it since the last call.
+uint64_t set_fragment_copies(bool enabled);
+
 class GlslFragmentShader : public FragmentShader {
 public:
     GlslFragmentShader(std::shared_ptr<const glsl::LinkedProgram> program, const VaryingLayout& layout);
@@ -57,7 +61,7 @@ public:
     void prepare(unsigned workers) const override;
     void run(const FragmentBatch& batch, FragmentResults& out, unsigned worker) const override;
     bool run_constant(FragmentResults& out, unsigned worker) const override;
-    const FragmentCopies* copies() const override { return copies_only_ ? &copies_ : nullptr; }
+    const FragmentCopies* copies() const override;
     void set_uniforms(const glsl::Scalar* uniforms) { uniforms_ = uniforms; }
     // The bound textures for this draw (null: every lookup reads an incomplete texture). The
     // sampler must be safe to call from several workers at once (TextureUnitSampler is).

@@ -1,0 +1,210 @@
+"""Fragment shaders that only copy varyings or constants to their colour outputs skip the executor
+(DESIGN §4; FragmentShader::copies). The shortcut must give the executor's bits exactly, -0.0,
+infinities and NaN payloads included (a Mov copies bits), and must not be taken by shaders that do
+more (discard, gl_FragDepth, built-ins, arithmetic). (NaN payloads do not survive the float
+attachment on either path; the Mov semantics keep them in the results.)
+
+Expected values: flat varyings carry the provoking vertex's bits unchanged (ES 3.0 §2.18.1), so a
+copy of one is compared with the input bits themselves; smooth varyings are compared with the same
+draw run on the executor (_core.testing.fragment_copies(False))."""
+import numpy as np
+import pytest
+
+import softgl
+
+core = pytest.importorskip("softgl._core")
+
+W = H = 16
+# Two triangles covering the viewport; the second's last vertex (index 5) provokes its flat values.
+QUAD = np.array([-1, -1, 1, -1, -1, 1, -1, 1, 1, -1, 1, 1], np.float32).reshape(6, 2)
+
+SPECIAL = np.array([0x80000000, 0x7F800000, 0xFF800000, 0x7FC12345,   # -0, +Inf, -Inf, quiet NaN
+                    0xFFC00001, 0x7FBFFFFF, 0x00000001, 0x3F800000],   # -NaN, NaN (signalling bit), denormal, 1
+                   np.uint32)
+
+
+def vertex_values(seed):
+    """(6, 8) float32: every vertex gets special bit patterns mixed with ordinary values."""
+    r = np.random.default_rng(seed)
+    bits = r.choice(SPECIAL, size=(6, 8)).astype(np.uint32)
+    ordinary = r.uniform(-2, 2, (6, 8)).astype(np.float32).view(np.uint32)
+    bits = np.where(r.random((6, 8)) < 0.5, bits, ordinary)
+    bits[5] = SPECIAL   # the provoking vertex of the second triangle: all of them
+    return bits.view(np.float32)
+
+
+VS = """#version 300 es
+in vec2 pos;
+in vec4 a;
+in vec4 b;
+{q} out vec4 vA;
+{q} out vec4 vB;
+void main() {{ vA = a; vB = b; gl_Position = vec4(pos, 0.0, 1.0); }}
+"""
+
+
+def render(fs, values, qualifier="flat", outputs=1, copies=True, setup=None):
+    """Draws QUAD into `outputs` RGBA32F attachments; returns their (H, W, 4) uint32 bits and how
+    many draws took the copy shortcut."""
+    gl = softgl.Context(W, H, antialias=False)
+    assert gl.getExtension("EXT_color_buffer_float") is not None
+    fb = gl.createFramebuffer()
+    gl.bindFramebuffer(gl.FRAMEBUFFER, fb)
+    texs = []
+    for i in range(outputs):
+        t = gl.createTexture()
+        gl.bindTexture(gl.TEXTURE_2D, t)
+        gl.texStorage2D(gl.TEXTURE_2D, 1, gl.RGBA32F, W, H)
+        gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0 + i, gl.TEXTURE_2D, t, 0)
+        texs.append(t)
+    gl.drawBuffers([gl.COLOR_ATTACHMENT0 + i for i in range(outputs)])
+    assert gl.checkFramebufferStatus(gl.FRAMEBUFFER) == gl.FRAMEBUFFER_COMPLETE
+    prog = softgl.program(gl, VS.format(q=qualifier), fs)
+    gl.useProgram(prog)
+    for name, data in (("pos", QUAD), ("a", values[:, :4]), ("b", values[:, 4:])):
+        loc = gl.getAttribLocation(prog, name)
+        buf = gl.createBuffer()
+        gl.bindBuffer(gl.ARRAY_BUFFER, buf)
+        gl.bufferData(gl.ARRAY_BUFFER, np.ascontiguousarray(data, np.float32), gl.STATIC_DRAW)
+        gl.enableVertexAttribArray(loc)
+        gl.vertexAttribPointer(loc, data.shape[1], gl.FLOAT, False, 0, 0)
+    if setup:
+        setup(gl, prog)
+    core.testing.fragment_copies(copies)
+    try:
+        gl.drawArrays(gl.TRIANGLES, 0, 6)
+        taken = core.testing.fragment_copies(True)
+    finally:
+        core.testing.fragment_copies(True)
+    out = []
+    for t in texs:
+        read = gl.createFramebuffer()
+        gl.bindFramebuffer(gl.FRAMEBUFFER, read)
+        gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, t, 0)
+        out.append(np.asarray(gl.readPixels(0, 0, W, H, gl.RGBA, gl.FLOAT), np.float32).reshape(H, W, 4).view(np.uint32))
+    assert gl.getError() == gl.NO_ERROR
+    return out, taken
+
+
+def fs(body, outputs="layout(location = 0) out vec4 o0;", qualifier="flat"):
+    return f"""#version 300 es
+precision highp float;
+{qualifier} in vec4 vA;
+{qualifier} in vec4 vB;
+{outputs}
+void main() {{ {body} }}
+"""
+
+
+def matches(got, want):
+    """Bit for bit, except that a NaN may come back as another NaN: the pipeline does not keep
+    payloads on the way to the float attachment (either path)."""
+    want = np.broadcast_to(np.asarray(want, np.uint32), got.shape)
+    both_nan = np.isnan(got.view(np.float32)) & np.isnan(want.view(np.float32))
+    return bool(((got == want) | both_nan).all())
+
+
+def second_triangle(bits):
+    """The pixels whose centres lie strictly inside the second triangle (x + y > 0 in NDC)."""
+    c = (np.arange(W) + 0.5) / W * 2 - 1
+    x, y = np.meshgrid(c, c)
+    return bits[(x + y) > 0.1]
+
+
+def test_flat_copy_is_the_provoking_vertex_bits():
+    values = vertex_values(1)
+    want = values[5, :4].view(np.uint32)
+    for copies in (True, False):
+        (got,), taken = render(fs("o0 = vA;"), values, copies=copies)
+        assert taken == (1 if copies else 0)
+        assert matches(second_triangle(got), want)
+
+
+@pytest.mark.parametrize("body, want", [
+    ("o0 = vB.wzyx;", lambda v: v[5, [7, 6, 5, 4]]),                       # not consecutive: run() copies
+    ("o0 = vec4(vA.xy, -0.0, 1.0);", lambda v: np.array([v[5, 0], v[5, 1], -0.0, 1.0], np.float32)),
+    ("o0 = vec4(vB.x, vB.x, vA.w, vA.w);", lambda v: v[5, [4, 4, 3, 3]]),
+])
+def test_swizzles_and_constants(body, want):
+    values = vertex_values(2)
+    expected = np.asarray(want(values), np.float32).view(np.uint32)
+    for copies in (True, False):
+        (got,), taken = render(fs(body), values, copies=copies)
+        assert taken == (1 if copies else 0)
+        assert matches(second_triangle(got), expected)
+
+
+def test_smooth_copy_equals_the_executor():
+    for seed in range(3):
+        values = vertex_values(10 + seed)
+        source = fs("o0 = vA;", qualifier="smooth")
+        (a,), taken = render(source, values, qualifier="smooth")
+        (b,), _ = render(source, values, qualifier="smooth", copies=False)
+        assert taken == 1
+        assert (a == b).all()
+        assert np.isnan(a.view(np.float32)).any()   # the special values did reach the pixels
+
+
+def test_mrt_copies():
+    values = vertex_values(3)
+    outputs = "layout(location = 0) out vec4 o0;\nlayout(location = 2) out vec4 o2;"
+    source = fs("o0 = vB; o2 = vA.yxzw;", outputs)
+    (a0, a1, a2), taken = render(source, values, outputs=3)
+    (b0, b1, b2), _ = render(source, values, outputs=3, copies=False)
+    assert taken == 1
+    assert matches(second_triangle(a0), values[5, 4:].view(np.uint32))
+    assert matches(second_triangle(a2), values[5, [1, 0, 2, 3]].view(np.uint32))
+    for a, b in ((a0, b0), (a1, b1), (a2, b2)):
+        assert (a == b).all()
+
+
+@pytest.mark.parametrize("body", [
+    "if (vA.x > 100.0) discard; o0 = vA;",     # discard: never the shortcut, even when not taken
+    "o0 = vA; gl_FragDepth = 0.5;",
+    "o0 = gl_FragCoord;",
+    "o0 = vec4(gl_FragCoord.xy, vA.zw);",
+    "o0 = vA * 1.0;",
+    "o0 = vA; if (vB.x > 0.0) o0 = vB;",
+])
+def test_other_shaders_run_on_the_executor(body):
+    values = vertex_values(4)
+    (a,), taken = render(fs(body), values)
+    (b,), _ = render(fs(body), values, copies=False)
+    assert taken == 0
+    assert (a == b).all()
+
+
+def test_webgl1_frag_color_and_blending_on_the_drawing_buffer():
+    """gl_FragColor = v through the RGBA8 colour kernels (blending on): the same bytes either way."""
+    r = np.random.default_rng(5)
+    n = 300
+    pos = (r.uniform(-1, 1, (n, 1, 2)) + r.uniform(-0.15, 0.15, (n, 3, 2))).reshape(-1, 2).astype(np.float32)
+    color = r.uniform(-0.2, 1.2, (n * 3, 4)).astype(np.float32)
+    vs = ("attribute vec2 pos; attribute vec4 color; varying vec4 v;"
+          "void main() { v = color; gl_Position = vec4(pos, 0.0, 1.0); }")
+    fs1 = "precision mediump float; varying vec4 v; void main() { gl_FragColor = v; }"
+    images = []
+    for copies in (True, False):
+        gl = softgl.Context(64, 64, antialias=False)
+        prog = softgl.program(gl, vs, fs1)
+        gl.useProgram(prog)
+        for name, data in (("pos", pos), ("color", color)):
+            loc = gl.getAttribLocation(prog, name)
+            gl.bindBuffer(gl.ARRAY_BUFFER, gl.createBuffer())
+            gl.bufferData(gl.ARRAY_BUFFER, data, gl.STATIC_DRAW)
+            gl.enableVertexAttribArray(loc)
+            gl.vertexAttribPointer(loc, data.shape[1], gl.FLOAT, False, 0, 0)
+        gl.enable(gl.BLEND)
+        gl.blendFunc(gl.SRC_ALPHA, gl.ONE_MINUS_SRC_ALPHA)
+        core.testing.fragment_copies(copies)
+        try:
+            gl.drawArrays(gl.TRIANGLES, 0, 3 * n)
+            taken = core.testing.fragment_copies(True)
+        finally:
+            core.testing.fragment_copies(True)
+        assert taken == (1 if copies else 0)
+        images.append((np.asarray(gl.readPixels(0, 0, 64, 64, gl.RGBA, gl.UNSIGNED_BYTE)), gl.stats()))
+    assert (images[0][0] == images[1][0]).all()
+    assert images[0][0].any()
+    counters = [{k: v for k, v in stats.items() if not k.startswith("seconds")} for _, stats in images]
+    assert counters[0] == counters[1]   # the same counters (fragments shaded, samples written...)
