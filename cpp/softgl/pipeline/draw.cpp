@@ -239,6 +239,7 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
     const float* unorm8_table = unorm8_to_float_table();
     const bool shader_depth = fs.writes_depth();
     const size_t pitch = size_t(fb.width());   // pixels from one row to the next
+    const int32_t last_x = fb.width() - 1, last_y = fb.height() - 1;   // a quad at x < last_x, y < last_y is inside
     // The common early depth test, one sample on the drawing buffer's 24-bit depth and no stencil,
     // runs a quad at a time (pipeline/early_depth); anything else sample by sample below.
     DefaultFramebuffer* const default_fb = fb.default_framebuffer();
@@ -488,30 +489,47 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                     const uint64_t before = w.stats.samples_written;
                     if (S == 1 && kernel != ColorKernel::Generic) {
                         // Gather the destination pixels (only when the kernel reads them), blend all
-                        // lanes at once, scatter back. A whole quad moves as two 8-byte rows (lanes
-                        // 0, 1 and 2, 3 are pixels x, x + 1 of rows y and y + 1), a partial one pixel
-                        // by pixel: uncovered pixels are not touched (they may lie outside the buffer).
+                        // lanes at once, scatter back. A quad inside the buffer moves as two 8-byte
+                        // rows (lanes 0, 1 and 2, 3 are pixels x, x + 1 of rows y and y + 1); a partial
+                        // one keeps its uncovered pixels' old values (a select, not a branch per
+                        // pixel: the pixels are in this worker's tile). A quad reaching past the
+                        // buffer's edge moves pixel by pixel, covered ones only.
                         uint32_t* const d = w.pixels.data();
                         uint8_t* const color = drawing_buffer->color_sample(0, 0, 0);
                         constexpr uint64_t kWholeQuad = 0x0001000100010001u;   // four masks of 1 (S == 1)
                         auto move_quads = [&](auto to_buffer) {
-                            auto move = [](uint8_t* px, uint32_t* lanes, size_t bytes) {
-                                if constexpr (decltype(to_buffer)::value) std::memcpy(px, lanes, bytes);
-                                else std::memcpy(lanes, px, bytes);
-                            };
                             uint64_t moved = 0;
                             for (size_t qi = 0; qi < kept; ++qi) {
                                 uint8_t* const px = color + 4 * (size_t(cq[qi].y) * pitch + size_t(cq[qi].x));
                                 uint32_t* const lanes = d + 4 * qi;
                                 uint64_t m4;
                                 std::memcpy(&m4, masks + 4 * qi, 8);
-                                if (m4 == kWholeQuad) {
-                                    move(px, lanes, 8);
-                                    move(px + 4 * pitch, lanes + 2, 8);
-                                    moved += 4;
+                                moved += uint64_t(__builtin_popcountll(m4));   // masks are 0 or 1 (S == 1)
+                                if (cq[qi].x < last_x && cq[qi].y < last_y) {
+                                    uint8_t* const rows[2] = {px, px + 4 * pitch};
+                                    if constexpr (!decltype(to_buffer)::value) {
+                                        std::memcpy(lanes, rows[0], 8), std::memcpy(lanes + 2, rows[1], 8);
+                                    } else if (m4 == kWholeQuad) {
+                                        std::memcpy(rows[0], lanes, 8), std::memcpy(rows[1], lanes + 2, 8);
+                                    } else {
+                                        for (int row = 0; row < 2; ++row) {
+                                            const uint64_t left = (m4 >> (32 * row)) & 0xFFFFu, right = (m4 >> (32 * row + 16)) & 0xFFFFu;
+                                            const uint64_t keep_new = ((uint64_t(0) - (left != 0)) & 0xFFFFFFFFu) |
+                                                                      ((uint64_t(0) - (right != 0)) << 32);
+                                            uint64_t fresh, old;
+                                            std::memcpy(&fresh, lanes + 2 * row, 8);
+                                            std::memcpy(&old, rows[row], 8);
+                                            const uint64_t merged = (fresh & keep_new) | (old & ~keep_new);
+                                            std::memcpy(rows[row], &merged, 8);
+                                        }
+                                    }
                                 } else {
-                                    for (size_t j = 0; j < 4; ++j)
-                                        if (masks[4 * qi + j]) move(px + 4 * ((j >> 1) * pitch + (j & 1)), lanes + j, 4), ++moved;
+                                    for (size_t j = 0; j < 4; ++j) {
+                                        if (!masks[4 * qi + j]) continue;
+                                        uint8_t* const pixel = px + 4 * ((j >> 1) * pitch + (j & 1));
+                                        if constexpr (decltype(to_buffer)::value) std::memcpy(pixel, lanes + j, 4);
+                                        else std::memcpy(lanes + j, pixel, 4);
+                                    }
                                 }
                             }
                             return moved;
