@@ -281,17 +281,18 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
         w.pixels.resize(4 * kChunkQuads);
         for (size_t li = 0; li < list.size(); ++li) {
             // A tile's primitives lie far apart in memory when there are many small ones: fetch the
-            // setup two primitives ahead and the vertex values one ahead, so they arrive in time.
-            if (li + 2 < list.size()) {
-                const char* next = reinterpret_cast<const char*>(&prims[list[li + 2]]);
+            // setup four primitives ahead and, from it, the vertex values and pixels two ahead, so
+            // they arrive in time (tiny_depth_triangles: ~10% faster than two and one ahead).
+            if (li + 4 < list.size()) {
+                const char* next = reinterpret_cast<const char*>(&prims[list[li + 4]]);
                 for (size_t off = 0; off < sizeof(PrimitiveSetup); off += 64) __builtin_prefetch(next + off);
             }
-            if (li + 1 < list.size()) {
-                const PrimitiveSetup& next = prims[list[li + 1]];
+            if (li + 2 < list.size()) {
+                const PrimitiveSetup& next = prims[list[li + 2]];
                 if (words > 0)
                     for (int v = 0; v < 3; ++v) __builtin_prefetch(&all.varyings[size_t(next.vertex[v]) * size_t(words)]);
                 // A small primitive's pixels are cold in the colour and depth buffers: fetch its
-                // rows (first and last pixel of each) while this one is drawn.
+                // rows (first and last pixel of each) while the ones before it are drawn.
                 const int32_t x0 = std::max(next.x0, rect.x0), x1 = std::min(next.x1, rect.x1);
                 const int32_t y0 = std::max(next.y0, rect.y0), y1 = std::min(next.y1, rect.y1);
                 if (x0 < x1 && y0 < y1 && y1 - y0 <= kPrefetchRows)
