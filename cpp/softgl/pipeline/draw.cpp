@@ -505,7 +505,7 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                                 uint32_t* const lanes = d + 4 * qi;
                                 uint64_t m4;
                                 std::memcpy(&m4, masks + 4 * qi, 8);
-                                moved += uint64_t(__builtin_popcountll(m4));   // masks are 0 or 1 (S == 1)
+                                moved += (m4 * 0x0001000100010001u) >> 48;   // the sum of four masks of 0 or 1 (S == 1)
                                 if (cq[qi].x < last_x && cq[qi].y < last_y) {
                                     uint8_t* const rows[2] = {px, px + 4 * pitch};
                                     if constexpr (!decltype(to_buffer)::value) {
