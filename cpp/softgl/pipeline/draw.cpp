@@ -77,11 +77,12 @@ RasterState raster_state(const State& s, const RenderTarget& fb) {
     return r;
 }
 
-// Per-worker scratch, reused across primitives and draws.
+// Per-worker scratch, reused across primitives and draws. Each starts on its own cache line: one
+// worker's counters must not share a line with the next worker's vectors (written per quad).
 constexpr size_t kChunkQuads = 32;   // 128 lanes: the executor's batch
 constexpr size_t kChunkLanes = 4 * kChunkQuads;
 
-struct Scratch {
+struct alignas(64) Scratch {
     std::vector<Quad> quads;          // the primitive's quads in this tile
     std::vector<QuadArea> areas;      // SOFTGL_smooth: covered fractions of the quads
     std::vector<double> values;       // the primitive's vertex values of the interpolated words
@@ -783,10 +784,17 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
             in.pool.parallel_for(grid.count(), [&](size_t t, unsigned) { ds_.bins.gather_tile(t, chunk_bins.data(), setup_chunks, index_base.data()); });
             bins = &ds_.bins;
         }
-        // Only tiles with work go to the pool (a draw of one small primitive wakes no thread).
+        // Only tiles with work go to the pool (a draw of one small primitive wakes no thread), in
+        // checkerboard order: first the tiles with tx + ty even, then the odd ones. Workers take
+        // neighbouring indices at the same time, and two tiles side by side share the cache lines
+        // at their common edge (the buffers are not 64-byte aligned, so a 64-pixel row starts
+        // mid-line): in row order those lines bounced between the cores on every row (large
+        // depth-tested triangles: 1.3x instead of 1.9x from 1 to 2 threads).
         tiles.clear();
-        for (size_t t = 0; t < grid.count(); ++t)
-            if (!bins->tile(t).empty()) tiles.push_back(uint32_t(t));
+        for (size_t parity = 0; parity < 2; ++parity)
+            for (size_t t = 0; t < grid.count(); ++t)
+                if ((t % size_t(grid.tiles_x) + t / size_t(grid.tiles_x)) % 2 == parity && !bins->tile(t).empty())
+                    tiles.push_back(uint32_t(t));
         st.seconds_setup += since(t0);
 
         // ---- per tile on the pool: raster, tests, shading, blending ----
