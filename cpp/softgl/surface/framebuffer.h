@@ -5,6 +5,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -23,6 +24,25 @@ struct FramebufferConfig {
     int32_t samples = 1;   // 1 = single-sampled
     bool alpha = true, depth = true, stencil = false;
 };
+
+// Buffers start on a cache line: a 64-pixel tile row then covers whole lines, so workers drawing
+// neighbouring tiles never write to one line at the same time (it would bounce between cores).
+template <class T>
+struct CacheLineAllocator {
+    using value_type = T;
+    static constexpr std::align_val_t kAlign{64};
+    CacheLineAllocator() = default;
+    template <class U>
+    CacheLineAllocator(const CacheLineAllocator<U>&) {}
+    T* allocate(size_t n) { return static_cast<T*>(::operator new(n * sizeof(T), kAlign)); }
+    void deallocate(T* p, size_t) { ::operator delete(p, kAlign); }
+    template <class U>
+    bool operator==(const CacheLineAllocator<U>&) const { return true; }
+    template <class U>
+    bool operator!=(const CacheLineAllocator<U>&) const { return false; }
+};
+template <class T>
+using CacheLineVector = std::vector<T, CacheLineAllocator<T>>;
 
 // The most memory one allocation of softgl may take: half of this machine's physical memory.
 // Requests beyond it are refused up front (ValueError / OUT_OF_MEMORY) instead of thrashing.
@@ -103,10 +123,10 @@ private:
     Rect clip(Rect rect) const;
 
     FramebufferConfig config_;
-    std::vector<uint8_t> color_;     // RGBA8
-    std::vector<float> color_f_;     // RGBA16F / RGBA32F
-    std::vector<uint32_t> depth_;
-    std::vector<uint8_t> stencil_;
+    CacheLineVector<uint8_t> color_;     // RGBA8
+    CacheLineVector<float> color_f_;     // RGBA16F / RGBA32F
+    CacheLineVector<uint32_t> depth_;
+    CacheLineVector<uint8_t> stencil_;
 };
 
 }  // namespace softgl
