@@ -171,8 +171,7 @@ def test_extreme_planes_and_offsets(vertices, constant_w):
 @pytest.mark.parametrize("vertices", [3, 2])
 def test_constant_w_every_word_count(inv_w_c, vertices):
     # w = 1 at every vertex (2D draws) gives q = 1 exactly, which the AVX-512 level does not
-    # multiply by; other constant w give q = 2, 0.5 (exact) and 1/3 (rounded) and -1. The AVX-512
-    # level takes the words in groups of up to 4: 1 to 9 words cover full and partial groups.
+    # multiply by; other constant w give q = 2, 0.5 (exact), 1/3 (rounded) and -1. 1 to 9 words.
     rng = np.random.default_rng(100 + vertices + int(10 * inv_w_c))
     for words in range(1, 10):
         for n, start in ((1, 0), (7, 3), (32, 0), (33, 1)):

@@ -157,14 +157,12 @@ __attribute__((target("avx2"))) void interpolate_avx2(const VaryingInterpolation
 }
 
 // Two quads per register (lanes 0..3 quads[i], 4..7 quads[i + 1]), so a register's output is 8
-// contiguous floats; the partial terms are cached as in interpolate_avx2, per pair of rows and pair
-// of columns (a rasterized 4-quad block row gives two column pairs). Unlike interpolate_avx2 the
-// weights stay in registers: each pair's weights feed a group of up to 4 words whose vertex values
-// are held in registers (one group for a vec4 colour), so no weight is stored and reloaded. An odd
-// count's last quad is paired with itself, its second half never stored.
-template <int V, int G>
-__attribute__((target("avx512f,avx512bw,avx512dq,avx512vl"))) void interpolate_avx512_words(
-    const VaryingInterpolation& v, size_t k0, const Quad* quads, size_t n, uint32_t* out, size_t stride) {
+// contiguous floats; otherwise interpolate_avx2's plan. The partial terms are cached per pair of
+// rows and pair of columns (a rasterized 4-quad block row gives two column pairs), and an odd run's
+// last quad is paired with itself, its second half never stored.
+template <int V>
+__attribute__((target("avx512f,avx512bw,avx512dq,avx512vl"))) void interpolate_avx512(
+    const VaryingInterpolation& v, const Quad* quads, size_t n, uint32_t* out, size_t stride) {
     const PrimitiveSetup& p = *v.prim;
     const double* const values = v.values;
     const int* const words = v.words;
@@ -172,7 +170,7 @@ __attribute__((target("avx512f,avx512bw,avx512dq,avx512vl"))) void interpolate_a
     const bool constant_q = constant_inv_w(p.inv_w);
     // w = 1 at every vertex (2D draws) makes q = 1 / 1 = 1 exactly, and e * 1.0 == e bit for bit
     // for every double e (+-0, +-inf, denormals: no FTZ/DAZ is set; NaN: e is an arithmetic result,
-    // a quiet NaN, which x * 1 returns unchanged), so the weights skip the multiply.
+    // a quiet NaN, which x * 1 returns unchanged), so the weights skip that multiply.
     const bool unit_q = constant_q && 1.0 / p.inv_w.c == 1.0;
     const __m512d one = _mm512_set1_pd(1.0), zero = _mm512_setzero_pd(), q_constant = _mm512_set1_pd(1.0 / p.inv_w.c);
     __m512d pa[V + 1], pb[V + 1], pc[V + 1];   // weight[0..V-1], then inv_w
@@ -190,59 +188,45 @@ __attribute__((target("avx512f,avx512bw,avx512dq,avx512vl"))) void interpolate_a
     constexpr int kColumns = 8;   // slot (x / 4) % 8 of the pair's first quad
     Columns columns[kColumns];
     for (int j = 0; j < kColumns; ++j) columns[j].x[0] = 4 * j + 4, columns[j].x[1] = 0;   // never slot j's tag
-    __m512d value[V][G];   // words k0 .. k0 + G - 1: their vertex values, and outputs
-    float* dst[G];
-    for (int g = 0; g < G; ++g) {
-        for (int k = 0; k < V; ++k) value[k][g] = _mm512_set1_pd(values[size_t(k) * count + k0 + size_t(g)]);
-        dst[g] = reinterpret_cast<float*>(out + size_t(words[k0 + size_t(g)]) * stride);
-    }
-    for (size_t i = 0; i < n; i += 2) {
-        const Quad& q0 = quads[i];
-        const Quad& q1 = quads[std::min(i + 1, n - 1)];
-        if (!have_row || q0.y != row_y[0] || q1.y != row_y[1]) {
-            const double a0 = pixel_centre_offset(q0.y, p.origin_y), a1 = pixel_centre_offset(q0.y + 1, p.origin_y);
-            const double b0 = pixel_centre_offset(q1.y, p.origin_y), b1 = pixel_centre_offset(q1.y + 1, p.origin_y);
-            const __m512d fy = _mm512_setr_pd(a0, a0, a1, a1, b0, b0, b1, b1);
-            for (int k = 0; k <= V; ++k) row_term[k] = _mm512_mul_pd(pb[k], fy);
-            row_y[0] = q0.y, row_y[1] = q1.y, have_row = true;
+    constexpr size_t kRun = 32;   // even: a lone last quad's 8 lanes still fit
+    alignas(64) double weights[V][4 * kRun];
+    for (size_t i0 = 0; i0 < n; i0 += kRun) {
+        const size_t m = std::min(kRun, n - i0);
+        for (size_t i = 0; i < m; i += 2) {
+            const Quad& q0 = quads[i0 + i];
+            const Quad& q1 = quads[i0 + std::min(i + 1, m - 1)];
+            if (!have_row || q0.y != row_y[0] || q1.y != row_y[1]) {
+                const double a0 = pixel_centre_offset(q0.y, p.origin_y), a1 = pixel_centre_offset(q0.y + 1, p.origin_y);
+                const double b0 = pixel_centre_offset(q1.y, p.origin_y), b1 = pixel_centre_offset(q1.y + 1, p.origin_y);
+                const __m512d fy = _mm512_setr_pd(a0, a0, a1, a1, b0, b0, b1, b1);
+                for (int k = 0; k <= V; ++k) row_term[k] = _mm512_mul_pd(pb[k], fy);
+                row_y[0] = q0.y, row_y[1] = q1.y, have_row = true;
+            }
+            Columns& column = columns[(q0.x >> 2) & (kColumns - 1)];
+            if (column.x[0] != q0.x || column.x[1] != q1.x) {
+                const double a0 = pixel_centre_offset(q0.x, p.origin_x), a1 = pixel_centre_offset(q0.x + 1, p.origin_x);
+                const double b0 = pixel_centre_offset(q1.x, p.origin_x), b1 = pixel_centre_offset(q1.x + 1, p.origin_x);
+                const __m512d fx = _mm512_setr_pd(a0, a1, a0, a1, b0, b1, b0, b1);
+                for (int k = 0; k <= V; ++k) column.term[k] = _mm512_add_pd(pc[k], _mm512_mul_pd(pa[k], fx));
+                column.x[0] = q0.x, column.x[1] = q1.x;
+            }
+            const __m512d q = constant_q ? q_constant : _mm512_div_pd(one, _mm512_add_pd(column.term[V], row_term[V]));
+            for (int k = 0; k < V; ++k) {
+                const __m512d e = _mm512_add_pd(column.term[k], row_term[k]);
+                _mm512_store_pd(&weights[k][4 * i], unit_q ? e : _mm512_mul_pd(e, q));
+            }
         }
-        Columns& column = columns[(q0.x >> 2) & (kColumns - 1)];
-        if (column.x[0] != q0.x || column.x[1] != q1.x) {
-            const double a0 = pixel_centre_offset(q0.x, p.origin_x), a1 = pixel_centre_offset(q0.x + 1, p.origin_x);
-            const double b0 = pixel_centre_offset(q1.x, p.origin_x), b1 = pixel_centre_offset(q1.x + 1, p.origin_x);
-            const __m512d fx = _mm512_setr_pd(a0, a1, a0, a1, b0, b1, b0, b1);
-            for (int k = 0; k <= V; ++k) column.term[k] = _mm512_add_pd(pc[k], _mm512_mul_pd(pa[k], fx));
-            column.x[0] = q0.x, column.x[1] = q1.x;
-        }
-        const __m512d q = constant_q ? q_constant : _mm512_div_pd(one, _mm512_add_pd(column.term[V], row_term[V]));
-        __m512d w[V];
-        for (int k = 0; k < V; ++k) {
-            const __m512d e = _mm512_add_pd(column.term[k], row_term[k]);
-            w[k] = unit_q ? e : _mm512_mul_pd(e, q);
-        }
-        const bool pair = i + 1 < n;
-        for (int g = 0; g < G; ++g) {
-            __m512d s = _mm512_add_pd(zero, _mm512_mul_pd(w[0], value[0][g]));
-            s = _mm512_add_pd(s, _mm512_mul_pd(w[1], value[1][g]));
-            if constexpr (V == 3) s = _mm512_add_pd(s, _mm512_mul_pd(w[2], value[2][g]));
-            if (pair)
-                _mm256_storeu_ps(dst[g] + 4 * i, _mm512_cvtpd_ps(s));
-            else
-                _mm_storeu_ps(dst[g] + 4 * i, _mm256_castps256_ps128(_mm512_cvtpd_ps(s)));
-        }
-    }
-}
-
-// Words in groups of 4 (each group's values and outputs in registers), the last group 1 to 4.
-template <int V>
-__attribute__((target("avx512f,avx512bw,avx512dq,avx512vl"))) void interpolate_avx512(
-    const VaryingInterpolation& v, const Quad* quads, size_t n, uint32_t* out, size_t stride) {
-    for (size_t k0 = 0; k0 < v.count; k0 += 4) {
-        switch (std::min<size_t>(4, v.count - k0)) {
-            case 1: interpolate_avx512_words<V, 1>(v, k0, quads, n, out, stride); break;
-            case 2: interpolate_avx512_words<V, 2>(v, k0, quads, n, out, stride); break;
-            case 3: interpolate_avx512_words<V, 3>(v, k0, quads, n, out, stride); break;
-            default: interpolate_avx512_words<V, 4>(v, k0, quads, n, out, stride); break;
+        for (size_t k = 0; k < count; ++k) {
+            const __m512d v0 = _mm512_set1_pd(values[k]), v1 = _mm512_set1_pd(values[count + k]);
+            const __m512d v2 = _mm512_set1_pd(V == 3 ? values[2 * count + k] : 0.0);
+            float* const dst = reinterpret_cast<float*>(out + size_t(words[k]) * stride + 4 * i0);
+            for (size_t i = 0; i < m; i += 2) {
+                __m512d s = _mm512_add_pd(zero, _mm512_mul_pd(_mm512_load_pd(&weights[0][4 * i]), v0));
+                s = _mm512_add_pd(s, _mm512_mul_pd(_mm512_load_pd(&weights[1][4 * i]), v1));
+                if constexpr (V == 3) s = _mm512_add_pd(s, _mm512_mul_pd(_mm512_load_pd(&weights[2][4 * i]), v2));
+                const __mmask8 lanes = i + 1 < m ? 0xFF : 0x0F;
+                _mm256_mask_storeu_ps(dst + 4 * i, lanes, _mm512_maskz_cvtpd_ps(lanes, s));
+            }
         }
     }
 }
