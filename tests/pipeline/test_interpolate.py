@@ -96,7 +96,7 @@ def test_negative_zero_values_give_positive_zero():
 @pytest.mark.parametrize("vertices", [3, 2])
 @pytest.mark.parametrize("constant_w", [False, True])
 def test_quads_in_raster_order(vertices, constant_w):
-    # The SIMD levels reuse per-row and per-column partial terms between quads: quads of 8x8 blocks
+    # The AVX2 level reuses per-row and per-column partial terms between quads: quads of 8x8 blocks
     # row by row (rows and columns repeating, within and across runs of 32 quads), then columns 16
     # apart (sharing a table slot) and negative coordinates, alternating rows.
     rng = np.random.default_rng(21 + vertices + 10 * constant_w)
