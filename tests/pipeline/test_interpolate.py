@@ -96,7 +96,7 @@ def test_negative_zero_values_give_positive_zero():
 @pytest.mark.parametrize("vertices", [3, 2])
 @pytest.mark.parametrize("constant_w", [False, True])
 def test_quads_in_raster_order(vertices, constant_w):
-    # The SIMD levels reuse per-row and per-column partial terms between quads: quads of 8x8 blocks
+    # The AVX2 level reuses per-row and per-column partial terms between quads: quads of 8x8 blocks
     # row by row (rows and columns repeating, within and across runs of 32 quads), then columns 16
     # apart (sharing a table slot) and negative coordinates, alternating rows.
     rng = np.random.default_rng(21 + vertices + 10 * constant_w)
@@ -165,3 +165,43 @@ def test_extreme_planes_and_offsets(vertices, constant_w):
         p = planes.copy()
         p[k, a] = v
         check(p, ox, oy, quads, values)
+
+
+@pytest.mark.parametrize("inv_w_c", [1.0, 2.0, 0.5, 3.0, -1.0])
+@pytest.mark.parametrize("vertices", [3, 2])
+def test_constant_w_every_word_count(inv_w_c, vertices):
+    # w = 1 at every vertex (2D draws) gives q = 1 exactly, which the AVX-512 level does not
+    # multiply by; other constant w give q = 2, 0.5 (exact), 1/3 (rounded) and -1. 1 to 9 words.
+    rng = np.random.default_rng(100 + vertices + int(10 * inv_w_c))
+    for words in range(1, 10):
+        for n, start in ((1, 0), (7, 3), (32, 0), (33, 1)):
+            planes, ox, oy, _, _ = random_case(rng, 1, vertices, True, inv_w_c=inv_w_c)
+            values = rng.normal(0, 10, (vertices, words)).astype(np.float32)
+            check(planes, ox, oy, raster_quads(n, start), values)
+
+
+@pytest.mark.parametrize("vertices", [3, 2])
+def test_unit_w_special_weights_and_values(vertices):
+    # q = 1: the weights are the plane values themselves, so they must keep -0, infinities, NaN and
+    # denormals exactly as e * 1 would. When two NaNs of different bits meet, which one a sum keeps
+    # depends on the compiler's operand order (the levels may differ), so each case has one kind of
+    # NaN: the default NaN of inf - inf and 0 * inf, or one NaN input coefficient with finite values.
+    rng = np.random.default_rng(120 + vertices)
+    special = [0.0, -0.0, 1e-310, -4e-320, 1e-300, 1e300, np.inf, -np.inf, 1.0, -3.5]
+    finite_values = SPECIAL[np.isfinite(SPECIAL)]
+    not_nan_values = SPECIAL[~np.isnan(SPECIAL)]
+    for it in range(80):
+        planes, ox, oy, _, _ = random_case(rng, 1, vertices, True, inv_w_c=1.0)
+        words = int(rng.integers(1, 10))
+        if it % 2:
+            planes[:vertices] = rng.choice(special, (vertices, 3))
+            values = rng.choice(not_nan_values, (vertices, words))
+        else:
+            planes[int(rng.integers(0, vertices)), int(rng.integers(0, 3))] = np.nan
+            values = rng.choice(finite_values, (vertices, words))
+        quads = raster_quads(int(rng.integers(1, 20)), int(rng.integers(0, 8)))
+        check(planes, ox, oy, quads, values)
+    # Zero weights whose sign follows the offsets' (c = -0, a = b = +0: -0 + (+-0) + (+-0)).
+    planes = np.array([[0.0, 0.0, -0.0]] * 3 + [[0.0, 0.0, 1.0]])
+    values = np.array([[-0.0, 1e-45], [-1e-40, 3.4e38], [-2.5, 1.0]][:vertices], np.float32)
+    check(planes, -300, 500, [[-2, -2], [0, 0], [2, 4]], values)

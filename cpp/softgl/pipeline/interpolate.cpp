@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 
 #if defined(__SSE2__)
@@ -157,58 +158,58 @@ __attribute__((target("avx2"))) void interpolate_avx2(const VaryingInterpolation
 }
 
 // Two quads per register (lanes 0..3 quads[i], 4..7 quads[i + 1]), so a register's output is 8
-// contiguous floats; otherwise interpolate_avx2's plan. The partial terms are cached per pair of
-// rows and pair of columns (a rasterized 4-quad block row gives two column pairs), and an odd run's
-// last quad is paired with itself, its second half never stored.
+// contiguous floats; otherwise interpolate_avx2's plan, except that each pair's pixel offsets are
+// computed in vector registers from the two quads' coordinates (pixel_centre_offset's integer
+// terms, then its conversion and scaling) and the planes evaluated in full: cheaper here than
+// interpolate_avx2's row and column caches and their branches. An odd run's last quad is paired
+// with itself, its second half never stored.
 template <int V>
 __attribute__((target("avx512f,avx512bw,avx512dq,avx512vl"))) void interpolate_avx512(
     const VaryingInterpolation& v, const Quad* quads, size_t n, uint32_t* out, size_t stride) {
+    static_assert(sizeof(Quad) == 16 && offsetof(Quad, x) == 0 && offsetof(Quad, y) == 4, "two quads in 8 int32s");
     const PrimitiveSetup& p = *v.prim;
     const double* const values = v.values;
     const int* const words = v.words;
     const size_t count = v.count;
     const bool constant_q = constant_inv_w(p.inv_w);
+    // w = 1 at every vertex (2D draws) makes q = 1 / 1 = 1 exactly, and e * 1.0 == e bit for bit
+    // for every double e (+-0, +-inf, denormals: no FTZ/DAZ is set; NaN: e is an arithmetic result,
+    // a quiet NaN, which x * 1 returns unchanged), so the weights skip that multiply.
+    const bool unit_q = constant_q && 1.0 / p.inv_w.c == 1.0;
     const __m512d one = _mm512_set1_pd(1.0), zero = _mm512_setzero_pd(), q_constant = _mm512_set1_pd(1.0 / p.inv_w.c);
     __m512d pa[V + 1], pb[V + 1], pc[V + 1];   // weight[0..V-1], then inv_w
     for (int k = 0; k <= V; ++k) {
         const Plane& pl = k < V ? p.weight[k] : p.inv_w;
         pa[k] = _mm512_set1_pd(pl.a), pb[k] = _mm512_set1_pd(pl.b), pc[k] = _mm512_set1_pd(pl.c);
     }
-    __m512d row_term[V + 1];
-    int32_t row_y[2] = {0, 0};
-    bool have_row = false;
-    struct Columns {
-        int32_t x[2];
-        __m512d term[V + 1];
+    // Lane l's offset is ((coordinate << 8) + centre[l]) * (1 / kSubPixel), exactly
+    // pixel_centre_offset's int64 terms (coordinate * kSubPixel + kSubPixel / 2 - origin, centre[l]
+    // adding the pixel's dx or dy in its quad), conversion and product.
+    static_assert(kSubPixel == 256, "the shift by 8");
+    constexpr int64_t h = kSubPixel / 2, h1 = kSubPixel + kSubPixel / 2;
+    const __m512i centre_x = _mm512_sub_epi64(_mm512_setr_epi64(h, h1, h, h1, h, h1, h, h1), _mm512_set1_epi64(p.origin_x));
+    const __m512i centre_y = _mm512_sub_epi64(_mm512_setr_epi64(h, h, h1, h1, h, h, h1, h1), _mm512_set1_epi64(p.origin_y));
+    // Two quads loaded as 8 int32 words: x at 0 and 4, y at 1 and 5.
+    const __m256i pick_x = _mm256_setr_epi32(0, 0, 0, 0, 4, 4, 4, 4), pick_y = _mm256_setr_epi32(1, 1, 1, 1, 5, 5, 5, 5);
+    const __m512d inv_sub = _mm512_set1_pd(1.0 / kSubPixel);
+    auto offsets = [&](__m256i pair, __m256i pick, __m512i centre) __attribute__((target("avx512f,avx512dq"))) {
+        const __m512i coordinate = _mm512_cvtepi32_epi64(_mm256_permutevar8x32_epi32(pair, pick));
+        return _mm512_mul_pd(_mm512_cvtepi64_pd(_mm512_add_epi64(_mm512_slli_epi64(coordinate, 8), centre)), inv_sub);
     };
-    constexpr int kColumns = 8;   // slot (x / 4) % 8 of the pair's first quad
-    Columns columns[kColumns];
-    for (int j = 0; j < kColumns; ++j) columns[j].x[0] = 4 * j + 4, columns[j].x[1] = 0;   // never slot j's tag
     constexpr size_t kRun = 32;   // even: a lone last quad's 8 lanes still fit
     alignas(64) double weights[V][4 * kRun];
     for (size_t i0 = 0; i0 < n; i0 += kRun) {
         const size_t m = std::min(kRun, n - i0);
         for (size_t i = 0; i < m; i += 2) {
-            const Quad& q0 = quads[i0 + i];
-            const Quad& q1 = quads[i0 + std::min(i + 1, m - 1)];
-            if (!have_row || q0.y != row_y[0] || q1.y != row_y[1]) {
-                const double a0 = pixel_centre_offset(q0.y, p.origin_y), a1 = pixel_centre_offset(q0.y + 1, p.origin_y);
-                const double b0 = pixel_centre_offset(q1.y, p.origin_y), b1 = pixel_centre_offset(q1.y + 1, p.origin_y);
-                const __m512d fy = _mm512_setr_pd(a0, a0, a1, a1, b0, b0, b1, b1);
-                for (int k = 0; k <= V; ++k) row_term[k] = _mm512_mul_pd(pb[k], fy);
-                row_y[0] = q0.y, row_y[1] = q1.y, have_row = true;
-            }
-            Columns& column = columns[(q0.x >> 2) & (kColumns - 1)];
-            if (column.x[0] != q0.x || column.x[1] != q1.x) {
-                const double a0 = pixel_centre_offset(q0.x, p.origin_x), a1 = pixel_centre_offset(q0.x + 1, p.origin_x);
-                const double b0 = pixel_centre_offset(q1.x, p.origin_x), b1 = pixel_centre_offset(q1.x + 1, p.origin_x);
-                const __m512d fx = _mm512_setr_pd(a0, a1, a0, a1, b0, b1, b0, b1);
-                for (int k = 0; k <= V; ++k) column.term[k] = _mm512_add_pd(pc[k], _mm512_mul_pd(pa[k], fx));
-                column.x[0] = q0.x, column.x[1] = q1.x;
-            }
-            const __m512d q = constant_q ? q_constant : _mm512_div_pd(one, _mm512_add_pd(column.term[V], row_term[V]));
-            for (int k = 0; k < V; ++k)
-                _mm512_store_pd(&weights[k][4 * i], _mm512_mul_pd(_mm512_add_pd(column.term[k], row_term[k]), q));
+            const Quad* const q0 = quads + i0 + i;
+            const __m256i pair = i + 1 < m ? _mm256_loadu_si256(reinterpret_cast<const __m256i*>(q0))
+                                           : _mm256_broadcastsi128_si256(_mm_loadu_si128(reinterpret_cast<const __m128i*>(q0)));
+            const __m512d fx = offsets(pair, pick_x, centre_x), fy = offsets(pair, pick_y, centre_y);
+            auto eval = [&](int k) __attribute__((target("avx512f"))) {
+                return _mm512_add_pd(_mm512_add_pd(pc[k], _mm512_mul_pd(pa[k], fx)), _mm512_mul_pd(pb[k], fy));
+            };
+            const __m512d q = constant_q ? q_constant : _mm512_div_pd(one, eval(V));
+            for (int k = 0; k < V; ++k) _mm512_store_pd(&weights[k][4 * i], unit_q ? eval(k) : _mm512_mul_pd(eval(k), q));
         }
         for (size_t k = 0; k < count; ++k) {
             const __m512d v0 = _mm512_set1_pd(values[k]), v1 = _mm512_set1_pd(values[count + k]);
