@@ -403,7 +403,10 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                 w.stats.fragments_shaded += L;
                 // The colour of lane l, channel c of output o: col[(4 * o + c) * cs + l].
                 const FragmentResults& r = w.results;
-                const float* col = ds_.constant_color.data();
+                // May point at the batch's varying words (uint32_t): read through a may_alias type,
+                // so these reads stay after the words' writes (strict aliasing).
+                using LaneFloat = float __attribute__((may_alias));
+                const LaneFloat* col = ds_.constant_color.data();
                 size_t cs = kChunkLanes;
                 int outputs = 1;
                 bool any_killed = false;
@@ -451,7 +454,7 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                     }
                     cs = L;
                     if (copied_word >= 0) {   // the colour is the varying's lanes (FragmentShader::copies)
-                        col = reinterpret_cast<const float*>(b.varyings.data()) + size_t(copied_word) * L;
+                        col = reinterpret_cast<const LaneFloat*>(b.varyings.data()) + size_t(copied_word) * L;
                     } else {
                         fs.run(b, w.results, worker);
                         for (uint8_t kill : r.killed) any_killed |= kill != 0;
