@@ -34,6 +34,18 @@ py::array_t<float> from_glm(const glm::mat4& m) {
 
 glm::vec3 vec3(const std::array<float, 3>& v) { return glm::vec3(v[0], v[1], v[2]); }
 
+// The clipper hooks' inputs: a triangle (3, 4) float32 in clip coordinates and a full-target
+// viewport of width x height. Fills v and returns the clipper.
+using ClipTriangle = py::array_t<float, py::array::c_style | py::array::forcecast>;
+softgl::Clipper clip_inputs(const ClipTriangle& tri, int32_t width, int32_t height, softgl::Vec4d v[3]) {
+    if (tri.ndim() != 2 || tri.shape(0) != 3 || tri.shape(1) != 4) throw py::value_error("triangle must be (3, 4)");
+    softgl::Viewport vp;
+    vp.width = width;
+    vp.height = height;
+    for (int i = 0; i < 3; ++i) v[i] = {tri.at(i, 0), tri.at(i, 1), tri.at(i, 2), tri.at(i, 3)};
+    return softgl::Clipper(vp);
+}
+
 }  // namespace
 
 void bind_testing(py::module_& m) {
@@ -345,17 +357,11 @@ void bind_testing(py::module_& m) {
     // The clipper alone (pipeline/clip): triangle (3, 4) float32 in clip coordinates, full-target
     // viewport. Returns the clipped polygon's clip positions (n, 4) and weights (n, 3), float64.
     t.def("clip_triangle",
-          [](py::array_t<float, py::array::c_style | py::array::forcecast> tri, int32_t width,
-             int32_t height) {
-              if (tri.ndim() != 2 || tri.shape(0) != 3 || tri.shape(1) != 4)
-                  throw py::value_error("triangle must be (3, 4)");
-              softgl::Viewport vp;
-              vp.width = width;
-              vp.height = height;
+          [](ClipTriangle tri, int32_t width, int32_t height) {
               softgl::Vec4d v[3];
-              for (int i = 0; i < 3; ++i) v[i] = {tri.at(i, 0), tri.at(i, 1), tri.at(i, 2), tri.at(i, 3)};
+              const softgl::Clipper clipper = clip_inputs(tri, width, height, v);
               softgl::ClipVertex out[softgl::kMaxClipVertices];
-              const int n = softgl::Clipper(vp).clip_triangle(v, out);
+              const int n = clipper.clip_triangle(v, out);
               py::array_t<double> pos({py::ssize_t(n), py::ssize_t(4)}), weights({py::ssize_t(n), py::ssize_t(3)});
               for (int i = 0; i < n; ++i) {
                   const softgl::Vec4d& p = out[i].position;
@@ -368,16 +374,9 @@ void bind_testing(py::module_& m) {
           py::arg("triangle"), py::arg("width"), py::arg("height"));
     // Clipper::accepts (setup's no-clipping fast path) for the same inputs as clip_triangle.
     t.def("clip_accepts",
-          [](py::array_t<float, py::array::c_style | py::array::forcecast> tri, int32_t width,
-             int32_t height) {
-              if (tri.ndim() != 2 || tri.shape(0) != 3 || tri.shape(1) != 4)
-                  throw py::value_error("triangle must be (3, 4)");
-              softgl::Viewport vp;
-              vp.width = width;
-              vp.height = height;
+          [](ClipTriangle tri, int32_t width, int32_t height) {
               softgl::Vec4d v[3];
-              for (int i = 0; i < 3; ++i) v[i] = {tri.at(i, 0), tri.at(i, 1), tri.at(i, 2), tri.at(i, 3)};
-              return softgl::Clipper(vp).accepts(v);
+              return clip_inputs(tri, width, height, v).accepts(v);
           },
           py::arg("triangle"), py::arg("width"), py::arg("height"));
 }
