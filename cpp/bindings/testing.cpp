@@ -240,11 +240,12 @@ void bind_testing(py::module_& m) {
     t.def("simd_level", [] { return int(softgl::best_simd_level()); });
     // pipeline/interpolate at one instruction-set level: planes (4, 3) float64 rows (a, b, c) of
     // weight[0..2] and inv_w, origin in 1/256 pixel, quads (n, 2) int32 lower-left pixels,
-    // values (vertices, words) float32. Returns (words, 4n) float32, lane 4*i + j = pixel j of quad i.
+    // values (vertices, words) float32, base: the pixel the float planes are based at. Returns
+    // (words, 4n) float32, lane 4*i + j = pixel j of quad i.
     t.def("interpolate_varyings",
           [](int level, py::array_t<double, py::array::c_style | py::array::forcecast> planes, int64_t origin_x,
              int64_t origin_y, py::array_t<int32_t, py::array::c_style | py::array::forcecast> quads,
-             py::array_t<float, py::array::c_style | py::array::forcecast> values) {
+             py::array_t<float, py::array::c_style | py::array::forcecast> values, int32_t base_x, int32_t base_y) {
               if (planes.ndim() != 2 || planes.shape(0) != 4 || planes.shape(1) != 3 || quads.ndim() != 2 ||
                   quads.shape(1) != 2 || values.ndim() != 2 || (values.shape(0) != 2 && values.shape(0) != 3))
                   throw py::value_error("planes (4, 3), quads (n, 2), values (2 or 3, words)");
@@ -253,20 +254,23 @@ void bind_testing(py::module_& m) {
               for (int k = 0; k < 4; ++k) *pl[k] = {planes.at(k, 0), planes.at(k, 1), planes.at(k, 2)};
               p.origin_x = origin_x, p.origin_y = origin_y;
               const size_t n = size_t(quads.shape(0)), count = size_t(values.shape(1));
+              const int vertices = int(values.shape(0));
               std::vector<softgl::Quad> q(n);
               for (size_t i = 0; i < n; ++i) q[i] = {quads.at(i, 0), quads.at(i, 1), ~uint64_t(0)};
               std::vector<int> words(count);
-              std::vector<double> vals(size_t(values.shape(0)) * count);
+              std::vector<float> vals(size_t(vertices) * count);
               for (size_t k = 0; k < count; ++k) words[k] = int(k);
-              for (size_t v = 0; v < size_t(values.shape(0)); ++v)
-                  for (size_t k = 0; k < count; ++k) vals[v * count + k] = double(values.at(v, k));
+              for (size_t v = 0; v < size_t(vertices); ++v)
+                  for (size_t k = 0; k < count; ++k) vals[v * count + k] = values.at(v, k);
               softgl::VaryingInterpolation vi;
-              vi.prim = &p, vi.vertices = int(values.shape(0)), vi.count = count, vi.words = words.data(), vi.values = vals.data();
+              softgl::prepare_interpolation(p, vertices, base_x, base_y, words.data(), count, vals.data(), vi);
               py::array_t<float> out({py::ssize_t(count), py::ssize_t(4 * n)});
               softgl::interpolate_varyings_at(softgl::SimdLevel(level), vi, q.data(), n,
                                               reinterpret_cast<uint32_t*>(out.mutable_data()), 4 * n);
               return out;
-          });
+          },
+          py::arg("level"), py::arg("planes"), py::arg("origin_x"), py::arg("origin_y"), py::arg("quads"),
+          py::arg("values"), py::arg("base_x") = 0, py::arg("base_y") = 0);
     // pipeline/early_depth at one instruction-set level: the depth plane (a, b, c) + offset with its
     // origin (1/256 pixel), quads (n, 3) int64 rows (x, y, coverage bits), a (h, w) uint32 depth
     // buffer. Returns (survived (n, 4) uint16, killed, the buffer after the test).

@@ -85,7 +85,7 @@ constexpr size_t kChunkLanes = 4 * kChunkQuads;
 struct alignas(64) Scratch {
     std::vector<Quad> quads;          // the primitive's quads in this tile
     std::vector<QuadArea> areas;      // SOFTGL_smooth: covered fractions of the quads
-    std::vector<double> values;       // the primitive's vertex values of the interpolated words
+    std::vector<float> values;        // the primitive's vertex values of the interpolated words
     std::vector<uint32_t> pixels;     // per lane of a chunk: the destination pixel (S == 1 colour path)
     std::vector<uint16_t> masks;      // per lane of a chunk: surviving sample mask
     FragmentBatch batch;
@@ -326,17 +326,15 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                                      : p.kind == PrimitiveKind::Line ? p.vertex[1] : p.vertex[0];
             const int interpolated = p.kind == PrimitiveKind::Triangle ? 3 : p.kind == PrimitiveKind::Line ? 2 : 0;
             VaryingInterpolation vi;
-            if (interpolated && !smooth_words.empty()) {
-                w.values.resize(size_t(interpolated) * smooth_words.size());
+            const bool interpolate = interpolated && !smooth_words.empty();
+            if (interpolate) {
+                const size_t count = smooth_words.size();
+                w.values.resize(size_t(interpolated) * count);
                 for (int v = 0; v < interpolated; ++v)
-                    for (size_t i = 0; i < smooth_words.size(); ++i)
-                        w.values[size_t(v) * smooth_words.size() + i] =
-                            double(as_float(all.varyings[size_t(p.vertex[v]) * size_t(words) + size_t(smooth_words[i])]));
-                vi.prim = &p;
-                vi.vertices = interpolated;
-                vi.count = smooth_words.size();
-                vi.words = smooth_words.data();
-                vi.values = w.values.data();
+                    for (size_t i = 0; i < count; ++i)
+                        w.values[size_t(v) * count + i] =
+                            as_float(all.varyings[size_t(p.vertex[v]) * size_t(words) + size_t(smooth_words[i])]);
+                prepare_interpolation(p, interpolated, rect.x0, rect.y0, smooth_words.data(), count, w.values.data(), vi);
             }
 
             // Chunks of kChunkQuads quads keep every per-lane array in L1.
@@ -420,7 +418,7 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                     at_least(b.front_facing, kChunkLanes);
                     at_least(b.point_coord, 2 * kChunkLanes);
                     if (builtins & kFrontFacing) std::fill_n(b.front_facing.data(), L, uint8_t(p.front_facing ? 1 : 0));
-                    if (vi.prim) {
+                    if (interpolate) {
                         interpolate_varyings(vi, cq, kept, b.varyings.data(), L);
                     } else {
                         for (int word : smooth_words)   // points: no interpolation, the vertex's value
