@@ -150,12 +150,12 @@ __attribute__((target("avx2"))) void interpolate_avx2(const VaryingInterpolation
 }
 
 // Four quads per register, from 16 int32 words (x at 0, 4, 8, 12; y one after); a last group of
-// fewer quads is loaded and stored under a mask.
+// fewer quads is loaded and stored under a mask (masked stores are slow: only there). Words go
+// in batches of 16 whose destinations are computed once.
 template <int V>
 __attribute__((target("avx512f,avx512bw,avx512dq,avx512vl"))) void interpolate_avx512(
     const VaryingInterpolation& v, const Quad* quads, size_t n, uint32_t* out, size_t stride) {
     const float* const values = v.values;
-    const int* const words = v.words;
     const size_t count = v.count;
     const ConstantQ cq(v.inv_w);
     const __m512 one = _mm512_set1_ps(1.0f), q_constant = _mm512_set1_ps(cq.q);
@@ -169,23 +169,34 @@ __attribute__((target("avx512f,avx512bw,avx512dq,avx512vl"))) void interpolate_a
         const FloatPlane& pl = k == 0 ? v.inv_w : v.weight[k - 1];
         pa[k] = _mm512_set1_ps(pl.a), pb[k] = _mm512_set1_ps(pl.b), pc[k] = _mm512_set1_ps(pl.c);
     }
-    for (size_t i = 0; i < n; i += 4) {
-        const size_t m = n - i < 4 ? n - i : 4;
-        const __mmask16 lanes = __mmask16((1u << (4 * m)) - 1);
-        const __m512i xy = _mm512_maskz_loadu_epi32(lanes, quads + i);
-        const __m512 dx = _mm512_cvtepi32_ps(_mm512_sub_epi32(_mm512_add_epi32(_mm512_permutexvar_epi32(pick_x, xy), px), base_x));
-        const __m512 dy = _mm512_cvtepi32_ps(_mm512_sub_epi32(_mm512_add_epi32(_mm512_permutexvar_epi32(pick_y, xy), py), base_y));
-        auto eval = [&](int k) __attribute__((target("avx512f"))) {
-            return _mm512_add_ps(_mm512_add_ps(pc[k], _mm512_mul_ps(pa[k], dx)), _mm512_mul_ps(pb[k], dy));
+    constexpr size_t kBatch = 16;
+    float* dst[kBatch];
+    for (size_t k0 = 0; k0 < count; k0 += kBatch) {
+        const size_t batch = count - k0 < kBatch ? count - k0 : kBatch;
+        for (size_t k = 0; k < batch; ++k) dst[k] = reinterpret_cast<float*>(out + size_t(v.words[k0 + k]) * stride);
+        const float* const v0 = values + k0;
+        const float* const d1 = values + count + k0;
+        const float* const d2 = V == 3 ? values + 2 * count + k0 : d1;   // lines: unused
+        auto group = [&](size_t i, __mmask16 lanes, bool full) __attribute__((target("avx512f,avx512bw,avx512dq,avx512vl"))) {
+            const __m512i xy = full ? _mm512_loadu_si512(quads + i) : _mm512_maskz_loadu_epi32(lanes, quads + i);
+            const __m512 dx = _mm512_cvtepi32_ps(_mm512_sub_epi32(_mm512_add_epi32(_mm512_permutexvar_epi32(pick_x, xy), px), base_x));
+            const __m512 dy = _mm512_cvtepi32_ps(_mm512_sub_epi32(_mm512_add_epi32(_mm512_permutexvar_epi32(pick_y, xy), py), base_y));
+            auto eval = [&](int k) __attribute__((target("avx512f"))) {
+                return _mm512_add_ps(_mm512_add_ps(pc[k], _mm512_mul_ps(pa[k], dx)), _mm512_mul_ps(pb[k], dy));
+            };
+            const __m512 q = cq.constant ? q_constant : _mm512_div_ps(one, eval(0));
+            const __m512 l1 = cq.unit ? eval(1) : _mm512_mul_ps(eval(1), q);
+            const __m512 l2 = V == 3 ? (cq.unit ? eval(2) : _mm512_mul_ps(eval(2), q)) : _mm512_setzero_ps();
+            for (size_t k = 0; k < batch; ++k) {
+                __m512 s = _mm512_add_ps(_mm512_set1_ps(v0[k]), _mm512_mul_ps(l1, _mm512_set1_ps(d1[k])));
+                if constexpr (V == 3) s = _mm512_add_ps(s, _mm512_mul_ps(l2, _mm512_set1_ps(d2[k])));
+                if (full) _mm512_storeu_ps(dst[k] + 4 * i, s);
+                else _mm512_mask_storeu_ps(dst[k] + 4 * i, lanes, s);
+            }
         };
-        const __m512 q = cq.constant ? q_constant : _mm512_div_ps(one, eval(0));
-        const __m512 l1 = cq.unit ? eval(1) : _mm512_mul_ps(eval(1), q);
-        const __m512 l2 = V == 3 ? (cq.unit ? eval(2) : _mm512_mul_ps(eval(2), q)) : _mm512_setzero_ps();
-        for (size_t k = 0; k < count; ++k) {
-            __m512 s = _mm512_add_ps(_mm512_set1_ps(values[k]), _mm512_mul_ps(l1, _mm512_set1_ps(values[count + k])));
-            if constexpr (V == 3) s = _mm512_add_ps(s, _mm512_mul_ps(l2, _mm512_set1_ps(values[2 * count + k])));
-            _mm512_mask_storeu_ps(out + size_t(words[k]) * stride + i * 4, lanes, s);
-        }
+        size_t i = 0;
+        for (; i + 4 <= n; i += 4) group(i, 0xFFFF, true);
+        if (i < n) group(i, __mmask16((1u << (4 * (n - i))) - 1), false);
     }
 }
 #endif
