@@ -212,7 +212,8 @@ __attribute__((target(SOFTGL_AVX512))) inline __m512 clamp01_ps16(__m512 v) {
 // unorm8_at_byte_ps8 of 16 lanes (vpsrlvd gives 0 for counts of 32 or more here too).
 __attribute__((target(SOFTGL_AVX512))) inline __m512i unorm8_at_byte_ps16(__m512 v, int c) {
     const __m512i bits = _mm512_castps_si512(v);
-    const __m512i m = _mm512_or_si512(_mm512_and_si512(bits, _mm512_set1_epi32(0x7FFFFF)), _mm512_set1_epi32(0x800000));
+    // (bits & 0x7FFFFF) | 0x800000 in one instruction (0xEA: a & b | c).
+    const __m512i m = _mm512_ternarylogic_epi32(bits, _mm512_set1_epi32(0x7FFFFF), _mm512_set1_epi32(0x800000), 0xEA);
     const __m512i m255 = _mm512_sub_epi32(_mm512_slli_epi32(m, 8), m);
     const __m512i shift = _mm512_sub_epi32(_mm512_set1_epi32(149), _mm512_srli_epi32(bits, 23));
     const __m512i x = _mm512_add_epi32(_mm512_srlv_epi32(m255, shift), _mm512_set1_epi32(1));   // floor(v*510) + 1
