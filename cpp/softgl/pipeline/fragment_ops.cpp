@@ -225,8 +225,8 @@ __attribute__((target(SOFTGL_AVX512))) inline __m512i unorm8_at_byte_ps16(__m512
 // vpshufb) is byte / 255 * 2^32 truncated, and the rest is byte / 255 < 1. u has 24 + b significant
 // bits (b the byte's bit length); the b a float drops are the byte itself, at least half their
 // place, and the rest is > 0, so the correctly rounded value always rounds u up: a conversion
-// rounding toward +inf gives it (0 -> 0 and 255 -> 2^32 too). Checked for all 256 bytes in
-// tests/pipeline/test_fragment_ops.py.
+// rounding toward +inf gives it (0 -> 0 and 255 -> 2^32 too). tests/pipeline/test_fragment_ops.py
+// blends every destination byte against every alpha k / 255 (round to nearest there fails it).
 __attribute__((target(SOFTGL_AVX512))) inline __m512 unorm8_to_float_times_2p32_ps16(__m512i d32, int c) {
     const __m512i spread = _mm512_add_epi8(_mm512_set1_epi8(char(c)), _mm512_set4_epi32(0x0C0C0C0C, 0x08080808, 0x04040404, 0));
     return _mm512_cvt_roundepu32_ps(_mm512_shuffle_epi8(d32, spread), _MM_FROUND_TO_POS_INF | _MM_FROUND_NO_EXC);
