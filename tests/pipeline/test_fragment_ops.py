@@ -165,3 +165,21 @@ def test_one_colour_in_every_lane_over_every_destination(name):
         mask = [(True,) * 4, (True, False, True, True), (False, False, False, True)][i % 3]
         check((sf, df, sf, df), ("FUNC_ADD", "FUNC_ADD"), mask, i % 2 == 0, src, dst)
         check((sf, df, sf, df), ("FUNC_ADD", "FUNC_ADD"), mask, i % 2 == 1, src[:37], dst[100:137])
+
+
+def test_results_at_the_ends_of_the_range_over_many_alphas():
+    # The SIMD kernels skip the clamp after SRC_ALPHA, ONE_MINUS_SRC_ALPHA (the result is at most
+    # just above 1). Sources 1, just below 1 and 0 (the largest and smallest results) against
+    # every 4099th float in [0, 1] as alpha and every float within 4096 ulps of 0 and 1, with
+    # destination 255 and varied bytes.
+    a = np.concatenate([np.arange(0, F32_ONE + 1, 4099, dtype=np.uint32).view(np.float32),
+                        np.arange(F32_ONE - 4096, F32_ONE + 1, dtype=np.uint32).view(np.float32),
+                        np.arange(0, 4096, dtype=np.uint32).view(np.float32)])
+    rng = np.random.default_rng(17)
+    for s in (1.0, 0.99999994, 0.0):
+        src = np.stack([np.full(a.size, s, np.float32)] * 3 + [a], axis=1)
+        for name in ("alpha_over", "additive"):
+            sf, df = SPECIAL[name]
+            dst = np.stack([np.full(a.size, 255), (np.arange(a.size) * 7) % 256,
+                            rng.integers(0, 256, a.size), np.arange(a.size) % 256], axis=1).astype(np.uint8)
+            check((sf, df, sf, df), ("FUNC_ADD", "FUNC_ADD"), (True,) * 4, True, src, dst)

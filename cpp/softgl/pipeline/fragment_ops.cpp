@@ -212,34 +212,49 @@ __attribute__((target(SOFTGL_AVX512))) inline __m512 clamp01_ps16(__m512 v) {
 // unorm8_at_byte_ps8 of 16 lanes (vpsrlvd gives 0 for counts of 32 or more here too).
 __attribute__((target(SOFTGL_AVX512))) inline __m512i unorm8_at_byte_ps16(__m512 v, int c) {
     const __m512i bits = _mm512_castps_si512(v);
-    const __m512i m = _mm512_or_si512(_mm512_and_si512(bits, _mm512_set1_epi32(0x7FFFFF)), _mm512_set1_epi32(0x800000));
+    // (bits & 0x7FFFFF) | 0x800000 in one instruction (0xEA: a & b | c).
+    const __m512i m = _mm512_ternarylogic_epi32(bits, _mm512_set1_epi32(0x7FFFFF), _mm512_set1_epi32(0x800000), 0xEA);
     const __m512i m255 = _mm512_sub_epi32(_mm512_slli_epi32(m, 8), m);
     const __m512i shift = _mm512_sub_epi32(_mm512_set1_epi32(149), _mm512_srli_epi32(bits, 23));
     const __m512i x = _mm512_add_epi32(_mm512_srlv_epi32(m255, shift), _mm512_set1_epi32(1));   // floor(v*510) + 1
     if (c == 0) return _mm512_srli_epi32(x, 1);
     return _mm512_and_si512(_mm512_slli_epi32(x, 8 * c - 1), _mm512_set1_epi32(int(0xFFu << (8 * c))));
 }
+// Destination byte c of each lane as float(byte) / 255.0f * 2^32, exactly and without a division:
+// byte / 255 is 0.bbbb... in base 256, so u = byte * 0x01010101 (the byte in all four bytes, one
+// vpshufb) is byte / 255 * 2^32 truncated, and the rest is byte / 255 < 1. u has 24 + b significant
+// bits (b the byte's bit length); the b a float drops are the byte itself, at least half their
+// place, and the rest is > 0, so the correctly rounded value always rounds u up: a conversion
+// rounding toward +inf gives it (0 -> 0 and 255 -> 2^32 too). tests/pipeline/test_fragment_ops.py
+// blends every destination byte against every alpha k / 255 (round to nearest there fails it).
+__attribute__((target(SOFTGL_AVX512))) inline __m512 unorm8_to_float_times_2p32_ps16(__m512i d32, int c) {
+    const __m512i spread = _mm512_add_epi8(_mm512_set1_epi8(char(c)), _mm512_set4_epi32(0x0C0C0C0C, 0x08080808, 0x04040404, 0));
+    return _mm512_cvt_roundepu32_ps(_mm512_shuffle_epi8(d32, spread), _MM_FROUND_TO_POS_INF | _MM_FROUND_NO_EXC);
+}
 // write_color<K> of 16 lanes with every channel written: s clamped, d32 the destination pixels.
+// d * df is the reference's product: (d * 2^32) * (df * 2^-32) is the same real number (power-of-two
+// scalings of a value that is 0 or at least 2^-24 are exact), at least 2^-32 when not 0, so it
+// rounds to the same float.
 template <ColorKernel K>
 __attribute__((target(SOFTGL_AVX512))) inline __m512i blend_ps16(const BlendOp& op, const __m512 s[4], __m512i d32) {
+    const __m512 two_m32 = _mm512_set1_ps(0x1p-32f);
+    const __m512 df = _mm512_sub_ps(_mm512_set1_ps(1.0f), s[3]);   // AlphaOver: 1 - s[3]
+    const __m512 df_2m32 = _mm512_mul_ps(df, two_m32);
     __m512i packed = _mm512_setzero_si512();
     for (int c = 0; c < 4; ++c) {
         __m512 out;
+        const bool d_is_one = c == 3 && !op.has_alpha;
         if constexpr (K == ColorKernel::Plain) {
             out = s[c];
-        } else {
-            __m512 d;
-            if (c == 3 && !op.has_alpha) d = _mm512_set1_ps(1.0f);
-            else d = _mm512_div_ps(_mm512_cvtepi32_ps(_mm512_and_si512(_mm512_srli_epi32(d32, 8 * c), _mm512_set1_epi32(0xFF))),
-                                   _mm512_set1_ps(255.0f));
-            if constexpr (K == ColorKernel::AlphaOver) {
-                const __m512 sf = s[3], df = _mm512_sub_ps(_mm512_set1_ps(1.0f), s[3]);
-                out = _mm512_add_ps(_mm512_mul_ps(s[c], sf), _mm512_mul_ps(d, df));
-            } else {   // Additive
-                const __m512 one = _mm512_set1_ps(1.0f);
-                out = _mm512_add_ps(_mm512_mul_ps(s[c], one), _mm512_mul_ps(d, one));
-            }
-            out = clamp01_ps16(out);
+        } else if constexpr (K == ColorKernel::AlphaOver) {
+            // s * sf + d * df with sf = s[3], df = 1 - s[3]. s, d and df lie in [0, 1], so out is
+            // in [0, 1 + 2^-22] (each product at most its factor, a + (1 - a) within an ulp of 1):
+            // no clamp, as the integer conversion gives 255 up to 511/510.
+            const __m512 d_df = d_is_one ? df : _mm512_mul_ps(unorm8_to_float_times_2p32_ps16(d32, c), df_2m32);
+            out = _mm512_add_ps(_mm512_mul_ps(s[c], s[3]), d_df);
+        } else {   // Additive: s * 1 + d * 1, where the multiplications by 1 are exact
+            const __m512 d = d_is_one ? _mm512_set1_ps(1.0f) : _mm512_mul_ps(unorm8_to_float_times_2p32_ps16(d32, c), two_m32);
+            out = clamp01_ps16(_mm512_add_ps(s[c], d));
         }
         packed = _mm512_or_si512(packed, unorm8_at_byte_ps16(out, c));
     }
@@ -333,7 +348,7 @@ __attribute__((target(SOFTGL_AVX512 ",avx512vbmi"))) void apply_table(const Unif
 // Lanes l .. l + 15 of the lane kernel (only those in `tail` unless Full: masked loads and
 // stores only where needed).
 template <ColorKernel K, bool Full>
-__attribute__((target(SOFTGL_AVX512))) inline void lanes16(const BlendOp& op, const float* src, size_t stride,
+__attribute__((target(SOFTGL_AVX512), always_inline)) inline void lanes16(const BlendOp& op, const float* src, size_t stride,
                                                            uint32_t* dst, size_t l, __mmask16 tail, __m512i keep) {
     const __m512i d32 = Full ? _mm512_loadu_si512(dst + l) : _mm512_maskz_loadu_epi32(tail, dst + l);
     __m512 s[4];

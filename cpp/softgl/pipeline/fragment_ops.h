@@ -5,7 +5,9 @@
 // out-of-range, NaN and infinite source values.
 //
 // Why they are exact:
-//  * unorm8 -> float uses a table of float(i) / 255.0f, the same division the reference does.
+//  * unorm8 -> float uses a table of float(i) / 255.0f, the same division the reference does; the
+//    AVX-512 lanes convert i * 0x01010101 rounding up, which is float(i) / 255.0f * 2^32 exactly,
+//    and scale by 2^-32 exactly (folded into ONE_MINUS_SRC_ALPHA; fragment_ops.cpp has the proof).
 //  * float -> unorm8 is float_to_unorm8 with floor replaced by truncation, which is the same for
 //    the non-negative values it sees (the argument is clamped first), and avoids a libm call. The
 //    AVX2 and AVX-512 lanes compute the same floor(v*255 + 0.5) exactly in integers from v's
