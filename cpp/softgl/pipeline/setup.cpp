@@ -361,26 +361,27 @@ bool diamond_exit(int64_t ax, int64_t ay, int64_t bx, int64_t by, int64_t fx, in
     return false;
 }
 
-// Does the segment produce a fragment in major-axis column (x-major) or row (y-major) `m`? A line
-// with |slope| <= 1 meets at most one diamond per column (the one whose centre is within 1/2 of the
-// line), so only the three pixels nearest the line need the exact test.
+// Does the segment produce a fragment in major-axis column (x-major) or row (y-major) `m`?
 //
-// Candidates that cannot meet the segment are skipped before the exact test (which would say no):
-// a column whose diamonds end before the segment starts or begin after it ends (the perturbation
-// moves the ends by less than the one-unit margin), and a diamond whose centre is R or more from
-// the line's minor coordinate at the column centre (every point of a line with |slope| <= 1 is at
-// least that far from the centre in L1; the margin covers the rounding of `minor`).
+// A column whose diamonds end before the segment starts or begin after it ends has none (the
+// perturbation moves the ends by less than the one-unit margin). Otherwise only the diamonds whose
+// centre is within R of the line at the column centre, minor coordinate y* (in the minor direction;
+// at most two) can be met: a segment point P in the closed diamond of centre (C, f) has
+// |y* - f| <= |y* - P_minor| + |P_minor - f| <= |P_major - C| + |P_minor - f| <= R, the line's slope
+// being at most 1. With f = n*256 + 128 that is n <= y* / 256 <= n + 1, found in exact integers.
 bool diamond_exit_in(int64_t ax, int64_t ay, int64_t bx, int64_t by, bool x_major, int64_t m) {
-    const int64_t dx = bx - ax, dy = by - ay;
     const int64_t centre = m * kSubPixel + kSubPixel / 2;
     const int64_t ma = x_major ? ax : ay, mb = x_major ? bx : by;
     if (std::max(ma, mb) < centre - kDiamondRadius || std::min(ma, mb) > centre + kDiamondRadius) return false;
-    const double minor = x_major ? double(ay) + double(dy) * double(centre - ax) / double(dx)
-                                 : double(ax) + double(dx) * double(centre - ay) / double(dy);
-    const int64_t n0 = floor_int(minor / double(kSubPixel));
-    for (int64_t n = n0 - 1; n <= n0 + 1; ++n) {
-        const int64_t other = n * kSubPixel + kSubPixel / 2;
-        if (std::fabs(minor - double(other)) >= double(kDiamondRadius + 1)) continue;
+    const int64_t na = x_major ? ay : ax, dmajor = mb - ma, dminor = x_major ? by - ay : bx - ax;
+    // y* = num / den, den = the major difference (not 0: |major| >= |minor| and not both 0).
+    int64_t num = na * dmajor + dminor * (centre - ma), den = dmajor;
+    if (den < 0) num = -num, den = -den;
+    den *= kSubPixel;
+    int64_t n = num / den, rem = num % den;   // n = floor(y* / 256)
+    if (rem < 0) --n, rem += den;
+    for (int64_t k = n; k >= n - (rem == 0); --k) {   // and n - 1 when y* / 256 is an integer
+        const int64_t other = k * kSubPixel + kSubPixel / 2;
         if (x_major ? diamond_exit(ax, ay, bx, by, centre, other)
                     : diamond_exit(ax, ay, bx, by, other, centre))
             return true;
