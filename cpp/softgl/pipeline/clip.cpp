@@ -172,7 +172,7 @@ bool Clipper::clip_line(const Vec4d v[2], ClipVertex out[2]) const {
     const uint32_t c0 = outcode(v[0]), c1 = outcode(v[1]);
     if (c0 & c1) return false;
     const uint32_t planes = c0 | c1;
-    for (int p = 0; p < kClipPlaneCount; ++p) {
+    for (int p = 0; planes != 0 && p < kClipPlaneCount; ++p) {
         if (!(planes & (1u << p))) continue;
         const double d0 = exact_distance(plane_[p], out[0].position);
         const double d1 = exact_distance(plane_[p], out[1].position);

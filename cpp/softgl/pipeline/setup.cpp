@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdlib>
 #include <utility>
 
 namespace softgl {
@@ -15,15 +16,18 @@ constexpr uint32_t kGlFront = 0x404, kGlBack = 0x405, kGlFrontAndBack = 0x408, k
 // negative a in C++20, and by GCC and Clang before), no division.
 int64_t floor_pixel(int64_t a) { return a >> kSubPixelBits; }
 
+// floor(x) for |x| < 2^62, exactly, without a libm call: truncate, then step down for negative
+// non-integers.
+int64_t floor_int(double x) {
+    const int64_t t = int64_t(x);
+    return t - int64_t(double(t) > x);   // no branch: the sign of x's fraction is random
+}
+
 // Snap a window coordinate to 1/256 pixel, round to nearest. The clamp catches the last ulp that
 // guard-band clipping may leave outside the band (and keeps the conversion defined).
 int64_t snap(double window) {
     window = std::min(std::max(window, -kGuardBand), kGuardBand);
-    // floor(x) for |x| <= 2^28 + 1/2, exactly, without a libm call: truncate, then step down for
-    // negative non-integers.
-    const double x = window * double(kSubPixel) + 0.5;
-    const int64_t t = int64_t(x);
-    return t - int64_t(double(t) > x);   // no branch: the sign of x's fraction is random
+    return floor_int(window * double(kSubPixel) + 0.5);
 }
 
 // Edge from (xj, yj) to (xk, yk) of a counter-clockwise polygon (window y up): E >= 0 inside.
@@ -314,75 +318,70 @@ void Setup::point(const float* p, float size, uint32_t index, uint32_t primitive
 namespace {
 
 // ---- The diamond-exit rule for width-1 lines, ES 3.0 §3.5.1 ----
-// A value c0 + c1*eps + c2*eps^2 for an infinitesimal eps > 0: ES 3.0 §3.5.1 perturbs both end points
-// by (-eps, -eps^2) so that no end point lies on a diamond's boundary; comparing such values
-// lexicographically gives the limit eps -> 0 exactly, in integers.
-struct EpsValue {
-    __int128 c0, c1, c2;
-    int sign() const {
-        if (c0 != 0) return c0 > 0 ? 1 : -1;
-        if (c1 != 0) return c1 > 0 ? 1 : -1;
-        return c2 > 0 ? 1 : (c2 < 0 ? -1 : 0);
-    }
-    EpsValue operator-(const EpsValue& o) const { return {c0 - o.c0, c1 - o.c1, c2 - o.c2}; }
-    EpsValue operator+(const EpsValue& o) const { return {c0 + o.c0, c1 + o.c1, c2 + o.c2}; }
-    EpsValue abs() const { return sign() < 0 ? EpsValue{-c0, -c1, -c2} : *this; }
-};
-
+// §3.5.1 perturbs both end points by (-eps, -eps^2), eps > 0 infinitesimal, so that no end point
+// lies on a diamond's boundary. Every quantity tested below is an integer plus terms in eps and
+// eps^2; its sign is the integer's unless that is 0, when the eps terms (worked out by hand at each
+// test) decide: the limit eps -> 0, exactly. All in int64: snapped coordinates stay below 2^28 +
+// 2^15 in magnitude (guard band, viewport.h; wide-line shift), so the products stay below 2^59.
 constexpr int64_t kDiamondRadius = kSubPixel / 2;   // R_f = {|x - x_f| + |y - y_f| < 1/2}
 
 // Does the segment from (ax, ay) to (bx, by) (fixed point, perturbed per §3.5.1) produce the
 // fragment whose centre is (fx, fy)? It does when the segment meets the open diamond R_f and the
 // end point is not inside R_f.
 bool diamond_exit(int64_t ax, int64_t ay, int64_t bx, int64_t by, int64_t fx, int64_t fy) {
-    const EpsValue R{kDiamondRadius, 0, 0};
-    auto inside = [&](int64_t x, int64_t y) {   // |x - eps - fx| + |y - eps^2 - fy| < R
-        const EpsValue u{x - fx, -1, 0}, v{y - fy, 0, -1};
-        return (u.abs() + v.abs() - R).sign() < 0;
+    // |x - eps - fx| + |y - eps^2 - fy| < R. On the boundary the eps term decides: it is -eps
+    // (inside) when x > fx, +eps when x <= fx (|u - eps| = |u| - eps for u > 0, |u| + eps else).
+    auto inside = [&](int64_t x, int64_t y) {
+        const int64_t d = std::abs(x - fx) + std::abs(y - fy) - kDiamondRadius;
+        return d < 0 || (d == 0 && x > fx);
     };
     if (inside(bx, by)) return false;
     if (inside(ax, ay)) return true;
     // The L1 distance to the centre is convex and piecewise linear along the segment: besides the
     // end points its minimum can only be where the segment crosses x = fx or y = fy.
     const int64_t dx = bx - ax, dy = by - ay;
-    auto within = [](const EpsValue& num, int64_t den) {   // num / den in [0, 1]
-        const int s0 = num.sign(), s1 = (num - EpsValue{den, 0, 0}).sign();
-        return den > 0 ? (s0 >= 0 && s1 <= 0) : (s0 <= 0 && s1 >= 0);
-    };
-    if (dx != 0 && within(EpsValue{fx - ax, 1, 0}, dx)) {
-        // |dx| * |y(t*) - fy| at the crossing of x = fx.
-        const EpsValue d{__int128(ay - fy) * dx + __int128(dy) * (fx - ax), dy, -dx};
-        if ((d.abs() - EpsValue{__int128(kDiamondRadius) * (dx < 0 ? -dx : dx), 0, 0}).sign() < 0)
-            return true;
+    // The crossing of x = fx, at t = (fx - ax + eps) / dx, lies on the segment when t is in
+    // [0, 1]; a numerator of 0 or dx is moved inside (dx > 0) or outside (dx < 0) by the +eps.
+    const int64_t tx = fx - ax;
+    if (dx > 0 ? (0 <= tx && tx < dx) : (dx <= tx && tx < 0)) {
+        // There |dx| * |y(t) - fy| = |c + dy*eps - dx*eps^2| < R |dx|; on equality (c != 0) the
+        // sign of sign(c) * (dy*eps - dx*eps^2) decides.
+        const int64_t c = (ay - fy) * dx + dy * tx;
+        const int64_t m = std::abs(c) - kDiamondRadius * std::abs(dx);
+        if (m < 0 || (m == 0 && (dy != 0 ? (c > 0) == (dy < 0) : (c > 0) == (dx > 0)))) return true;
     }
-    if (dy != 0 && within(EpsValue{fy - ay, 0, 1}, dy)) {
-        const EpsValue d{__int128(ax - fx) * dy + __int128(dx) * (fy - ay), -dy, dx};
-        if ((d.abs() - EpsValue{__int128(kDiamondRadius) * (dy < 0 ? -dy : dy), 0, 0}).sign() < 0)
-            return true;
+    // The crossing of y = fy, at t = (fy - ay + eps^2) / dy: the same with the axes swapped, where
+    // |dy| * |x(t) - fx| = |c - dy*eps + dx*eps^2| (dy != 0 here decides a tie).
+    const int64_t ty = fy - ay;
+    if (dy > 0 ? (0 <= ty && ty < dy) : (dy <= ty && ty < 0)) {
+        const int64_t c = (ax - fx) * dy + dx * ty;
+        const int64_t m = std::abs(c) - kDiamondRadius * std::abs(dy);
+        if (m < 0 || (m == 0 && (c > 0) == (dy > 0))) return true;
     }
     return false;
 }
 
-// Does the segment produce a fragment in major-axis column (x-major) or row (y-major) `m`? A line
-// with |slope| <= 1 meets at most one diamond per column (the one whose centre is within 1/2 of the
-// line), so only the three pixels nearest the line need the exact test.
+// Does the segment produce a fragment in major-axis column (x-major) or row (y-major) `m`?
 //
-// Candidates that cannot meet the segment are skipped before the exact test (which would say no):
-// a column whose diamonds end before the segment starts or begin after it ends (the perturbation
-// moves the ends by less than the one-unit margin), and a diamond whose centre is R or more from
-// the line's minor coordinate at the column centre (every point of a line with |slope| <= 1 is at
-// least that far from the centre in L1; the margin covers the rounding of `minor`).
+// A column whose diamonds end before the segment starts or begin after it ends has none (the
+// perturbation moves the ends by less than the one-unit margin). Otherwise only the diamonds whose
+// centre is within R of the line at the column centre, minor coordinate y* (in the minor direction;
+// at most two) can be met: a segment point P in the closed diamond of centre (C, f) has
+// |y* - f| <= |y* - P_minor| + |P_minor - f| <= |P_major - C| + |P_minor - f| <= R, the line's slope
+// being at most 1. With f = n*256 + 128 that is n <= y* / 256 <= n + 1, found in exact integers.
 bool diamond_exit_in(int64_t ax, int64_t ay, int64_t bx, int64_t by, bool x_major, int64_t m) {
-    const int64_t dx = bx - ax, dy = by - ay;
     const int64_t centre = m * kSubPixel + kSubPixel / 2;
     const int64_t ma = x_major ? ax : ay, mb = x_major ? bx : by;
     if (std::max(ma, mb) < centre - kDiamondRadius || std::min(ma, mb) > centre + kDiamondRadius) return false;
-    const double minor = x_major ? double(ay) + double(dy) * double(centre - ax) / double(dx)
-                                 : double(ax) + double(dx) * double(centre - ay) / double(dy);
-    const int64_t n0 = int64_t(std::floor(minor / double(kSubPixel)));
-    for (int64_t n = n0 - 1; n <= n0 + 1; ++n) {
-        const int64_t other = n * kSubPixel + kSubPixel / 2;
-        if (std::fabs(minor - double(other)) >= double(kDiamondRadius + 1)) continue;
+    const int64_t na = x_major ? ay : ax, dmajor = mb - ma, dminor = x_major ? by - ay : bx - ax;
+    // y* = num / den, den = the major difference (not 0: |major| >= |minor| and not both 0).
+    int64_t num = na * dmajor + dminor * (centre - ma), den = dmajor;
+    if (den < 0) num = -num, den = -den;
+    den *= kSubPixel;
+    int64_t n = num / den, rem = num % den;   // n = floor(y* / 256)
+    if (rem < 0) --n, rem += den;
+    for (int64_t k = n; k >= n - (rem == 0); --k) {   // and n - 1 when y* / 256 is an integer
+        const int64_t other = k * kSubPixel + kSubPixel / 2;
         if (x_major ? diamond_exit(ax, ay, bx, by, centre, other)
                     : diamond_exit(ax, ay, bx, by, other, centre))
             return true;
@@ -424,7 +423,6 @@ void Setup::line(const float* p0, const float* p1, uint32_t i0, uint32_t i1, uin
     const bool x_major = (dx < 0 ? -dx : dx) >= (dy < 0 ? -dy : dy);
 
     PrimitiveSetup& s = out.emplace_back();   // built in place; removed again if dropped
-    for (int i = 0; i < 4; ++i) s.area_offset[i] = 0;
     s.area_shape = AreaShape::Polygon;
     int64_t bxmin, bymin, bxmax, bymax;   // fixed-point bounding box of the shape
     if (state_.line_smooth) {
@@ -468,20 +466,19 @@ void Setup::line(const float* p0, const float* p1, uint32_t i0, uint32_t i1, uin
             px[0] = a.X + h; py[0] = a.Y; px[1] = e.X + h; py[1] = e.Y;
             px[2] = e.X - h; py[2] = e.Y; px[3] = a.X - h; py[3] = a.Y;
         }
-        __int128 area2 = 0;
-        for (int i = 0; i < 4; ++i) {
-            const int j = (i + 1) & 3;
-            area2 += __int128(px[i]) * py[j] - __int128(px[j]) * py[i];
+        // The parallelogram's signed area is 2h * dx (x-major) or 2h * dy (y-major), never 0: the
+        // corners are counter-clockwise as listed when it is positive, else reversed.
+        if (x_major ? dx < 0 : dy < 0) {
+            std::swap(px[0], px[3]); std::swap(py[0], py[3]);
+            std::swap(px[1], px[2]); std::swap(py[1], py[2]);
         }
-        for (int i = 0; i < 4; ++i) {   // counter-clockwise order: reverse if the area is negative
-            const int j = area2 > 0 ? i : 3 - i, k = area2 > 0 ? (i + 1) & 3 : (6 - i) & 3;
-            make_edge(s, i, px[j], py[j], px[k], py[k]);
-        }
-        bxmin = *std::min_element(px, px + 4); bxmax = *std::max_element(px, px + 4);
-        bymin = *std::min_element(py, py + 4); bymax = *std::max_element(py, py + 4);
+        const int64_t hx = x_major ? 0 : h, hy = x_major ? h : 0;
+        bxmin = std::min(a.X, e.X) - hx; bxmax = std::max(a.X, e.X) + hx;
+        bymin = std::min(a.Y, e.Y) - hy; bymax = std::max(a.Y, e.Y) + hy;
         if (state_.samples == 1 && state_.line_rule == LineRule::DiamondExit) {
-            // Replace the two end edges (perpendicular to the major axis) by pixel-boundary edges
-            // around the first and last major-axis pixel the diamond-exit rule produces.
+            // The two band edges (parallel to the segment: edges 0 and 2 of the parallelogram),
+            // then, instead of its end edges, pixel-boundary edges around the first and last
+            // major-axis pixel the diamond-exit rule produces.
             const int64_t shift = (w - 1) * (kSubPixel / 2);
             const int64_t sax = x_major ? a.X : a.X - shift, say = x_major ? a.Y - shift : a.Y;
             const int64_t sbx = x_major ? e.X : e.X - shift, sby = x_major ? e.Y - shift : e.Y;
@@ -492,18 +489,8 @@ void Setup::line(const float* p0, const float* p1, uint32_t i0, uint32_t i1, uin
                 return;
             }
             const int64_t lo = first * kSubPixel, hi = (last + 1) * kSubPixel;   // [lo, hi)
-            // Band edges are the ones parallel to the segment: i with (a, b) not along the major axis.
-            int k = 0;
-            const int64_t ba[4] = {s.a[0], s.a[1], s.a[2], s.a[3]}, bb[4] = {s.b[0], s.b[1], s.b[2], s.b[3]};
-            const int64_t bc[4] = {s.c[0], s.c[1], s.c[2], s.c[3]};
-            const double boff[4] = {s.area_offset[0], s.area_offset[1], s.area_offset[2], s.area_offset[3]};
-            for (int i = 0; i < 4; ++i) {
-                const bool end_edge = x_major ? bb[i] == 0 : ba[i] == 0;
-                if (end_edge) continue;
-                s.a[k] = ba[i]; s.b[k] = bb[i]; s.c[k] = bc[i];
-                s.area_offset[k] = boff[i];
-                ++k;
-            }
+            make_edge(s, 0, px[0], py[0], px[1], py[1]);
+            make_edge(s, 1, px[2], py[2], px[3], py[3]);
             if (x_major) {
                 make_edge(s, 2, lo, 1, lo, 0);   // runs down: a left edge, x >= lo included
                 make_edge(s, 3, hi, 0, hi, 1);   // runs up: x < hi
@@ -520,6 +507,8 @@ void Setup::line(const float* p0, const float* p1, uint32_t i0, uint32_t i1, uin
                 bymin = lo; bymax = hi - 1;
                 bxmin -= kSubPixel / 2; bxmax += kSubPixel / 2;
             }
+        } else {
+            for (int i = 0; i < 4; ++i) make_edge(s, i, px[i], py[i], px[(i + 1) & 3], py[(i + 1) & 3]);
         }
     }
     if (!finish_bbox(s, bxmin, bymin, bxmax, bymax)) {

@@ -79,7 +79,9 @@ enum class PrimitiveKind : uint8_t { Triangle, Line, Point };
 // points) the disk of diameter point_size centred on (origin_x, origin_y).
 enum class AreaShape : uint8_t { Polygon, Disk };
 
-struct PrimitiveSetup {
+// One record is five whole cache lines: the tile pass reads most of every binned record, and with
+// many tiny primitives these reads dominate.
+struct alignas(64) PrimitiveSetup {
     // Setup writes every field; records are built in place in large arrays, not zero-filled first.
     PrimitiveSetup() {}
 
@@ -102,6 +104,7 @@ struct PrimitiveSetup {
     PrimitiveKind kind;
     uint8_t edge_count;               // 3 or 4
     bool front_facing;                // gl_FrontFacing (points and lines: true)
+    AreaShape area_shape;             // see area_offset
     float point_x, point_y, point_size;   // points: window centre and size, for gl_PointCoord
     // Area geometry (pipeline/coverage): the exact half-plane of edge i is
     //   a[i]*X + b[i]*Y + c[i] + area_offset[i] >= 0.
@@ -111,7 +114,6 @@ struct PrimitiveSetup {
     // test is exact at every fixed-point position, and bins/blocks stay exact) and area_offset =
     // C - floor(C) in [0, 1) carries the exact width.
     double area_offset[4];
-    AreaShape area_shape;
 
     // Depth at a fixed-point sample position: plane + offset, clamped to [0, 1] (ES 3.0 §3.6.5).
     double depth_at(int64_t X, int64_t Y) const {
@@ -133,6 +135,8 @@ struct PrimitiveSetup {
         out[1] = 0.5f - (float(py) + 0.5f - point_y) / point_size;
     }
 };
+
+static_assert(sizeof(PrimitiveSetup) == 5 * 64);
 
 struct SetupStats {
     uint64_t primitives = 0;   // primitives given to setup

@@ -90,6 +90,17 @@ uint64_t effective_stride(const VertexAttribPointer& a) {
     return uint64_t(a.size) * uint64_t(attribute_type_size(a.type));
 }
 
+// Components 0..kSize-1 of each vertex's float attribute, as they are (a fixed count per vertex: the
+// per-vertex copy is unrolled).
+template <int kSize>
+void copy_floats(const uint8_t* base, uint64_t stride, const uint32_t* vertex_ids, uint32_t first,
+                 size_t count, uint32_t* const comp[4]) {
+    for (size_t v = 0; v < count; ++v) {
+        const uint8_t* p = base + uint64_t(vertex_ids ? vertex_ids[v] : first + v) * stride;
+        for (int c = 0; c < kSize; ++c) std::memcpy(&comp[c][v], p + 4 * c, 4);
+    }
+}
+
 }  // namespace
 
 int attribute_type_size(GLenum type) {
@@ -149,9 +160,11 @@ void fetch_attribute(const VertexArray& vao, const CurrentAttrib& current, int l
         const int size = a.size;
         uint32_t* comp[4] = {out.comp[0].data(), out.comp[1].data(), out.comp[2].data(), out.comp[3].data()};
         for (int c = size; c < 4; ++c) std::fill_n(comp[c], count, c == 3 ? float_bits(1.0f) : 0u);
-        for (size_t v = 0; v < count; ++v) {
-            const uint8_t* p = base + uint64_t(vertex_ids ? vertex_ids[v] : first + v) * stride;
-            for (int c = 0; c < size; ++c) std::memcpy(&comp[c][v], p + 4 * c, 4);
+        switch (size) {
+            case 1: copy_floats<1>(base, stride, vertex_ids, first, count, comp); break;
+            case 2: copy_floats<2>(base, stride, vertex_ids, first, count, comp); break;
+            case 3: copy_floats<3>(base, stride, vertex_ids, first, count, comp); break;
+            default: copy_floats<4>(base, stride, vertex_ids, first, count, comp); break;
         }
         return;
     }
