@@ -113,16 +113,16 @@ __attribute__((target("avx2"))) size_t early_depth_avx2(const EarlyDepth& t, con
 
 // The AVX-512 level takes a row of up to four quads at once: consecutive quads with the same y
 // and x stepping by 2, as the rasterizer emits the quad-rows of a block (a covered 8x8 block is
-// four rows of four full quads). That is two pixel rows of up to 8 pixels, 8 double lanes each:
-// fx and c + a*fx once per column of quads (the quad-rows of a block share it), then each row's
-// depths in the scalar definition's order ((c + a*fx) + b*fy) + offset, depth_word's clamp as
-// z > 0 ? min(z, 1) : 0 (NaN -> 0). Two exact shortcuts: adding a zero offset changes nothing
-// but the sign of a zero depth (word 0 either way), and a flat plane (a = b = 0: a*fx and b*fy
-// are zeros, fx and fy being finite) gives every pixel the same word, so it is computed once.
-// The rows compare as unsigned words (kPredicate is compare()'s function as a vpcmpud
-// predicate) and store the passing words; masked loads and stores touch covered pixels only.
-// The pixels of a row are distinct, so testing them together is in order. pext/pdep (BMI2,
-// which every AVX-512 CPU has) gather the coverage and scatter the results in survived's order.
+// four rows of four full quads, which one vector compare recognizes). That is two pixel rows of
+// up to 8 pixels, 8 double lanes each: fx and c + a*fx once per column of quads (the quad-rows
+// of a block share it), then each row's depths in the scalar definition's order
+// ((c + a*fx) + b*fy) + offset. Two exact shortcuts: adding a zero offset changes nothing but the
+// sign of a zero depth (word 0 either way), and a flat plane (a = b = 0, so a*fx and b*fy are
+// zeros, fx and fy being finite) gives every pixel the word of any one pixel. The rows compare
+// as unsigned words (kPredicate is compare()'s function as a vpcmpud predicate) and store the
+// passing words; masked loads and stores touch covered pixels only. The pixels of a row are
+// distinct, so testing them together is in order. pext/pdep (BMI2, which every AVX-512 CPU has)
+// gather the coverage and scatter the results in survived's order.
 #define SOFTGL_AVX512_EARLY_DEPTH __attribute__((target("avx512f,avx512bw,avx512dq,avx512vl,bmi,bmi2")))
 // A pixel row's words: ((cax + byf) + offset), depth_word's clamp as min(max(z, 0), 1) (vmaxpd
 // returns its second operand for NaN: 0), then converted. (Zero-masking with all lanes: GCC 12
@@ -159,11 +159,11 @@ SOFTGL_AVX512_EARLY_DEPTH inline bool full_run(const Quad* quads) {
     return _mm512_cmpeq_epi32_mask(_mm512_and_si512(_mm512_loadu_si512(quads), keep), _mm512_add_epi32(first, steps)) == 0xFFFF;
 }
 
-// flat: the plane is flat, every pixel's word is plane_word. Everything the loop reads from t
+// kFlat: the plane is flat, every pixel's word is plane_word. Everything the loop reads from t
 // and the primitive is copied first (the stores could alias them as far as the compiler knows).
-template <int kPredicate>
+template <int kPredicate, bool kFlat>
 SOFTGL_AVX512_EARLY_DEPTH size_t early_depth_avx512(const EarlyDepth& t, const Quad* quads, size_t n, uint16_t* survived,
-                                                    bool flat, uint32_t plane_word) {
+                                                    uint32_t plane_word) {
     const PrimitiveSetup& p = *t.prim;
     const __m512d a = _mm512_set1_pd(p.depth.a), c = _mm512_set1_pd(p.depth.c), offset = _mm512_set1_pd(p.depth_offset);
     const double b = p.depth.b;
@@ -196,7 +196,7 @@ SOFTGL_AVX512_EARLY_DEPTH size_t early_depth_avx512(const EarlyDepth& t, const Q
         uint32_t* row0 = &depth[size_t(first.y) * pitch + size_t(first.x)];
         uint32_t* row1 = covered1 ? row0 + pitch : row0;   // a pointer into the buffer either way
         __m256i word0 = flat_word, word1 = flat_word;
-        if (!flat) {
+        if constexpr (!kFlat) {
             if (first.x != cax_x) {
                 const int64_t X = int64_t(first.x) * kSubPixel + x_origin;
                 const __m512d fx = _mm512_mul_pd(_mm512_cvtepi64_pd(_mm512_add_epi64(_mm512_set1_epi64(X), pixel_steps)),
@@ -217,24 +217,30 @@ SOFTGL_AVX512_EARLY_DEPTH size_t early_depth_avx512(const EarlyDepth& t, const Q
     return killed;
 }
 
+template <bool kFlat>
+SOFTGL_AVX512_EARLY_DEPTH size_t early_depth_avx512(const EarlyDepth& t, const Quad* quads, size_t n, uint16_t* survived,
+                                                    uint32_t plane_word) {
+    constexpr int kNever = 3, kAlways = 7;   // vpcmpud's FALSE and TRUE predicates (unnamed in GCC's headers)
+    switch (t.func) {
+        case gl::NEVER: return early_depth_avx512<kNever, kFlat>(t, quads, n, survived, plane_word);
+        case gl::LESS: return early_depth_avx512<_MM_CMPINT_LT, kFlat>(t, quads, n, survived, plane_word);
+        case gl::EQUAL: return early_depth_avx512<_MM_CMPINT_EQ, kFlat>(t, quads, n, survived, plane_word);
+        case gl::LEQUAL: return early_depth_avx512<_MM_CMPINT_LE, kFlat>(t, quads, n, survived, plane_word);
+        case gl::GREATER: return early_depth_avx512<_MM_CMPINT_NLE, kFlat>(t, quads, n, survived, plane_word);
+        case gl::NOTEQUAL: return early_depth_avx512<_MM_CMPINT_NE, kFlat>(t, quads, n, survived, plane_word);
+        case gl::GEQUAL: return early_depth_avx512<_MM_CMPINT_NLT, kFlat>(t, quads, n, survived, plane_word);
+        default: return early_depth_avx512<kAlways, kFlat>(t, quads, n, survived, plane_word);   // ALWAYS, as compare()
+    }
+}
+
 SOFTGL_AVX512_EARLY_DEPTH size_t early_depth_avx512(const EarlyDepth& t, const Quad* quads, size_t n, uint16_t* survived) {
     if (n == 0) return 0;
     const PrimitiveSetup& p = *t.prim;
-    const bool flat = p.depth.a == 0.0 && p.depth.b == 0.0;
-    const uint32_t w = flat ? depth_word(Encoding::Depth24, p.depth_at(int64_t(quads[0].x) * kSubPixel + t.sample_x,
-                                                                       int64_t(quads[0].y) * kSubPixel + t.sample_y))
-                            : 0;
-    constexpr int kNever = 3, kAlways = 7;   // vpcmpud's FALSE and TRUE predicates (unnamed in GCC's headers)
-    switch (t.func) {
-        case gl::NEVER: return early_depth_avx512<kNever>(t, quads, n, survived, flat, w);
-        case gl::LESS: return early_depth_avx512<_MM_CMPINT_LT>(t, quads, n, survived, flat, w);
-        case gl::EQUAL: return early_depth_avx512<_MM_CMPINT_EQ>(t, quads, n, survived, flat, w);
-        case gl::LEQUAL: return early_depth_avx512<_MM_CMPINT_LE>(t, quads, n, survived, flat, w);
-        case gl::GREATER: return early_depth_avx512<_MM_CMPINT_NLE>(t, quads, n, survived, flat, w);
-        case gl::NOTEQUAL: return early_depth_avx512<_MM_CMPINT_NE>(t, quads, n, survived, flat, w);
-        case gl::GEQUAL: return early_depth_avx512<_MM_CMPINT_NLT>(t, quads, n, survived, flat, w);
-        default: return early_depth_avx512<kAlways>(t, quads, n, survived, flat, w);   // ALWAYS, as compare()
-    }
+    if (p.depth.a == 0.0 && p.depth.b == 0.0)   // flat: the word of any pixel is every pixel's
+        return early_depth_avx512<true>(t, quads, n, survived,
+                                        depth_word(Encoding::Depth24, p.depth_at(int64_t(quads[0].x) * kSubPixel + t.sample_x,
+                                                                                 int64_t(quads[0].y) * kSubPixel + t.sample_y)));
+    return early_depth_avx512<false>(t, quads, n, survived, 0);
 }
 #endif
 
