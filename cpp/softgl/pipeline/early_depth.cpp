@@ -118,7 +118,7 @@ __attribute__((target("avx2"))) size_t early_depth_avx2(const EarlyDepth& t, con
 // of a block share it), then each row's depths in the scalar definition's order
 // ((c + a*fx) + b*fy) + offset. Two exact shortcuts: adding a zero offset changes nothing but the
 // sign of a zero depth (word 0 either way), and a flat plane (a = b = 0, so a*fx and b*fy are
-// zeros, fx and fy being finite) gives every pixel the word of any one pixel. The rows compare
+// zeros, fx and fy being finite) gives every pixel the word of c + offset. The rows compare
 // as unsigned words (kPredicate is compare()'s function as a vpcmpud predicate) and store the
 // passing words; masked loads and stores touch covered pixels only. The pixels of a row are
 // distinct, so testing them together is in order. pext/pdep (BMI2, which every AVX-512 CPU has)
@@ -159,11 +159,10 @@ SOFTGL_AVX512_EARLY_DEPTH inline bool full_run(const Quad* quads) {
     return _mm512_cmpeq_epi32_mask(_mm512_and_si512(_mm512_loadu_si512(quads), keep), _mm512_add_epi32(first, steps)) == 0xFFFF;
 }
 
-// kFlat: the plane is flat, every pixel's word is plane_word. Everything the loop reads from t
-// and the primitive is copied first (the stores could alias them as far as the compiler knows).
+// kFlat: the plane is flat. Everything the loop reads from t and the primitive is copied first
+// (the stores could alias them as far as the compiler knows).
 template <int kPredicate, bool kFlat>
-SOFTGL_AVX512_EARLY_DEPTH size_t early_depth_avx512(const EarlyDepth& t, const Quad* quads, size_t n, uint16_t* survived,
-                                                    uint32_t plane_word) {
+SOFTGL_AVX512_EARLY_DEPTH size_t early_depth_avx512(const EarlyDepth& t, const Quad* quads, size_t n, uint16_t* survived) {
     const PrimitiveSetup& p = *t.prim;
     const __m512d a = _mm512_set1_pd(p.depth.a), c = _mm512_set1_pd(p.depth.c), offset = _mm512_set1_pd(p.depth_offset);
     const double b = p.depth.b;
@@ -171,7 +170,7 @@ SOFTGL_AVX512_EARLY_DEPTH size_t early_depth_avx512(const EarlyDepth& t, const Q
     const int64_t x_origin = t.sample_x - p.origin_x, y_origin = t.sample_y - p.origin_y;
     uint32_t* const depth = t.depth;
     const size_t pitch = t.pitch;
-    const __m256i flat_word = _mm256_set1_epi32(int32_t(plane_word));
+    const __m256i flat_word = row_words(c, _mm512_setzero_pd(), add_offset, offset);
     const __m512i pixel_steps = _mm512_setr_epi64(0, kSubPixel, 2 * kSubPixel, 3 * kSubPixel, 4 * kSubPixel,
                                                   5 * kSubPixel, 6 * kSubPixel, 7 * kSubPixel);
     const __m256i ones = _mm256_set1_epi16(1);
@@ -218,29 +217,25 @@ SOFTGL_AVX512_EARLY_DEPTH size_t early_depth_avx512(const EarlyDepth& t, const Q
 }
 
 template <bool kFlat>
-SOFTGL_AVX512_EARLY_DEPTH size_t early_depth_avx512(const EarlyDepth& t, const Quad* quads, size_t n, uint16_t* survived,
-                                                    uint32_t plane_word) {
+SOFTGL_AVX512_EARLY_DEPTH size_t early_depth_avx512(const EarlyDepth& t, const Quad* quads, size_t n, uint16_t* survived) {
     constexpr int kNever = 3, kAlways = 7;   // vpcmpud's FALSE and TRUE predicates (unnamed in GCC's headers)
     switch (t.func) {
-        case gl::NEVER: return early_depth_avx512<kNever, kFlat>(t, quads, n, survived, plane_word);
-        case gl::LESS: return early_depth_avx512<_MM_CMPINT_LT, kFlat>(t, quads, n, survived, plane_word);
-        case gl::EQUAL: return early_depth_avx512<_MM_CMPINT_EQ, kFlat>(t, quads, n, survived, plane_word);
-        case gl::LEQUAL: return early_depth_avx512<_MM_CMPINT_LE, kFlat>(t, quads, n, survived, plane_word);
-        case gl::GREATER: return early_depth_avx512<_MM_CMPINT_NLE, kFlat>(t, quads, n, survived, plane_word);
-        case gl::NOTEQUAL: return early_depth_avx512<_MM_CMPINT_NE, kFlat>(t, quads, n, survived, plane_word);
-        case gl::GEQUAL: return early_depth_avx512<_MM_CMPINT_NLT, kFlat>(t, quads, n, survived, plane_word);
-        default: return early_depth_avx512<kAlways, kFlat>(t, quads, n, survived, plane_word);   // ALWAYS, as compare()
+        case gl::NEVER: return early_depth_avx512<kNever, kFlat>(t, quads, n, survived);
+        case gl::LESS: return early_depth_avx512<_MM_CMPINT_LT, kFlat>(t, quads, n, survived);
+        case gl::EQUAL: return early_depth_avx512<_MM_CMPINT_EQ, kFlat>(t, quads, n, survived);
+        case gl::LEQUAL: return early_depth_avx512<_MM_CMPINT_LE, kFlat>(t, quads, n, survived);
+        case gl::GREATER: return early_depth_avx512<_MM_CMPINT_NLE, kFlat>(t, quads, n, survived);
+        case gl::NOTEQUAL: return early_depth_avx512<_MM_CMPINT_NE, kFlat>(t, quads, n, survived);
+        case gl::GEQUAL: return early_depth_avx512<_MM_CMPINT_NLT, kFlat>(t, quads, n, survived);
+        default: return early_depth_avx512<kAlways, kFlat>(t, quads, n, survived);   // ALWAYS, as compare()
     }
 }
 
 SOFTGL_AVX512_EARLY_DEPTH size_t early_depth_avx512(const EarlyDepth& t, const Quad* quads, size_t n, uint16_t* survived) {
     if (n == 0) return 0;
-    const PrimitiveSetup& p = *t.prim;
-    if (p.depth.a == 0.0 && p.depth.b == 0.0)   // flat: the word of any pixel is every pixel's
-        return early_depth_avx512<true>(t, quads, n, survived,
-                                        depth_word(Encoding::Depth24, p.depth_at(int64_t(quads[0].x) * kSubPixel + t.sample_x,
-                                                                                 int64_t(quads[0].y) * kSubPixel + t.sample_y)));
-    return early_depth_avx512<false>(t, quads, n, survived, 0);
+    const Plane& plane = t.prim->depth;
+    return plane.a == 0.0 && plane.b == 0.0 ? early_depth_avx512<true>(t, quads, n, survived)
+                                            : early_depth_avx512<false>(t, quads, n, survived);
 }
 #endif
 
