@@ -229,3 +229,48 @@ def test_runs_of_full_quads_huge_offsets():
         rows = [(2 * int(rng.integers(0, 11)), 2 * int(rng.integers(0, 10)), int(rng.integers(1, 12))) for _ in range(4)]
         check(rng, func, True, plane, origin=origin, quads=full_quad_rows(rng, size, rows), size=size,
               stored=stored_by_region)
+
+
+@pytest.mark.parametrize("func", ["LESS", "EQUAL", "GEQUAL", "NOTEQUAL"])
+def test_flat_planes(func):
+    # Flat planes (a and b zeros of either sign) give every pixel one word; with any offset, any
+    # sample position, plane origins near and far, whole runs and scattered quads, and the
+    # stored words around that word (ties, one above, one below).
+    size = (43, 21)
+    rng = np.random.default_rng(130 + FUNCS.index(func))
+    rows = [(y, 0, 22) for y in range(0, 22, 2)]
+    for c in [0.0, -0.0, 5e-324, 1e-9, 0.3, 0.5 / 16777215, 1 - 1e-17, 1.0, 1.5, np.nan, np.inf, -np.inf, -0.25]:
+        for offset in [0.0, -0.0, 1e-7, -3e-3, 2.0]:
+            a, b = (float(v) for v in rng.choice([0.0, -0.0], 2))
+            origin = None if rng.random() < 0.7 else tuple(int(v) for v in rng.integers(-(1 << 48), 1 << 48, 2))
+            quads = full_quad_rows(rng, size, rows) if rng.random() < 0.6 else None
+            check(rng, func, bool(rng.random() < 0.8), (a, b, c), offset=offset, quads=quads, origin=origin,
+                  size=size if quads is not None else (W, H), stored=stored_by_region if quads is not None else random_stored)
+
+
+def test_almost_runs():
+    # Four quads that are nearly a row of full side-by-side quads: one quad shifted by a quad in
+    # x or y, or missing sample 0 of one pixel while its other samples' bits are set, next to
+    # runs whose quads carry such extra sample bits. Every pixel still gets its own word.
+    size = (43, 21)
+    rng = np.random.default_rng(140)
+    for func in FUNCS:
+        for _ in range(12):
+            x0, y0 = 2 * int(rng.integers(0, 16)), 2 * int(rng.integers(0, 9))
+            quads = [[x0 + 2 * q, y0, 0] for q in range(4)]
+            for quad in quads:
+                for j in range(4):
+                    quad[2] |= (int(rng.integers(0, 1 << 15)) | 1) << (16 * j)   # sample 0 and others
+            q, kind = int(rng.integers(0, 4)), int(rng.integers(0, 4))
+            if kind == 0:   # a gap before the last quad, or after the first
+                if q == 0 and x0 >= 2:
+                    quads[0][0] -= 2
+                else:
+                    quads[3][0] += 2
+            elif kind == 1:
+                quads[q][1] += 2
+            elif kind == 2:
+                quads[q][2] &= ~(1 << (16 * int(rng.integers(0, 4))))
+            quads = np.array([qd for qd in quads if qd[0] + 1 < size[0] and qd[1] + 1 < size[1]], np.int64).reshape(-1, 3)
+            plane = (rng.normal(0, 0.05), rng.normal(0, 0.05), rng.uniform(-0.2, 1.2))
+            check(rng, func, True, plane, quads=quads, size=size, stored=stored_by_region)

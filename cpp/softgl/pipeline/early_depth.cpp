@@ -1,5 +1,8 @@
 #include "softgl/pipeline/early_depth.h"
 
+#include <cstddef>
+#include <cstring>
+
 #include "softgl/pipeline/depth_stencil.h"
 #include "softgl/surface/texture.h"
 
@@ -110,56 +113,102 @@ __attribute__((target("avx2"))) size_t early_depth_avx2(const EarlyDepth& t, con
 
 // The AVX-512 level takes a row of up to four quads at once: consecutive quads with the same y
 // and x stepping by 2, as the rasterizer emits the quad-rows of a block (a covered 8x8 block is
-// four rows of four full quads). That is two pixel rows of up to 8 pixels, 8 double lanes each:
-// fx and c + a*fx once for both rows, then each row's depths in the scalar definition's order
-// ((c + a*fx) + b*fy) + offset, depth_word's clamp as z > 0 ? min(z, 1) : 0 (NaN -> 0). The rows
-// compare as unsigned words (kPredicate is compare()'s function as a vpcmpud predicate) and store
-// the passing words; masked loads and stores touch covered pixels only. The pixels of a row are
+// four rows of four full quads, which one vector compare recognizes). That is two pixel rows of
+// up to 8 pixels, 8 double lanes each: fx and c + a*fx once per column of quads (the quad-rows
+// of a block share it), then each row's depths in the scalar definition's order
+// ((c + a*fx) + b*fy) + offset. Two exact shortcuts: adding a zero offset changes nothing but the
+// sign of a zero depth (word 0 either way), and a flat plane (a = b = 0, so a*fx and b*fy are
+// zeros, fx and fy being finite) gives every pixel the word of c + offset. The rows compare
+// as unsigned words (kPredicate is compare()'s function as a vpcmpud predicate) and store the
+// passing words; masked loads and stores touch covered pixels only. The pixels of a row are
 // distinct, so testing them together is in order. pext/pdep (BMI2, which every AVX-512 CPU has)
 // gather the coverage and scatter the results in survived's order.
 #define SOFTGL_AVX512_EARLY_DEPTH __attribute__((target("avx512f,avx512bw,avx512dq,avx512vl,bmi,bmi2")))
-// One pixel row: z = (cax + byf) + offset per lane; returns the passing lanes of `covered`.
+// A pixel row's words: ((cax + byf) + offset), depth_word's clamp as min(max(z, 0), 1) (vmaxpd
+// returns its second operand for NaN: 0), then converted. (Zero-masking with all lanes: GCC 12
+// warns about the undefined sources of the unmasked forms.)
+SOFTGL_AVX512_EARLY_DEPTH inline __m256i row_words(__m512d cax, __m512d byf, bool add_offset, __m512d offset) {
+    constexpr __mmask8 kAll = 0xFF;
+    __m512d z = _mm512_add_pd(cax, byf);
+    if (add_offset) z = _mm512_add_pd(z, offset);
+    const __m512d d = _mm512_maskz_min_pd(kAll, _mm512_maskz_max_pd(kAll, z, _mm512_setzero_pd()), _mm512_set1_pd(1.0));
+    return _mm512_maskz_cvttpd_epi32(kAll, _mm512_add_pd(_mm512_mul_pd(d, _mm512_set1_pd(16777215.0)), _mm512_set1_pd(0.5)));
+}
+
+// Tests the `covered` pixels of a row against their words; returns the passing ones.
 template <int kPredicate>
-SOFTGL_AVX512_EARLY_DEPTH inline uint32_t test_row(const EarlyDepth& t, __m512d cax, __m512d byf, __m512d offset,
-                                                   uint32_t* row, __mmask8 covered) {
-    const __m512d z = _mm512_add_pd(_mm512_add_pd(cax, byf), offset);
-    const __m512d d = _mm512_maskz_min_pd(_mm512_cmp_pd_mask(z, _mm512_setzero_pd(), _CMP_GT_OQ), z, _mm512_set1_pd(1.0));
-    const __m256i word = _mm512_maskz_cvttpd_epi32(covered, _mm512_add_pd(_mm512_mul_pd(d, _mm512_set1_pd(16777215.0)), _mm512_set1_pd(0.5)));
+SOFTGL_AVX512_EARLY_DEPTH inline uint32_t test_row(bool write, __m256i word, uint32_t* row, __mmask8 covered) {
     const __m256i stored = _mm256_maskz_loadu_epi32(covered, row);
     const __mmask8 pass = _mm256_mask_cmp_epu32_mask(covered, word, stored, kPredicate);
-    if (t.write) _mm256_mask_storeu_epi32(row, pass, word);
+    if (write) _mm256_mask_storeu_epi32(row, pass, word);
     return pass;
 }
 
-template <int kPredicate>
-SOFTGL_AVX512_EARLY_DEPTH size_t early_depth_avx512(const EarlyDepth& t, const Quad* quads, size_t n,
-                                                    uint16_t* survived) {
+// Whether quads[0, 4) are the common case, all four pixels covered and side by side (x stepping
+// by 2, the same y): one compare of the four quads (x, y, coverage & sample 0 bits) with that.
+static_assert(sizeof(Quad) == 16 && offsetof(Quad, x) == 0 && offsetof(Quad, y) == 4 && offsetof(Quad, coverage) == 8);
+SOFTGL_AVX512_EARLY_DEPTH inline bool full_run(const Quad* quads) {
+    constexpr int32_t kPixel0 = 0x00010001;   // sample 0 of two pixels (a 32-bit half of the coverage)
+    const __m512i keep = _mm512_setr_epi32(-1, -1, kPixel0, kPixel0, -1, -1, kPixel0, kPixel0,
+                                           -1, -1, kPixel0, kPixel0, -1, -1, kPixel0, kPixel0);
+    const __m512i steps = _mm512_setr_epi32(0, 0, kPixel0, kPixel0, 2, 0, kPixel0, kPixel0,
+                                            4, 0, kPixel0, kPixel0, 6, 0, kPixel0, kPixel0);
+    int64_t first_xy;
+    std::memcpy(&first_xy, quads, 8);
+    const __m512i first = _mm512_maskz_mov_epi32(0x3333, _mm512_set1_epi64(first_xy));
+    return _mm512_cmpeq_epi32_mask(_mm512_and_si512(_mm512_loadu_si512(quads), keep), _mm512_add_epi32(first, steps)) == 0xFFFF;
+}
+
+// kFlat: the plane is flat. Everything the loop reads from t and the primitive is copied first
+// (the stores could alias them as far as the compiler knows).
+template <int kPredicate, bool kFlat>
+SOFTGL_AVX512_EARLY_DEPTH size_t early_depth_avx512(const EarlyDepth& t, const Quad* quads, size_t n, uint16_t* survived) {
     const PrimitiveSetup& p = *t.prim;
     const __m512d a = _mm512_set1_pd(p.depth.a), c = _mm512_set1_pd(p.depth.c), offset = _mm512_set1_pd(p.depth_offset);
-    const __m512d to_pixels = _mm512_set1_pd(1.0 / kSubPixel);
+    const double b = p.depth.b;
+    const bool add_offset = p.depth_offset != 0.0, write = t.write;
+    const int64_t x_origin = t.sample_x - p.origin_x, y_origin = t.sample_y - p.origin_y;
+    uint32_t* const depth = t.depth;
+    const size_t pitch = t.pitch;
+    const __m256i flat_word = row_words(c, _mm512_setzero_pd(), add_offset, offset);
     const __m512i pixel_steps = _mm512_setr_epi64(0, kSubPixel, 2 * kSubPixel, 3 * kSubPixel, 4 * kSubPixel,
                                                   5 * kSubPixel, 6 * kSubPixel, 7 * kSubPixel);
     const __m256i ones = _mm256_set1_epi16(1);
     size_t killed = 0;
+    int32_t cax_x = quads[0].x + 1;   // the quad column cax belongs to (none yet)
+    __m512d cax = _mm512_setzero_pd();
     for (size_t i = 0; i < n;) {
         const Quad& first = quads[i];
-        size_t k = 1;
-        while (k < 4 && i + k < n && quads[i + k].y == first.y && quads[i + k].x == first.x + 2 * int32_t(k)) ++k;
-        // Covered pixels in survived's order (bit 4*q + j: pixel j of quad q), then per pixel row.
-        uint32_t covered = 0;
-        for (size_t q = 0; q < k; ++q)
-            covered |= uint32_t(_pext_u64(quads[i + q].coverage, 0x0001000100010001ull)) << (4 * q);
-        const __mmask8 covered0 = __mmask8(_pext_u32(covered, 0x3333u)), covered1 = __mmask8(_pext_u32(covered, 0xCCCCu));
-        const int64_t X = int64_t(first.x) * kSubPixel + t.sample_x - p.origin_x;
-        const int64_t Y = int64_t(first.y) * kSubPixel + t.sample_y - p.origin_y;
-        const __m512d fx = _mm512_mul_pd(_mm512_cvtepi64_pd(_mm512_add_epi64(_mm512_set1_epi64(X), pixel_steps)), to_pixels);
-        const __m512d cax = _mm512_add_pd(c, _mm512_mul_pd(a, fx));
-        uint32_t* row0 = &t.depth[size_t(first.y) * t.pitch + size_t(first.x)];
-        uint32_t* row1 = covered1 ? row0 + t.pitch : row0;   // a pointer into the buffer either way
-        const __m512d byf0 = _mm512_set1_pd(p.depth.b * (double(Y) * (1.0 / kSubPixel)));
-        const __m512d byf1 = _mm512_set1_pd(p.depth.b * (double(Y + kSubPixel) * (1.0 / kSubPixel)));
-        const uint32_t passed = uint32_t(_pdep_u32(test_row<kPredicate>(t, cax, byf0, offset, row0, covered0), 0x3333u) |
-                                         _pdep_u32(test_row<kPredicate>(t, cax, byf1, offset, row1, covered1), 0xCCCCu));
+        // k quads side by side; their covered pixels in survived's order (bit 4*q + j: pixel j
+        // of quad q), then per pixel row.
+        size_t k = 4;
+        uint32_t covered = 0xFFFF;
+        __mmask8 covered0 = 0xFF, covered1 = 0xFF;
+        if (i + 4 > n || !full_run(quads + i)) {
+            k = 1;
+            while (k < 4 && i + k < n && quads[i + k].y == first.y && quads[i + k].x == first.x + 2 * int32_t(k)) ++k;
+            covered = 0;
+            for (size_t q = 0; q < k; ++q)
+                covered |= uint32_t(_pext_u64(quads[i + q].coverage, 0x0001000100010001ull)) << (4 * q);
+            covered0 = __mmask8(_pext_u32(covered, 0x3333u)), covered1 = __mmask8(_pext_u32(covered, 0xCCCCu));
+        }
+        uint32_t* row0 = &depth[size_t(first.y) * pitch + size_t(first.x)];
+        uint32_t* row1 = covered1 ? row0 + pitch : row0;   // a pointer into the buffer either way
+        __m256i word0 = flat_word, word1 = flat_word;
+        if constexpr (!kFlat) {
+            if (first.x != cax_x) {
+                const int64_t X = int64_t(first.x) * kSubPixel + x_origin;
+                const __m512d fx = _mm512_mul_pd(_mm512_cvtepi64_pd(_mm512_add_epi64(_mm512_set1_epi64(X), pixel_steps)),
+                                                 _mm512_set1_pd(1.0 / kSubPixel));
+                cax = _mm512_add_pd(c, _mm512_mul_pd(a, fx));
+                cax_x = first.x;
+            }
+            const int64_t Y = int64_t(first.y) * kSubPixel + y_origin;
+            word0 = row_words(cax, _mm512_set1_pd(b * (double(Y) * (1.0 / kSubPixel))), add_offset, offset);
+            word1 = row_words(cax, _mm512_set1_pd(b * (double(Y + kSubPixel) * (1.0 / kSubPixel))), add_offset, offset);
+        }
+        const uint32_t passed = uint32_t(_pdep_u32(test_row<kPredicate>(write, word0, row0, covered0), 0x3333u) |
+                                         _pdep_u32(test_row<kPredicate>(write, word1, row1, covered1), 0xCCCCu));
         _mm256_mask_storeu_epi16(survived + 4 * i, __mmask16((1u << (4 * k)) - 1), _mm256_maskz_mov_epi16(__mmask16(passed), ones));
         killed += size_t(__builtin_popcount(covered & ~passed));
         i += k;
@@ -167,18 +216,26 @@ SOFTGL_AVX512_EARLY_DEPTH size_t early_depth_avx512(const EarlyDepth& t, const Q
     return killed;
 }
 
+template <bool kFlat>
 SOFTGL_AVX512_EARLY_DEPTH size_t early_depth_avx512(const EarlyDepth& t, const Quad* quads, size_t n, uint16_t* survived) {
     constexpr int kNever = 3, kAlways = 7;   // vpcmpud's FALSE and TRUE predicates (unnamed in GCC's headers)
     switch (t.func) {
-        case gl::NEVER: return early_depth_avx512<kNever>(t, quads, n, survived);
-        case gl::LESS: return early_depth_avx512<_MM_CMPINT_LT>(t, quads, n, survived);
-        case gl::EQUAL: return early_depth_avx512<_MM_CMPINT_EQ>(t, quads, n, survived);
-        case gl::LEQUAL: return early_depth_avx512<_MM_CMPINT_LE>(t, quads, n, survived);
-        case gl::GREATER: return early_depth_avx512<_MM_CMPINT_NLE>(t, quads, n, survived);
-        case gl::NOTEQUAL: return early_depth_avx512<_MM_CMPINT_NE>(t, quads, n, survived);
-        case gl::GEQUAL: return early_depth_avx512<_MM_CMPINT_NLT>(t, quads, n, survived);
-        default: return early_depth_avx512<kAlways>(t, quads, n, survived);   // ALWAYS, as compare()
+        case gl::NEVER: return early_depth_avx512<kNever, kFlat>(t, quads, n, survived);
+        case gl::LESS: return early_depth_avx512<_MM_CMPINT_LT, kFlat>(t, quads, n, survived);
+        case gl::EQUAL: return early_depth_avx512<_MM_CMPINT_EQ, kFlat>(t, quads, n, survived);
+        case gl::LEQUAL: return early_depth_avx512<_MM_CMPINT_LE, kFlat>(t, quads, n, survived);
+        case gl::GREATER: return early_depth_avx512<_MM_CMPINT_NLE, kFlat>(t, quads, n, survived);
+        case gl::NOTEQUAL: return early_depth_avx512<_MM_CMPINT_NE, kFlat>(t, quads, n, survived);
+        case gl::GEQUAL: return early_depth_avx512<_MM_CMPINT_NLT, kFlat>(t, quads, n, survived);
+        default: return early_depth_avx512<kAlways, kFlat>(t, quads, n, survived);   // ALWAYS, as compare()
     }
+}
+
+SOFTGL_AVX512_EARLY_DEPTH size_t early_depth_avx512(const EarlyDepth& t, const Quad* quads, size_t n, uint16_t* survived) {
+    if (n == 0) return 0;
+    const Plane& plane = t.prim->depth;
+    return plane.a == 0.0 && plane.b == 0.0 ? early_depth_avx512<true>(t, quads, n, survived)
+                                            : early_depth_avx512<false>(t, quads, n, survived);
 }
 #endif
 
