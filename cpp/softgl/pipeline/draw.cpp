@@ -24,6 +24,10 @@
 #include "softgl/pipeline/setup.h"
 #include "softgl/surface/formats.h"
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace softgl {
 
 void DrawStats::add(const DrawStats& o) {
@@ -93,6 +97,45 @@ struct alignas(64) Scratch {
     RasterStats raster;
     DrawStats stats;
 };
+
+static_assert(kQuadPixelBits == 16, "a quad's coverage is its four uint16_t pixel masks, pixel 0 first");
+
+// Whether quads q[0..3] lie side by side (one row of an 8x8 block, as the rasterizer emits them)
+// with all their pixels inside a buffer whose last pixel is (last_x, last_y).
+inline bool row_of_quads(const Quad* q, int32_t last_x, int32_t last_y) {
+    const int32_t x = q[0].x, y = q[0].y;
+    return q[1].x == x + 2 && q[2].x == x + 4 && q[3].x == x + 6 && q[1].y == y && q[2].y == y && q[3].y == y &&
+           x + 6 < last_x && y < last_y;
+}
+
+// A row of four quads between RGBA8 pixels (row at px, the next row_bytes further) and their
+// lanes: quad i's lanes 4i..4i+3 are its pixels x, x + 1 of row y, then of row y + 1.
+inline void load_row_of_quads(const uint8_t* px, size_t row_bytes, uint32_t* lanes) {
+#if defined(__SSE2__)
+    for (int half = 0; half < 2; ++half) {   // quads 2 * half, 2 * half + 1
+        const __m128i top = _mm_loadu_si128(reinterpret_cast<const __m128i*>(px + 16 * half));
+        const __m128i bottom = _mm_loadu_si128(reinterpret_cast<const __m128i*>(px + row_bytes + 16 * half));
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(lanes + 8 * half), _mm_unpacklo_epi64(top, bottom));
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(lanes + 8 * half + 4), _mm_unpackhi_epi64(top, bottom));
+    }
+#else
+    for (int i = 0; i < 4; ++i)
+        std::memcpy(lanes + 4 * i, px + 8 * i, 8), std::memcpy(lanes + 4 * i + 2, px + row_bytes + 8 * i, 8);
+#endif
+}
+inline void store_row_of_quads(uint8_t* px, size_t row_bytes, const uint32_t* lanes) {
+#if defined(__SSE2__)
+    for (int half = 0; half < 2; ++half) {
+        const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(lanes + 8 * half));
+        const __m128i b = _mm_loadu_si128(reinterpret_cast<const __m128i*>(lanes + 8 * half + 4));
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(px + 16 * half), _mm_unpacklo_epi64(a, b));
+        _mm_storeu_si128(reinterpret_cast<__m128i*>(px + row_bytes + 16 * half), _mm_unpackhi_epi64(a, b));
+    }
+#else
+    for (int i = 0; i < 4; ++i)
+        std::memcpy(px + 8 * i, lanes + 4 * i, 8), std::memcpy(px + row_bytes + 8 * i, lanes + 4 * i + 2, 8);
+#endif
+}
 
 // Work is split into chunks of consecutive vertices or primitives that the pool shades and sets up
 // in parallel. Each chunk's results land in fixed places (vertices) or are gathered in chunk order
@@ -392,8 +435,8 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                     }
                     w.stats.fragments_killed_early += killed_early;
                 } else {
-                    for (size_t qi = 0; qi < chunk; ++qi)
-                        for (int j = 0; j < 4; ++j) masks[qi * 4 + size_t(j)] = uint16_t(quad_pixel_mask(cq[qi], j));
+                    // A quad's coverage is its four pixel masks side by side (quad_pixel_mask).
+                    for (size_t qi = 0; qi < chunk; ++qi) std::memcpy(&masks[qi * 4], &cq[qi].coverage, 8);
                     kept = chunk;
                 }
                 if (kept == 0) continue;
@@ -499,16 +542,34 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                         // one keeps its uncovered pixels' old values (a select, not a branch per
                         // pixel: the pixels are in this worker's tile). A quad reaching past the
                         // buffer's edge moves pixel by pixel, covered ones only.
+                        // Four whole quads side by side (a row of an 8x8 block, as the rasterizer
+                        // emits them) inside the buffer move as two rows of 8 pixels at once.
                         uint32_t* const d = w.pixels.data();
                         uint8_t* const color = drawing_buffer->color_sample(0, 0, 0);
                         constexpr uint64_t kWholeQuad = 0x0001000100010001u;   // four masks of 1 (S == 1)
                         auto move_quads = [&](auto to_buffer) {
                             uint64_t moved = 0;
-                            for (size_t qi = 0; qi < kept; ++qi) {
+                            for (size_t qi = 0; qi < kept;) {
                                 uint8_t* const px = color + 4 * (size_t(cq[qi].y) * pitch + size_t(cq[qi].x));
                                 uint32_t* const lanes = d + 4 * qi;
                                 uint64_t m4;
                                 std::memcpy(&m4, masks + 4 * qi, 8);
+                                if (qi + 4 <= kept && row_of_quads(cq + qi, last_x, last_y)) {
+                                    if constexpr (!decltype(to_buffer)::value) {
+                                        load_row_of_quads(px, 4 * pitch, lanes);
+                                        qi += 4;
+                                        continue;
+                                    } else {
+                                        uint64_t m[4];   // masks of 0 or 1: all whole when their AND is
+                                        std::memcpy(m, masks + 4 * qi, 32);
+                                        if ((m[0] & m[1] & m[2] & m[3]) == kWholeQuad) {
+                                            store_row_of_quads(px, 4 * pitch, lanes);
+                                            moved += 16;
+                                            qi += 4;
+                                            continue;
+                                        }
+                                    }
+                                }
                                 moved += (m4 * 0x0001000100010001u) >> 48;   // the sum of four masks of 0 or 1 (S == 1)
                                 if (cq[qi].x < last_x && cq[qi].y < last_y) {
                                     uint8_t* const rows[2] = {px, px + 4 * pitch};
@@ -536,6 +597,7 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                                         else std::memcpy(lanes + j, pixel, 4);
                                     }
                                 }
+                                ++qi;
                             }
                             return moved;
                         };
