@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <stdexcept>
 #include <type_traits>
@@ -23,10 +24,6 @@
 #include "softgl/pipeline/raster.h"
 #include "softgl/pipeline/setup.h"
 #include "softgl/surface/formats.h"
-
-#if defined(__SSE2__)
-#include <emmintrin.h>
-#endif
 
 namespace softgl {
 
@@ -99,6 +96,7 @@ struct alignas(64) Scratch {
 };
 
 static_assert(kQuadPixelBits == 16, "a quad's coverage is its four uint16_t pixel masks, pixel 0 first");
+static_assert(offsetof(Quad, y) == 4, "a quad's x and y side by side (ChunkPixels::row_of_four)");
 
 // A chunk's destination pixels on the single-sampled RGBA8 drawing buffer, moved between the
 // buffer and the chunk's lanes (lane 4 * i + j: pixel j of quad i, masks[lane] its coverage of 0 or 1).
@@ -114,32 +112,24 @@ struct ChunkPixels {
     int32_t last_x, last_y;       // a quad at x < last_x, y < last_y is inside
     uint8_t* at(const Quad& q) const { return color + 4 * (size_t(q.y) * pitch + size_t(q.x)); }
     bool inside(const Quad& q) const { return q.x < last_x && q.y < last_y; }
-    // Whether q[0..3] lie side by side, all inside.
+    // Whether q[0..3] lie side by side, all inside. x and y as one word: x + 2k does not carry into
+    // y, as quads lie in the buffer (x >= 0).
     bool row_of_four(const Quad* q) const {
-        const int32_t x = q[0].x, y = q[0].y;
-        return q[1].x == x + 2 && q[2].x == x + 4 && q[3].x == x + 6 && q[1].y == y && q[2].y == y &&
-               q[3].y == y && x + 6 < last_x && y < last_y;
+        uint64_t xy[4];
+        for (int k = 0; k < 4; ++k) std::memcpy(&xy[k], &q[k].x, 8);
+        return xy[1] == xy[0] + 2 && xy[2] == xy[0] + 4 && xy[3] == xy[0] + 6 && q[0].x + 6 < last_x && q[0].y < last_y;
     }
 };
 constexpr uint64_t kWholeQuad = 0x0001000100010001u;   // four masks of 1 (S == 1)
 
-__attribute__((noinline)) void load_chunk_pixels(const ChunkPixels& buffer, const Quad* q, const uint16_t* masks,
+__attribute__((noinline)) void load_chunk_pixels(const ChunkPixels buffer, const Quad* q, const uint16_t* masks,
                                                  size_t n, uint32_t* lanes) {
     const size_t row_bytes = 4 * buffer.pitch;
     for (size_t i = 0; i < n;) {
         const uint8_t* const px = buffer.at(q[i]);
         uint32_t* const l = lanes + 4 * i;
         if (i + 4 <= n && buffer.row_of_four(q + i)) {
-#if defined(__SSE2__)
-            for (int half = 0; half < 2; ++half) {   // quads i + 2 * half, i + 2 * half + 1
-                const __m128i top = _mm_loadu_si128(reinterpret_cast<const __m128i*>(px + 16 * half));
-                const __m128i bottom = _mm_loadu_si128(reinterpret_cast<const __m128i*>(px + row_bytes + 16 * half));
-                _mm_storeu_si128(reinterpret_cast<__m128i*>(l + 8 * half), _mm_unpacklo_epi64(top, bottom));
-                _mm_storeu_si128(reinterpret_cast<__m128i*>(l + 8 * half + 4), _mm_unpackhi_epi64(top, bottom));
-            }
-#else
             for (int k = 0; k < 4; ++k) std::memcpy(l + 4 * k, px + 8 * k, 8), std::memcpy(l + 4 * k + 2, px + row_bytes + 8 * k, 8);
-#endif
             i += 4;
             continue;
         }
@@ -154,7 +144,7 @@ __attribute__((noinline)) void load_chunk_pixels(const ChunkPixels& buffer, cons
 }
 
 // Returns the number of pixels written.
-__attribute__((noinline)) uint64_t store_chunk_pixels(const ChunkPixels& buffer, const Quad* q, const uint16_t* masks,
+__attribute__((noinline)) uint64_t store_chunk_pixels(const ChunkPixels buffer, const Quad* q, const uint16_t* masks,
                                                       size_t n, const uint32_t* lanes) {
     const size_t row_bytes = 4 * buffer.pitch;
     uint64_t written = 0;
@@ -167,16 +157,7 @@ __attribute__((noinline)) uint64_t store_chunk_pixels(const ChunkPixels& buffer,
             uint64_t m1, m2, m3;   // masks of 0 or 1: all four quads whole when the AND is whole
             std::memcpy(&m1, masks + 4 * i + 4, 8), std::memcpy(&m2, masks + 4 * i + 8, 8), std::memcpy(&m3, masks + 4 * i + 12, 8);
             if ((m4 & m1 & m2 & m3) == kWholeQuad) {
-#if defined(__SSE2__)
-                for (int half = 0; half < 2; ++half) {
-                    const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(l + 8 * half));
-                    const __m128i b = _mm_loadu_si128(reinterpret_cast<const __m128i*>(l + 8 * half + 4));
-                    _mm_storeu_si128(reinterpret_cast<__m128i*>(px + 16 * half), _mm_unpacklo_epi64(a, b));
-                    _mm_storeu_si128(reinterpret_cast<__m128i*>(px + row_bytes + 16 * half), _mm_unpackhi_epi64(a, b));
-                }
-#else
                 for (int k = 0; k < 4; ++k) std::memcpy(px + 8 * k, l + 4 * k, 8), std::memcpy(px + row_bytes + 8 * k, l + 4 * k + 2, 8);
-#endif
                 written += 16;
                 i += 4;
                 continue;
@@ -393,8 +374,14 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
         const std::vector<uint32_t>& list = bins->tile(tile);
         Scratch& w = scratch[worker];
         const TileRect rect = grid.rect(tile);
-        w.masks.resize(4 * kChunkQuads);
-        w.pixels.resize(4 * kChunkQuads);
+        w.masks.resize(kChunkLanes);
+        w.pixels.resize(kChunkLanes);
+        // The fragment batch's arrays only grow (to a whole chunk): no zero fill per chunk.
+        FragmentBatch& b = w.batch;
+        at_least(b.varyings, size_t(words) * kChunkLanes);
+        at_least(b.frag_coord, 4 * kChunkLanes);
+        at_least(b.front_facing, kChunkLanes);
+        at_least(b.point_coord, 2 * kChunkLanes);
         for (size_t li = 0; li < list.size(); ++li) {
             // A tile's primitives lie far apart in memory when there are many small ones: fetch the
             // setup four primitives ahead and, from it, the vertex values and pixels two ahead, so
@@ -527,13 +514,8 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                 bool any_killed = false;
                 if (!constant_chunks) {
                     // Build the fragment batch: the inputs the shader reads, per lane, structure of
-                    // arrays. The arrays only grow (at their chunk size): no zero fill per chunk.
-                    FragmentBatch& b = w.batch;
+                    // arrays.
                     b.lanes = L;
-                    at_least(b.varyings, size_t(words) * kChunkLanes);
-                    at_least(b.frag_coord, 4 * kChunkLanes);
-                    at_least(b.front_facing, kChunkLanes);
-                    at_least(b.point_coord, 2 * kChunkLanes);
                     if (builtins & kFrontFacing) std::fill_n(b.front_facing.data(), L, uint8_t(p.front_facing ? 1 : 0));
                     if (vi.prim) {
                         interpolate_varyings(vi, cq, kept, b.varyings.data(), L);
