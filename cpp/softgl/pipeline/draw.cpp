@@ -153,10 +153,12 @@ __attribute__((noinline)) uint64_t store_chunk_pixels(const ChunkPixels buffer, 
         const uint32_t* const l = lanes + 4 * i;
         uint64_t m4;
         std::memcpy(&m4, masks + 4 * i, 8);
-        if (i + 4 <= n && buffer.row_of_four(q + i)) {
-            uint64_t m1, m2, m3;   // masks of 0 or 1: all four quads whole when the AND is whole
+        if (i + 4 <= n) {
+            // Masks of 0 or 1: four whole quads when the AND is whole. Tested first: partial quads
+            // (edges, lines) fail here, predictably, before the positions are compared.
+            uint64_t m1, m2, m3;
             std::memcpy(&m1, masks + 4 * i + 4, 8), std::memcpy(&m2, masks + 4 * i + 8, 8), std::memcpy(&m3, masks + 4 * i + 12, 8);
-            if ((m4 & m1 & m2 & m3) == kWholeQuad) {
+            if ((m4 & m1 & m2 & m3) == kWholeQuad && buffer.row_of_four(q + i)) {
                 for (int k = 0; k < 4; ++k) std::memcpy(px + 8 * k, l + 4 * k, 8), std::memcpy(px + row_bytes + 8 * k, l + 4 * k + 2, 8);
                 written += 16;
                 i += 4;
