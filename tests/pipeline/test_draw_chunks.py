@@ -9,7 +9,8 @@ both, so a primitive reordered inside a tile would change the bytes.
 import numpy as np
 import pytest
 
-from blended_draws import BlendedDraws
+import softgl
+from blended_draws import FS, VS, BlendedDraws
 
 THREADS = (1, 2, 3, 8)
 SIZE = 80
@@ -137,3 +138,64 @@ def test_clipped_primitives():
         if mode != "POINTS":
             assert counters["primitives_clipped"] > 100
         assert counters["primitives_outside"] > 100
+
+
+# The tile pass moves a chunk's destination pixels between the RGBA8 drawing buffer and the colour
+# kernels' lanes in whole rows of four quads, quad by quad at triangle edges and at the buffer's
+# edge (odd sizes: quads reaching past it), keeping a partial quad's uncovered pixels. An RGBA8
+# framebuffer object takes the straightforward path instead (RenderTarget::write_color, pixel by
+# pixel), so it is the reference: the same draws must give the same bytes there.
+COPY_FS = """#version 300 es
+precision highp float;
+in vec4 vColor;
+flat in vec4 vFlat;
+out vec4 fragColor;
+void main() { fragColor = vColor; }
+"""
+
+
+@pytest.mark.parametrize("blend", ["off", "alpha", "additive", "masked"])
+@pytest.mark.parametrize("fs", ["copy", "computed"])
+def test_large_triangles_same_bytes_as_a_framebuffer_object(blend, fs):
+    rng = np.random.default_rng(5)
+    w, h = 83, 61   # odd: quads on the last column and row reach past the buffer
+    n = 3 * 40
+    centre = np.repeat(rng.uniform(-0.5, 0.5, (n // 3, 2)), 3, axis=0)
+    pos = np.column_stack([centre + rng.uniform(-1.2, 1.2, (n, 2)), np.zeros(n), np.ones(n)])
+    color = rng.uniform(0, 1, (n, 4))
+    images = []
+    for target in ("drawing buffer", "framebuffer object"):
+        gl = softgl.Context(w, h, antialias=False, threads=1, preserveDrawingBuffer=True)
+        prog = softgl.program(gl, VS, COPY_FS if fs == "copy" else FS)
+        gl.useProgram(prog)
+        if target == "framebuffer object":
+            tex = gl.createTexture()
+            gl.bindTexture(gl.TEXTURE_2D, tex)
+            gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA8, w, h, 0, gl.RGBA, gl.UNSIGNED_BYTE, None)
+            gl.bindFramebuffer(gl.FRAMEBUFFER, gl.createFramebuffer())
+            gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, tex, 0)
+        gl.bindVertexArray(gl.createVertexArray())
+        for name, data in (("aPos", pos), ("aColor", color)):
+            loc = gl.getAttribLocation(prog, name)
+            gl.bindBuffer(gl.ARRAY_BUFFER, gl.createBuffer())
+            gl.bufferData(gl.ARRAY_BUFFER, np.ascontiguousarray(data, np.float32), gl.STATIC_DRAW)
+            gl.enableVertexAttribArray(loc)
+            gl.vertexAttribPointer(loc, 4, gl.FLOAT, False, 0, 0)
+        gl.vertexAttrib2f(gl.getAttribLocation(prog, "aOffset"), 0.0, 0.0)
+        gl.clearColor(0.1, 0.2, 0.3, 0.4)
+        gl.clear(gl.COLOR_BUFFER_BIT)
+        if blend != "off":
+            gl.enable(gl.BLEND)
+            if blend == "additive":
+                gl.blendFunc(gl.ONE, gl.ONE)
+            else:
+                gl.blendFunc(gl.SRC_ALPHA, gl.ONE_MINUS_SRC_ALPHA)
+        if blend == "masked":
+            gl.colorMask(True, False, True, False)
+        gl.drawArrays(gl.TRIANGLES, 0, n)
+        images.append(gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE))
+        stats = gl.stats()
+        assert stats["samples_written"] > 3 * w * h   # overlapping triangles
+        assert stats["blocks_accepted_whole"] > 50    # whole 8x8 blocks: rows of four whole quads
+    np.testing.assert_array_equal(images[0], images[1])
+    assert len(np.unique(images[0].reshape(-1, 4), axis=0)) > 100   # not one flat colour

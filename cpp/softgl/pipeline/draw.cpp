@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstddef>
 #include <cstring>
 #include <stdexcept>
 #include <type_traits>
@@ -93,6 +94,101 @@ struct alignas(64) Scratch {
     RasterStats raster;
     DrawStats stats;
 };
+
+static_assert(kQuadPixelBits == 16, "a quad's coverage is its four uint16_t pixel masks, pixel 0 first");
+static_assert(offsetof(Quad, y) == 4, "a quad's x and y side by side (ChunkPixels::row_of_four)");
+
+// A chunk's destination pixels on the single-sampled RGBA8 drawing buffer, moved between the
+// buffer and the chunk's lanes (lane 4 * i + j: pixel j of quad i, masks[lane] its coverage of 0 or 1).
+// A quad inside the buffer moves as two 8-byte rows (lanes 0, 1 and 2, 3 are pixels x, x + 1 of
+// rows y and y + 1); four side by side (a row of an 8x8 block, as the rasterizer emits them) as
+// two 32-byte rows. A partial quad keeps its uncovered pixels' old values (a select, not a branch
+// per pixel: the pixels are in this worker's tile). A quad reaching past the buffer's edge moves
+// pixel by pixel, covered ones only. Functions of their own: inside the tile pass's lambda the
+// loop's values lived on the stack.
+struct ChunkPixels {
+    uint8_t* color;               // pixel (0, 0)
+    size_t pitch;                 // pixels from one row to the next
+    int32_t last_x, last_y;       // a quad at x < last_x, y < last_y is inside
+    uint8_t* at(const Quad& q) const { return color + 4 * (size_t(q.y) * pitch + size_t(q.x)); }
+    bool inside(const Quad& q) const { return q.x < last_x && q.y < last_y; }
+    // Whether q[0..3] lie side by side, all inside. x and y as one word: x + 2k does not carry into
+    // y, as quads lie in the buffer (x >= 0).
+    bool row_of_four(const Quad* q) const {
+        uint64_t xy[4];
+        for (int k = 0; k < 4; ++k) std::memcpy(&xy[k], &q[k].x, 8);
+        return xy[1] == xy[0] + 2 && xy[2] == xy[0] + 4 && xy[3] == xy[0] + 6 && q[0].x + 6 < last_x && q[0].y < last_y;
+    }
+};
+constexpr uint64_t kWholeQuad = 0x0001000100010001u;   // four masks of 1 (S == 1)
+
+__attribute__((noinline)) void load_chunk_pixels(const ChunkPixels buffer, const Quad* q, const uint16_t* masks,
+                                                 size_t n, uint32_t* lanes) {
+    const size_t row_bytes = 4 * buffer.pitch;
+    for (size_t i = 0; i < n;) {
+        const uint8_t* const px = buffer.at(q[i]);
+        uint32_t* const l = lanes + 4 * i;
+        if (i + 4 <= n && buffer.row_of_four(q + i)) {
+            for (int k = 0; k < 4; ++k) std::memcpy(l + 4 * k, px + 8 * k, 8), std::memcpy(l + 4 * k + 2, px + row_bytes + 8 * k, 8);
+            i += 4;
+            continue;
+        }
+        if (buffer.inside(q[i])) {
+            std::memcpy(l, px, 8), std::memcpy(l + 2, px + row_bytes, 8);
+        } else {
+            for (size_t j = 0; j < 4; ++j)
+                if (masks[4 * i + j]) std::memcpy(l + j, px + 4 * ((j >> 1) * buffer.pitch + (j & 1)), 4);
+        }
+        ++i;
+    }
+}
+
+// Returns the number of pixels written.
+__attribute__((noinline)) uint64_t store_chunk_pixels(const ChunkPixels buffer, const Quad* q, const uint16_t* masks,
+                                                      size_t n, const uint32_t* lanes) {
+    const size_t row_bytes = 4 * buffer.pitch;
+    uint64_t written = 0;
+    for (size_t i = 0; i < n;) {
+        uint8_t* const px = buffer.at(q[i]);
+        const uint32_t* const l = lanes + 4 * i;
+        uint64_t m4;
+        std::memcpy(&m4, masks + 4 * i, 8);
+        if (i + 4 <= n) {
+            // Masks of 0 or 1: four whole quads when the AND is whole. Tested first: partial quads
+            // (edges, lines) fail here, predictably, before the positions are compared.
+            uint64_t m1, m2, m3;
+            std::memcpy(&m1, masks + 4 * i + 4, 8), std::memcpy(&m2, masks + 4 * i + 8, 8), std::memcpy(&m3, masks + 4 * i + 12, 8);
+            if ((m4 & m1 & m2 & m3) == kWholeQuad && buffer.row_of_four(q + i)) {
+                for (int k = 0; k < 4; ++k) std::memcpy(px + 8 * k, l + 4 * k, 8), std::memcpy(px + row_bytes + 8 * k, l + 4 * k + 2, 8);
+                written += 16;
+                i += 4;
+                continue;
+            }
+        }
+        written += (m4 * 0x0001000100010001u) >> 48;   // the sum of four masks of 0 or 1
+        if (buffer.inside(q[i])) {
+            uint8_t* const rows[2] = {px, px + row_bytes};
+            if (m4 == kWholeQuad) {
+                std::memcpy(rows[0], l, 8), std::memcpy(rows[1], l + 2, 8);
+            } else {
+                for (int row = 0; row < 2; ++row) {
+                    const uint64_t left = (m4 >> (32 * row)) & 0xFFFFu, right = (m4 >> (32 * row + 16)) & 0xFFFFu;
+                    const uint64_t keep_new = ((uint64_t(0) - (left != 0)) & 0xFFFFFFFFu) | ((uint64_t(0) - (right != 0)) << 32);
+                    uint64_t fresh, old;
+                    std::memcpy(&fresh, l + 2 * row, 8);
+                    std::memcpy(&old, rows[row], 8);
+                    const uint64_t merged = (fresh & keep_new) | (old & ~keep_new);
+                    std::memcpy(rows[row], &merged, 8);
+                }
+            }
+        } else {
+            for (size_t j = 0; j < 4; ++j)
+                if (masks[4 * i + j]) std::memcpy(px + 4 * ((j >> 1) * buffer.pitch + (j & 1)), l + j, 4);
+        }
+        ++i;
+    }
+    return written;
+}
 
 // Work is split into chunks of consecutive vertices or primitives that the pool shades and sets up
 // in parallel. Each chunk's results land in fixed places (vertices) or are gathered in chunk order
@@ -240,7 +336,9 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
     const float* unorm8_table = unorm8_to_float_table();
     const bool shader_depth = fs.writes_depth();
     const size_t pitch = size_t(fb.width());   // pixels from one row to the next
-    const int32_t last_x = fb.width() - 1, last_y = fb.height() - 1;   // a quad at x < last_x, y < last_y is inside
+    // The drawing buffer's pixels as the colour kernels' chunks gather and scatter them (S == 1).
+    const ChunkPixels buffer_pixels{drawing_buffer ? drawing_buffer->color_sample(0, 0, 0) : nullptr, pitch,
+                                    fb.width() - 1, fb.height() - 1};
     // The common early depth test, one sample on the drawing buffer's 24-bit depth and no stencil,
     // runs a quad at a time (pipeline/early_depth); anything else sample by sample below.
     DefaultFramebuffer* const default_fb = fb.default_framebuffer();
@@ -278,8 +376,14 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
         const std::vector<uint32_t>& list = bins->tile(tile);
         Scratch& w = scratch[worker];
         const TileRect rect = grid.rect(tile);
-        w.masks.resize(4 * kChunkQuads);
-        w.pixels.resize(4 * kChunkQuads);
+        w.masks.resize(kChunkLanes);
+        w.pixels.resize(kChunkLanes);
+        // The fragment batch's arrays only grow (to a whole chunk): no zero fill per chunk.
+        FragmentBatch& b = w.batch;
+        at_least(b.varyings, size_t(words) * kChunkLanes);
+        at_least(b.frag_coord, 4 * kChunkLanes);
+        at_least(b.front_facing, kChunkLanes);
+        at_least(b.point_coord, 2 * kChunkLanes);
         for (size_t li = 0; li < list.size(); ++li) {
             // A tile's primitives lie far apart in memory when there are many small ones: fetch the
             // setup four primitives ahead and, from it, the vertex values and pixels two ahead, so
@@ -390,8 +494,8 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                     }
                     w.stats.fragments_killed_early += killed_early;
                 } else {
-                    for (size_t qi = 0; qi < chunk; ++qi)
-                        for (int j = 0; j < 4; ++j) masks[qi * 4 + size_t(j)] = uint16_t(quad_pixel_mask(cq[qi], j));
+                    // A quad's coverage is its four pixel masks side by side (quad_pixel_mask).
+                    for (size_t qi = 0; qi < chunk; ++qi) std::memcpy(&masks[qi * 4], &cq[qi].coverage, 8);
                     kept = chunk;
                 }
                 if (kept == 0) continue;
@@ -410,13 +514,8 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                 bool any_killed = false;
                 if (!constant_chunks) {
                     // Build the fragment batch: the inputs the shader reads, per lane, structure of
-                    // arrays. The arrays only grow (at their chunk size): no zero fill per chunk.
-                    FragmentBatch& b = w.batch;
+                    // arrays.
                     b.lanes = L;
-                    at_least(b.varyings, size_t(words) * kChunkLanes);
-                    at_least(b.frag_coord, 4 * kChunkLanes);
-                    at_least(b.front_facing, kChunkLanes);
-                    at_least(b.point_coord, 2 * kChunkLanes);
                     if (builtins & kFrontFacing) std::fill_n(b.front_facing.data(), L, uint8_t(p.front_facing ? 1 : 0));
                     if (interpolate) {
                         interpolate_varyings(vi, cq, kept, b.varyings.data(), L);
@@ -492,55 +591,11 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                     const uint64_t before = w.stats.samples_written;
                     if (S == 1 && kernel != ColorKernel::Generic) {
                         // Gather the destination pixels (only when the kernel reads them), blend all
-                        // lanes at once, scatter back. A quad inside the buffer moves as two 8-byte
-                        // rows (lanes 0, 1 and 2, 3 are pixels x, x + 1 of rows y and y + 1); a partial
-                        // one keeps its uncovered pixels' old values (a select, not a branch per
-                        // pixel: the pixels are in this worker's tile). A quad reaching past the
-                        // buffer's edge moves pixel by pixel, covered ones only.
+                        // lanes at once, scatter back (ChunkPixels).
                         uint32_t* const d = w.pixels.data();
-                        uint8_t* const color = drawing_buffer->color_sample(0, 0, 0);
-                        constexpr uint64_t kWholeQuad = 0x0001000100010001u;   // four masks of 1 (S == 1)
-                        auto move_quads = [&](auto to_buffer) {
-                            uint64_t moved = 0;
-                            for (size_t qi = 0; qi < kept; ++qi) {
-                                uint8_t* const px = color + 4 * (size_t(cq[qi].y) * pitch + size_t(cq[qi].x));
-                                uint32_t* const lanes = d + 4 * qi;
-                                uint64_t m4;
-                                std::memcpy(&m4, masks + 4 * qi, 8);
-                                moved += (m4 * 0x0001000100010001u) >> 48;   // the sum of four masks of 0 or 1 (S == 1)
-                                if (cq[qi].x < last_x && cq[qi].y < last_y) {
-                                    uint8_t* const rows[2] = {px, px + 4 * pitch};
-                                    if constexpr (!decltype(to_buffer)::value) {
-                                        std::memcpy(lanes, rows[0], 8), std::memcpy(lanes + 2, rows[1], 8);
-                                    } else if (m4 == kWholeQuad) {
-                                        std::memcpy(rows[0], lanes, 8), std::memcpy(rows[1], lanes + 2, 8);
-                                    } else {
-                                        for (int row = 0; row < 2; ++row) {
-                                            const uint64_t left = (m4 >> (32 * row)) & 0xFFFFu, right = (m4 >> (32 * row + 16)) & 0xFFFFu;
-                                            const uint64_t keep_new = ((uint64_t(0) - (left != 0)) & 0xFFFFFFFFu) |
-                                                                      ((uint64_t(0) - (right != 0)) << 32);
-                                            uint64_t fresh, old;
-                                            std::memcpy(&fresh, lanes + 2 * row, 8);
-                                            std::memcpy(&old, rows[row], 8);
-                                            const uint64_t merged = (fresh & keep_new) | (old & ~keep_new);
-                                            std::memcpy(rows[row], &merged, 8);
-                                        }
-                                    }
-                                } else {
-                                    for (size_t j = 0; j < 4; ++j) {
-                                        if (!masks[4 * qi + j]) continue;
-                                        uint8_t* const pixel = px + 4 * ((j >> 1) * pitch + (j & 1));
-                                        if constexpr (decltype(to_buffer)::value) std::memcpy(pixel, lanes + j, 4);
-                                        else std::memcpy(lanes + j, pixel, 4);
-                                    }
-                                }
-                            }
-                            return moved;
-                        };
-                        if (kernel != ColorKernel::Plain || !all_channels) move_quads(std::false_type{});
+                        if (kernel != ColorKernel::Plain || !all_channels) load_chunk_pixels(buffer_pixels, cq, masks, kept, d);
                         write_color_lanes(kernel, blend, col, cs, d, L);
-                        const uint64_t written = move_quads(std::true_type{});
-                        w.stats.samples_written += written;
+                        w.stats.samples_written += store_chunk_pixels(buffer_pixels, cq, masks, kept, d);
                     } else switch (kernel) {
                         case ColorKernel::Plain: write_all(std::integral_constant<ColorKernel, ColorKernel::Plain>{}); break;
                         case ColorKernel::AlphaOver: write_all(std::integral_constant<ColorKernel, ColorKernel::AlphaOver>{}); break;
