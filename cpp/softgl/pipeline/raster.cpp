@@ -40,32 +40,29 @@ const double kPos16[16][2] = {{0.5625, 0.5625}, {0.4375, 0.3125}, {0.3125, 0.625
 // just stored as 4 + 4 + 8 (a store-forwarding stall on every quad).
 inline void put(Quad* q, int32_t x, int32_t y, uint64_t coverage) { q->x = x, q->y = y, q->coverage = coverage; }
 
-#if defined(SOFTGL_HAVE_SIMD_RASTER)
-__attribute__((target("avx512f"))) Quad* put_block_avx512(Quad* q, int32_t bx, int32_t by, uint64_t coverage) {
-    const int32_t lo = int32_t(uint32_t(coverage)), hi = int32_t(uint32_t(coverage >> 32));
-    const __m512i row = _mm512_set_epi32(hi, lo, by, bx + 6, hi, lo, by, bx + 4, hi, lo, by, bx + 2, hi, lo, by, bx);
-    const __m512i up = _mm512_set_epi32(0, 0, 2, 0, 0, 0, 2, 0, 0, 0, 2, 0, 0, 0, 2, 0);
-    _mm512_storeu_si512(q, row);
-    _mm512_storeu_si512(q + 4, _mm512_add_epi32(row, up));
-    _mm512_storeu_si512(q + 8, _mm512_add_epi32(row, _mm512_add_epi32(up, up)));
-    _mm512_storeu_si512(q + 12, _mm512_add_epi32(row, _mm512_add_epi32(up, _mm512_add_epi32(up, up))));
-    return q + 16;
-}
-#endif
-// The 16 quads of a whole 8x8 block with the same coverage, rows bottom-up then left-right.
-inline Quad* put_block(Quad* q, int32_t bx, int32_t by, uint64_t coverage) {
-#if defined(SOFTGL_HAVE_SIMD_RASTER)
-    // One 16-byte store per quad (SSE2 is part of x86-64): x, y, coverage in little-endian order.
-    const __m128i cov = _mm_set1_epi64x(int64_t(coverage));
-    for (int r = 0; r < kBlockSize; r += 2)
-        for (int k = 0; k < kBlockSize; k += 2)
-            _mm_storeu_si128(reinterpret_cast<__m128i*>(q++), _mm_unpacklo_epi64(_mm_set_epi32(0, 0, by + r, bx + k), cov));
-#else
+// Whole blocks: the 16 quads of an 8x8 block at (bx, by), all with the same coverage, in the
+// output order (rows bottom-up, then left-right). Returns the end of the written quads.
+using PutBlockFn = Quad* (*)(Quad* q, int32_t bx, int32_t by, uint64_t coverage);
+
+Quad* put_block(Quad* q, int32_t bx, int32_t by, uint64_t coverage) {
     for (int r = 0; r < kBlockSize; r += 2)
         for (int k = 0; k < kBlockSize; k += 2) put(q++, bx + k, by + r, coverage);
-#endif
     return q;
 }
+
+#if defined(SOFTGL_HAVE_SIMD_RASTER)
+// A row of 4 quads is one 64-byte store: 32-bit lanes x, y, low and high coverage word per quad.
+__attribute__((target("avx512f"))) Quad* put_block_avx512(Quad* q, int32_t bx, int32_t by, uint64_t coverage) {
+    const int32_t lo = int32_t(uint32_t(coverage)), hi = int32_t(uint32_t(coverage >> 32));
+    __m512i row = _mm512_set_epi32(hi, lo, by, bx + 6, hi, lo, by, bx + 4, hi, lo, by, bx + 2, hi, lo, by, bx);
+    const __m512i up = _mm512_set_epi32(0, 0, 2, 0, 0, 0, 2, 0, 0, 0, 2, 0, 0, 0, 2, 0);   // y += 2
+    for (int r = 0; r < kBlockSize; r += 2, q += 4) {
+        _mm512_storeu_si512(q, row);
+        row = _mm512_add_epi32(row, up);
+    }
+    return q;
+}
+#endif
 
 // ---- SIMD partial blocks ----
 // One sample position over the rows [r0, r1) of an 8x8 block: bit 8*r + k of the result is set
@@ -130,7 +127,7 @@ inline uint64_t spread_quad_bits(uint64_t b) { return (b * 0x0000200040008001ull
 
 template <int N>
 void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, int32_t y1,
-                  const SamplePattern& sp, InsideRowsFn<N> inside_rows, std::vector<Quad>& out,
+                  const SamplePattern& sp, InsideRowsFn<N> inside_rows, PutBlockFn put_block, std::vector<Quad>& out,
                   RasterStats& stats) {
     const int S = sp.count;
     const uint64_t full_pixel = S == 16 ? 0xFFFFu : ((uint64_t(1) << S) - 1);
@@ -169,19 +166,24 @@ void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, i
     // larger and the smaller of a*X0, a*X1 plus those of b*Y0, b*Y1 (min/max: no branch on signs).
     // A whole (unclipped) block's sample rectangle is its corner (bx, by) plus constant offsets, so
     // an edge's extremes over it are the edge at the corner plus constants (the same integers).
+    // (Set up only when the rectangle holds a whole block: small primitives do not pay for it.)
+    const bool whole_blocks = ((x0 + kBlockSize - 1) & ~(kBlockSize - 1)) + kBlockSize <= x1 &&
+                              ((y0 + kBlockSize - 1) & ~(kBlockSize - 1)) + kBlockSize <= y1;
     constexpr int32_t kLast = (kBlockSize - 1) * kSubPixel;   // last pixel of a block, fixed point
-    int64_t to_max[N], to_min[N];
-    for (int i = 0; i < N; ++i) {
-        const int64_t ax0 = A[i] * sx0, ax1 = A[i] * (kLast + sx1), by0 = B[i] * sy0, by1 = B[i] * (kLast + sy1);
-        to_max[i] = std::max(ax0, ax1) + std::max(by0, by1);
-        to_min[i] = std::min(ax0, ax1) + std::min(by0, by1);
-    }
+    int64_t to_max[N] = {}, to_min[N] = {};
+    if (whole_blocks)
+        for (int i = 0; i < N; ++i) {
+            const int64_t ax0 = A[i] * sx0, ax1 = A[i] * (kLast + sx1), by0 = B[i] * sy0, by1 = B[i] * (kLast + sy1);
+            to_max[i] = std::max(ax0, ax1) + std::max(by0, by1);
+            to_min[i] = std::min(ax0, ax1) + std::min(by0, by1);
+        }
 
     for (int32_t by = y0 & ~(kBlockSize - 1); by < y1; by += kBlockSize) {
         const int32_t cy0 = std::max(by, y0), cy1 = std::min(by + kBlockSize, y1);
-        const bool whole_rows = cy0 == by && cy1 == by + kBlockSize;
-        int64_t row[N];   // the edges at (0, by)
-        for (int i = 0; i < N; ++i) row[i] = B[i] * (int64_t(by) * kSubPixel) + C[i];
+        const bool whole_rows = whole_blocks && cy0 == by && cy1 == by + kBlockSize;
+        int64_t row[N] = {};   // the edges at (0, by)
+        if (whole_rows)
+            for (int i = 0; i < N; ++i) row[i] = B[i] * (int64_t(by) * kSubPixel) + C[i];
         for (int32_t bx = x0 & ~(kBlockSize - 1); bx < x1; bx += kBlockSize) {
             const int32_t cx0 = std::max(bx, x0), cx1 = std::min(bx + kBlockSize, x1);
             // Rejected when some edge's maximum is negative, accepted when no edge's minimum is
@@ -212,7 +214,7 @@ void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, i
                 // Whole block inside every edge and its clipped rectangle made of whole quads:
                 // every quad is fully covered, no per-pixel bounds to test.
                 if (cx1 - cx0 == kBlockSize && cy1 - cy0 == kBlockSize) {
-                    q = put_block_avx512(q, bx, by, full_quad);
+                    q = put_block(q, bx, by, full_quad);
                     continue;
                 }
                 for (int32_t qy = cy0; qy < cy1; qy += 2)
@@ -344,14 +346,15 @@ void rasterize_at(SimdLevel level, const PrimitiveSetup& prim, const TileRect& t
     if (x0 >= x1 || y0 >= y1) return;
     InsideRowsFn<3> rows3 = nullptr;
     InsideRowsFn<4> rows4 = nullptr;
+    PutBlockFn block = put_block;
 #if defined(SOFTGL_HAVE_SIMD_RASTER)
-    if (level == SimdLevel::AVX512) rows3 = inside_rows_avx512<3>, rows4 = inside_rows_avx512<4>;
+    if (level == SimdLevel::AVX512) rows3 = inside_rows_avx512<3>, rows4 = inside_rows_avx512<4>, block = put_block_avx512;
     else if (level == SimdLevel::AVX2) rows3 = inside_rows_avx2<3>, rows4 = inside_rows_avx2<4>;
 #else
     (void)level;
 #endif
-    if (prim.edge_count == 3) raster_edges<3>(prim, x0, y0, x1, y1, pattern, rows3, out, stats);
-    else raster_edges<4>(prim, x0, y0, x1, y1, pattern, rows4, out, stats);
+    if (prim.edge_count == 3) raster_edges<3>(prim, x0, y0, x1, y1, pattern, rows3, block, out, stats);
+    else raster_edges<4>(prim, x0, y0, x1, y1, pattern, rows4, block, out, stats);
 }
 
 }  // namespace softgl
