@@ -166,8 +166,10 @@ void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, i
     // larger and the smaller of a*X0, a*X1 plus those of b*Y0, b*Y1 (min/max: no branch on signs).
     // A whole (unclipped) block's sample rectangle is its corner (bx, by) plus constant offsets, so
     // an edge's extremes over it are the edge at the corner plus constants (the same integers).
-    // (Set up only when the rectangle holds a whole block: small primitives do not pay for it.)
-    const bool whole_blocks = ((x0 + kBlockSize - 1) & ~(kBlockSize - 1)) + kBlockSize <= x1 &&
+    // Set up only for triangles whose rectangle holds a whole block: small triangles do not pay for
+    // it, and lines and points (4 edges) are mostly thin, so the extra branch costs them more than
+    // it saves (measured).
+    const bool whole_blocks = N == 3 && ((x0 + kBlockSize - 1) & ~(kBlockSize - 1)) + kBlockSize <= x1 &&
                               ((y0 + kBlockSize - 1) & ~(kBlockSize - 1)) + kBlockSize <= y1;
     constexpr int32_t kLast = (kBlockSize - 1) * kSubPixel;   // last pixel of a block, fixed point
     int64_t to_max[N] = {}, to_min[N] = {};
