@@ -140,7 +140,7 @@ def test_simd_levels_match_scalar(kind, samples):
 
 
 @pytest.mark.parametrize("samples", [1, 4, 16])
-@pytest.mark.parametrize("kind", ["small", "sliver", "quad", "huge"])
+@pytest.mark.parametrize("kind", ["small", "sliver", "quad", "huge", "big"])
 def test_scalar_matches_brute_force(kind, samples):
     rng = np.random.default_rng(zlib.crc32(f"bf{kind}{samples}".encode()))
     for _ in range(40):

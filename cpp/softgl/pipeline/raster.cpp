@@ -36,12 +36,33 @@ const double kPos16[16][2] = {{0.5625, 0.5625}, {0.4375, 0.3125}, {0.3125, 0.625
                               {0.0, 0.5},       {0.9375, 0.25},   {0.875, 0.9375},
                               {0.0625, 0.0}};
 
-// Appends a quad field by field: a Quad built aside and copied whole makes the CPU load 16 bytes
+// Writes a quad field by field: a Quad built aside and copied whole makes the CPU load 16 bytes
 // just stored as 4 + 4 + 8 (a store-forwarding stall on every quad).
-inline void emit(std::vector<Quad>& out, int32_t x, int32_t y, uint64_t coverage) {
-    Quad& q = out.emplace_back();
-    q.x = x, q.y = y, q.coverage = coverage;
+inline void put(Quad* q, int32_t x, int32_t y, uint64_t coverage) { q->x = x, q->y = y, q->coverage = coverage; }
+
+// Whole blocks: the 16 quads of an 8x8 block at (bx, by), all with the same coverage, in the
+// output order (rows bottom-up, then left-right). Returns the end of the written quads.
+using PutBlockFn = Quad* (*)(Quad* q, int32_t bx, int32_t by, uint64_t coverage);
+
+Quad* put_block(Quad* q, int32_t bx, int32_t by, uint64_t coverage) {
+    for (int r = 0; r < kBlockSize; r += 2)
+        for (int k = 0; k < kBlockSize; k += 2) put(q++, bx + k, by + r, coverage);
+    return q;
 }
+
+#if defined(SOFTGL_HAVE_SIMD_RASTER)
+// A row of 4 quads is one 64-byte store: 32-bit lanes x, y, low and high coverage word per quad.
+__attribute__((target("avx512f"))) Quad* put_block_avx512(Quad* q, int32_t bx, int32_t by, uint64_t coverage) {
+    const int32_t lo = int32_t(uint32_t(coverage)), hi = int32_t(uint32_t(coverage >> 32));
+    __m512i row = _mm512_set_epi32(hi, lo, by, bx + 6, hi, lo, by, bx + 4, hi, lo, by, bx + 2, hi, lo, by, bx);
+    const __m512i up = _mm512_set_epi32(0, 0, 2, 0, 0, 0, 2, 0, 0, 0, 2, 0, 0, 0, 2, 0);   // y += 2
+    for (int r = 0; r < kBlockSize; r += 2, q += 4) {
+        _mm512_storeu_si512(q, row);
+        row = _mm512_add_epi32(row, up);
+    }
+    return q;
+}
+#endif
 
 // ---- SIMD partial blocks ----
 // One sample position over the rows [r0, r1) of an 8x8 block: bit 8*r + k of the result is set
@@ -106,7 +127,7 @@ inline uint64_t spread_quad_bits(uint64_t b) { return (b * 0x0000200040008001ull
 
 template <int N>
 void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, int32_t y1,
-                  const SamplePattern& sp, InsideRowsFn<N> inside_rows, std::vector<Quad>& out,
+                  const SamplePattern& sp, InsideRowsFn<N> inside_rows, PutBlockFn put_block, std::vector<Quad>& out,
                   RasterStats& stats) {
     const int S = sp.count;
     const uint64_t full_pixel = S == 16 ? 0xFFFFu : ((uint64_t(1) << S) - 1);
@@ -128,35 +149,78 @@ void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, i
         sy0 = std::min(sy0, sp.y[s]); sy1 = std::max(sy1, sp.y[s]);
     }
 
+    // The output grows once by an upper bound, every quad of the clipped rectangle, and quads are
+    // written in place (no capacity check per quad); it shrinks to the quads written at the end.
+    const size_t first = out.size();
+    out.resize(first + size_t((x1 - (x0 & ~1) + 1) / 2) * size_t((y1 - (y0 & ~1) + 1) / 2));
+    Quad* const begin = out.data() + first;
+    Quad* q = begin;
+    // Edges and counters in locals: the quads' uint64 stores could alias them in memory.
+    int64_t A[N], B[N], C[N];
+    for (int i = 0; i < N; ++i) A[i] = p.a[i], B[i] = p.b[i], C[i] = p.c[i];
+    uint64_t rejected = 0, accepted = 0, partial = 0;
+    const uint64_t full_quad = full_pixel | full_pixel << kQuadPixelBits | full_pixel << (2 * kQuadPixelBits) |
+                               full_pixel << (3 * kQuadPixelBits);
+
+    // Edges are linear, so their extremes over a rectangle of samples are at its corners: the
+    // larger and the smaller of a*X0, a*X1 plus those of b*Y0, b*Y1 (min/max: no branch on signs).
+    // A whole (unclipped) block's sample rectangle is its corner (bx, by) plus constant offsets, so
+    // an edge's extremes over it are the edge at the corner plus constants (the same integers).
+    // Set up only for triangles whose rectangle holds a whole block: small triangles do not pay for
+    // it, and lines and points (4 edges) are mostly thin, so the extra branch costs them more than
+    // it saves (measured).
+    const bool whole_blocks = N == 3 && ((x0 + kBlockSize - 1) & ~(kBlockSize - 1)) + kBlockSize <= x1 &&
+                              ((y0 + kBlockSize - 1) & ~(kBlockSize - 1)) + kBlockSize <= y1;
+    constexpr int32_t kLast = (kBlockSize - 1) * kSubPixel;   // last pixel of a block, fixed point
+    int64_t to_max[N] = {}, to_min[N] = {};
+    if (whole_blocks)
+        for (int i = 0; i < N; ++i) {
+            const int64_t ax0 = A[i] * sx0, ax1 = A[i] * (kLast + sx1), by0 = B[i] * sy0, by1 = B[i] * (kLast + sy1);
+            to_max[i] = std::max(ax0, ax1) + std::max(by0, by1);
+            to_min[i] = std::min(ax0, ax1) + std::min(by0, by1);
+        }
+
     for (int32_t by = y0 & ~(kBlockSize - 1); by < y1; by += kBlockSize) {
         const int32_t cy0 = std::max(by, y0), cy1 = std::min(by + kBlockSize, y1);
+        const bool whole_rows = whole_blocks && cy0 == by && cy1 == by + kBlockSize;
+        int64_t row[N] = {};   // the edges at (0, by)
+        if (whole_rows)
+            for (int i = 0; i < N; ++i) row[i] = B[i] * (int64_t(by) * kSubPixel) + C[i];
         for (int32_t bx = x0 & ~(kBlockSize - 1); bx < x1; bx += kBlockSize) {
             const int32_t cx0 = std::max(bx, x0), cx1 = std::min(bx + kBlockSize, x1);
-            // The rectangle spanned by the block's samples, in fixed point; edges are linear, so
-            // their extremes over it are at corners chosen by the coefficients' signs.
-            const int64_t X0 = int64_t(cx0) * kSubPixel + sx0, X1 = int64_t(cx1 - 1) * kSubPixel + sx1;
-            const int64_t Y0 = int64_t(cy0) * kSubPixel + sy0, Y1 = int64_t(cy1 - 1) * kSubPixel + sy1;
             // Rejected when some edge's maximum is negative, accepted when no edge's minimum is
             // (branch-free: the OR of the values is negative when one of them is).
             int64_t max_or = 0, min_or = 0;
-            for (int i = 0; i < N; ++i) {
-                const int64_t a = p.a[i], b = p.b[i], c = p.c[i];
-                max_or |= a * (a > 0 ? X1 : X0) + b * (b > 0 ? Y1 : Y0) + c;
-                min_or |= a * (a > 0 ? X0 : X1) + b * (b > 0 ? Y0 : Y1) + c;
+            if (whole_rows && cx0 == bx && cx1 == bx + kBlockSize) {
+                for (int i = 0; i < N; ++i) {
+                    const int64_t corner = row[i] + A[i] * (int64_t(bx) * kSubPixel);
+                    max_or |= corner + to_max[i];
+                    min_or |= corner + to_min[i];
+                }
+            } else {
+                // The rectangle spanned by the clipped block's samples.
+                const int64_t X0 = int64_t(cx0) * kSubPixel + sx0, X1 = int64_t(cx1 - 1) * kSubPixel + sx1;
+                const int64_t Y0 = int64_t(cy0) * kSubPixel + sy0, Y1 = int64_t(cy1 - 1) * kSubPixel + sy1;
+                for (int i = 0; i < N; ++i) {
+                    const int64_t ax0 = A[i] * X0, ax1 = A[i] * X1, by0 = B[i] * Y0, by1 = B[i] * Y1;
+                    max_or |= std::max(ax0, ax1) + std::max(by0, by1) + C[i];
+                    min_or |= std::min(ax0, ax1) + std::min(by0, by1) + C[i];
+                }
             }
             const bool accept = min_or >= 0;
-            if (max_or < 0) { ++stats.blocks_rejected; continue; }
-            if (accept) ++stats.blocks_accepted;
-            else ++stats.blocks_partial;
+            if (max_or < 0) { ++rejected; continue; }
+            accepted += accept;
+            partial += !accept;
 
             if (accept && ((cx0 | cx1 | cy0 | cy1) & 1) == 0) {
                 // Whole block inside every edge and its clipped rectangle made of whole quads:
                 // every quad is fully covered, no per-pixel bounds to test.
-                const uint64_t full_quad = full_pixel | full_pixel << kQuadPixelBits |
-                                           full_pixel << (2 * kQuadPixelBits) | full_pixel << (3 * kQuadPixelBits);
+                if (cx1 - cx0 == kBlockSize && cy1 - cy0 == kBlockSize) {
+                    q = put_block(q, bx, by, full_quad);
+                    continue;
+                }
                 for (int32_t qy = cy0; qy < cy1; qy += 2)
-                    for (int32_t qx = cx0; qx < cx1; qx += 2) emit(out, qx, qy, full_quad);
-                stats.quads += (uint64_t(cx1 - cx0) / 2) * (uint64_t(cy1 - cy0) / 2);
+                    for (int32_t qx = cx0; qx < cx1; qx += 2) put(q++, qx, qy, full_quad);
                 continue;
             }
             if (inside_rows) {
@@ -171,7 +235,7 @@ void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, i
                 if (!accept) {
                     const int64_t X = int64_t(bx) * kSubPixel, Y = int64_t(cy0) * kSubPixel;
                     int64_t e0[N], e[N];
-                    for (int i = 0; i < N; ++i) e0[i] = p.a[i] * X + p.b[i] * Y + p.c[i];
+                    for (int i = 0; i < N; ++i) e0[i] = A[i] * X + B[i] * Y + C[i];
                     any = 0;
                     for (int s = 0; s < S; ++s) {
                         for (int i = 0; i < N; ++i) e[i] = e0[i] + so[i][s];
@@ -192,8 +256,7 @@ void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, i
                         for (int s = 0; s < S; ++s)
                             cov |= spread_quad_bits((mask[s] >> sh & 3) | (mask[s] >> (sh + 8) & 3) << 2) << s;
                     }
-                    emit(out, bx + (sh & 7), by + (sh >> 3), cov);
-                    ++stats.quads;
+                    put(q++, bx + (sh & 7), by + (sh >> 3), cov);
                 }
                 continue;
             }
@@ -209,10 +272,8 @@ void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, i
                         if (row0 && col1) cov |= full_pixel << kQuadPixelBits;
                         if (row1 && col0) cov |= full_pixel << (2 * kQuadPixelBits);
                         if (row1 && col1) cov |= full_pixel << (3 * kQuadPixelBits);
-                        if (cov) {
-                            emit(out, qx, qy, cov);
-                            ++stats.quads;
-                        }
+                        put(q, qx, qy, cov);   // kept when not empty
+                        q += cov != 0;
                     }
                 }
                 continue;
@@ -224,7 +285,7 @@ void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, i
                 int64_t er[N];   // at pixel (qx, qy) of the current quad
                 {
                     const int64_t X = int64_t(qx0) * kSubPixel, Y = int64_t(qy) * kSubPixel;
-                    for (int i = 0; i < N; ++i) er[i] = p.a[i] * X + p.b[i] * Y + p.c[i] + (S == 1 ? so[i][0] : 0);
+                    for (int i = 0; i < N; ++i) er[i] = A[i] * X + B[i] * Y + C[i] + (S == 1 ? so[i][0] : 0);
                 }
                 const bool row0 = qy >= cy0, row1 = qy + 1 < cy1;
                 for (int32_t qx = qx0; qx < cx1; qx += 2) {
@@ -253,14 +314,15 @@ void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, i
                         cov |= m << (kQuadPixelBits * j);
                     }
                     for (int i = 0; i < N; ++i) er[i] += 2 * dx[i];
-                    if (cov) {
-                        emit(out, qx, qy, cov);
-                        ++stats.quads;
-                    }
+                    put(q, qx, qy, cov);   // kept when not empty
+                    q += cov != 0;
                 }
             }
         }
     }
+    stats.blocks_rejected += rejected, stats.blocks_accepted += accepted, stats.blocks_partial += partial;
+    stats.quads += uint64_t(q - begin);
+    out.resize(first + size_t(q - begin));
 }
 
 }  // namespace
@@ -286,14 +348,15 @@ void rasterize_at(SimdLevel level, const PrimitiveSetup& prim, const TileRect& t
     if (x0 >= x1 || y0 >= y1) return;
     InsideRowsFn<3> rows3 = nullptr;
     InsideRowsFn<4> rows4 = nullptr;
+    PutBlockFn block = put_block;
 #if defined(SOFTGL_HAVE_SIMD_RASTER)
-    if (level == SimdLevel::AVX512) rows3 = inside_rows_avx512<3>, rows4 = inside_rows_avx512<4>;
+    if (level == SimdLevel::AVX512) rows3 = inside_rows_avx512<3>, rows4 = inside_rows_avx512<4>, block = put_block_avx512;
     else if (level == SimdLevel::AVX2) rows3 = inside_rows_avx2<3>, rows4 = inside_rows_avx2<4>;
 #else
     (void)level;
 #endif
-    if (prim.edge_count == 3) raster_edges<3>(prim, x0, y0, x1, y1, pattern, rows3, out, stats);
-    else raster_edges<4>(prim, x0, y0, x1, y1, pattern, rows4, out, stats);
+    if (prim.edge_count == 3) raster_edges<3>(prim, x0, y0, x1, y1, pattern, rows3, block, out, stats);
+    else raster_edges<4>(prim, x0, y0, x1, y1, pattern, rows4, block, out, stats);
 }
 
 }  // namespace softgl

@@ -30,6 +30,10 @@ const SamplePattern& sample_pattern(int samples);
 // A 2x2 block of pixels with its lower-left pixel at (x, y), both even. Pixel i (i = dx + 2*dy)
 // has its sample mask in bits [16*i, 16*i + 16): bit 16*i + s is sample s of the pattern.
 struct Quad {
+    // Default construction leaves the fields unset: the rasterizer grows its output by an upper
+    // bound and then writes the quads in place.
+    Quad() {}
+    Quad(int32_t x, int32_t y, uint64_t coverage) : x(x), y(y), coverage(coverage) {}
     int32_t x, y;
     uint64_t coverage;
 };
