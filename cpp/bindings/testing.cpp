@@ -272,15 +272,20 @@ void bind_testing(py::module_& m) {
           py::arg("level"), py::arg("planes"), py::arg("origin_x"), py::arg("origin_y"), py::arg("quads"),
           py::arg("values"), py::arg("base_x") = 0, py::arg("base_y") = 0);
     // pipeline/early_depth at one instruction-set level: the depth plane (a, b, c) + offset with its
-    // origin (1/256 pixel), quads (n, 3) int64 rows (x, y, coverage bits), a (h, w) uint32 depth
-    // buffer. Returns (survived (n, 4) uint16, killed, the buffer after the test).
+    // origin (1/256 pixel), the samples' positions in a pixel (1/256 pixel), quads (n, 3) int64 rows
+    // (x, y, coverage bits), a (h, w, samples) uint32 depth buffer. Returns (survived (n, 4) uint16,
+    // killed, the buffer after the test).
     t.def("early_depth_test",
           [](int level, std::array<double, 3> plane, double offset, int64_t origin_x, int64_t origin_y,
-             std::array<int32_t, 2> sample, uint32_t func, bool write,
+             std::vector<std::array<int32_t, 2>> samples, uint32_t func, bool write,
              py::array_t<int64_t, py::array::c_style | py::array::forcecast> quads,
              py::array_t<uint32_t, py::array::c_style | py::array::forcecast> depth) {
-              if (quads.ndim() != 2 || quads.shape(1) != 3 || depth.ndim() != 2)
-                  throw py::value_error("quads (n, 3), depth (h, w)");
+              if (quads.ndim() != 2 || quads.shape(1) != 3 || depth.ndim() != 3 || samples.empty() ||
+                  samples.size() > 16 || depth.shape(2) != py::ssize_t(samples.size()))
+                  throw py::value_error("quads (n, 3), 1 to 16 samples, depth (h, w, samples)");
+              softgl::SamplePattern pattern{};
+              pattern.count = int(samples.size());
+              for (size_t s = 0; s < samples.size(); ++s) pattern.x[s] = samples[s][0], pattern.y[s] = samples[s][1];
               softgl::PrimitiveSetup p{};
               p.depth = {plane[0], plane[1], plane[2]};
               p.depth_offset = offset;
@@ -289,10 +294,10 @@ void bind_testing(py::module_& m) {
               std::vector<softgl::Quad> q(n);
               for (size_t i = 0; i < n; ++i)
                   q[i] = {int32_t(quads.at(i, 0)), int32_t(quads.at(i, 1)), uint64_t(quads.at(i, 2))};
-              py::array_t<uint32_t> buffer({depth.shape(0), depth.shape(1)});
+              py::array_t<uint32_t> buffer({depth.shape(0), depth.shape(1), depth.shape(2)});
               std::memcpy(buffer.mutable_data(), depth.data(), size_t(depth.nbytes()));
               softgl::EarlyDepth t;
-              t.prim = &p, t.sample_x = sample[0], t.sample_y = sample[1], t.func = func, t.write = write;
+              t.prim = &p, t.pattern = &pattern, t.func = func, t.write = write;
               t.depth = buffer.mutable_data(), t.pitch = size_t(depth.shape(1));
               py::array_t<uint16_t> survived({py::ssize_t(n), py::ssize_t(4)});
               const size_t killed = softgl::early_depth_test_at(softgl::SimdLevel(level), t, q.data(), n, survived.mutable_data());

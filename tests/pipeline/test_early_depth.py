@@ -1,8 +1,10 @@
-"""The single-sample early depth test (cpp/softgl/pipeline/early_depth.h) gives the same
-survivors, kill count and depth buffer at every instruction-set level (scalar through the
-definitions depth_at / depth_word / compare; AVX2 a quad at a time where the CPU has it, also at
-the AVX-512 level, which takes rows of up to four side-by-side quads at once), and those equal an independent float64 evaluation here: ES 3.0 §4.1.6 with the window depth
-z = clamp((c + a*fx + b*fy) + offset) stored as floor(z * (2^24 - 1) + 0.5) (NaN -> 0).
+"""The early depth test (cpp/softgl/pipeline/early_depth.h) gives the same survivors, kill count
+and depth buffer at every instruction-set level (scalar through the definitions depth_at /
+depth_word / compare; one sample per pixel: AVX2 a quad at a time, AVX-512 rows of up to four
+side-by-side quads; four samples: AVX2 a pixel's samples, AVX-512 a quad's pixel row), and those
+equal an independent float64 evaluation here: ES 3.0 §4.1.6 with the window depth
+z = clamp((c + a*fx + b*fy) + offset) at each sample's position, stored as
+floor(z * (2^24 - 1) + 0.5) (NaN -> 0).
 
 Buffers have odd sizes, so quads on the right and top border have pixels outside the buffer
 (never covered): the kernels must neither read nor write them.
@@ -31,28 +33,32 @@ def passes(func, z, stored):
             "GREATER": z > stored, "NOTEQUAL": z != stored, "GEQUAL": z >= stored, "ALWAYS": True}[func]
 
 
-def reference(plane, offset, ox, oy, sample, func, write, quads, depth):
+def reference(plane, offset, ox, oy, samples, func, write, quads, depth):
+    # depth (h, w, len(samples)); survived: the passing samples' mask per pixel.
     depth = depth.copy()
     survived = np.zeros((len(quads), 4), np.uint16)
     killed = 0
     for i, (qx, qy, cov) in enumerate(quads):
         for j in range(4):
-            if not (int(cov) >> (16 * j)) & 1:
-                continue
             x, y = qx + (j & 1), qy + (j >> 1)
-            fx = float(x * SUB + sample[0] - ox) * (1.0 / SUB)
-            fy = float(y * SUB + sample[1] - oy) * (1.0 / SUB)
-            z = word(np.float64((plane[2] + plane[0] * fx) + plane[1] * fy) + offset)
-            if passes(func, z, depth[y, x]):
-                if write:
-                    depth[y, x] = z
-                survived[i, j] = 1
-            else:
-                killed += 1
+            for s, (sx, sy) in enumerate(samples):
+                if not (int(cov) >> (16 * j + s)) & 1:
+                    continue
+                fx = float(x * SUB + sx - ox) * (1.0 / SUB)
+                fy = float(y * SUB + sy - oy) * (1.0 / SUB)
+                z = word(np.float64((plane[2] + plane[0] * fx) + plane[1] * fy) + offset)
+                if passes(func, z, depth[y, x, s]):
+                    if write:
+                        depth[y, x, s] = z
+                    survived[i, j] |= 1 << s
+                else:
+                    killed += 1
     return survived, killed, depth
 
 
-def random_quads(rng, n):
+def random_quads(rng, n, samples=1):
+    # Pixels covered with probability 0.8; of a covered pixel with several samples, each sample
+    # with probability 0.8 (bits above the sample count stay clear, as the rasterizer leaves them).
     quads = []
     for _ in range(n):
         x, y = 2 * rng.integers(0, (W + 1) // 2), 2 * rng.integers(0, (H + 1) // 2)
@@ -60,9 +66,10 @@ def random_quads(rng, n):
         for j in range(4):
             inside = x + (j & 1) < W and y + (j >> 1) < H
             if inside and rng.random() < 0.8:
-                cov |= 1 << (16 * j)
-        quads.append((x, y, cov))
-    return np.array(quads, np.int64)
+                bits = 1 if samples == 1 else sum(1 << s for s in range(samples) if rng.random() < 0.8)
+                cov |= bits << (16 * j)
+        quads.append((x, y, cov - (1 << 64) if cov >> 63 else cov))   # the coverage's 64 bits as int64
+    return np.array(quads, np.int64).reshape(-1, 3)
 
 
 def random_stored(rng, exact):
@@ -75,16 +82,29 @@ def random_stored(rng, exact):
     return depth
 
 
-def check(rng, func, write, plane, offset=0.0, quads=None, origin=None, size=(W, H), stored=random_stored):
+# The 4x pattern as the rasterizer samples it (D3D's standard positions, 1/256 pixel).
+PATTERN_4X = [(96, 32), (224, 96), (32, 160), (160, 224)]
+
+
+def random_samples(rng, count):
+    # One sample: the pixel centre or anywhere; four: mostly the 4x pattern; else anywhere.
+    if count == 4 and rng.random() < 0.7:
+        return PATTERN_4X
+    if count == 1 and rng.random() < 0.7:
+        return [(128, 128)]
+    return [tuple(int(v) for v in rng.integers(0, SUB, 2)) for _ in range(count)]
+
+
+def check(rng, func, write, plane, offset=0.0, quads=None, origin=None, size=(W, H), stored=random_stored, samples=1):
     ox, oy = (int(v) for v in rng.integers(-40 * SUB, 40 * SUB, 2)) if origin is None else origin
-    sample = (128, 128) if rng.random() < 0.7 else tuple(int(v) for v in rng.integers(0, SUB, 2))
-    quads = random_quads(rng, int(rng.integers(1, 40))) if quads is None else quads
-    depth = np.zeros(size[::-1], np.uint32)
-    _, _, exact = reference(plane, offset, ox, oy, sample, "ALWAYS", True, quads, depth)
+    positions = random_samples(rng, samples)
+    quads = random_quads(rng, int(rng.integers(1, 40)), samples) if quads is None else quads
+    depth = np.zeros(size[::-1] + (samples,), np.uint32)
+    _, _, exact = reference(plane, offset, ox, oy, positions, "ALWAYS", True, quads, depth)
     depth = stored(rng, exact)
-    want = reference(plane, offset, ox, oy, sample, func, write, quads, depth)
+    want = reference(plane, offset, ox, oy, positions, func, write, quads, depth)
     for level in range(_core.testing.simd_level() + 1):
-        got = _core.testing.early_depth_test(level, plane, offset, ox, oy, sample, getattr(softgl, func), write,
+        got = _core.testing.early_depth_test(level, plane, offset, ox, oy, positions, getattr(softgl, func), write,
                                              quads, depth)
         np.testing.assert_array_equal(got[0], want[0], err_msg=f"survived, simd level {level}")
         assert got[1] == want[1], f"killed, simd level {level}"
@@ -176,7 +196,7 @@ def stored_by_region(rng, exact):
     # Every 8x2 pixel region (a row of four quads) of the stored buffer below, equal to or above
     # the incoming words, random, or a per-pixel mix: whole runs pass, fail or split.
     depth = exact.astype(np.int64)
-    h, w = exact.shape
+    h, w = exact.shape[:2]
     for y in range(0, h, 2):
         for x in range(0, w, 8):
             region = (slice(y, y + 2), slice(x, x + 8))
@@ -274,3 +294,29 @@ def test_almost_runs():
             quads = np.array([qd for qd in quads if qd[0] + 1 < size[0] and qd[1] + 1 < size[1]], np.int64).reshape(-1, 3)
             plane = (rng.normal(0, 0.05), rng.normal(0, 0.05), rng.uniform(-0.2, 1.2))
             check(rng, func, True, plane, quads=quads, size=size, stored=stored_by_region)
+
+
+@pytest.mark.parametrize("func", FUNCS)
+@pytest.mark.parametrize("write", [True, False])
+@pytest.mark.parametrize("samples", [4, 2, 8, 16])
+def test_multisample_levels_match_the_float64_definition(func, write, samples):
+    # Every covered sample of a pixel tested at its own position (MSAA 4x has its own AVX-512
+    # kernel; other counts run the scalar level), with partial sample masks and repeated quads.
+    rng = np.random.default_rng(200 + FUNCS.index(func) + 10 * write + samples)
+    for _ in range(8 if samples == 4 else 2):
+        plane = (rng.normal(0, 0.05), rng.normal(0, 0.05), rng.uniform(-0.5, 1.5))
+        quads = random_quads(rng, int(rng.integers(1, 40)), samples)
+        if rng.random() < 0.3:
+            quads = np.repeat(quads, rng.integers(1, 3), axis=0)
+        check(rng, func, write, plane, offset=float(rng.choice([0.0, 1e-7, -3e-3])), quads=quads, samples=samples)
+
+
+@pytest.mark.parametrize("c", [np.nan, np.inf, -np.inf, -0.0, 0.0, 1.0])
+def test_multisample_special_depths_and_huge_offsets(c):
+    rng = np.random.default_rng(240)
+    for func in FUNCS:
+        check(rng, func, True, (0.0, 0.0, c), samples=4)
+        check(rng, func, True, (0.3, -0.2, c), samples=4)
+        plane = (rng.normal(0, 1e-12), rng.normal(0, 1e-12), rng.uniform(0, 1))
+        origin = tuple(int(v) for v in rng.integers(-(1 << 48), 1 << 48, 2))
+        check(rng, func, True, plane, origin=origin, samples=4)

@@ -339,13 +339,13 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
     // The drawing buffer's pixels as the colour kernels' chunks gather and scatter them (S == 1).
     const ChunkPixels buffer_pixels{drawing_buffer ? drawing_buffer->color_sample(0, 0, 0) : nullptr, pitch,
                                     fb.width() - 1, fb.height() - 1};
-    // The common early depth test, one sample on the drawing buffer's 24-bit depth and no stencil,
-    // runs a quad at a time (pipeline/early_depth); anything else sample by sample below.
+    // The common early depth test, the drawing buffer's 24-bit depth and no stencil, runs a quad
+    // at a time (pipeline/early_depth); anything else sample by sample below.
     DefaultFramebuffer* const default_fb = fb.default_framebuffer();
-    const bool single_depth = early && ds.depth_test && !ds.stencil_test && S == 1 && !sink && default_fb;
+    const bool single_depth = early && ds.depth_test && !ds.stencil_test && !sink && default_fb;
     EarlyDepth single_depth_test;
     if (single_depth) {
-        single_depth_test.sample_x = pattern.x[0], single_depth_test.sample_y = pattern.y[0];
+        single_depth_test.pattern = &pattern;
         single_depth_test.func = ds.depth_func;
         single_depth_test.write = ds.depth_write;
         single_depth_test.depth = default_fb->depth_samples(0, 0);
@@ -355,7 +355,7 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
     // Single-sampled drawing buffer pixels (as 32-bit words) for prefetching; null when not touched.
     const uint32_t* const color_pixels = drawing_buffer && S == 1 && writes_color
         ? reinterpret_cast<const uint32_t*>(drawing_buffer->color_sample(0, 0, 0)) : nullptr;
-    const uint32_t* const depth_pixels = single_depth ? single_depth_test.depth : nullptr;
+    const uint32_t* const depth_pixels = single_depth && S == 1 ? single_depth_test.depth : nullptr;
     constexpr int32_t kPrefetchRows = 16;
 
     // The current batch (see below): its shaded vertices (instance i's vertex v at i * n + v), its

@@ -15,25 +15,30 @@ namespace softgl {
 
 namespace {
 
-// The reference: pixel by pixel, through the definitions (depth_at, depth_word, compare).
+// The reference: sample by sample, through the definitions (depth_at, depth_word, compare).
 size_t early_depth_scalar(const EarlyDepth& t, const Quad* quads, size_t n, uint16_t* survived) {
     const PrimitiveSetup& p = *t.prim;
+    const SamplePattern& pattern = *t.pattern;
+    const size_t S = size_t(pattern.count);
     size_t killed = 0;
     for (size_t i = 0; i < n; ++i) {
         for (int j = 0; j < 4; ++j) {
-            uint16_t& out = survived[4 * i + size_t(j)];
-            out = 0;
-            if (!(quad_pixel_mask(quads[i], j) & 1u)) continue;
+            const uint32_t covered = quad_pixel_mask(quads[i], j);
+            uint32_t passed = 0;
             const int32_t x = quads[i].x + (j & 1), y = quads[i].y + (j >> 1);
-            const uint32_t z = depth_word(Encoding::Depth24, p.depth_at(int64_t(x) * kSubPixel + t.sample_x,
-                                                                        int64_t(y) * kSubPixel + t.sample_y));
-            uint32_t* stored = &t.depth[size_t(y) * t.pitch + size_t(x)];
-            if (compare(t.func, z, *stored)) {
-                if (t.write) *stored = z;
-                out = 1;
-            } else {
-                ++killed;
+            for (size_t s = 0; s < S; ++s) {
+                if (!(covered & (1u << s))) continue;
+                const uint32_t z = depth_word(Encoding::Depth24, p.depth_at(int64_t(x) * kSubPixel + pattern.x[s],
+                                                                            int64_t(y) * kSubPixel + pattern.y[s]));
+                uint32_t* stored = &t.depth[(size_t(y) * t.pitch + size_t(x)) * S + s];
+                if (compare(t.func, z, *stored)) {
+                    if (t.write) *stored = z;
+                    passed |= 1u << s;
+                } else {
+                    ++killed;
+                }
             }
+            survived[4 * i + size_t(j)] = uint16_t(passed);
         }
     }
     return killed;
@@ -58,8 +63,8 @@ __attribute__((target("avx2"))) size_t early_depth_avx2(const EarlyDepth& t, con
     size_t killed = 0;
     for (size_t i = 0; i < n; ++i) {
         const Quad& quad = quads[i];
-        const int64_t X = int64_t(quad.x) * kSubPixel + t.sample_x - p.origin_x;
-        const int64_t Y = int64_t(quad.y) * kSubPixel + t.sample_y - p.origin_y;
+        const int64_t X = int64_t(quad.x) * kSubPixel + t.pattern->x[0] - p.origin_x;
+        const int64_t Y = int64_t(quad.y) * kSubPixel + t.pattern->y[0] - p.origin_y;
         const double fx0 = double(X) * (1.0 / kSubPixel), fx1 = double(X + kSubPixel) * (1.0 / kSubPixel);
         const double fy0 = double(Y) * (1.0 / kSubPixel), fy1 = double(Y + kSubPixel) * (1.0 / kSubPixel);
         const __m256d fx = _mm256_setr_pd(fx0, fx1, fx0, fx1), fy = _mm256_setr_pd(fy0, fy0, fy1, fy1);
@@ -107,6 +112,52 @@ __attribute__((target("avx2"))) size_t early_depth_avx2(const EarlyDepth& t, con
         }
         for (int j = 0; j < 4; ++j) survived[4 * i + size_t(j)] = uint16_t((passed >> j) & 1);
         killed += size_t(__builtin_popcount(unsigned(tested & ~passed)));
+    }
+    return killed;
+}
+
+// Four samples per pixel: a pixel's four samples per step, lanes as above (the positions'
+// int64 offsets converted one by one, as depth_at does, since AVX2 has no int64 conversion).
+__attribute__((target("avx2"))) size_t early_depth_4x_avx2(const EarlyDepth& t, const Quad* quads, size_t n,
+                                                          uint16_t* survived) {
+    const PrimitiveSetup& p = *t.prim;
+    const SamplePattern& pattern = *t.pattern;
+    const __m256d a = _mm256_set1_pd(p.depth.a), b = _mm256_set1_pd(p.depth.b), c = _mm256_set1_pd(p.depth.c);
+    const __m256d offset = _mm256_set1_pd(p.depth_offset), zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
+    const __m256d scale = _mm256_set1_pd(16777215.0), half = _mm256_set1_pd(0.5);
+    const __m128i less = _mm_set1_epi32(compare(t.func, 0, 1) ? -1 : 0);
+    const __m128i equal = _mm_set1_epi32(compare(t.func, 1, 1) ? -1 : 0);
+    const __m128i greater = _mm_set1_epi32(compare(t.func, 1, 0) ? -1 : 0);
+    const __m128i sign = _mm_set1_epi32(int32_t(0x80000000u)), bits = _mm_setr_epi32(1, 2, 4, 8);
+    size_t killed = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const Quad& quad = quads[i];
+        for (int j = 0; j < 4; ++j) {
+            const uint32_t mask = quad_pixel_mask(quad, j) & 0xFu;
+            survived[4 * i + size_t(j)] = 0;
+            if (!mask) continue;
+            const int32_t x = quad.x + (j & 1), y = quad.y + (j >> 1);
+            const int64_t X = int64_t(x) * kSubPixel - p.origin_x, Y = int64_t(y) * kSubPixel - p.origin_y;
+            double fx[4], fy[4];
+            for (int s = 0; s < 4; ++s)
+                fx[s] = double(X + pattern.x[s]) * (1.0 / kSubPixel), fy[s] = double(Y + pattern.y[s]) * (1.0 / kSubPixel);
+            const __m256d z = _mm256_add_pd(_mm256_add_pd(_mm256_add_pd(c, _mm256_mul_pd(a, _mm256_loadu_pd(fx))),
+                                                          _mm256_mul_pd(b, _mm256_loadu_pd(fy))), offset);
+            const __m256d d = _mm256_and_pd(_mm256_blendv_pd(one, z, _mm256_cmp_pd(z, one, _CMP_LT_OQ)),
+                                            _mm256_cmp_pd(z, zero, _CMP_GT_OQ));
+            const __m128i word = _mm256_cvttpd_epi32(_mm256_add_pd(_mm256_mul_pd(d, scale), half));
+            const __m128i covered = _mm_cmpeq_epi32(_mm_and_si128(_mm_set1_epi32(int32_t(mask)), bits), bits);
+            int* const samples = reinterpret_cast<int*>(&t.depth[(size_t(y) * t.pitch + size_t(x)) * 4]);
+            const __m128i stored = _mm_maskload_epi32(samples, covered);
+            const __m128i zs = _mm_xor_si128(word, sign), ss = _mm_xor_si128(stored, sign);   // unsigned order
+            const __m128i lt = _mm_cmplt_epi32(zs, ss), eq = _mm_cmpeq_epi32(zs, ss), gt = _mm_cmpgt_epi32(zs, ss);
+            const __m128i pass = _mm_and_si128(covered, _mm_or_si128(_mm_or_si128(_mm_and_si128(lt, less), _mm_and_si128(eq, equal)),
+                                                                     _mm_and_si128(gt, greater)));
+            if (t.write) _mm_maskstore_epi32(samples, pass, word);
+            const int passed = _mm_movemask_ps(_mm_castsi128_ps(pass));
+            survived[4 * i + size_t(j)] = uint16_t(passed);
+            killed += size_t(__builtin_popcount(mask & ~unsigned(passed)));
+        }
     }
     return killed;
 }
@@ -167,7 +218,7 @@ SOFTGL_AVX512_EARLY_DEPTH size_t early_depth_avx512(const EarlyDepth& t, const Q
     const __m512d a = _mm512_set1_pd(p.depth.a), c = _mm512_set1_pd(p.depth.c), offset = _mm512_set1_pd(p.depth_offset);
     const double b = p.depth.b;
     const bool add_offset = p.depth_offset != 0.0, write = t.write;
-    const int64_t x_origin = t.sample_x - p.origin_x, y_origin = t.sample_y - p.origin_y;
+    const int64_t x_origin = t.pattern->x[0] - p.origin_x, y_origin = t.pattern->y[0] - p.origin_y;
     uint32_t* const depth = t.depth;
     const size_t pitch = t.pitch;
     const __m256i flat_word = row_words(c, _mm512_setzero_pd(), add_offset, offset);
@@ -237,14 +288,74 @@ SOFTGL_AVX512_EARLY_DEPTH size_t early_depth_avx512(const EarlyDepth& t, const Q
     return plane.a == 0.0 && plane.b == 0.0 ? early_depth_avx512<true>(t, quads, n, survived)
                                             : early_depth_avx512<false>(t, quads, n, survived);
 }
+
+// Four samples per pixel: a quad's pixel row is two pixels' 8 consecutive sample words, 8 double
+// lanes (lane l: sample l % 4 of pixel l / 4). Each lane's position is the scalar definition's
+// int64 X - origin (exact), converted and scaled as depth_at does, then row_words and test_row
+// as above. pext/pdep move the rows' sample bits between the quad's coverage and survived.
+template <int kPredicate>
+SOFTGL_AVX512_EARLY_DEPTH size_t early_depth_4x_avx512(const EarlyDepth& t, const Quad* quads, size_t n, uint16_t* survived) {
+    const PrimitiveSetup& p = *t.prim;
+    const SamplePattern& pattern = *t.pattern;
+    const __m512d a = _mm512_set1_pd(p.depth.a), b = _mm512_set1_pd(p.depth.b), c = _mm512_set1_pd(p.depth.c);
+    const __m512d offset = _mm512_set1_pd(p.depth_offset), inv_sub = _mm512_set1_pd(1.0 / kSubPixel);
+    const bool add_offset = p.depth_offset != 0.0, write = t.write;
+    const __m512i lane_x = _mm512_setr_epi64(pattern.x[0], pattern.x[1], pattern.x[2], pattern.x[3], kSubPixel + pattern.x[0],
+                                             kSubPixel + pattern.x[1], kSubPixel + pattern.x[2], kSubPixel + pattern.x[3]);
+    const __m512i lane_y = _mm512_setr_epi64(pattern.y[0], pattern.y[1], pattern.y[2], pattern.y[3], pattern.y[0],
+                                             pattern.y[1], pattern.y[2], pattern.y[3]);
+    uint32_t* const depth = t.depth;
+    const size_t pitch = t.pitch;
+    constexpr uint64_t kSamples = 0x000F000F000F000Full;   // samples 0-3 of each pixel of a quad
+    size_t killed = 0;
+    for (size_t i = 0; i < n; ++i) {
+        const Quad& quad = quads[i];
+        const uint32_t covered = uint32_t(_pext_u64(quad.coverage, kSamples));   // row 0: bits 0-7, row 1: 8-15
+        const __mmask8 covered0 = __mmask8(covered), covered1 = __mmask8(covered >> 8);
+        const int64_t X = int64_t(quad.x) * kSubPixel - p.origin_x, Y = int64_t(quad.y) * kSubPixel - p.origin_y;
+        const __m512d fx = _mm512_mul_pd(_mm512_cvtepi64_pd(_mm512_add_epi64(_mm512_set1_epi64(X), lane_x)), inv_sub);
+        const __m512d fy0 = _mm512_mul_pd(_mm512_cvtepi64_pd(_mm512_add_epi64(_mm512_set1_epi64(Y), lane_y)), inv_sub);
+        const __m512d fy1 = _mm512_mul_pd(_mm512_cvtepi64_pd(_mm512_add_epi64(_mm512_set1_epi64(Y + kSubPixel), lane_y)), inv_sub);
+        const __m512d cax = _mm512_add_pd(c, _mm512_mul_pd(a, fx));
+        uint32_t* row0 = &depth[(size_t(quad.y) * pitch + size_t(quad.x)) * 4];
+        uint32_t* row1 = covered1 ? row0 + 4 * pitch : row0;   // a pointer into the buffer either way
+        uint32_t passed = 0;
+        if (covered0) passed = test_row<kPredicate>(write, row_words(cax, _mm512_mul_pd(b, fy0), add_offset, offset), row0, covered0);
+        if (covered1)
+            passed |= test_row<kPredicate>(write, row_words(cax, _mm512_mul_pd(b, fy1), add_offset, offset), row1, covered1) << 8;
+        const uint64_t masks = _pdep_u64(passed, kSamples);
+        std::memcpy(survived + 4 * i, &masks, 8);
+        killed += size_t(__builtin_popcount(covered & ~passed));
+    }
+    return killed;
+}
+
+SOFTGL_AVX512_EARLY_DEPTH size_t early_depth_4x_avx512(const EarlyDepth& t, const Quad* quads, size_t n, uint16_t* survived) {
+    constexpr int kNever = 3, kAlways = 7;
+    switch (t.func) {
+        case gl::NEVER: return early_depth_4x_avx512<kNever>(t, quads, n, survived);
+        case gl::LESS: return early_depth_4x_avx512<_MM_CMPINT_LT>(t, quads, n, survived);
+        case gl::EQUAL: return early_depth_4x_avx512<_MM_CMPINT_EQ>(t, quads, n, survived);
+        case gl::LEQUAL: return early_depth_4x_avx512<_MM_CMPINT_LE>(t, quads, n, survived);
+        case gl::GREATER: return early_depth_4x_avx512<_MM_CMPINT_NLE>(t, quads, n, survived);
+        case gl::NOTEQUAL: return early_depth_4x_avx512<_MM_CMPINT_NE>(t, quads, n, survived);
+        case gl::GEQUAL: return early_depth_4x_avx512<_MM_CMPINT_NLT>(t, quads, n, survived);
+        default: return early_depth_4x_avx512<kAlways>(t, quads, n, survived);
+    }
+}
 #endif
 
 }  // namespace
 
 size_t early_depth_test_at(SimdLevel level, const EarlyDepth& t, const Quad* quads, size_t n, uint16_t* survived) {
 #if defined(SOFTGL_HAVE_AVX2_EARLY_DEPTH)
-    if (level == SimdLevel::AVX512) return early_depth_avx512(t, quads, n, survived);
-    if (level == SimdLevel::AVX2) return early_depth_avx2(t, quads, n, survived);
+    if (t.pattern->count == 1) {
+        if (level == SimdLevel::AVX512) return early_depth_avx512(t, quads, n, survived);
+        if (level == SimdLevel::AVX2) return early_depth_avx2(t, quads, n, survived);
+    } else if (t.pattern->count == 4) {
+        if (level == SimdLevel::AVX512) return early_depth_4x_avx512(t, quads, n, survived);
+        if (level == SimdLevel::AVX2) return early_depth_4x_avx2(t, quads, n, survived);
+    }
 #endif
     (void)level;
     return early_depth_scalar(t, quads, n, survived);
