@@ -1,3 +1,4 @@
+#include <array>
 #include <cstring>
 // softgl._core.testing: direct access to single pipeline stages for tests. Conversions only.
 #include <pybind11/numpy.h>
@@ -19,6 +20,7 @@
 #include "softgl/pipeline/blend.h"
 #include "softgl/pipeline/depth_stencil.h"
 #include "softgl/pipeline/clip.h"
+#include "softgl/pipeline/setup.h"
 
 namespace py = pybind11;
 
@@ -238,6 +240,28 @@ void bind_testing(py::module_& m) {
           py::arg("level"), py::arg("first"), py::arg("last"), py::arg("step") = 1);
     // The lane kernels' instruction-set levels: 0 scalar, 1 SSE2, 2 AVX2, 3 AVX-512; the best this CPU runs.
     t.def("simd_level", [] { return int(softgl::best_simd_level()); });
+    // Setup::project_vertices at one instruction-set level: positions (n, 4) float32 clip coordinates,
+    // viewport (x, y, width, height) on a width x height target. Returns (XY (n, 2) int64, z_inv_w (n, 2)
+    // float64), the WindowPosition fields.
+    t.def("project_vertices",
+          [](int level, py::array_t<float, py::array::c_style | py::array::forcecast> positions, int32_t width,
+             int32_t height, std::array<int32_t, 4> viewport) {
+              if (positions.ndim() != 2 || positions.shape(1) != 4) throw py::value_error("positions (n, 4)");
+              softgl::RasterState rs = softgl::RasterState::for_target(width, height);
+              rs.viewport.x = viewport[0], rs.viewport.y = viewport[1];
+              rs.viewport.width = viewport[2], rs.viewport.height = viewport[3];
+              const size_t n = size_t(positions.shape(0));
+              std::vector<softgl::WindowPosition> out(n);
+              softgl::Setup(rs).project_vertices(positions.data(), n, out.data(), softgl::SimdLevel(level));
+              py::array_t<int64_t> xy({n, size_t(2)});
+              py::array_t<double> zw({n, size_t(2)});
+              for (size_t i = 0; i < n; ++i) {
+                  xy.mutable_at(i, 0) = out[i].X, xy.mutable_at(i, 1) = out[i].Y;
+                  zw.mutable_at(i, 0) = out[i].z, zw.mutable_at(i, 1) = out[i].inv_w;
+              }
+              return py::make_tuple(xy, zw);
+          },
+          py::arg("level"), py::arg("positions"), py::arg("width"), py::arg("height"), py::arg("viewport"));
     // pipeline/interpolate at one instruction-set level: planes (4, 3) float64 rows (a, b, c) of
     // weight[0..2] and inv_w, origin in 1/256 pixel, quads (n, 2) int32 lower-left pixels,
     // values (vertices, words) float32, base: the pixel the float planes are based at. Returns

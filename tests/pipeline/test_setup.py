@@ -2,6 +2,7 @@
 depth range, scissor."""
 import numpy as np
 import pytest
+from softgl import _core
 
 from conftest import (GL_BACK, GL_CCW, GL_CW, GL_FRONT, GL_FRONT_AND_BACK, clip_from_window,
                       coverage, snap, window_from_clip)
@@ -151,3 +152,48 @@ def test_point_coord_and_wide_point_off_screen():
     np.testing.assert_allclose(r["point_coord"][ys, xs, 1], 0.5 - (ys + 0.5 - 8.5) / 4)
     ys, xs = np.nonzero(r["last"] == 1)
     assert sorted(set(xs)) == [0, 1] and sorted(set(ys)) == list(range(17, 23))
+
+
+def _projection_reference(pos, viewport):
+    """Setup's projection in float64 (ES 3.0 §2.12.1), snapped to 1/256 pixel by rounding to
+    nearest, with the per-vertex clip test of Clipper::accepts (guard band of 2^20 pixels)."""
+    vx, vy, vw, vh = viewport
+    p = pos.astype(np.float64)
+    x, y, z, w = p[:, 0], p[:, 1], p[:, 2], p[:, 3]
+    with np.errstate(all="ignore"):
+        g = float(2 ** 20)
+        inside = (np.isfinite(p).all(axis=1) & (w >= 2.0 ** -1022) & (z + w >= 0) & (w - z >= 0) &
+                  ((0.5 * vw) * x + (vx + 0.5 * vw + g) * w >= 0) &
+                  (-(0.5 * vw) * x + (g - (vx + 0.5 * vw)) * w >= 0) &
+                  ((0.5 * vh) * y + (vy + 0.5 * vh + g) * w >= 0) &
+                  (-(0.5 * vh) * y + (g - (vy + 0.5 * vh)) * w >= 0))
+        wx = (0.5 * vw) * (x / w) + (vx + 0.5 * vw)
+        wy = (0.5 * vh) * (y / w) + (vy + 0.5 * vh)
+        snap = lambda v: np.floor(np.clip(v, -g, g) * 256 + 0.5)
+        ties = inside & ((wx * 256) % 1 == 0.5)
+        return inside, ties, snap(wx), snap(wy), 0.5 * (z / w) + 0.5, 1.0 / w
+
+
+@pytest.mark.parametrize("viewport", [(0, 0, 64, 48), (-7, 13, 1023, 777), (5, -3, 3, 1 << 14)])
+def test_project_vertices_every_simd_level(viewport):
+    # Every level gives the scalar path's bits, and those are the float64 projection's.
+    rng = np.random.default_rng(17)
+    n = 4099   # not a multiple of the vector width: the scalar tail runs too
+    pos = rng.uniform(-1.5, 1.5, (n, 4)).astype(np.float32)
+    pos[:, 3] = rng.choice([1.0, 0.5, 2.0, 1e-3, -1.0, 3e-7], n) * rng.uniform(0.5, 2.0, n)
+    pos[::7, :2] = np.round(pos[::7, :2] * 2 ** 14) / 2 ** 14   # many land on half a sub-pixel: ties
+    pos[::7, 3] = 1.0
+    special = [np.nan, np.inf, -np.inf, 0.0, -0.0, 1e-45, 3e38]
+    for k, v in enumerate(special * 9):
+        pos[11 * k + 3, k % 4] = v
+    xy0, zw0 = _core.testing.project_vertices(0, pos, 1024, 1024, viewport)
+    inside, ties, X, Y, z, inv_w = _projection_reference(pos, viewport)
+    assert ties.sum() >= 5
+    assert inside.sum() > n // 4 and (~inside).sum() > n // 4
+    assert np.array_equal(zw0[:, 1] > 0, inside)
+    assert np.array_equal(xy0[inside, 0], X[inside]) and np.array_equal(xy0[inside, 1], Y[inside])
+    assert np.array_equal(zw0[inside, 0], z[inside]) and np.array_equal(zw0[inside, 1], inv_w[inside])
+    for level in range(1, _core.testing.simd_level() + 1):
+        xy, zw = _core.testing.project_vertices(level, pos, 1024, 1024, viewport)
+        assert np.array_equal(xy, xy0), level
+        assert np.array_equal(zw.view(np.int64), zw0.view(np.int64)), level

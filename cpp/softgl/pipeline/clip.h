@@ -72,6 +72,8 @@ public:
     // (1,0,0), (0,1,0), (0,0,1)) without clipping: every vertex finite, inside every plane by
     // outcode, with w >= kMinClippedW. The common case, tested first by setup.
     bool accepts(const Vec4d v[3]) const;
+    // Plane i's coefficient on x, y, z or w (k = 0..3), for vectorised copies of outcode.
+    double plane(int i, int k) const { return plane_[i][k]; }
 
     // Clips triangle v[0..2]. Returns the number of vertices of the clipped convex polygon written to
     // `out` (0: nothing left, or a non-finite coordinate), in the triangle's winding order; every

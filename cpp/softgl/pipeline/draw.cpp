@@ -230,6 +230,7 @@ struct DrawScratch {
     std::unordered_map<uint32_t, uint32_t> slot;
     std::vector<VertexWorker> vertex_workers;
     VertexShaderOutputs all;
+    std::vector<WindowPosition> window;   // triangles: the batch's vertices projected by setup
     std::vector<SetupChunk> chunks;
     std::vector<Bins> chunk_bins;
     PrimitiveTable prims;
@@ -757,6 +758,9 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
         float* const all_position = at_least(all.position, all.count * 4);
         float* const all_point_size = at_least(all.point_size, all.count);
         uint32_t* const all_varyings = at_least(all.varyings, all.count * size_t(words));
+        // Triangles project and snap each vertex once, vectorised, while its position is hot.
+        const bool project = per == 3 && !state.rasterizer_discard;
+        WindowPosition* const all_window = project ? at_least(ds_.window, all.count) : nullptr;
         if (ds_.vertex_workers.size() < in.pool.size()) ds_.vertex_workers.resize(in.pool.size());
         const size_t vertex_chunks = (n + kVertexChunk - 1) / kVertexChunk;
         for_chunks(in.pool, vertex_chunks * instances, [&](size_t job, unsigned worker) {
@@ -772,6 +776,7 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
             std::copy_n(w.shaded.position.data(), count * 4, all_position + at * 4);
             std::copy_n(w.shaded.point_size.data(), count, all_point_size + at);
             std::copy_n(w.shaded.varyings.data(), count * size_t(words), all_varyings + at * size_t(words));
+            if (project) Setup(rs).project_vertices(w.shaded.position.data(), count, all_window + at);
         });
         st.vertices_shaded += all.count;
         st.seconds_vertex += since(t0);
@@ -803,7 +808,7 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                 }
                 // The primitive's number in the draw (modulo 2^32).
                 const uint32_t number = uint32_t(uint64_t(instance + j) * per_instance + p);
-                if (per == 3) setup.triangle(all_position + 4 * v[0], all_position + 4 * v[1], all_position + 4 * v[2], v[0], v[1], v[2], number, chunk.prims);
+                if (per == 3) setup.triangle(all_position, all_window, v, number, chunk.prims);
                 else if (per == 2) setup.line(all_position + 4 * v[0], all_position + 4 * v[1], v[0], v[1], number, chunk.prims);
                 else setup.point(all_position + 4 * v[0], all_point_size[v[0]], v[0], number, chunk.prims);
             }

@@ -6,6 +6,11 @@
 #include <cstdlib>
 #include <utility>
 
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#define SOFTGL_HAVE_SIMD_PROJECTION 1
+#endif
+
 namespace softgl {
 
 namespace {
@@ -136,20 +141,151 @@ inline bool Setup::finish_bbox(PrimitiveSetup& s, int64_t xmin, int64_t ymin, in
     return true;
 }
 
+namespace {
+
+// One vertex of project_vertices: the per-vertex part of Clipper::accepts, then Setup::project's
+// operations (the same IEEE operations in every instantiation, so vectorised copies give the same
+// bits). A vertex outside projects (0, 0, 0, 1) instead, so no NaN is converted to an integer.
+__attribute__((always_inline)) inline void project_vertex(const float* p, const Clipper& clipper,
+                                                          const ViewportTransform& vp, WindowPosition& out) {
+    const Vec4d v{p[0], p[1], p[2], p[3]};
+    const bool inside = finite_vertex(v) & (v.w >= kMinClippedW) & ((clipper.outcode(v) & ~kClipW) == 0);
+    const double x = inside ? v.x : 0.0, y = inside ? v.y : 0.0, z = inside ? v.z : 0.0;
+    const double w = inside ? v.w : 1.0;
+    out.X = snap(vp.scale_x * (x / w) + vp.offset_x);
+    out.Y = snap(vp.scale_y * (y / w) + vp.offset_y);
+    out.z = vp.scale_z * (z / w) + vp.offset_z;
+    out.inv_w = inside ? 1.0 / w : 0.0;
+}
+
+void project_scalar(const float* positions, size_t count, const Clipper& clipper,
+                    const ViewportTransform& vp, WindowPosition* out) {
+    for (size_t i = 0; i < count; ++i) project_vertex(positions + 4 * i, clipper, vp, out[i]);
+}
+
+#if defined(SOFTGL_HAVE_SIMD_PROJECTION)
+// project_vertex for 8 vertices at a time: the same IEEE operations lane by lane, the clamp as
+// max/min with the operand order that keeps std::max/std::min's result for NaN, and the exact
+// floor as truncation (vcvttpd2qq) stepped down where the truncation exceeds the value.
+// GCC 12's AVX-512 headers initialise their "undefined" operands from themselves.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+#define SOFTGL_AVX512_PROJECTION __attribute__((target("avx512f,avx512dq")))
+
+// snap() of 8 window coordinates.
+SOFTGL_AVX512_PROJECTION inline __m512i snap8(__m512d window) {
+    window = _mm512_min_pd(_mm512_set1_pd(kGuardBand), _mm512_max_pd(_mm512_set1_pd(-kGuardBand), window));
+    const __m512d x = _mm512_add_pd(_mm512_mul_pd(window, _mm512_set1_pd(double(kSubPixel))), _mm512_set1_pd(0.5));
+    const __m512i t = _mm512_cvttpd_epi64(x);
+    const __mmask8 above = _mm512_cmp_pd_mask(_mm512_cvtepi64_pd(t), x, _CMP_GT_OQ);
+    return _mm512_mask_sub_epi64(t, above, t, _mm512_set1_epi64(1));
+}
+
+SOFTGL_AVX512_PROJECTION inline __mmask8 ge(__m512d a, __m512d b) { return _mm512_cmp_pd_mask(a, b, _CMP_GE_OQ); }
+
+SOFTGL_AVX512_PROJECTION void project_avx512(const float* positions, size_t count, const Clipper& clipper,
+                                             const ViewportTransform& vp, WindowPosition* out) {
+    const __m512d zero = _mm512_setzero_pd(), one = _mm512_set1_pd(1.0);
+    // x, y, z, w of 8 vertices (two registers of 4 vertices each), one component per register.
+    const __m512i pick[4] = {
+        _mm512_setr_epi32(0, 4, 8, 12, 16, 20, 24, 28, 0, 0, 0, 0, 0, 0, 0, 0),
+        _mm512_setr_epi32(1, 5, 9, 13, 17, 21, 25, 29, 0, 0, 0, 0, 0, 0, 0, 0),
+        _mm512_setr_epi32(2, 6, 10, 14, 18, 22, 26, 30, 0, 0, 0, 0, 0, 0, 0, 0),
+        _mm512_setr_epi32(3, 7, 11, 15, 19, 23, 27, 31, 0, 0, 0, 0, 0, 0, 0, 0)};
+    const __m512d p3x = _mm512_set1_pd(clipper.plane(3, 0)), p3w = _mm512_set1_pd(clipper.plane(3, 3));
+    const __m512d p4x = _mm512_set1_pd(clipper.plane(4, 0)), p4w = _mm512_set1_pd(clipper.plane(4, 3));
+    const __m512d p5y = _mm512_set1_pd(clipper.plane(5, 1)), p5w = _mm512_set1_pd(clipper.plane(5, 3));
+    const __m512d p6y = _mm512_set1_pd(clipper.plane(6, 1)), p6w = _mm512_set1_pd(clipper.plane(6, 3));
+    const __m512d min_w = _mm512_set1_pd(kMinClippedW);
+    const __m512d scale_x = _mm512_set1_pd(vp.scale_x), offset_x = _mm512_set1_pd(vp.offset_x);
+    const __m512d scale_y = _mm512_set1_pd(vp.scale_y), offset_y = _mm512_set1_pd(vp.offset_y);
+    const __m512d scale_z = _mm512_set1_pd(vp.scale_z), offset_z = _mm512_set1_pd(vp.offset_z);
+    // Records (X, Y, z, inv_w) of 2 vertices per register: interleave X with Y and z with inv_w,
+    // then take 2 + 2 of those pairs.
+    const __m512i pair_lo = _mm512_setr_epi64(0, 8, 1, 9, 2, 10, 3, 11);
+    const __m512i pair_hi = _mm512_setr_epi64(4, 12, 5, 13, 6, 14, 7, 15);
+    const __m512i record_lo = _mm512_setr_epi64(0, 1, 8, 9, 2, 3, 10, 11);
+    const __m512i record_hi = _mm512_setr_epi64(4, 5, 12, 13, 6, 7, 14, 15);
+    size_t i = 0;
+    for (; i + 8 <= count; i += 8) {
+        const __m512 lo = _mm512_loadu_ps(positions + 4 * i), hi = _mm512_loadu_ps(positions + 4 * i + 16);
+        __m512d c[4];
+        for (int k = 0; k < 4; ++k)
+            c[k] = _mm512_cvtps_pd(_mm512_castps512_ps256(_mm512_permutex2var_ps(lo, pick[k], hi)));
+        __m512d x = c[0], y = c[1], z = c[2], w = c[3];
+        __mmask8 inside = 0xff;
+        for (int k = 0; k < 4; ++k) inside &= _mm512_cmp_pd_mask(_mm512_sub_pd(c[k], c[k]), zero, _CMP_EQ_OQ);
+        inside &= ge(w, min_w) & ge(_mm512_add_pd(z, w), zero) & ge(_mm512_sub_pd(w, z), zero);
+        inside &= ge(_mm512_add_pd(_mm512_mul_pd(p3x, x), _mm512_mul_pd(p3w, w)), zero);
+        inside &= ge(_mm512_add_pd(_mm512_mul_pd(p4x, x), _mm512_mul_pd(p4w, w)), zero);
+        inside &= ge(_mm512_add_pd(_mm512_mul_pd(p5y, y), _mm512_mul_pd(p5w, w)), zero);
+        inside &= ge(_mm512_add_pd(_mm512_mul_pd(p6y, y), _mm512_mul_pd(p6w, w)), zero);
+        x = _mm512_maskz_mov_pd(inside, x);
+        y = _mm512_maskz_mov_pd(inside, y);
+        z = _mm512_maskz_mov_pd(inside, z);
+        w = _mm512_mask_blend_pd(inside, one, w);
+        const __m512i X = snap8(_mm512_add_pd(_mm512_mul_pd(scale_x, _mm512_div_pd(x, w)), offset_x));
+        const __m512i Y = snap8(_mm512_add_pd(_mm512_mul_pd(scale_y, _mm512_div_pd(y, w)), offset_y));
+        const __m512i Z = _mm512_castpd_si512(_mm512_add_pd(_mm512_mul_pd(scale_z, _mm512_div_pd(z, w)), offset_z));
+        const __m512i inv_w = _mm512_castpd_si512(_mm512_maskz_div_pd(inside, one, w));
+        const __m512i xy_lo = _mm512_permutex2var_epi64(X, pair_lo, Y), xy_hi = _mm512_permutex2var_epi64(X, pair_hi, Y);
+        const __m512i zw_lo = _mm512_permutex2var_epi64(Z, pair_lo, inv_w), zw_hi = _mm512_permutex2var_epi64(Z, pair_hi, inv_w);
+        int64_t* const dst = &out[i].X;
+        _mm512_storeu_si512(dst, _mm512_permutex2var_epi64(xy_lo, record_lo, zw_lo));
+        _mm512_storeu_si512(dst + 8, _mm512_permutex2var_epi64(xy_lo, record_hi, zw_lo));
+        _mm512_storeu_si512(dst + 16, _mm512_permutex2var_epi64(xy_hi, record_lo, zw_hi));
+        _mm512_storeu_si512(dst + 24, _mm512_permutex2var_epi64(xy_hi, record_hi, zw_hi));
+    }
+    for (; i < count; ++i) project_vertex(positions + 4 * i, clipper, vp, out[i]);
+}
+#pragma GCC diagnostic pop
+#endif
+
+}  // namespace
+
+void Setup::project_vertices(const float* positions, size_t count, WindowPosition* out, SimdLevel level) const {
+#if defined(SOFTGL_HAVE_SIMD_PROJECTION)
+    if (level == SimdLevel::AVX512) return project_avx512(positions, count, clipper_, transform_, out);
+#endif
+    (void)level;
+    project_scalar(positions, count, clipper_, transform_, out);
+}
+
 void Setup::triangle(const float* p0, const float* p1, const float* p2, uint32_t i0, uint32_t i1,
                      uint32_t i2, uint32_t primitive, std::vector<PrimitiveSetup>& out) {
-    ++stats.primitives;
-    const Vec4d v[3] = {{p0[0], p0[1], p0[2], p0[3]},
-                        {p1[0], p1[1], p1[2], p1[3]},
-                        {p2[0], p2[1], p2[2], p2[3]}};
+    const float* const p[3] = {p0, p1, p2};
+    WindowPosition window[3];
+    for (int i = 0; i < 3; ++i) project_vertex(p[i], clipper_, transform_, window[i]);
+    const WindowPosition* const w[3] = {&window[0], &window[1], &window[2]};
     const uint32_t vertex[3] = {i0, i1, i2};
-    static constexpr double kOwnWeight[3][3] = {{1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
-    if (clipper_.accepts(v)) {   // the common case: what clip_triangle would return, unchanged
-        const WindowVertex w[3] = {project(v[0], kOwnWeight[0]), project(v[1], kOwnWeight[1]),
-                                   project(v[2], kOwnWeight[2])};
+    triangle(p, w, vertex, primitive, out);
+}
+
+void Setup::triangle(const float* positions, const WindowPosition* window, const uint32_t vertex[3],
+                     uint32_t primitive, std::vector<PrimitiveSetup>& out) {
+    const float* const p[3] = {positions + 4 * size_t(vertex[0]), positions + 4 * size_t(vertex[1]),
+                               positions + 4 * size_t(vertex[2])};
+    const WindowPosition* const w[3] = {&window[vertex[0]], &window[vertex[1]], &window[vertex[2]]};
+    triangle(p, w, vertex, primitive, out);
+}
+
+inline void Setup::triangle(const float* const p[3], const WindowPosition* const wp[3], const uint32_t vertex[3],
+                            uint32_t primitive, std::vector<PrimitiveSetup>& out) {
+    ++stats.primitives;
+    if ((wp[0]->inv_w > 0) & (wp[1]->inv_w > 0) & (wp[2]->inv_w > 0)) {
+        // The common case (Clipper::accepts): what clip_triangle would return, unchanged.
+        WindowVertex w[3];
+        for (int i = 0; i < 3; ++i) {
+            w[i].X = wp[i]->X; w[i].Y = wp[i]->Y; w[i].z = wp[i]->z; w[i].inv_w = wp[i]->inv_w;
+            for (int k = 0; k < 3; ++k) w[i].weight[k] = k == i ? 1.0 : 0.0;
+        }
         unclipped_triangle(w, vertex, primitive, out);
         return;
     }
+    const Vec4d v[3] = {{p[0][0], p[0][1], p[0][2], p[0][3]},
+                        {p[1][0], p[1][1], p[1][2], p[1][3]},
+                        {p[2][0], p[2][1], p[2][2], p[2][3]}};
     ClipVertex poly[kMaxClipVertices];
     const int n = clipper_.clip_triangle(v, poly);
     if (n == 0) {

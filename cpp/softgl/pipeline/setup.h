@@ -15,10 +15,12 @@
 // Primitives are convex polygons of 3 (triangles) or 4 (points, lines) edges, all with the same
 // representation, so one rasterizer serves all of them.
 #pragma once
+#include <cstddef>
 #include <cstdint>
 #include <vector>
 
 #include "softgl/pipeline/clip.h"
+#include "softgl/pipeline/fragment_ops.h"
 #include "softgl/pipeline/viewport.h"
 
 namespace softgl {
@@ -149,6 +151,19 @@ struct SetupStats {
     void add(const SetupStats& o);
 };
 
+// A vertex projected and snapped once for all the triangles that use it (Setup::project_vertices).
+// inv_w is 0 when the vertex fails the per-vertex part of Clipper::accepts (the other fields are
+// then meaningless): a triangle with such a vertex goes to the clipper.
+struct WindowPosition {
+    int64_t X, Y;      // snapped window position, 1/256 pixel
+    double z, inv_w;   // window z, 1 / w_clip (> 0 when set)
+};
+
+// Viewport::scale_x() etc., computed once (ES 3.0 §2.12.1).
+struct ViewportTransform {
+    double scale_x, offset_x, scale_y, offset_y, scale_z, offset_z;
+};
+
 class Setup {
 public:
     explicit Setup(const RasterState& state);
@@ -158,6 +173,14 @@ public:
     // varying interpolation; `primitive` is the primitive's number in the draw.
     void triangle(const float* p0, const float* p1, const float* p2, uint32_t i0, uint32_t i1,
                   uint32_t i2, uint32_t primitive, std::vector<PrimitiveSetup>& out);
+    // The same for vertices project_vertices has projected: vertex k's clip position is
+    // positions[4 * vertex[k]...], its window position window[vertex[k]].
+    void triangle(const float* positions, const WindowPosition* window, const uint32_t vertex[3],
+                  uint32_t primitive, std::vector<PrimitiveSetup>& out);
+    // Projects positions[0 .. 4 * count) (clip coordinates) to out[0 .. count), vertex by vertex,
+    // exactly as triangle() does; every level gives the same bits (AVX-512, AVX2, scalar below).
+    void project_vertices(const float* positions, size_t count, WindowPosition* out,
+                          SimdLevel level = best_simd_level()) const;
     // A point of gl_PointSize `size` (clamped to the point size range), ES 3.0 §3.4.
     void point(const float* p, float size, uint32_t index, uint32_t primitive,
                std::vector<PrimitiveSetup>& out);
@@ -174,6 +197,8 @@ private:
         double weight[3];
     };
     WindowVertex project(const Vec4d& position, const double weight[3]) const;
+    void triangle(const float* const p[3], const WindowPosition* const w[3], const uint32_t vertex[3],
+                  uint32_t primitive, std::vector<PrimitiveSetup>& out);
     bool culled(bool front) const;   // by cullFace (ES 3.0 §3.6.1)
     void unclipped_triangle(const WindowVertex w[3], const uint32_t vertex[3], uint32_t primitive,
                             std::vector<PrimitiveSetup>& out);
@@ -182,11 +207,6 @@ private:
                        std::vector<PrimitiveSetup>& out);
     bool finish_bbox(PrimitiveSetup& s, int64_t xmin, int64_t ymin, int64_t xmax, int64_t ymax);
     double resolvable_difference(double max_abs_z) const;
-
-    // Viewport::scale_x() etc., computed once (ES 3.0 §2.12.1).
-    struct ViewportTransform {
-        double scale_x, offset_x, scale_y, offset_y, scale_z, offset_z;
-    };
 
     RasterState state_;
     Clipper clipper_;
