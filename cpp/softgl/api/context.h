@@ -361,6 +361,7 @@ private:
     std::array<TextureUnit, limits::kMaxCombinedTextureImageUnits> texture_units_;
     std::vector<std::string> texture_extensions_;     // enabled by getExtension
     TextureUnitSampler draw_sampler_;
+    uint32_t draw_sampler_filled_[4] = {0, 0, 0, 0};   // units[unit][dim] set by the last draw, bit per unit
     std::shared_ptr<Texture>* texture_binding(GLenum target);
     Texture* bound_texture(const char* call, GLenum target, int* face);
     bool check_tex_format(const char* call, GLenum target, int32_t level, GLenum internal_format,

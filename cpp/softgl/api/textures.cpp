@@ -749,7 +749,13 @@ bool sampler_type(uint32_t gl_type, SamplerType& out) {
 bool Context::prepare_textures_and_targets(const char* call) {
     const Program& p = *current_program_;
     const CompletenessRules rules = completeness_rules();
-    for (auto& unit : draw_sampler_.units) unit.fill(BoundTexture{});
+    // Reset only the entries the last draw set (resetting all 128 per draw was most of a
+    // one-point draw's validation time).
+    for (int dim = 0; dim < 4; ++dim) {
+        for (uint32_t m = draw_sampler_filled_[dim]; m; m &= m - 1)
+            draw_sampler_.units[size_t(__builtin_ctz(m))][size_t(dim)] = BoundTexture{};
+        draw_sampler_filled_[dim] = 0;
+    }
     uint32_t used_units[4] = {0, 0, 0, 0};     // bit per unit, per sampler dimension
     uint32_t unit_type[limits::kMaxCombinedTextureImageUnits] = {};
     for (const auto& u : p.linked->reflection.uniforms) {
@@ -781,6 +787,7 @@ bool Context::prepare_textures_and_targets(const char* call) {
                 return false;
             }
             bt.texture = tex.get();
+            draw_sampler_filled_[dim] |= 1u << unit;
             bt.params = params;
             bt.base = tex->immutable ? std::clamp(tex->base_level, 0, tex->immutable_levels - 1) : tex->base_level;
             bt.q = needs_mipmaps(params.min_filter) ? max_sampled_level(*tex) : bt.base;
