@@ -174,11 +174,18 @@ def test_other_shaders_run_on_the_executor(body):
     assert (a == b).all()
 
 
-def test_webgl1_frag_color_and_blending_on_the_drawing_buffer():
-    """gl_FragColor = v through the RGBA8 colour kernels (blending on): the same bytes either way."""
+BLENDS = {"off": None, "alpha_over": ("SRC_ALPHA", "ONE_MINUS_SRC_ALPHA"), "additive": ("ONE", "ONE")}
+
+
+@pytest.mark.parametrize("mode", ["TRIANGLES", "LINES"])
+@pytest.mark.parametrize("blend", list(BLENDS))
+@pytest.mark.parametrize("spread", [0.15, 1.0])
+def test_webgl1_frag_color_and_blending_on_the_drawing_buffer(mode, blend, spread):
+    """gl_FragColor = v through the RGBA8 colour kernels (the fused copy kernel, with blending or
+    without, small and large primitives): the same bytes either way."""
     r = np.random.default_rng(5)
-    n = 300
-    pos = (r.uniform(-1, 1, (n, 1, 2)) + r.uniform(-0.15, 0.15, (n, 3, 2))).reshape(-1, 2).astype(np.float32)
+    n = 300 if spread < 1 else 30
+    pos = (r.uniform(-1, 1, (n, 1, 2)) + r.uniform(-spread, spread, (n, 3, 2))).reshape(-1, 2).astype(np.float32)
     color = r.uniform(-0.2, 1.2, (n * 3, 4)).astype(np.float32)
     vs = ("attribute vec2 pos; attribute vec4 color; varying vec4 v;"
           "void main() { v = color; gl_Position = vec4(pos, 0.0, 1.0); }")
@@ -194,11 +201,12 @@ def test_webgl1_frag_color_and_blending_on_the_drawing_buffer():
             gl.bufferData(gl.ARRAY_BUFFER, data, gl.STATIC_DRAW)
             gl.enableVertexAttribArray(loc)
             gl.vertexAttribPointer(loc, data.shape[1], gl.FLOAT, False, 0, 0)
-        gl.enable(gl.BLEND)
-        gl.blendFunc(gl.SRC_ALPHA, gl.ONE_MINUS_SRC_ALPHA)
+        if BLENDS[blend]:
+            gl.enable(gl.BLEND)
+            gl.blendFunc(*(getattr(gl, f) for f in BLENDS[blend]))
         core.testing.fragment_copies(copies)
         try:
-            gl.drawArrays(gl.TRIANGLES, 0, 3 * n)
+            gl.drawArrays(getattr(gl, mode), 0, 3 * n)
             taken = core.testing.fragment_copies(True)
         finally:
             core.testing.fragment_copies(True)
@@ -208,3 +216,55 @@ def test_webgl1_frag_color_and_blending_on_the_drawing_buffer():
     assert images[0][0].any()
     counters = [{k: v for k, v in stats.items() if not k.startswith("seconds")} for _, stats in images]
     assert counters[0] == counters[1]   # the same counters (fragments shaded, samples written...)
+
+
+# The fused copy kernel (pipeline/fragment_ops.h, write_interpolated_color_lanes) against the two
+# stages it replaces, interpolation then the colour kernel, at every instruction-set level, and
+# against the scalar level of those stages (the reference).
+KERNELS = {   # blend on?, (src_rgb, dst_rgb, src_alpha, dst_alpha, eq_rgb, eq_alpha)
+    "plain": (False, (1, 0, 1, 0, 0x8006, 0x8006)),
+    "alpha_over": (True, (0x0302, 0x0303, 0x0302, 0x0303, 0x8006, 0x8006)),
+    "additive": (True, (1, 1, 1, 1, 0x8006, 0x8006)),
+}
+SPECIAL_COLOURS = np.array([0.0, -0.0, 1.0, 0.5, np.inf, -np.inf, np.nan, 1e-40, 1.0000001, 0.99999994], np.float32)
+
+
+@pytest.mark.parametrize("kernel", list(KERNELS))
+@pytest.mark.parametrize("vertices", [3, 2])
+@pytest.mark.parametrize("constant_w", [False, True])
+def test_fused_copy_kernel_equals_interpolation_then_colour_kernel(kernel, vertices, constant_w):
+    blend, fe = KERNELS[kernel]
+    r = np.random.default_rng(11 + vertices + 2 * constant_w)
+    levels = range(core.testing.simd_level() + 1)
+    for case in range(40):
+        planes = r.normal(0, 1, (4, 3)) * np.array([1e-2, 1e-2, 1.0])
+        if constant_w:
+            planes[3] = (0.0, 0.0, r.choice([1.0, 0.5, -2.0]))
+        else:
+            planes[3] = (*r.normal(0, 1e-3, 2), r.uniform(0.5, 2.0))
+        n = int(r.integers(0, 14))
+        x0, y0 = (int(v) for v in r.integers(0, 500, 2) * 2)
+        if r.random() < 0.5:   # rows of quads side by side, as the rasterizer emits them
+            quads = np.array([(x0 + 2 * (i % 4), y0 + 2 * (i // 4)) for i in range(n)], np.int32).reshape(n, 2)
+        else:
+            quads = (r.integers(0, 500, (n, 2)) * 2).astype(np.int32)
+        ox, oy = (int(v) for v in r.integers(0, 1000 * 256, 2))
+        values = r.uniform(-0.2, 1.2, (vertices, 7)).astype(np.float32)
+        if case % 4 == 0:   # special values at some vertices (a value equal at every vertex stays exact)
+            values[r.random(values.shape) < 0.3] = r.choice(SPECIAL_COLOURS)
+        if case % 5 == 0:
+            values[:, 3] = 0.5   # alpha equal at every vertex, as the benchmark's triangles have
+        first = int(r.integers(0, 4))
+        mask = [True] * 4 if case % 3 else [bool(b) for b in r.integers(0, 2, 4)]
+        has_alpha = bool(case % 7)
+        dst = r.integers(0, 2**32, 4 * n, dtype=np.uint64).astype(np.uint32)
+        base = tuple(int(v) for v in (np.array([x0, y0]) // 64) * 64)
+
+        def run(level, fused):
+            return core.testing.interpolated_color_lanes(level, fused, planes, ox, oy, quads, values, base[0], base[1],
+                                                         first, blend, fe, mask, has_alpha, dst)
+        want = run(0, False)
+        for level in levels:
+            msg = f"case {case} level {level}"
+            np.testing.assert_array_equal(run(level, False), want, err_msg=msg)
+            np.testing.assert_array_equal(run(level, True), want, err_msg=msg)

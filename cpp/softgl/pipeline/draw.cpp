@@ -370,6 +370,9 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
     // A shader that only copies one varying vec4 to its one colour output (FragmentShader::copies)
     // is not run: the colour kernels read that varying's words from the batch (set with `constant`).
     int copied_word = -1;
+    // copied_word's place in smooth_words when its four words are interpolated there, or -1: such
+    // chunks on the single-sampled drawing buffer skip the batch (write_interpolated_color_lanes).
+    int copied_index = -1;
     const bool constant_kernels = !(!early && tests) && writes_color && !coverage_ops && !fog.enabled && !sink && drawing_buffer;
     auto run_tile = [&](size_t index, unsigned worker) {
         const size_t tile = tiles[index];
@@ -512,6 +515,18 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                 size_t cs = kChunkLanes;
                 int outputs = 1;
                 bool any_killed = false;
+                const bool per_lane_color = area || coverage_ops || fog.enabled || sink || !drawing_buffer;
+                if (copied_index >= 0 && interpolate && !constant_chunks && S == 1 && kernel != ColorKernel::Generic &&
+                    !(!early && tests) && writes_color && !per_lane_color) {
+                    // The copied varying's values go straight into pixels: no fragment batch.
+                    uint32_t* const d = w.pixels.data();
+                    if (kernel != ColorKernel::Plain || !all_channels) load_chunk_pixels(buffer_pixels, cq, masks, kept, d);
+                    write_interpolated_color_lanes(kernel, blend, vi, size_t(copied_index), cq, kept, d);
+                    const uint64_t written = store_chunk_pixels(buffer_pixels, cq, masks, kept, d);
+                    w.stats.samples_written += written;
+                    if (!plain_write) w.stats.samples_blended += written;
+                    continue;
+                }
                 if (!constant_chunks) {
                     // Build the fragment batch: the inputs the shader reads, per lane, structure of
                     // arrays.
@@ -563,7 +578,6 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                 // Late tests, blending and the write, per covered sample.
                 // Per-lane color changes (area alpha, coverage ops, fog) take the general path.
                 // Framebuffer objects (any format) also write through RenderTarget::write_color.
-                const bool per_lane_color = area || coverage_ops || fog.enabled || sink || !drawing_buffer;
                 if (!any_killed && !(!early && tests) && writes_color && !per_lane_color) {
                     // The common case: tests (if any) already done, nothing discarded.
                     auto write_all = [&](auto kernel_tag) {
@@ -875,6 +889,8 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                     computed = copies->word[size_t(c)] == first + c &&
                                (size_t(first + c) >= layout.read_by_fragment.size() || layout.read_by_fragment[size_t(first + c)]);
                 if (computed) copied_word = first;
+                for (size_t i = 0; computed && i + 4 <= smooth_words.size(); ++i)
+                    if (smooth_words[i] == first && smooth_words[i + 3] == first + 3) copied_index = int(i);
             }
             touched.assign(grid.count(), 0);
             tile_pass_prepared = true;

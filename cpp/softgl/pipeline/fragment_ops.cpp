@@ -2,6 +2,8 @@
 
 #include <array>
 
+#include "softgl/pipeline/interpolate.h"
+
 namespace softgl {
 
 const float* unorm8_to_float_table() {
@@ -394,6 +396,43 @@ __attribute__((target(SOFTGL_AVX512))) void lanes_avx512(const BlendOp& op, cons
     for (; l + 16 <= n; l += 16) lanes16<K, true>(op, src, stride, dst, l, 0xFFFF, keep_v);
     if (l < n) lanes16<K, false>(op, src, stride, dst, l, __mmask16((1u << (n - l)) - 1), keep_v);
 }
+
+// The fused copy kernel (write_interpolated_color_lanes): the interpolation of 16 lanes
+// (interpolate.h, Avx512Interpolator: interpolate_avx512's operations) goes straight into
+// lanes16's colour arithmetic, in registers: the varying's four channel arrays are neither
+// written nor read back (they were a third of a large copy-shader triangle's time).
+template <ColorKernel K, int V>
+__attribute__((target(SOFTGL_AVX512))) void interpolated_lanes_avx512(const BlendOp& op, const VaryingInterpolation& v,
+                                                                     size_t first, const Quad* quads, size_t n,
+                                                                     uint32_t* dst) {
+    const Avx512Interpolator<V> interpolator(v);
+    float v0[4], d1[4], d2[4];
+    for (size_t c = 0; c < 4; ++c) {
+        v0[c] = v.values[first + c];
+        d1[c] = v.values[v.count + first + c];
+        d2[c] = V == 3 ? v.values[2 * v.count + first + c] : 0.0f;
+    }
+    uint32_t keep = 0;
+    for (int c = 0; c < 4; ++c)
+        if (!op.write[size_t(c)]) keep |= 0xFFu << (8 * c);
+    const __m512i keep_v = _mm512_set1_epi32(int(keep));
+    const bool read_dst = K != ColorKernel::Plain || keep;
+    auto group = [&](size_t i, __mmask16 lanes, bool full) __attribute__((target(SOFTGL_AVX512))) {
+        const __m512i xy = full ? _mm512_loadu_si512(quads + i) : _mm512_maskz_loadu_epi32(lanes, quads + i);
+        __m512 l1, l2;
+        interpolator.weights(xy, l1, l2);
+        __m512 s[4];
+        for (int c = 0; c < 4; ++c) s[c] = clamp01_ps16(Avx512Interpolator<V>::value(v0[c], d1[c], d2[c], l1, l2));
+        uint32_t* const d = dst + 4 * i;
+        const __m512i d32 = !read_dst ? _mm512_setzero_si512() : full ? _mm512_loadu_si512(d) : _mm512_maskz_loadu_epi32(lanes, d);
+        const __m512i px = _mm512_ternarylogic_epi32(keep_v, blend_ps16<K>(op, s, d32), d32, 0xAC);   // as lanes16
+        if (full) _mm512_storeu_si512(d, px);
+        else _mm512_mask_storeu_epi32(d, lanes, px);
+    };
+    size_t i = 0;
+    for (; i + 4 <= n; i += 4) group(i, 0xFFFF, true);
+    if (i < n) group(i, __mmask16((1u << (4 * (n - i))) - 1), false);
+}
 #pragma GCC diagnostic pop
 #undef SOFTGL_AVX512
 
@@ -414,6 +453,30 @@ void lanes_at(SimdLevel level, const BlendOp& op, const float* src, size_t strid
 #else
             return lanes<K>(op, src, stride, dst, n);
 #endif
+    }
+}
+
+template <ColorKernel K>
+void interpolated_lanes_at(SimdLevel level, const BlendOp& op, const VaryingInterpolation& v, size_t first,
+                           const Quad* quads, size_t n, uint32_t* dst) {
+#if defined(SOFTGL_HAVE_AVX2_KERNELS) && defined(SOFTGL_HAVE_AVX512_INTERPOLATOR)
+    if (level == SimdLevel::AVX512)
+        return v.vertices == 3 ? interpolated_lanes_avx512<K, 3>(op, v, first, quads, n, dst)
+                               : interpolated_lanes_avx512<K, 2>(op, v, first, quads, n, dst);
+#endif
+    // The two stages in turn, a chunk of quads at a time, on the varying's four words alone.
+    float values[3 * 4];
+    const int words[4] = {0, 1, 2, 3};
+    for (int k = 0; k < v.vertices; ++k)
+        for (size_t c = 0; c < 4; ++c) values[4 * k + c] = v.values[size_t(k) * v.count + first + c];
+    VaryingInterpolation four = v;
+    four.count = 4, four.words = words, four.values = values;
+    constexpr size_t kQuads = 32;
+    uint32_t lanes[4 * 4 * kQuads];
+    for (size_t i = 0; i < n; i += kQuads) {
+        const size_t m = n - i < kQuads ? n - i : kQuads;
+        interpolate_varyings_at(level, four, quads + i, m, lanes, 4 * m);
+        lanes_at<K>(level, op, reinterpret_cast<const float*>(lanes), 4 * m, dst + 4 * i, 4 * m);
     }
 }
 
@@ -450,6 +513,22 @@ void write_color_lanes_at(SimdLevel level, ColorKernel kernel, const BlendOp& op
 void write_color_lanes(ColorKernel kernel, const BlendOp& op, const float* src, size_t stride, uint32_t* dst,
                        size_t n) {
     write_color_lanes_at(best_simd_level(), kernel, op, src, stride, dst, n);
+}
+
+void write_interpolated_color_lanes_at(SimdLevel level, ColorKernel kernel, const BlendOp& op,
+                                       const VaryingInterpolation& v, size_t first, const Quad* quads, size_t n,
+                                       uint32_t* dst) {
+    switch (kernel) {
+        case ColorKernel::Plain: return interpolated_lanes_at<ColorKernel::Plain>(level, op, v, first, quads, n, dst);
+        case ColorKernel::AlphaOver: return interpolated_lanes_at<ColorKernel::AlphaOver>(level, op, v, first, quads, n, dst);
+        case ColorKernel::Additive: return interpolated_lanes_at<ColorKernel::Additive>(level, op, v, first, quads, n, dst);
+        case ColorKernel::Generic: break;   // not offered (header)
+    }
+}
+
+void write_interpolated_color_lanes(ColorKernel kernel, const BlendOp& op, const VaryingInterpolation& v, size_t first,
+                                    const Quad* quads, size_t n, uint32_t* dst) {
+    write_interpolated_color_lanes_at(best_simd_level(), kernel, op, v, first, quads, n, dst);
 }
 
 }  // namespace softgl
