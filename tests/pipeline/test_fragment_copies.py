@@ -229,10 +229,27 @@ KERNELS = {   # blend on?, (src_rgb, dst_rgb, src_alpha, dst_alpha, eq_rgb, eq_a
 SPECIAL_COLOURS = np.array([0.0, -0.0, 1.0, 0.5, np.inf, -np.inf, np.nan, 1e-40, 1.0000001, 0.99999994], np.float32)
 
 
+def chunk_quads(r, n_segments, size=64):
+    """Quads as the fused kernel gets them: single quads and rows of four side by side (bit i of
+    `rows` set where one starts), in distinct 8x2 slots of a size x size image."""
+    slots = r.permutation((size // 8) * (size // 2))[:n_segments]
+    quads, rows = [], 0
+    for slot in slots:
+        x, y = int(slot % (size // 8)) * 8, int(slot // (size // 8)) * 2
+        if r.random() < 0.6:
+            rows |= (1 << len(quads)) if r.random() < 0.8 else 0   # some rows of four go through lanes
+            quads += [(x + 2 * k, y) for k in range(4)]
+        else:
+            quads.append((x + 2 * int(r.integers(0, 4)), y))
+    return np.array(quads, np.int32).reshape(-1, 2), rows
+
+
 @pytest.mark.parametrize("kernel", list(KERNELS))
 @pytest.mark.parametrize("vertices", [3, 2])
 @pytest.mark.parametrize("constant_w", [False, True])
 def test_fused_copy_kernel_equals_interpolation_then_colour_kernel(kernel, vertices, constant_w):
+    """The lanes and, for rows of four, the image's pixels equal the scalar two-stage reference run
+    on lanes gathered from the image."""
     blend, fe = KERNELS[kernel]
     r = np.random.default_rng(11 + vertices + 2 * constant_w)
     levels = range(core.testing.simd_level() + 1)
@@ -242,13 +259,9 @@ def test_fused_copy_kernel_equals_interpolation_then_colour_kernel(kernel, verti
             planes[3] = (0.0, 0.0, r.choice([1.0, 0.5, -2.0]))
         else:
             planes[3] = (*r.normal(0, 1e-3, 2), r.uniform(0.5, 2.0))
-        n = int(r.integers(0, 14))
-        x0, y0 = (int(v) for v in r.integers(0, 500, 2) * 2)
-        if r.random() < 0.5:   # rows of quads side by side, as the rasterizer emits them
-            quads = np.array([(x0 + 2 * (i % 4), y0 + 2 * (i // 4)) for i in range(n)], np.int32).reshape(n, 2)
-        else:
-            quads = (r.integers(0, 500, (n, 2)) * 2).astype(np.int32)
-        ox, oy = (int(v) for v in r.integers(0, 1000 * 256, 2))
+        quads, rows = chunk_quads(r, int(r.integers(0, 9)))
+        n = len(quads)
+        ox, oy = (int(v) for v in r.integers(0, 64 * 256, 2))
         values = r.uniform(-0.2, 1.2, (vertices, 7)).astype(np.float32)
         if case % 4 == 0:   # special values at some vertices (a value equal at every vertex stays exact)
             values[r.random(values.shape) < 0.3] = r.choice(SPECIAL_COLOURS)
@@ -258,13 +271,25 @@ def test_fused_copy_kernel_equals_interpolation_then_colour_kernel(kernel, verti
         mask = [True] * 4 if case % 3 else [bool(b) for b in r.integers(0, 2, 4)]
         has_alpha = bool(case % 7)
         dst = r.integers(0, 2**32, 4 * n, dtype=np.uint64).astype(np.uint32)
-        base = tuple(int(v) for v in (np.array([x0, y0]) // 64) * 64)
+        image = r.integers(0, 2**32, (64, 64), dtype=np.uint64).astype(np.uint32)
+        base = (0, 0) if case % 2 else (64, 0)
 
-        def run(level, fused):
+        def run(level, fused, lanes, bits):
             return core.testing.interpolated_color_lanes(level, fused, planes, ox, oy, quads, values, base[0], base[1],
-                                                         first, blend, fe, mask, has_alpha, dst)
-        want = run(0, False)
+                                                         first, blend, fe, mask, has_alpha, lanes, bits, image)
+        # The reference: row quads' lanes gathered from the image, scattered back after.
+        in_row = np.zeros(n, bool)
+        for i in range(n):
+            in_row[i:i + 4] |= bool(rows >> i & 1)
+        px, py = quads[:, 0:1] + np.array([0, 1, 0, 1]), quads[:, 1:2] + np.array([0, 0, 1, 1])
+        gathered = np.where(np.repeat(in_row, 4), image[py, px].ravel(), dst)
+        lanes, _ = run(0, False, gathered, 0)
+        want_image = image.copy()
+        want_image[py[in_row], px[in_row]] = lanes.reshape(n, 4)[in_row]
+        want_lanes = np.where(np.repeat(in_row, 4), dst, lanes)
         for level in levels:
             msg = f"case {case} level {level}"
-            np.testing.assert_array_equal(run(level, False), want, err_msg=msg)
-            np.testing.assert_array_equal(run(level, True), want, err_msg=msg)
+            np.testing.assert_array_equal(run(level, False, dst, 0)[0], run(0, False, dst, 0)[0], err_msg=msg)
+            got_lanes, got_image = run(level, True, dst, rows)
+            np.testing.assert_array_equal(got_lanes, want_lanes, err_msg=msg)
+            np.testing.assert_array_equal(got_image, want_image, err_msg=msg)

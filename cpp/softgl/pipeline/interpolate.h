@@ -85,6 +85,11 @@ struct ConstantQ {
 namespace softgl {
 
 #define SOFTGL_AVX512_TARGET __attribute__((target("avx512f,avx512bw,avx512dq,avx512vl")))
+// GCC 12's AVX-512 intrinsics start from _mm512_undefined_*(), which -W(maybe-)uninitialized
+// reports once they are inlined (GCC bug 105593, fixed in GCC 13).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 // The AVX-512 interpolation of 16 lanes (four quads, lane 4*i + j pixel j of quad i) in registers:
 // interpolate_avx512 stores its values, fragment_ops.cpp's fused copy kernel packs them into
 // pixels without the trip through memory. Call only on a CPU with AVX-512 F+BW+DQ+VL.
@@ -129,6 +134,7 @@ struct Avx512Interpolator {
         return s;
     }
 };
+#pragma GCC diagnostic pop
 #undef SOFTGL_AVX512_TARGET
 
 }  // namespace softgl
