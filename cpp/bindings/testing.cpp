@@ -295,6 +295,75 @@ void bind_testing(py::module_& m) {
           },
           py::arg("level"), py::arg("planes"), py::arg("origin_x"), py::arg("origin_y"), py::arg("quads"),
           py::arg("values"), py::arg("base_x") = 0, py::arg("base_y") = 0);
+    // pipeline/fragment_ops' fused copy kernel (write_interpolated_color_lanes) at one level, or with
+    // fused=false the two stages it replaces (interpolate_varyings_at, then write_color_lanes_at):
+    // planes, origin, quads, values and base as interpolate_varyings; the colour is words first ..
+    // first + 3; blending as fragment_ops_write (enabled when `blend`); dst (4n,) uint32 pixels;
+    // rows (fused only): PixelRows' bits, for quads in `image` ((h, w) uint32 pixels).
+    // Returns (dst, image) after the call.
+    t.def("interpolated_color_lanes",
+          [](int level, bool fused, py::array_t<double, py::array::c_style | py::array::forcecast> planes,
+             int64_t origin_x, int64_t origin_y, py::array_t<int32_t, py::array::c_style | py::array::forcecast> quads,
+             py::array_t<float, py::array::c_style | py::array::forcecast> values, int32_t base_x, int32_t base_y,
+             size_t first, bool blend, const std::array<uint32_t, 6>& fe, const std::array<bool, 4>& mask,
+             bool has_alpha, py::array_t<uint32_t, py::array::c_style | py::array::forcecast> dst, uint64_t rows,
+             py::array_t<uint32_t, py::array::c_style | py::array::forcecast> image) {
+              const size_t n = size_t(quads.shape(0)), count = size_t(values.shape(1));
+              if (planes.ndim() != 2 || planes.shape(0) != 4 || planes.shape(1) != 3 || quads.ndim() != 2 ||
+                  quads.shape(1) != 2 || values.ndim() != 2 || (values.shape(0) != 2 && values.shape(0) != 3) ||
+                  first + 4 > count || dst.ndim() != 1 || size_t(dst.shape(0)) != 4 * n || image.ndim() != 2 ||
+                  (rows && (!fused || n > 64)))
+                  throw py::value_error("planes (4, 3), quads (n, 2), values (2 or 3, words >= first + 4), dst (4n,), "
+                                        "image (h, w); rows only fused, with n <= 64");
+              // Rows of four must lie inside the image: the kernel writes there unchecked.
+              for (size_t i = 0; i < n; ++i)
+                  if (rows >> i & 1)
+                      if (i + 4 > n || quads.at(i, 0) < 0 || quads.at(i, 1) < 0 || quads.at(i, 0) + 8 > image.shape(1) ||
+                          quads.at(i, 1) + 2 > image.shape(0))
+                          throw py::value_error("a row of four outside the image");
+              softgl::State state;
+              state.blend.enabled = blend;
+              state.blend.src_rgb = fe[0]; state.blend.dst_rgb = fe[1];
+              state.blend.src_alpha = fe[2]; state.blend.dst_alpha = fe[3];
+              state.blend.equation_rgb = fe[4]; state.blend.equation_alpha = fe[5];
+              state.color_mask = mask;
+              const softgl::BlendOp op = softgl::BlendOp::from_state(state, has_alpha);
+              const softgl::ColorKernel kernel = softgl::color_kernel(op);
+              if (kernel == softgl::ColorKernel::Generic) throw py::value_error("no fused kernel for Generic blending");
+              softgl::PrimitiveSetup p{};
+              softgl::Plane* pl[4] = {&p.weight[0], &p.weight[1], &p.weight[2], &p.inv_w};
+              for (int k = 0; k < 4; ++k) *pl[k] = {planes.at(k, 0), planes.at(k, 1), planes.at(k, 2)};
+              p.origin_x = origin_x, p.origin_y = origin_y;
+              const int vertices = int(values.shape(0));
+              std::vector<softgl::Quad> q(n);
+              for (size_t i = 0; i < n; ++i) q[i] = {quads.at(i, 0), quads.at(i, 1), ~uint64_t(0)};
+              std::vector<int> words(count);
+              std::vector<float> vals(size_t(vertices) * count);
+              for (size_t k = 0; k < count; ++k) words[k] = int(k);
+              for (size_t v = 0; v < size_t(vertices); ++v)
+                  for (size_t k = 0; k < count; ++k) vals[v * count + k] = values.at(v, k);
+              softgl::VaryingInterpolation vi;
+              softgl::prepare_interpolation(p, vertices, base_x, base_y, words.data(), count, vals.data(), vi);
+              py::array_t<uint32_t> out(py::ssize_t(4 * n));
+              std::memcpy(out.mutable_data(), dst.data(), 16 * n);
+              const softgl::SimdLevel simd = softgl::SimdLevel(level);
+              py::array_t<uint32_t> picture({image.shape(0), image.shape(1)});
+              std::memcpy(picture.mutable_data(), image.data(), size_t(image.nbytes()));
+              if (fused) {
+                  const softgl::PixelRows pixel_rows{reinterpret_cast<uint8_t*>(picture.mutable_data()), size_t(image.shape(1)), rows};
+                  softgl::write_interpolated_color_lanes_at(simd, kernel, op, vi, first, q.data(), n, out.mutable_data(), pixel_rows);
+              } else {
+                  std::vector<uint32_t> varyings(count * 4 * n);
+                  softgl::interpolate_varyings_at(simd, vi, q.data(), n, varyings.data(), 4 * n);
+                  softgl::write_color_lanes_at(simd, kernel, op, reinterpret_cast<const float*>(varyings.data()) + first * 4 * n,
+                                               4 * n, out.mutable_data(), 4 * n);
+              }
+              return std::make_pair(out, picture);
+          },
+          py::arg("level"), py::arg("fused"), py::arg("planes"), py::arg("origin_x"), py::arg("origin_y"),
+          py::arg("quads"), py::arg("values"), py::arg("base_x"), py::arg("base_y"), py::arg("first"),
+          py::arg("blend"), py::arg("funcs_and_equations"), py::arg("mask"), py::arg("has_alpha"), py::arg("dst"),
+          py::arg("rows"), py::arg("image"));
     // pipeline/early_depth at one instruction-set level: the depth plane (a, b, c) + offset with its
     // origin (1/256 pixel), the samples' positions in a pixel (1/256 pixel), quads (n, 3) int64 rows
     // (x, y, coverage bits), a (h, w, samples) uint32 depth buffer. Returns (survived (n, 4) uint16,

@@ -174,11 +174,18 @@ def test_other_shaders_run_on_the_executor(body):
     assert (a == b).all()
 
 
-def test_webgl1_frag_color_and_blending_on_the_drawing_buffer():
-    """gl_FragColor = v through the RGBA8 colour kernels (blending on): the same bytes either way."""
+BLENDS = {"off": None, "alpha_over": ("SRC_ALPHA", "ONE_MINUS_SRC_ALPHA"), "additive": ("ONE", "ONE")}
+
+
+@pytest.mark.parametrize("mode", ["TRIANGLES", "LINES"])
+@pytest.mark.parametrize("blend", list(BLENDS))
+@pytest.mark.parametrize("spread", [0.15, 1.0])
+def test_webgl1_frag_color_and_blending_on_the_drawing_buffer(mode, blend, spread):
+    """gl_FragColor = v through the RGBA8 colour kernels (the fused copy kernel, with blending or
+    without, small and large primitives): the same bytes either way."""
     r = np.random.default_rng(5)
-    n = 300
-    pos = (r.uniform(-1, 1, (n, 1, 2)) + r.uniform(-0.15, 0.15, (n, 3, 2))).reshape(-1, 2).astype(np.float32)
+    n = 300 if spread < 1 else 30
+    pos = (r.uniform(-1, 1, (n, 1, 2)) + r.uniform(-spread, spread, (n, 3, 2))).reshape(-1, 2).astype(np.float32)
     color = r.uniform(-0.2, 1.2, (n * 3, 4)).astype(np.float32)
     vs = ("attribute vec2 pos; attribute vec4 color; varying vec4 v;"
           "void main() { v = color; gl_Position = vec4(pos, 0.0, 1.0); }")
@@ -194,11 +201,12 @@ def test_webgl1_frag_color_and_blending_on_the_drawing_buffer():
             gl.bufferData(gl.ARRAY_BUFFER, data, gl.STATIC_DRAW)
             gl.enableVertexAttribArray(loc)
             gl.vertexAttribPointer(loc, data.shape[1], gl.FLOAT, False, 0, 0)
-        gl.enable(gl.BLEND)
-        gl.blendFunc(gl.SRC_ALPHA, gl.ONE_MINUS_SRC_ALPHA)
+        if BLENDS[blend]:
+            gl.enable(gl.BLEND)
+            gl.blendFunc(*(getattr(gl, f) for f in BLENDS[blend]))
         core.testing.fragment_copies(copies)
         try:
-            gl.drawArrays(gl.TRIANGLES, 0, 3 * n)
+            gl.drawArrays(getattr(gl, mode), 0, 3 * n)
             taken = core.testing.fragment_copies(True)
         finally:
             core.testing.fragment_copies(True)
@@ -208,3 +216,80 @@ def test_webgl1_frag_color_and_blending_on_the_drawing_buffer():
     assert images[0][0].any()
     counters = [{k: v for k, v in stats.items() if not k.startswith("seconds")} for _, stats in images]
     assert counters[0] == counters[1]   # the same counters (fragments shaded, samples written...)
+
+
+# The fused copy kernel (pipeline/fragment_ops.h, write_interpolated_color_lanes) against the two
+# stages it replaces, interpolation then the colour kernel, at every instruction-set level, and
+# against the scalar level of those stages (the reference).
+KERNELS = {   # blend on?, (src_rgb, dst_rgb, src_alpha, dst_alpha, eq_rgb, eq_alpha)
+    "plain": (False, (1, 0, 1, 0, 0x8006, 0x8006)),
+    "alpha_over": (True, (0x0302, 0x0303, 0x0302, 0x0303, 0x8006, 0x8006)),
+    "additive": (True, (1, 1, 1, 1, 0x8006, 0x8006)),
+}
+SPECIAL_COLOURS = np.array([0.0, -0.0, 1.0, 0.5, np.inf, -np.inf, np.nan, 1e-40, 1.0000001, 0.99999994], np.float32)
+
+
+def chunk_quads(r, n_segments, size=64):
+    """Quads as the fused kernel gets them: single quads and rows of four side by side (bit i of
+    `rows` set where one starts), in distinct 8x2 slots of a size x size image."""
+    slots = r.permutation((size // 8) * (size // 2))[:n_segments]
+    quads, rows = [], 0
+    for slot in slots:
+        x, y = int(slot % (size // 8)) * 8, int(slot // (size // 8)) * 2
+        if r.random() < 0.6:
+            rows |= (1 << len(quads)) if r.random() < 0.8 else 0   # some rows of four go through lanes
+            quads += [(x + 2 * k, y) for k in range(4)]
+        else:
+            quads.append((x + 2 * int(r.integers(0, 4)), y))
+    return np.array(quads, np.int32).reshape(-1, 2), rows
+
+
+@pytest.mark.parametrize("kernel", list(KERNELS))
+@pytest.mark.parametrize("vertices", [3, 2])
+@pytest.mark.parametrize("constant_w", [False, True])
+def test_fused_copy_kernel_equals_interpolation_then_colour_kernel(kernel, vertices, constant_w):
+    """The lanes and, for rows of four, the image's pixels equal the scalar two-stage reference run
+    on lanes gathered from the image."""
+    blend, fe = KERNELS[kernel]
+    r = np.random.default_rng(11 + vertices + 2 * constant_w)
+    levels = range(core.testing.simd_level() + 1)
+    for case in range(40):
+        planes = r.normal(0, 1, (4, 3)) * np.array([1e-2, 1e-2, 1.0])
+        if constant_w:
+            planes[3] = (0.0, 0.0, r.choice([1.0, 0.5, -2.0]))
+        else:
+            planes[3] = (*r.normal(0, 1e-3, 2), r.uniform(0.5, 2.0))
+        quads, rows = chunk_quads(r, int(r.integers(0, 9)))
+        n = len(quads)
+        ox, oy = (int(v) for v in r.integers(0, 64 * 256, 2))
+        values = r.uniform(-0.2, 1.2, (vertices, 7)).astype(np.float32)
+        if case % 4 == 0:   # special values at some vertices (a value equal at every vertex stays exact)
+            values[r.random(values.shape) < 0.3] = r.choice(SPECIAL_COLOURS)
+        if case % 5 == 0:
+            values[:, 3] = 0.5   # alpha equal at every vertex, as the benchmark's triangles have
+        first = int(r.integers(0, 4))
+        mask = [True] * 4 if case % 3 else [bool(b) for b in r.integers(0, 2, 4)]
+        has_alpha = bool(case % 7)
+        dst = r.integers(0, 2**32, 4 * n, dtype=np.uint64).astype(np.uint32)
+        image = r.integers(0, 2**32, (64, 64), dtype=np.uint64).astype(np.uint32)
+        base = (0, 0) if case % 2 else (64, 0)
+
+        def run(level, fused, lanes, bits):
+            return core.testing.interpolated_color_lanes(level, fused, planes, ox, oy, quads, values, base[0], base[1],
+                                                         first, blend, fe, mask, has_alpha, lanes, bits, image)
+        # The reference: row quads' lanes gathered from the image, scattered back after.
+        in_row = np.zeros(n, bool)
+        for i in range(n):
+            in_row[i:i + 4] |= bool(rows >> i & 1)
+        px, py = quads[:, 0:1] + np.array([0, 1, 0, 1]), quads[:, 1:2] + np.array([0, 0, 1, 1])
+        gathered = np.where(np.repeat(in_row, 4), image[py, px].ravel(), dst)
+        lanes, _ = run(0, False, gathered, 0)
+        want_image = image.copy()
+        want_image[py[in_row], px[in_row]] = lanes.reshape(n, 4)[in_row]
+        want_lanes = np.where(np.repeat(in_row, 4), dst, lanes)
+        for level in levels:
+            msg = f"case {case} level {level}"
+            np.testing.assert_array_equal(run(level, False, dst, 0)[0], run(0, False, dst, 0)[0], err_msg=msg)
+            got_lanes, got_image = run(level, True, dst, rows)
+            np.testing.assert_array_equal(got_lanes, want_lanes, err_msg=msg)
+            np.testing.assert_array_equal(got_image, want_image, err_msg=msg)

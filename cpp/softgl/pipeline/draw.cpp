@@ -122,10 +122,33 @@ struct ChunkPixels {
 };
 constexpr uint64_t kWholeQuad = 0x0001000100010001u;   // four masks of 1 (S == 1)
 
+// The chunk's runs of four whole quads side by side (bit i: quads i .. i + 3), found as
+// store_chunk_pixels walks the chunk: the fused copy kernel writes those straight into the buffer
+// (PixelRows), and the two functions below skip them when given them as `skip`.
+static_assert(kChunkQuads <= 64, "a chunk's rows of four in one uint64_t");
+uint64_t whole_rows_of_four(const ChunkPixels buffer, const Quad* q, const uint16_t* masks, size_t n) {
+    uint64_t rows = 0;
+    for (size_t i = 0; i + 4 <= n;) {
+        uint64_t m[4];
+        std::memcpy(m, masks + 4 * i, 32);
+        if ((m[0] & m[1] & m[2] & m[3]) == kWholeQuad && buffer.row_of_four(q + i)) {
+            rows |= uint64_t(1) << i;
+            i += 4;
+        } else {
+            ++i;
+        }
+    }
+    return rows;
+}
+
 __attribute__((noinline)) void load_chunk_pixels(const ChunkPixels buffer, const Quad* q, const uint16_t* masks,
-                                                 size_t n, uint32_t* lanes) {
+                                                 size_t n, uint32_t* lanes, uint64_t skip = 0) {
     const size_t row_bytes = 4 * buffer.pitch;
     for (size_t i = 0; i < n;) {
+        if (skip >> i & 1) {
+            i += 4;
+            continue;
+        }
         const uint8_t* const px = buffer.at(q[i]);
         uint32_t* const l = lanes + 4 * i;
         if (i + 4 <= n && buffer.row_of_four(q + i)) {
@@ -145,10 +168,15 @@ __attribute__((noinline)) void load_chunk_pixels(const ChunkPixels buffer, const
 
 // Returns the number of pixels written.
 __attribute__((noinline)) uint64_t store_chunk_pixels(const ChunkPixels buffer, const Quad* q, const uint16_t* masks,
-                                                      size_t n, const uint32_t* lanes) {
+                                                      size_t n, const uint32_t* lanes, uint64_t skip = 0) {
     const size_t row_bytes = 4 * buffer.pitch;
     uint64_t written = 0;
     for (size_t i = 0; i < n;) {
+        if (skip >> i & 1) {   // written already, whole
+            written += 16;
+            i += 4;
+            continue;
+        }
         uint8_t* const px = buffer.at(q[i]);
         const uint32_t* const l = lanes + 4 * i;
         uint64_t m4;
@@ -371,6 +399,9 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
     // A shader that only copies one varying vec4 to its one colour output (FragmentShader::copies)
     // is not run: the colour kernels read that varying's words from the batch (set with `constant`).
     int copied_word = -1;
+    // copied_word's place in smooth_words when its four words are interpolated there, or -1: such
+    // chunks on the single-sampled drawing buffer skip the batch (write_interpolated_color_lanes).
+    int copied_index = -1;
     const bool constant_kernels = !(!early && tests) && writes_color && !coverage_ops && !fog.enabled && !sink && drawing_buffer;
     auto run_tile = [&](size_t index, unsigned worker) {
         const size_t tile = tiles[index];
@@ -513,6 +544,21 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                 size_t cs = kChunkLanes;
                 int outputs = 1;
                 bool any_killed = false;
+                const bool per_lane_color = area || coverage_ops || fog.enabled || sink || !drawing_buffer;
+                if (copied_index >= 0 && interpolate && !constant_chunks && S == 1 && kernel != ColorKernel::Generic &&
+                    !(!early && tests) && writes_color && !per_lane_color) {
+                    // The copied varying's values go straight into pixels: no fragment batch, and
+                    // runs of four whole quads straight into the buffer's rows.
+                    uint32_t* const d = w.pixels.data();
+                    const uint64_t rows = whole_rows_of_four(buffer_pixels, cq, masks, kept);
+                    if (kernel != ColorKernel::Plain || !all_channels) load_chunk_pixels(buffer_pixels, cq, masks, kept, d, rows);
+                    write_interpolated_color_lanes(kernel, blend, vi, size_t(copied_index), cq, kept, d,
+                                                   PixelRows{buffer_pixels.color, buffer_pixels.pitch, rows});
+                    const uint64_t written = store_chunk_pixels(buffer_pixels, cq, masks, kept, d, rows);
+                    w.stats.samples_written += written;
+                    if (!plain_write) w.stats.samples_blended += written;
+                    continue;
+                }
                 if (!constant_chunks) {
                     // Build the fragment batch: the inputs the shader reads, per lane, structure of
                     // arrays.
@@ -564,7 +610,6 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                 // Late tests, blending and the write, per covered sample.
                 // Per-lane color changes (area alpha, coverage ops, fog) take the general path.
                 // Framebuffer objects (any format) also write through RenderTarget::write_color.
-                const bool per_lane_color = area || coverage_ops || fog.enabled || sink || !drawing_buffer;
                 if (!any_killed && !(!early && tests) && writes_color && !per_lane_color) {
                     // The common case: tests (if any) already done, nothing discarded.
                     auto write_all = [&](auto kernel_tag) {
@@ -882,6 +927,8 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                     computed = copies->word[size_t(c)] == first + c &&
                                (size_t(first + c) >= layout.read_by_fragment.size() || layout.read_by_fragment[size_t(first + c)]);
                 if (computed) copied_word = first;
+                for (size_t i = 0; computed && i + 4 <= smooth_words.size(); ++i)
+                    if (smooth_words[i] == first && smooth_words[i + 3] == first + 3) copied_index = int(i);
             }
             touched.assign(grid.count(), 0);
             tile_pass_prepared = true;

@@ -2,6 +2,8 @@
 
 #include <array>
 
+#include "softgl/pipeline/interpolate.h"
+
 namespace softgl {
 
 const float* unorm8_to_float_table() {
@@ -394,6 +396,79 @@ __attribute__((target(SOFTGL_AVX512))) void lanes_avx512(const BlendOp& op, cons
     for (; l + 16 <= n; l += 16) lanes16<K, true>(op, src, stride, dst, l, 0xFFFF, keep_v);
     if (l < n) lanes16<K, false>(op, src, stride, dst, l, __mmask16((1u << (n - l)) - 1), keep_v);
 }
+
+// The fused copy kernel (write_interpolated_color_lanes): the interpolation of 16 lanes
+// (interpolate.h, Avx512Interpolator: interpolate_avx512's operations) goes straight into
+// lanes16's colour arithmetic, in registers: the varying's four channel arrays are neither
+// written nor read back (they were a third of a large copy-shader triangle's time). A whole row
+// of four quads is computed in row order (lanes 0..7 row y, 8..15 row y + 1: the same pixels,
+// so the same values) and goes straight into the buffer's rows, without the lanes' scatter.
+template <ColorKernel K, int V>
+__attribute__((target(SOFTGL_AVX512))) void interpolated_lanes_avx512(const BlendOp& op, const VaryingInterpolation& v,
+                                                                     size_t first, const Quad* quads, size_t n,
+                                                                     uint32_t* dst, const PixelRows& rows) {
+    const Avx512Interpolator<V> interpolator(v);
+    float v0[4], d1[4], d2[4];
+    for (size_t c = 0; c < 4; ++c) {
+        v0[c] = v.values[first + c];
+        d1[c] = v.values[v.count + first + c];
+        d2[c] = V == 3 ? v.values[2 * v.count + first + c] : 0.0f;
+    }
+    uint32_t keep = 0;
+    for (int c = 0; c < 4; ++c)
+        if (!op.write[size_t(c)]) keep |= 0xFFu << (8 * c);
+    const __m512i keep_v = _mm512_set1_epi32(int(keep));
+    const bool read_dst = K != ColorKernel::Plain || keep;
+    auto pixels = [&](__m512 l1, __m512 l2, __m512i d32) __attribute__((target(SOFTGL_AVX512))) {
+        __m512 s[4];
+        for (int c = 0; c < 4; ++c) s[c] = clamp01_ps16(Avx512Interpolator<V>::value(v0[c], d1[c], d2[c], l1, l2));
+        return _mm512_ternarylogic_epi32(keep_v, blend_ps16<K>(op, s, d32), d32, 0xAC);   // as lanes16
+    };
+    auto group = [&](size_t i, __mmask16 lanes, bool full) __attribute__((target(SOFTGL_AVX512))) {
+        const __m512i xy = full ? _mm512_loadu_si512(quads + i) : _mm512_maskz_loadu_epi32(lanes, quads + i);
+        __m512 l1, l2;
+        interpolator.weights(xy, l1, l2);
+        uint32_t* const d = dst + 4 * i;
+        const __m512i d32 = !read_dst ? _mm512_setzero_si512() : full ? _mm512_loadu_si512(d) : _mm512_maskz_loadu_epi32(lanes, d);
+        const __m512i px = pixels(l1, l2, d32);
+        if (full) _mm512_storeu_si512(d, px);
+        else _mm512_mask_storeu_epi32(d, lanes, px);
+    };
+    auto tail = [&](size_t i) { return i + 4 <= n ? __mmask16(0xFFFF) : __mmask16((1u << (4 * (n - i))) - 1); };
+    if (!rows.rows) {
+        for (size_t i = 0; i < n; i += 4) group(i, tail(i), i + 4 <= n);
+        return;
+    }
+    const __m512i row_x = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 0, 1, 2, 3, 4, 5, 6, 7);
+    const __m512i row_y = _mm512_setr_epi32(0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 1, 1, 1, 1);
+    const uint64_t in_row = rows.rows | rows.rows << 1 | rows.rows << 2 | rows.rows << 3;
+    size_t done = 0;   // the lanes of quads before `done` are written
+    for (size_t i = 0; i < n;) {
+        if (rows.rows >> i & 1) {
+            __m512 l1, l2;
+            interpolator.weights_at(_mm512_add_epi32(_mm512_set1_epi32(quads[i].x), row_x),
+                                    _mm512_add_epi32(_mm512_set1_epi32(quads[i].y), row_y), l1, l2);
+            uint8_t* const row0 = rows.color + 4 * (size_t(quads[i].y) * rows.pitch + size_t(quads[i].x));
+            uint8_t* const row1 = row0 + 4 * rows.pitch;
+            const __m512i d32 = !read_dst ? _mm512_setzero_si512()
+                : _mm512_inserti64x4(_mm512_castsi256_si512(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(row0))),
+                                     _mm256_loadu_si256(reinterpret_cast<const __m256i*>(row1)), 1);
+            const __m512i px = pixels(l1, l2, d32);
+            _mm256_storeu_si256(reinterpret_cast<__m256i*>(row0), _mm512_castsi512_si256(px));
+            _mm256_storeu_si256(reinterpret_cast<__m256i*>(row1), _mm512_extracti64x4_epi64(px, 1));
+            i += 4;
+            continue;
+        }
+        if (i >= done) {   // quads i .. i + 3 but those of rows of four
+            __mmask16 lanes = tail(i);
+            for (size_t k = 0; k < 4; ++k)
+                if (i + k < n && (in_row >> (i + k) & 1)) lanes = __mmask16(lanes & ~(0xFu << (4 * k)));
+            group(i, lanes, lanes == 0xFFFF);
+            done = i + 4;
+        }
+        ++i;
+    }
+}
 #pragma GCC diagnostic pop
 #undef SOFTGL_AVX512
 
@@ -414,6 +489,55 @@ void lanes_at(SimdLevel level, const BlendOp& op, const float* src, size_t strid
 #else
             return lanes<K>(op, src, stride, dst, n);
 #endif
+    }
+}
+
+// A row of four quads' pixels in the buffer <-> their lanes (quad order), for the levels that
+// go through lanes.
+template <bool ToLanes>
+void move_row_of_four(const PixelRows& rows, const Quad& q, uint32_t* lanes) {
+    uint8_t* const row0 = rows.color + 4 * (size_t(q.y) * rows.pitch + size_t(q.x));
+    for (size_t k = 0; k < 4; ++k)
+        for (size_t y = 0; y < 2; ++y) {
+            uint8_t* const px = row0 + 4 * (y * rows.pitch + 2 * k);
+            if (ToLanes) std::memcpy(lanes + 4 * k + 2 * y, px, 8);
+            else std::memcpy(px, lanes + 4 * k + 2 * y, 8);
+        }
+}
+
+template <ColorKernel K>
+void interpolated_lanes_at(SimdLevel level, const BlendOp& op, const VaryingInterpolation& v, size_t first,
+                           const Quad* quads, size_t n, uint32_t* dst, const PixelRows& rows) {
+#if defined(SOFTGL_HAVE_AVX2_KERNELS) && defined(SOFTGL_HAVE_AVX512_INTERPOLATOR)
+    if (level == SimdLevel::AVX512)
+        return v.vertices == 3 ? interpolated_lanes_avx512<K, 3>(op, v, first, quads, n, dst, rows)
+                               : interpolated_lanes_avx512<K, 2>(op, v, first, quads, n, dst, rows);
+#endif
+    // The two stages in turn, a chunk of quads at a time, on the varying's four words alone; rows
+    // of four go through lanes of their own (one chunk then: n <= 64).
+    float values[3 * 4];
+    const int words[4] = {0, 1, 2, 3};
+    for (int k = 0; k < v.vertices; ++k)
+        for (size_t c = 0; c < 4; ++c) values[4 * k + c] = v.values[size_t(k) * v.count + first + c];
+    VaryingInterpolation four = v;
+    four.count = 4, four.words = words, four.values = values;
+    constexpr size_t kQuads = 64;
+    uint32_t lanes[4 * 4 * kQuads], pixels[4 * kQuads];
+    for (size_t i = 0; i < n; i += kQuads) {
+        const size_t m = n - i < kQuads ? n - i : kQuads;
+        std::memcpy(pixels, dst + 4 * i, 16 * m);
+        for (size_t k = 0; k < m; ++k)
+            if (rows.rows >> (i + k) & 1) move_row_of_four<true>(rows, quads[i + k], pixels + 4 * k);
+        interpolate_varyings_at(level, four, quads + i, m, lanes, 4 * m);
+        lanes_at<K>(level, op, reinterpret_cast<const float*>(lanes), 4 * m, pixels, 4 * m);
+        for (size_t k = 0; k < m; ++k)
+            if (rows.rows >> (i + k) & 1) move_row_of_four<false>(rows, quads[i + k], pixels + 4 * k);
+        // Quads of a row keep their lanes in dst.
+        for (size_t k = 0; k < m; ++k) {
+            bool in_row = false;
+            for (size_t r = 0; r < 4 && r <= i + k; ++r) in_row |= (rows.rows >> (i + k - r) & 1) != 0;
+            if (!in_row) std::memcpy(dst + 4 * (i + k), pixels + 4 * k, 16);
+        }
     }
 }
 
@@ -450,6 +574,22 @@ void write_color_lanes_at(SimdLevel level, ColorKernel kernel, const BlendOp& op
 void write_color_lanes(ColorKernel kernel, const BlendOp& op, const float* src, size_t stride, uint32_t* dst,
                        size_t n) {
     write_color_lanes_at(best_simd_level(), kernel, op, src, stride, dst, n);
+}
+
+void write_interpolated_color_lanes_at(SimdLevel level, ColorKernel kernel, const BlendOp& op,
+                                       const VaryingInterpolation& v, size_t first, const Quad* quads, size_t n,
+                                       uint32_t* dst, const PixelRows& rows) {
+    switch (kernel) {
+        case ColorKernel::Plain: return interpolated_lanes_at<ColorKernel::Plain>(level, op, v, first, quads, n, dst, rows);
+        case ColorKernel::AlphaOver: return interpolated_lanes_at<ColorKernel::AlphaOver>(level, op, v, first, quads, n, dst, rows);
+        case ColorKernel::Additive: return interpolated_lanes_at<ColorKernel::Additive>(level, op, v, first, quads, n, dst, rows);
+        case ColorKernel::Generic: break;   // not offered (header)
+    }
+}
+
+void write_interpolated_color_lanes(ColorKernel kernel, const BlendOp& op, const VaryingInterpolation& v, size_t first,
+                                    const Quad* quads, size_t n, uint32_t* dst, const PixelRows& rows) {
+    write_interpolated_color_lanes_at(best_simd_level(), kernel, op, v, first, quads, n, dst, rows);
 }
 
 }  // namespace softgl

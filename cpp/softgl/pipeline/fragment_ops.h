@@ -106,4 +106,26 @@ SimdLevel best_simd_level();
 void write_color_lanes_at(SimdLevel level, ColorKernel kernel, const BlendOp& op, const float* src, size_t stride,
                           uint32_t* dst, size_t n);
 
+// For a fragment shader that only copies a smooth vec4 varying to its colour (FragmentShader::copies):
+// the colour kernel on that varying's interpolated values, v.words[first .. first + 3], for the
+// lanes of quads[0 .. n) (lane 4*i + j is pixel j of quads[i]; dst as write_color_lanes). Bit for
+// bit interpolate_varyings followed by write_color_lanes; the AVX-512 level fuses the two so the
+// values go from registers into pixels instead of through the varying arrays (other levels run
+// the two in turn). Not for Generic.
+// Bit i of `rows` (n <= 64 then) marks quads i .. i + 3 as four whole quads side by side inside
+// the single-sampled RGBA8 buffer `color` (pitch in pixels): their pixels are read and written
+// there, two rows of eight, and their lanes in dst are left as they were.
+struct VaryingInterpolation;
+struct Quad;
+struct PixelRows {
+    uint8_t* color = nullptr;   // pixel (0, 0)
+    size_t pitch = 0;           // pixels from one row to the next
+    uint64_t rows = 0;
+};
+void write_interpolated_color_lanes_at(SimdLevel level, ColorKernel kernel, const BlendOp& op,
+                                       const VaryingInterpolation& v, size_t first, const Quad* quads, size_t n,
+                                       uint32_t* dst, const PixelRows& rows = {});
+void write_interpolated_color_lanes(ColorKernel kernel, const BlendOp& op, const VaryingInterpolation& v, size_t first,
+                                    const Quad* quads, size_t n, uint32_t* dst, const PixelRows& rows);
+
 }  // namespace softgl

@@ -64,19 +64,6 @@ void interpolate_scalar(const VaryingInterpolation& v, const Quad* quads, size_t
     }
 }
 
-// When all vertices have the same w (every 2D draw), Q is a constant plane (a = b = 0) and
-// (c + 0*dx) + 0*dy == c for any finite non-zero c and finite offsets (adding a zero of either
-// sign to a non-zero number leaves it unchanged), so every lane's q is 1 / c: computed once. When
-// that q is 1 (w = 1), l * 1 == l bit for bit (+-0, infinities, denormals -- no FTZ/DAZ is set --
-// and the quiet NaNs arithmetic produces), so the weights skip the multiply.
-struct ConstantQ {
-    bool constant, unit;
-    float q;
-    explicit ConstantQ(const FloatPlane& pl)
-        : constant(pl.a == 0 && pl.b == 0 && std::isfinite(pl.c) && pl.c != 0), unit(constant && 1.0f / pl.c == 1.0f),
-          q(1.0f / pl.c) {}
-};
-
 #if defined(__SSE2__)
 // One quad per register.
 template <int V>
@@ -157,18 +144,7 @@ __attribute__((target("avx512f,avx512bw,avx512dq,avx512vl"))) void interpolate_a
     const VaryingInterpolation& v, const Quad* quads, size_t n, uint32_t* out, size_t stride) {
     const float* const values = v.values;
     const size_t count = v.count;
-    const ConstantQ cq(v.inv_w);
-    const __m512 one = _mm512_set1_ps(1.0f), q_constant = _mm512_set1_ps(cq.q);
-    const __m512i pick_x = _mm512_setr_epi32(0, 0, 0, 0, 4, 4, 4, 4, 8, 8, 8, 8, 12, 12, 12, 12);
-    const __m512i pick_y = _mm512_add_epi32(pick_x, _mm512_set1_epi32(1));
-    const __m512i px = _mm512_setr_epi32(0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1);
-    const __m512i py = _mm512_setr_epi32(0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1, 1);
-    const __m512i base_x = _mm512_set1_epi32(v.base_x), base_y = _mm512_set1_epi32(v.base_y);
-    __m512 pa[V], pb[V], pc[V];   // Q, L_1 (, L_2)
-    for (int k = 0; k < V; ++k) {
-        const FloatPlane& pl = k == 0 ? v.inv_w : v.weight[k - 1];
-        pa[k] = _mm512_set1_ps(pl.a), pb[k] = _mm512_set1_ps(pl.b), pc[k] = _mm512_set1_ps(pl.c);
-    }
+    const Avx512Interpolator<V> interpolator(v);
     constexpr size_t kBatch = 16;
     float* dst[kBatch];
     for (size_t k0 = 0; k0 < count; k0 += kBatch) {
@@ -179,17 +155,10 @@ __attribute__((target("avx512f,avx512bw,avx512dq,avx512vl"))) void interpolate_a
         const float* const d2 = V == 3 ? values + 2 * count + k0 : d1;   // lines: unused
         auto group = [&](size_t i, __mmask16 lanes, bool full) __attribute__((target("avx512f,avx512bw,avx512dq,avx512vl"))) {
             const __m512i xy = full ? _mm512_loadu_si512(quads + i) : _mm512_maskz_loadu_epi32(lanes, quads + i);
-            const __m512 dx = _mm512_cvtepi32_ps(_mm512_sub_epi32(_mm512_add_epi32(_mm512_permutexvar_epi32(pick_x, xy), px), base_x));
-            const __m512 dy = _mm512_cvtepi32_ps(_mm512_sub_epi32(_mm512_add_epi32(_mm512_permutexvar_epi32(pick_y, xy), py), base_y));
-            auto eval = [&](int k) __attribute__((target("avx512f"))) {
-                return _mm512_add_ps(_mm512_add_ps(pc[k], _mm512_mul_ps(pa[k], dx)), _mm512_mul_ps(pb[k], dy));
-            };
-            const __m512 q = cq.constant ? q_constant : _mm512_div_ps(one, eval(0));
-            const __m512 l1 = cq.unit ? eval(1) : _mm512_mul_ps(eval(1), q);
-            const __m512 l2 = V == 3 ? (cq.unit ? eval(2) : _mm512_mul_ps(eval(2), q)) : _mm512_setzero_ps();
+            __m512 l1, l2;
+            interpolator.weights(xy, l1, l2);
             for (size_t k = 0; k < batch; ++k) {
-                __m512 s = _mm512_add_ps(_mm512_set1_ps(v0[k]), _mm512_mul_ps(l1, _mm512_set1_ps(d1[k])));
-                if constexpr (V == 3) s = _mm512_add_ps(s, _mm512_mul_ps(l2, _mm512_set1_ps(d2[k])));
+                const __m512 s = Avx512Interpolator<V>::value(v0[k], d1[k], d2[k], l1, l2);
                 if (full) _mm512_storeu_ps(dst[k] + 4 * i, s);
                 else _mm512_mask_storeu_ps(dst[k] + 4 * i, lanes, s);
             }

@@ -17,6 +17,7 @@
 // of the vertex values' magnitude (measured in tests/pipeline/test_interpolate.py). Double
 // precision, used before, cost 40% of a large-triangle frame for no visible gain in 8-bit colour.
 #pragma once
+#include <cmath>
 #include <cstddef>
 #include <cstdint>
 
@@ -61,5 +62,84 @@ inline void interpolate_varyings(const VaryingInterpolation& v, const Quad* quad
                                  size_t stride) {
     interpolate_varyings_at(best_simd_level(), v, quads, n, out, stride);
 }
+
+// When all vertices have the same w (every 2D draw), Q is a constant plane (a = b = 0) and
+// (c + 0*dx) + 0*dy == c for any finite non-zero c and finite offsets (adding a zero of either
+// sign to a non-zero number leaves it unchanged), so every lane's q is 1 / c: computed once. When
+// that q is 1 (w = 1), l * 1 == l bit for bit (+-0, infinities, denormals -- no FTZ/DAZ is set --
+// and the quiet NaNs arithmetic produces), so the weights skip the multiply.
+struct ConstantQ {
+    bool constant, unit;
+    float q;
+    explicit ConstantQ(const FloatPlane& pl)
+        : constant(pl.a == 0 && pl.b == 0 && std::isfinite(pl.c) && pl.c != 0), unit(constant && 1.0f / pl.c == 1.0f),
+          q(1.0f / pl.c) {}
+};
+
+}  // namespace softgl
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#define SOFTGL_HAVE_AVX512_INTERPOLATOR 1
+
+namespace softgl {
+
+#define SOFTGL_AVX512_TARGET __attribute__((target("avx512f,avx512bw,avx512dq,avx512vl")))
+// GCC 12's AVX-512 intrinsics start from _mm512_undefined_*(), which -W(maybe-)uninitialized
+// reports once they are inlined (GCC bug 105593, fixed in GCC 13).
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+// The AVX-512 interpolation of 16 lanes (four quads, lane 4*i + j pixel j of quad i) in registers:
+// interpolate_avx512 stores its values, fragment_ops.cpp's fused copy kernel packs them into
+// pixels without the trip through memory. Call only on a CPU with AVX-512 F+BW+DQ+VL.
+template <int V>   // 3: triangles, 2: lines
+struct Avx512Interpolator {
+    __m512 pa[V], pb[V], pc[V];   // Q, L_1 (, L_2)
+    __m512 q_constant;
+    ConstantQ cq;
+    __m512i base_x, base_y;
+    SOFTGL_AVX512_TARGET explicit Avx512Interpolator(const VaryingInterpolation& v)
+        : q_constant(_mm512_set1_ps(ConstantQ(v.inv_w).q)), cq(v.inv_w), base_x(_mm512_set1_epi32(v.base_x)),
+          base_y(_mm512_set1_epi32(v.base_y)) {
+        for (int k = 0; k < V; ++k) {
+            const FloatPlane& pl = k == 0 ? v.inv_w : v.weight[k - 1];
+            pa[k] = _mm512_set1_ps(pl.a), pb[k] = _mm512_set1_ps(pl.b), pc[k] = _mm512_set1_ps(pl.c);
+        }
+    }
+    // The weights l_1, l_2 (lines: 0) of the lanes whose pixel offsets are (x - base_x, y - base_y).
+    SOFTGL_AVX512_TARGET void weights_at(__m512i x, __m512i y, __m512& l1, __m512& l2) const {
+        const __m512 dx = _mm512_cvtepi32_ps(_mm512_sub_epi32(x, base_x));
+        const __m512 dy = _mm512_cvtepi32_ps(_mm512_sub_epi32(y, base_y));
+        auto eval = [&](int k) SOFTGL_AVX512_TARGET {
+            return _mm512_add_ps(_mm512_add_ps(pc[k], _mm512_mul_ps(pa[k], dx)), _mm512_mul_ps(pb[k], dy));
+        };
+        const __m512 q = cq.constant ? q_constant : _mm512_div_ps(_mm512_set1_ps(1.0f), eval(0));
+        l1 = cq.unit ? eval(1) : _mm512_mul_ps(eval(1), q);
+        l2 = V == 3 ? (cq.unit ? eval(2) : _mm512_mul_ps(eval(2), q)) : _mm512_setzero_ps();
+    }
+    // The same for the 16 lanes of four quads given as 16 int32 words (x at 0, 4, 8, 12; y one after).
+    SOFTGL_AVX512_TARGET void weights(__m512i xy, __m512& l1, __m512& l2) const {
+        const __m512i pick_x = _mm512_setr_epi32(0, 0, 0, 0, 4, 4, 4, 4, 8, 8, 8, 8, 12, 12, 12, 12);
+        const __m512i pick_y = _mm512_add_epi32(pick_x, _mm512_set1_epi32(1));
+        const __m512i px = _mm512_setr_epi32(0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1);
+        const __m512i py = _mm512_setr_epi32(0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1, 1);
+        weights_at(_mm512_add_epi32(_mm512_permutexvar_epi32(pick_x, xy), px),
+                   _mm512_add_epi32(_mm512_permutexvar_epi32(pick_y, xy), py), l1, l2);
+    }
+    // out = (v_0 + l_1 * d_1) + l_2 * d_2 (lines: v_0 + l_1 * d_1).
+    SOFTGL_AVX512_TARGET static __m512 value(float v0, float d1, float d2, __m512 l1, __m512 l2) {
+        __m512 s = _mm512_add_ps(_mm512_set1_ps(v0), _mm512_mul_ps(l1, _mm512_set1_ps(d1)));
+        if constexpr (V == 3) s = _mm512_add_ps(s, _mm512_mul_ps(l2, _mm512_set1_ps(d2)));
+        return s;
+    }
+};
+#pragma GCC diagnostic pop
+#undef SOFTGL_AVX512_TARGET
+
+}  // namespace softgl
+#endif
+
+namespace softgl {
 
 }  // namespace softgl
