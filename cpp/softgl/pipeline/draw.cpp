@@ -371,20 +371,20 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
     // The common early depth test, the drawing buffer's 24-bit depth and no stencil, runs a quad
     // at a time (pipeline/early_depth); anything else sample by sample below.
     DefaultFramebuffer* const default_fb = fb.default_framebuffer();
-    const bool single_depth = early && ds.depth_test && !ds.stencil_test && !sink && default_fb;
-    EarlyDepth single_depth_test;
-    if (single_depth) {
-        single_depth_test.pattern = &pattern;
-        single_depth_test.func = ds.depth_func;
-        single_depth_test.write = ds.depth_write;
-        single_depth_test.depth = default_fb->depth_samples(0, 0);
-        single_depth_test.pitch = pitch;
+    const bool quad_depth = early && ds.depth_test && !ds.stencil_test && !sink && default_fb;
+    EarlyDepth quad_depth_test;
+    if (quad_depth) {
+        quad_depth_test.pattern = &pattern;
+        quad_depth_test.func = ds.depth_func;
+        quad_depth_test.write = ds.depth_write;
+        quad_depth_test.depth = default_fb->depth_samples(0, 0);
+        quad_depth_test.pitch = pitch;
     }
 
     // Single-sampled drawing buffer pixels (as 32-bit words) for prefetching; null when not touched.
     const uint32_t* const color_pixels = drawing_buffer && S == 1 && writes_color
         ? reinterpret_cast<const uint32_t*>(drawing_buffer->color_sample(0, 0, 0)) : nullptr;
-    const uint32_t* const depth_pixels = single_depth && S == 1 ? single_depth_test.depth : nullptr;
+    const uint32_t* const depth_pixels = quad_depth && S == 1 ? quad_depth_test.depth : nullptr;
     constexpr int32_t kPrefetchRows = 16;
 
     // The current batch (see below): its shaded vertices (instance i's vertex v at i * n + v), its
@@ -486,8 +486,8 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                     // Early depth/stencil (legal when the shader cannot discard or write depth),
                     // then the quads with a surviving sample move to the front (kept <= qi).
                     uint64_t killed_early = 0;
-                    if (single_depth) {
-                        EarlyDepth t = single_depth_test;
+                    if (quad_depth) {
+                        EarlyDepth t = quad_depth_test;
                         t.prim = &p;
                         killed_early = early_depth_test(t, cq, chunk, masks);
                     } else {
