@@ -639,8 +639,11 @@ __attribute__((target("avx2"))) void lambda8(const glsl::TextureQuery& q, int l,
         if (q.ddy[2]) ly2 = _mm256_add_pd(ly2, square_wide(y2, half));
         _mm256_store_pd(rho2 + 4 * half, _mm256_max_pd(ly2, lx2));   // = std::max(lx2, ly2), NaN included
     }
+    // Lanes of a quad often share rho² (affine coordinates): equal (non-NaN) doubles give the same lambda.
+    float lambda = 0.0f;
     for (int k = 0; k < 8; ++k) {
-        out[k] = lambda_of(rho2[k]);
+        if (k == 0 || !(rho2[k] == rho2[k - 1])) lambda = lambda_of(rho2[k]);
+        out[k] = lambda;
         if (q.lod_mode == TextureLod::Bias && q.lod) out[k] += q.lod[l + k].f;
     }
 }
@@ -888,8 +891,10 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
     while (first < q.lane_count && q.active && !q.active[first]) ++first;
     if (first == q.lane_count) return false;
     const int32_t unit = q.unit[first].i;
+    uint32_t other_unit = 0;   // branch-free, so that it vectorizes
     for (int l = first + 1; l < q.lane_count; ++l)
-        if ((!q.active || q.active[l]) && q.unit[l].i != unit) return false;
+        other_unit |= !q.active || q.active[l] ? uint32_t(q.unit[l].i ^ unit) : 0u;
+    if (other_unit) return false;
     if (unit < 0 || unit >= kSamplerUnits) return false;
     const BoundTexture& bt = units[size_t(unit)][size_t(dim_index(q.dim))];
     if (!bt.texture) return false;
