@@ -891,9 +891,11 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
     while (first < q.lane_count && q.active && !q.active[first]) ++first;
     if (first == q.lane_count) return false;
     const int32_t unit = q.unit[first].i;
-    uint32_t other_unit = 0;   // branch-free, so that it vectorizes
-    for (int l = first + 1; l < q.lane_count; ++l)
-        other_unit |= !q.active || q.active[l] ? uint32_t(q.unit[l].i ^ unit) : 0u;
+    uint32_t other_unit = 0;   // branch-free loops, so that they vectorize
+    if (q.active)
+        for (int l = first + 1; l < q.lane_count; ++l) other_unit |= q.active[l] ? uint32_t(q.unit[l].i ^ unit) : 0u;
+    else
+        for (int l = first + 1; l < q.lane_count; ++l) other_unit |= uint32_t(q.unit[l].i ^ unit);
     if (other_unit) return false;
     if (unit < 0 || unit >= kSamplerUnits) return false;
     const BoundTexture& bt = units[size_t(unit)][size_t(dim_index(q.dim))];
