@@ -876,6 +876,38 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512))) void filter16(const Fast2D& f, co
 
 }  // namespace
 
+namespace {
+
+// The unit of every active lane; false when lanes use different units or none is active.
+bool one_unit(const glsl::TextureQuery& q, int32_t& unit) {
+    int first = 0;
+    while (first < q.lane_count && q.active && !q.active[first]) ++first;
+    if (first == q.lane_count) return false;
+    unit = q.unit[first].i;
+    uint32_t other_unit = 0;   // branch-free loops, so that they vectorize
+    if (q.active)
+        for (int l = first + 1; l < q.lane_count; ++l) other_unit |= q.active[l] ? uint32_t(q.unit[l].i ^ unit) : 0u;
+    else
+        for (int l = first + 1; l < q.lane_count; ++l) other_unit |= uint32_t(q.unit[l].i ^ unit);
+    return other_unit == 0;
+}
+
+}  // namespace
+
+bool TextureUnitSampler::lod_matters(const glsl::TextureQuery& q) const {
+    // ES 3.0 §3.8.11: without mipmaps and with one filter for magnification and minification,
+    // lambda selects nothing (incomplete or unbound units give (0, 0, 0, 1) regardless).
+    int32_t unit;
+    if (!one_unit(q, unit)) return true;
+    if (unit < 0 || unit >= kSamplerUnits) return false;
+    const BoundTexture& bt = units[size_t(unit)][size_t(dim_index(q.dim))];
+    if (!bt.texture) return false;
+    const GLenum mf = bt.params.min_filter;
+    const bool min_linear = mf == gl::LINEAR || mf == gl::LINEAR_MIPMAP_NEAREST || mf == gl::LINEAR_MIPMAP_LINEAR;
+    const bool mipmapped = !(mf == gl::NEAREST || mf == gl::LINEAR || bt.q == bt.base);
+    return mipmapped || min_linear != (bt.params.mag_filter == gl::LINEAR);
+}
+
 uint64_t set_sampler_path(SamplerPath path) {
     path_level = int(path);
     count_queries = true;
@@ -887,16 +919,8 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
         (q.dim != SamplerDim::Tex2D && q.dim != SamplerDim::Tex2DArray))
         return false;
     // One unit for every active lane (sampler uniforms are uniform; anything else goes per lane).
-    int first = 0;
-    while (first < q.lane_count && q.active && !q.active[first]) ++first;
-    if (first == q.lane_count) return false;
-    const int32_t unit = q.unit[first].i;
-    uint32_t other_unit = 0;   // branch-free loops, so that they vectorize
-    if (q.active)
-        for (int l = first + 1; l < q.lane_count; ++l) other_unit |= q.active[l] ? uint32_t(q.unit[l].i ^ unit) : 0u;
-    else
-        for (int l = first + 1; l < q.lane_count; ++l) other_unit |= uint32_t(q.unit[l].i ^ unit);
-    if (other_unit) return false;
+    int32_t unit;
+    if (!one_unit(q, unit)) return false;
     if (unit < 0 || unit >= kSamplerUnits) return false;
     const BoundTexture& bt = units[size_t(unit)][size_t(dim_index(q.dim))];
     if (!bt.texture) return false;
