@@ -739,7 +739,8 @@ void Executor::texture(const Instruction& ins, int n, const StageRun& run) {
             q.ddx[k] = t.grad_x[k] != kNoReg ? reg(t.grad_x[k]) : nullptr;
             q.ddy[k] = t.grad_y[k] != kNoReg ? reg(t.grad_y[k]) : nullptr;
         }
-    } else if (t.kind == TextureKind::Sample && (t.lod_mode == TextureLod::Implicit || t.lod_mode == TextureLod::Bias)) {
+    } else if (t.kind == TextureKind::Sample && (t.lod_mode == TextureLod::Implicit || t.lod_mode == TextureLod::Bias) &&
+               run.sampler && run.sampler->lod_matters(q)) {
         // Implicit derivatives: differences inside each quad (zero in vertex shaders).
         for (int k = 0; k < 3; ++k) {
             if (!q.coord[k]) continue;

@@ -45,6 +45,9 @@ class TextureSampler {
 public:
     virtual ~TextureSampler() = default;
     virtual void sample(const TextureQuery& query) = 0;
+    // False when the level of detail cannot change what `query` (all but its derivatives filled
+    // in) returns: implicit derivatives are then left out.
+    virtual bool lod_matters(const TextureQuery&) const { return true; }
 };
 
 struct ExecutionError : std::runtime_error {

@@ -639,8 +639,11 @@ __attribute__((target("avx2"))) void lambda8(const glsl::TextureQuery& q, int l,
         if (q.ddy[2]) ly2 = _mm256_add_pd(ly2, square_wide(y2, half));
         _mm256_store_pd(rho2 + 4 * half, _mm256_max_pd(ly2, lx2));   // = std::max(lx2, ly2), NaN included
     }
+    // Lanes of a quad often share rho² (affine coordinates): equal (non-NaN) doubles give the same lambda.
+    float lambda = 0.0f;
     for (int k = 0; k < 8; ++k) {
-        out[k] = lambda_of(rho2[k]);
+        if (k == 0 || !(rho2[k] == rho2[k - 1])) lambda = lambda_of(rho2[k]);
+        out[k] = lambda;
         if (q.lod_mode == TextureLod::Bias && q.lod) out[k] += q.lod[l + k].f;
     }
 }
@@ -733,17 +736,28 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512))) inline void wrap16(GLenum mode, _
     }
 }
 
-// The texels of 16 lanes (layer[l] + 4 * index[l]) as four channel vectors: out[c] lane l =
+// Where the texels of lane l's layer start: one plane for all lanes, or (2D arrays, kLayered)
+// each lane's own layer.
+template <bool kLayered>
+struct Layers16 {
+    const float* plane;
+    const float* lane[kLayered ? 16 : 1];
+    const float* at(int l) const { return kLayered ? lane[l] : plane; }
+};
+
+// The texels of 16 lanes (at(l) + 4 * index[l]) as four channel vectors: out[c] lane l =
 // texel l's channel c. Four texels per register (lanes k, k + 4, k + 8, k + 12), then a 4x4
 // transpose in every 128-bit slot.
-__attribute__((target(SOFTGL_SAMPLER_AVX512))) inline void texels16(const float* const layer[16], __m512i index,
+template <bool kLayered>
+__attribute__((target(SOFTGL_SAMPLER_AVX512))) inline void texels16(const Layers16<kLayered>& layers, __m512i index,
                                                                     __m512 out[4]) {
     alignas(64) int32_t at[16];
     _mm512_store_si512(at, _mm512_slli_epi32(index, 2));
     __m512 r[4];
     for (int k = 0; k < 4; ++k) {
-        r[k] = _mm512_castps128_ps512(_mm_loadu_ps(layer[k] + at[k]));
-        for (int m = 1; m < 4; ++m) r[k] = _mm512_insertf32x4(r[k], _mm_loadu_ps(layer[k + 4 * m] + at[k + 4 * m]), m);
+        r[k] = _mm512_castps128_ps512(_mm_loadu_ps(layers.at(k) + at[k]));
+        for (int m = 1; m < 4; ++m)
+            r[k] = _mm512_insertf32x4(r[k], _mm_loadu_ps(layers.at(k + 4 * m) + at[k + 4 * m]), m);
     }
     const __m512d t0 = _mm512_castps_pd(_mm512_unpacklo_ps(r[0], r[1])), t1 = _mm512_castps_pd(_mm512_unpackhi_ps(r[0], r[1]));
     const __m512d t2 = _mm512_castps_pd(_mm512_unpacklo_ps(r[2], r[3])), t3 = _mm512_castps_pd(_mm512_unpackhi_ps(r[2], r[3]));
@@ -753,13 +767,48 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512))) inline void texels16(const float*
     out[3] = _mm512_castpd_ps(_mm512_unpackhi_pd(t1, t3));
 }
 
+// texels16 of two horizontally adjacent texels per lane (index[l] and index[l] + 1 in one row),
+// read as one 8-float load each: left[c] and right[c] are their channel vectors. Register m holds
+// lanes m and m + 4 (m < 4) or m + 4 and m + 8, so that after an 8x8 transpose in each 256-bit
+// half the 128-bit slots of lanes 0-3, 4-7, 8-11, 12-15 sit two per register.
+template <bool kLayered>
+__attribute__((target(SOFTGL_SAMPLER_AVX512))) inline void texel_pairs16(const Layers16<kLayered>& layers,
+                                                                         __m512i index, __m512 left[4], __m512 right[4]) {
+    alignas(64) int32_t at[16];
+    _mm512_store_si512(at, _mm512_slli_epi32(index, 2));
+    __m512 x[8];
+    for (int m = 0; m < 8; ++m) {
+        const int l = m < 4 ? m : m + 4;
+        x[m] = _mm512_insertf32x8(_mm512_castps256_ps512(_mm256_loadu_ps(layers.at(l) + at[l])),
+                                  _mm256_loadu_ps(layers.at(l + 4) + at[l + 4]), 1);
+    }
+    // s[4 * h + c]: channel c of lanes 8h .. 8h + 3 (left texel in slot 0, right in slot 1) and
+    // of lanes 8h + 4 .. 8h + 7 (slots 2 and 3).
+    __m512 s[8];
+    for (int h = 0; h < 2; ++h) {
+        const __m512* y = x + 4 * h;
+        const __m512 t0 = _mm512_unpacklo_ps(y[0], y[1]), t1 = _mm512_unpackhi_ps(y[0], y[1]);
+        const __m512 t2 = _mm512_unpacklo_ps(y[2], y[3]), t3 = _mm512_unpackhi_ps(y[2], y[3]);
+        s[4 * h + 0] = _mm512_shuffle_ps(t0, t2, 0x44);
+        s[4 * h + 1] = _mm512_shuffle_ps(t0, t2, 0xEE);
+        s[4 * h + 2] = _mm512_shuffle_ps(t1, t3, 0x44);
+        s[4 * h + 3] = _mm512_shuffle_ps(t1, t3, 0xEE);
+    }
+    for (int c = 0; c < 4; ++c) {
+        left[c] = _mm512_shuffle_f32x4(s[c], s[4 + c], _MM_SHUFFLE(2, 0, 2, 0));
+        right[c] = _mm512_shuffle_f32x4(s[c], s[4 + c], _MM_SHUFFLE(3, 1, 3, 1));
+    }
+}
+
 // filter8 of one plane for 16 lanes, out[c] = channel c of the 16 results.
+template <bool kLayered>
 __attribute__((target(SOFTGL_SAMPLER_AVX512))) void filter16(const Fast2D& f, const Plane& p, bool linear,
                                                              const float* s, const float* t, const float* r,
                                                              __m512 out[4]) {
-    const float* layer[16];
-    for (int l = 0; l < 16; ++l)
-        layer[l] = p.texels + (r ? size_t(std::clamp(ifloor(r[l] + 0.5f), 0, p.layers - 1)) * size_t(p.height) * size_t(p.width) * 4 : 0);
+    Layers16<kLayered> layers{p.texels, {}};
+    if constexpr (kLayered)
+        for (int l = 0; l < 16; ++l)
+            layers.lane[l] = p.texels + size_t(std::clamp(ifloor(r[l] + 0.5f), 0, p.layers - 1)) * size_t(p.height) * size_t(p.width) * 4;
     const __m512 u = _mm512_add_ps(_mm512_mul_ps(_mm512_loadu_ps(s), _mm512_set1_ps(float(p.width))), _mm512_set1_ps(float(f.off_s)));
     const __m512 v = _mm512_add_ps(_mm512_mul_ps(_mm512_loadu_ps(t), _mm512_set1_ps(float(p.height))), _mm512_set1_ps(float(f.off_t)));
     const __m512i width = _mm512_set1_epi32(p.width);
@@ -768,7 +817,7 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512))) void filter16(const Fast2D& f, co
         wrap16(f.wrap_s, ifloor_floored16(_mm512_floor_ps(u)), p.width, p.width_pot, false, i0, i1);
         wrap16(f.wrap_t, ifloor_floored16(_mm512_floor_ps(v)), p.height, p.height_pot, false, j0, j1);
         // Texel indices in int32: 4 * w * h <= 2^30 floats (kMaxTextureSize is 16384).
-        texels16(layer, _mm512_add_epi32(_mm512_mullo_epi32(j0, width), i0), out);
+        texels16(layers, _mm512_add_epi32(_mm512_mullo_epi32(j0, width), i0), out);
         return;
     }
     const __m512 half = _mm512_set1_ps(0.5f), one = _mm512_set1_ps(1.0f);
@@ -780,15 +829,29 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512))) void filter16(const Fast2D& f, co
     const __m512 na = _mm512_sub_ps(one, a), nb = _mm512_sub_ps(one, b);
     const __m512 w[4] = {_mm512_mul_ps(na, nb), _mm512_mul_ps(a, nb), _mm512_mul_ps(na, b), _mm512_mul_ps(a, b)};
     const __m512i row0 = _mm512_mullo_epi32(j0, width), row1 = _mm512_mullo_epi32(j1, width);
-    const __m512i corner[4] = {_mm512_add_epi32(row0, i0), _mm512_add_epi32(row0, i1), _mm512_add_epi32(row1, i0),
-                               _mm512_add_epi32(row1, i1)};
-    // w00 * t00 + w10 * t10 + w01 * t01 + w11 * t11, left to right, as Fast2D::filter.
-    for (int k = 0; k < 4; ++k) {
-        __m512 texel[4];
-        texels16(layer, corner[k], texel);
-        for (int c = 0; c < 4; ++c)
-            out[c] = k == 0 ? _mm512_mul_ps(w[0], texel[c]) : _mm512_add_ps(out[c], _mm512_mul_ps(w[k], texel[c]));
+    __m512 texel[4][4];   // t00, t10, t01, t11
+    if (_mm512_cmpeq_epi32_mask(i1, _mm512_add_epi32(i0, _mm512_set1_epi32(1))) == 0xFFFF) {
+        // No lane wraps between its columns: each row's two texels are neighbours in memory.
+        texel_pairs16(layers, _mm512_add_epi32(row0, i0), texel[0], texel[1]);
+        texel_pairs16(layers, _mm512_add_epi32(row1, i0), texel[2], texel[3]);
+    } else {
+        texels16(layers, _mm512_add_epi32(row0, i0), texel[0]);
+        texels16(layers, _mm512_add_epi32(row0, i1), texel[1]);
+        texels16(layers, _mm512_add_epi32(row1, i0), texel[2]);
+        texels16(layers, _mm512_add_epi32(row1, i1), texel[3]);
     }
+    // w00 * t00 + w10 * t10 + w01 * t01 + w11 * t11, left to right, as Fast2D::filter.
+    for (int c = 0; c < 4; ++c) {
+        out[c] = _mm512_mul_ps(w[0], texel[0][c]);
+        for (int k = 1; k < 4; ++k) out[c] = _mm512_add_ps(out[c], _mm512_mul_ps(w[k], texel[k][c]));
+    }
+}
+
+__attribute__((target(SOFTGL_SAMPLER_AVX512))) void filter16(const Fast2D& f, const Plane& p, bool linear,
+                                                             const float* s, const float* t, const float* r,
+                                                             __m512 out[4]) {
+    if (r) filter16<true>(f, p, linear, s, t, r, out);
+    else filter16<false>(f, p, linear, s, t, r, out);
 }
 
 // filter8(LevelChoice) of 16 lanes that share the levels, into lanes l .. l + 15 of the outputs.
@@ -813,6 +876,38 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512))) void filter16(const Fast2D& f, co
 
 }  // namespace
 
+namespace {
+
+// The unit of every active lane; false when lanes use different units or none is active.
+bool one_unit(const glsl::TextureQuery& q, int32_t& unit) {
+    int first = 0;
+    while (first < q.lane_count && q.active && !q.active[first]) ++first;
+    if (first == q.lane_count) return false;
+    unit = q.unit[first].i;
+    uint32_t other_unit = 0;   // branch-free loops, so that they vectorize
+    if (q.active)
+        for (int l = first + 1; l < q.lane_count; ++l) other_unit |= q.active[l] ? uint32_t(q.unit[l].i ^ unit) : 0u;
+    else
+        for (int l = first + 1; l < q.lane_count; ++l) other_unit |= uint32_t(q.unit[l].i ^ unit);
+    return other_unit == 0;
+}
+
+}  // namespace
+
+bool TextureUnitSampler::lod_matters(const glsl::TextureQuery& q) const {
+    // ES 3.0 §3.8.11: without mipmaps and with one filter for magnification and minification,
+    // lambda selects nothing (incomplete or unbound units give (0, 0, 0, 1) regardless).
+    int32_t unit;
+    if (!one_unit(q, unit)) return true;
+    if (unit < 0 || unit >= kSamplerUnits) return false;
+    const BoundTexture& bt = units[size_t(unit)][size_t(dim_index(q.dim))];
+    if (!bt.texture) return false;
+    const GLenum mf = bt.params.min_filter;
+    const bool min_linear = mf == gl::LINEAR || mf == gl::LINEAR_MIPMAP_NEAREST || mf == gl::LINEAR_MIPMAP_LINEAR;
+    const bool mipmapped = !(mf == gl::NEAREST || mf == gl::LINEAR || bt.q == bt.base);
+    return mipmapped || min_linear != (bt.params.mag_filter == gl::LINEAR);
+}
+
 uint64_t set_sampler_path(SamplerPath path) {
     path_level = int(path);
     count_queries = true;
@@ -824,12 +919,8 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
         (q.dim != SamplerDim::Tex2D && q.dim != SamplerDim::Tex2DArray))
         return false;
     // One unit for every active lane (sampler uniforms are uniform; anything else goes per lane).
-    int first = 0;
-    while (first < q.lane_count && q.active && !q.active[first]) ++first;
-    if (first == q.lane_count) return false;
-    const int32_t unit = q.unit[first].i;
-    for (int l = first + 1; l < q.lane_count; ++l)
-        if ((!q.active || q.active[l]) && q.unit[l].i != unit) return false;
+    int32_t unit;
+    if (!one_unit(q, unit)) return false;
     if (unit < 0 || unit >= kSamplerUnits) return false;
     const BoundTexture& bt = units[size_t(unit)][size_t(dim_index(q.dim))];
     if (!bt.texture) return false;

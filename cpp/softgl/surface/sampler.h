@@ -31,6 +31,7 @@ public:
     // units[unit][dim]: dim 0 = 2D, 1 = 3D, 2 = cube, 3 = 2D array.
     std::array<std::array<BoundTexture, 4>, kSamplerUnits> units;
     void sample(const glsl::TextureQuery& query) override;
+    bool lod_matters(const glsl::TextureQuery& query) const override;
 
 private:
     // The general path: every lane on its own, any texture kind and dimension.
