@@ -48,6 +48,42 @@ softgl::Clipper clip_inputs(const ClipTriangle& tri, int32_t width, int32_t heig
     return softgl::Clipper(vp);
 }
 
+
+// The interpolation hooks' inputs: planes (4, 3) float64 rows (a, b, c) of weight[0..2] and inv_w,
+// origin in 1/256 pixel, quads (n, 2) int32 lower-left pixels, values (vertices, words) float32,
+// the planes' base pixel. Filled in place: vi points into the other members.
+using Doubles = py::array_t<double, py::array::c_style | py::array::forcecast>;
+using Int32s = py::array_t<int32_t, py::array::c_style | py::array::forcecast>;
+using Floats = py::array_t<float, py::array::c_style | py::array::forcecast>;
+struct InterpolationInputs {
+    softgl::PrimitiveSetup prim{};
+    std::vector<softgl::Quad> quads;
+    std::vector<int> words;
+    std::vector<float> values;
+    softgl::VaryingInterpolation vi;
+
+    InterpolationInputs(const Doubles& planes, int64_t origin_x, int64_t origin_y, const Int32s& q, const Floats& v,
+                        int32_t base_x, int32_t base_y) {
+        if (planes.ndim() != 2 || planes.shape(0) != 4 || planes.shape(1) != 3 || q.ndim() != 2 || q.shape(1) != 2 ||
+            v.ndim() != 2 || (v.shape(0) != 2 && v.shape(0) != 3))
+            throw py::value_error("planes (4, 3), quads (n, 2), values (2 or 3, words)");
+        softgl::Plane* pl[4] = {&prim.weight[0], &prim.weight[1], &prim.weight[2], &prim.inv_w};
+        for (int k = 0; k < 4; ++k) *pl[k] = {planes.at(k, 0), planes.at(k, 1), planes.at(k, 2)};
+        prim.origin_x = origin_x, prim.origin_y = origin_y;
+        const size_t n = size_t(q.shape(0)), count = size_t(v.shape(1));
+        const int vertices = int(v.shape(0));
+        quads.resize(n);
+        for (size_t i = 0; i < n; ++i) quads[i] = {q.at(i, 0), q.at(i, 1), ~uint64_t(0)};
+        words.resize(count);
+        values.resize(size_t(vertices) * count);
+        for (size_t k = 0; k < count; ++k) words[k] = int(k);
+        for (size_t j = 0; j < size_t(vertices); ++j)
+            for (size_t k = 0; k < count; ++k) values[j * count + k] = v.at(j, k);
+        softgl::prepare_interpolation(prim, vertices, base_x, base_y, words.data(), count, values.data(), vi);
+    }
+    InterpolationInputs(const InterpolationInputs&) = delete;   // vi points into this object
+};
+
 }  // namespace
 
 void bind_testing(py::module_& m) {
@@ -267,29 +303,12 @@ void bind_testing(py::module_& m) {
     // values (vertices, words) float32, base: the pixel the float planes are based at. Returns
     // (words, 4n) float32, lane 4*i + j = pixel j of quad i.
     t.def("interpolate_varyings",
-          [](int level, py::array_t<double, py::array::c_style | py::array::forcecast> planes, int64_t origin_x,
-             int64_t origin_y, py::array_t<int32_t, py::array::c_style | py::array::forcecast> quads,
-             py::array_t<float, py::array::c_style | py::array::forcecast> values, int32_t base_x, int32_t base_y) {
-              if (planes.ndim() != 2 || planes.shape(0) != 4 || planes.shape(1) != 3 || quads.ndim() != 2 ||
-                  quads.shape(1) != 2 || values.ndim() != 2 || (values.shape(0) != 2 && values.shape(0) != 3))
-                  throw py::value_error("planes (4, 3), quads (n, 2), values (2 or 3, words)");
-              softgl::PrimitiveSetup p{};
-              softgl::Plane* pl[4] = {&p.weight[0], &p.weight[1], &p.weight[2], &p.inv_w};
-              for (int k = 0; k < 4; ++k) *pl[k] = {planes.at(k, 0), planes.at(k, 1), planes.at(k, 2)};
-              p.origin_x = origin_x, p.origin_y = origin_y;
-              const size_t n = size_t(quads.shape(0)), count = size_t(values.shape(1));
-              const int vertices = int(values.shape(0));
-              std::vector<softgl::Quad> q(n);
-              for (size_t i = 0; i < n; ++i) q[i] = {quads.at(i, 0), quads.at(i, 1), ~uint64_t(0)};
-              std::vector<int> words(count);
-              std::vector<float> vals(size_t(vertices) * count);
-              for (size_t k = 0; k < count; ++k) words[k] = int(k);
-              for (size_t v = 0; v < size_t(vertices); ++v)
-                  for (size_t k = 0; k < count; ++k) vals[v * count + k] = values.at(v, k);
-              softgl::VaryingInterpolation vi;
-              softgl::prepare_interpolation(p, vertices, base_x, base_y, words.data(), count, vals.data(), vi);
+          [](int level, Doubles planes, int64_t origin_x, int64_t origin_y, Int32s quads, Floats values, int32_t base_x,
+             int32_t base_y) {
+              const InterpolationInputs in(planes, origin_x, origin_y, quads, values, base_x, base_y);
+              const size_t n = in.quads.size(), count = in.words.size();
               py::array_t<float> out({py::ssize_t(count), py::ssize_t(4 * n)});
-              softgl::interpolate_varyings_at(softgl::SimdLevel(level), vi, q.data(), n,
+              softgl::interpolate_varyings_at(softgl::SimdLevel(level), in.vi, in.quads.data(), n,
                                               reinterpret_cast<uint32_t*>(out.mutable_data()), 4 * n);
               return out;
           },
@@ -302,19 +321,17 @@ void bind_testing(py::module_& m) {
     // rows (fused only): PixelRows' bits, for quads in `image` ((h, w) uint32 pixels).
     // Returns (dst, image) after the call.
     t.def("interpolated_color_lanes",
-          [](int level, bool fused, py::array_t<double, py::array::c_style | py::array::forcecast> planes,
-             int64_t origin_x, int64_t origin_y, py::array_t<int32_t, py::array::c_style | py::array::forcecast> quads,
-             py::array_t<float, py::array::c_style | py::array::forcecast> values, int32_t base_x, int32_t base_y,
+          [](int level, bool fused, Doubles planes, int64_t origin_x, int64_t origin_y, Int32s quads, Floats values,
+             int32_t base_x, int32_t base_y,
              size_t first, bool blend, const std::array<uint32_t, 6>& fe, const std::array<bool, 4>& mask,
              bool has_alpha, py::array_t<uint32_t, py::array::c_style | py::array::forcecast> dst, uint64_t rows,
              py::array_t<uint32_t, py::array::c_style | py::array::forcecast> image) {
-              const size_t n = size_t(quads.shape(0)), count = size_t(values.shape(1));
-              if (planes.ndim() != 2 || planes.shape(0) != 4 || planes.shape(1) != 3 || quads.ndim() != 2 ||
-                  quads.shape(1) != 2 || values.ndim() != 2 || (values.shape(0) != 2 && values.shape(0) != 3) ||
-                  first + 4 > count || dst.ndim() != 1 || size_t(dst.shape(0)) != 4 * n || image.ndim() != 2 ||
+              const InterpolationInputs in(planes, origin_x, origin_y, quads, values, base_x, base_y);
+              const size_t n = in.quads.size(), count = in.words.size();
+              if (first + 4 > count || dst.ndim() != 1 || size_t(dst.shape(0)) != 4 * n || image.ndim() != 2 ||
                   (rows && (!fused || n > 64)))
-                  throw py::value_error("planes (4, 3), quads (n, 2), values (2 or 3, words >= first + 4), dst (4n,), "
-                                        "image (h, w); rows only fused, with n <= 64");
+                  throw py::value_error("values (vertices, words >= first + 4), dst (4n,), image (h, w); rows only "
+                                        "fused, with n <= 64");
               // Rows of four must lie inside the image: the kernel writes there unchecked.
               for (size_t i = 0; i < n; ++i)
                   if (rows >> i & 1)
@@ -330,20 +347,6 @@ void bind_testing(py::module_& m) {
               const softgl::BlendOp op = softgl::BlendOp::from_state(state, has_alpha);
               const softgl::ColorKernel kernel = softgl::color_kernel(op);
               if (kernel == softgl::ColorKernel::Generic) throw py::value_error("no fused kernel for Generic blending");
-              softgl::PrimitiveSetup p{};
-              softgl::Plane* pl[4] = {&p.weight[0], &p.weight[1], &p.weight[2], &p.inv_w};
-              for (int k = 0; k < 4; ++k) *pl[k] = {planes.at(k, 0), planes.at(k, 1), planes.at(k, 2)};
-              p.origin_x = origin_x, p.origin_y = origin_y;
-              const int vertices = int(values.shape(0));
-              std::vector<softgl::Quad> q(n);
-              for (size_t i = 0; i < n; ++i) q[i] = {quads.at(i, 0), quads.at(i, 1), ~uint64_t(0)};
-              std::vector<int> words(count);
-              std::vector<float> vals(size_t(vertices) * count);
-              for (size_t k = 0; k < count; ++k) words[k] = int(k);
-              for (size_t v = 0; v < size_t(vertices); ++v)
-                  for (size_t k = 0; k < count; ++k) vals[v * count + k] = values.at(v, k);
-              softgl::VaryingInterpolation vi;
-              softgl::prepare_interpolation(p, vertices, base_x, base_y, words.data(), count, vals.data(), vi);
               py::array_t<uint32_t> out(py::ssize_t(4 * n));
               std::memcpy(out.mutable_data(), dst.data(), 16 * n);
               const softgl::SimdLevel simd = softgl::SimdLevel(level);
@@ -351,10 +354,10 @@ void bind_testing(py::module_& m) {
               std::memcpy(picture.mutable_data(), image.data(), size_t(image.nbytes()));
               if (fused) {
                   const softgl::PixelRows pixel_rows{reinterpret_cast<uint8_t*>(picture.mutable_data()), size_t(image.shape(1)), rows};
-                  softgl::write_interpolated_color_lanes_at(simd, kernel, op, vi, first, q.data(), n, out.mutable_data(), pixel_rows);
+                  softgl::write_interpolated_color_lanes_at(simd, kernel, op, in.vi, first, in.quads.data(), n, out.mutable_data(), pixel_rows);
               } else {
                   std::vector<uint32_t> varyings(count * 4 * n);
-                  softgl::interpolate_varyings_at(simd, vi, q.data(), n, varyings.data(), 4 * n);
+                  softgl::interpolate_varyings_at(simd, in.vi, in.quads.data(), n, varyings.data(), 4 * n);
                   softgl::write_color_lanes_at(simd, kernel, op, reinterpret_cast<const float*>(varyings.data()) + first * 4 * n,
                                                4 * n, out.mutable_data(), 4 * n);
               }
