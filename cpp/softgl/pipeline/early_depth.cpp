@@ -45,21 +45,42 @@ size_t early_depth_scalar(const EarlyDepth& t, const Quad* quads, size_t n, uint
 }
 
 #if defined(SOFTGL_HAVE_AVX2_EARLY_DEPTH)
-// A quad per step: the four depths as depth_at computes them (plane at the sample, + offset),
-// then depth_word's clamp (NaN -> 0; depth_at's own clamp changes nothing after it) and
-// floor(d * (2^24 - 1) + 0.5) as truncation (the same for these non-negative values). The
+// Four depths at a time as depth_at computes them (plane at the sample, + offset), then
+// depth_word's clamp (NaN -> 0; depth_at's own clamp changes nothing after it) and
+// floor(d * (2^24 - 1) + 0.5) as truncation (the same for these non-negative values); the
 // comparison is compare()'s, as the set of orderings (less, equal, greater) the function accepts.
-// Pixels outside the coverage are neither read nor written (they may lie outside the buffer).
+struct DepthWordsAvx2 {
+    __m256d a, b, c, offset, zero, one, scale, half;
+    __m128i less, equal, greater, sign;
+
+    __attribute__((target("avx2"))) explicit DepthWordsAvx2(const EarlyDepth& t)
+        : a(_mm256_set1_pd(t.prim->depth.a)), b(_mm256_set1_pd(t.prim->depth.b)), c(_mm256_set1_pd(t.prim->depth.c)),
+          offset(_mm256_set1_pd(t.prim->depth_offset)), zero(_mm256_setzero_pd()), one(_mm256_set1_pd(1.0)),
+          scale(_mm256_set1_pd(16777215.0)), half(_mm256_set1_pd(0.5)),
+          less(_mm_set1_epi32(compare(t.func, 0, 1) ? -1 : 0)), equal(_mm_set1_epi32(compare(t.func, 1, 1) ? -1 : 0)),
+          greater(_mm_set1_epi32(compare(t.func, 1, 0) ? -1 : 0)), sign(_mm_set1_epi32(int32_t(0x80000000u))) {}
+    // The words at plane offsets (fx, fy).
+    __attribute__((target("avx2"))) __m128i words(__m256d fx, __m256d fy) const {
+        const __m256d z = _mm256_add_pd(_mm256_add_pd(_mm256_add_pd(c, _mm256_mul_pd(a, fx)), _mm256_mul_pd(b, fy)), offset);
+        const __m256d d = _mm256_and_pd(_mm256_blendv_pd(one, z, _mm256_cmp_pd(z, one, _CMP_LT_OQ)),
+                                        _mm256_cmp_pd(z, zero, _CMP_GT_OQ));
+        return _mm256_cvttpd_epi32(_mm256_add_pd(_mm256_mul_pd(d, scale), half));
+    }
+    // The covered lanes whose word passes against the stored one (unsigned order).
+    __attribute__((target("avx2"))) __m128i pass(__m128i word, __m128i stored, __m128i covered) const {
+        const __m128i zs = _mm_xor_si128(word, sign), ss = _mm_xor_si128(stored, sign);
+        const __m128i lt = _mm_cmplt_epi32(zs, ss), eq = _mm_cmpeq_epi32(zs, ss), gt = _mm_cmpgt_epi32(zs, ss);
+        return _mm_and_si128(covered, _mm_or_si128(_mm_or_si128(_mm_and_si128(lt, less), _mm_and_si128(eq, equal)),
+                                                   _mm_and_si128(gt, greater)));
+    }
+};
+
+// A quad per step (DepthWordsAvx2). Pixels outside the coverage are neither read nor written
+// (they may lie outside the buffer).
 __attribute__((target("avx2"))) size_t early_depth_avx2(const EarlyDepth& t, const Quad* quads, size_t n,
                                                        uint16_t* survived) {
     const PrimitiveSetup& p = *t.prim;
-    const __m256d a = _mm256_set1_pd(p.depth.a), b = _mm256_set1_pd(p.depth.b), c = _mm256_set1_pd(p.depth.c);
-    const __m256d offset = _mm256_set1_pd(p.depth_offset), zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
-    const __m256d scale = _mm256_set1_pd(16777215.0), half = _mm256_set1_pd(0.5);
-    const __m128i less = _mm_set1_epi32(compare(t.func, 0, 1) ? -1 : 0);
-    const __m128i equal = _mm_set1_epi32(compare(t.func, 1, 1) ? -1 : 0);
-    const __m128i greater = _mm_set1_epi32(compare(t.func, 1, 0) ? -1 : 0);
-    const __m128i sign = _mm_set1_epi32(int32_t(0x80000000u));
+    const DepthWordsAvx2 depth(t);
     size_t killed = 0;
     for (size_t i = 0; i < n; ++i) {
         const Quad& quad = quads[i];
@@ -68,10 +89,7 @@ __attribute__((target("avx2"))) size_t early_depth_avx2(const EarlyDepth& t, con
         const double fx0 = double(X) * (1.0 / kSubPixel), fx1 = double(X + kSubPixel) * (1.0 / kSubPixel);
         const double fy0 = double(Y) * (1.0 / kSubPixel), fy1 = double(Y + kSubPixel) * (1.0 / kSubPixel);
         const __m256d fx = _mm256_setr_pd(fx0, fx1, fx0, fx1), fy = _mm256_setr_pd(fy0, fy0, fy1, fy1);
-        const __m256d z = _mm256_add_pd(_mm256_add_pd(_mm256_add_pd(c, _mm256_mul_pd(a, fx)), _mm256_mul_pd(b, fy)), offset);
-        const __m256d d = _mm256_and_pd(_mm256_blendv_pd(one, z, _mm256_cmp_pd(z, one, _CMP_LT_OQ)),
-                                        _mm256_cmp_pd(z, zero, _CMP_GT_OQ));
-        const __m128i word = _mm256_cvttpd_epi32(_mm256_add_pd(_mm256_mul_pd(d, scale), half));
+        const __m128i word = depth.words(fx, fy);
         // Covered pixels (sample 0 of each 16-bit pixel mask) as lane masks.
         const uint64_t cov = quad.coverage;
         const __m128i covered = _mm_setr_epi32(cov & 1 ? -1 : 0, (cov >> 16) & 1 ? -1 : 0, (cov >> 32) & 1 ? -1 : 0,
@@ -94,10 +112,7 @@ __attribute__((target("avx2"))) size_t early_depth_avx2(const EarlyDepth& t, con
             stored = _mm_unpacklo_epi64(_mm_maskload_epi32(reinterpret_cast<const int*>(row0), m0),
                                         _mm_maskload_epi32(reinterpret_cast<const int*>(row1), m1));
         }
-        const __m128i zs = _mm_xor_si128(word, sign), ss = _mm_xor_si128(stored, sign);   // unsigned order
-        const __m128i lt = _mm_cmplt_epi32(zs, ss), eq = _mm_cmpeq_epi32(zs, ss), gt = _mm_cmpgt_epi32(zs, ss);
-        const __m128i pass = _mm_and_si128(covered, _mm_or_si128(_mm_or_si128(_mm_and_si128(lt, less), _mm_and_si128(eq, equal)),
-                                                                 _mm_and_si128(gt, greater)));
+        const __m128i pass = depth.pass(word, stored, covered);
         const int passed = _mm_movemask_ps(_mm_castsi128_ps(pass));
         if (t.write && passed) {
             if (full) {   // failed pixels get their stored word back
@@ -122,13 +137,8 @@ __attribute__((target("avx2"))) size_t early_depth_4x_avx2(const EarlyDepth& t, 
                                                           uint16_t* survived) {
     const PrimitiveSetup& p = *t.prim;
     const SamplePattern& pattern = *t.pattern;
-    const __m256d a = _mm256_set1_pd(p.depth.a), b = _mm256_set1_pd(p.depth.b), c = _mm256_set1_pd(p.depth.c);
-    const __m256d offset = _mm256_set1_pd(p.depth_offset), zero = _mm256_setzero_pd(), one = _mm256_set1_pd(1.0);
-    const __m256d scale = _mm256_set1_pd(16777215.0), half = _mm256_set1_pd(0.5);
-    const __m128i less = _mm_set1_epi32(compare(t.func, 0, 1) ? -1 : 0);
-    const __m128i equal = _mm_set1_epi32(compare(t.func, 1, 1) ? -1 : 0);
-    const __m128i greater = _mm_set1_epi32(compare(t.func, 1, 0) ? -1 : 0);
-    const __m128i sign = _mm_set1_epi32(int32_t(0x80000000u)), bits = _mm_setr_epi32(1, 2, 4, 8);
+    const DepthWordsAvx2 depth(t);
+    const __m128i bits = _mm_setr_epi32(1, 2, 4, 8);
     size_t killed = 0;
     for (size_t i = 0; i < n; ++i) {
         const Quad& quad = quads[i];
@@ -141,18 +151,11 @@ __attribute__((target("avx2"))) size_t early_depth_4x_avx2(const EarlyDepth& t, 
             double fx[4], fy[4];
             for (int s = 0; s < 4; ++s)
                 fx[s] = double(X + pattern.x[s]) * (1.0 / kSubPixel), fy[s] = double(Y + pattern.y[s]) * (1.0 / kSubPixel);
-            const __m256d z = _mm256_add_pd(_mm256_add_pd(_mm256_add_pd(c, _mm256_mul_pd(a, _mm256_loadu_pd(fx))),
-                                                          _mm256_mul_pd(b, _mm256_loadu_pd(fy))), offset);
-            const __m256d d = _mm256_and_pd(_mm256_blendv_pd(one, z, _mm256_cmp_pd(z, one, _CMP_LT_OQ)),
-                                            _mm256_cmp_pd(z, zero, _CMP_GT_OQ));
-            const __m128i word = _mm256_cvttpd_epi32(_mm256_add_pd(_mm256_mul_pd(d, scale), half));
+            const __m128i word = depth.words(_mm256_loadu_pd(fx), _mm256_loadu_pd(fy));
             const __m128i covered = _mm_cmpeq_epi32(_mm_and_si128(_mm_set1_epi32(int32_t(mask)), bits), bits);
             int* const samples = reinterpret_cast<int*>(&t.depth[(size_t(y) * t.pitch + size_t(x)) * 4]);
             const __m128i stored = _mm_maskload_epi32(samples, covered);
-            const __m128i zs = _mm_xor_si128(word, sign), ss = _mm_xor_si128(stored, sign);   // unsigned order
-            const __m128i lt = _mm_cmplt_epi32(zs, ss), eq = _mm_cmpeq_epi32(zs, ss), gt = _mm_cmpgt_epi32(zs, ss);
-            const __m128i pass = _mm_and_si128(covered, _mm_or_si128(_mm_or_si128(_mm_and_si128(lt, less), _mm_and_si128(eq, equal)),
-                                                                     _mm_and_si128(gt, greater)));
+            const __m128i pass = depth.pass(word, stored, covered);
             if (t.write) _mm_maskstore_epi32(samples, pass, word);
             const int passed = _mm_movemask_ps(_mm_castsi128_ps(pass));
             survived[4 * i + size_t(j)] = uint16_t(passed);
