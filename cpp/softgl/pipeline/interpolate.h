@@ -13,9 +13,10 @@
 //      l_k = ((L_k.c + L_k.a * dx) + L_k.b * dy) * q                    k = 1, 2
 //      out = (v_0 + l_1 * d_1) + l_2 * d_2                              (lines: v_0 + l_1 * d_1)
 // v_0 plus weighted differences keeps a varying that is equal at every vertex exactly that value
-// (d_k = 0; an infinity too), with or without perspective. Against the exact value the error is a few float ulps
-// of the vertex values' magnitude (measured in tests/pipeline/test_interpolate.py). Double
-// precision, used before, cost 40% of a large-triangle frame for no visible gain in 8-bit colour.
+// (d_k = 0; an infinity too), with or without perspective. Against the exact value the error is a
+// few float ulps of the vertex values' magnitude (measured in tests/pipeline/test_interpolate.py).
+// Double precision, used before, cost 40% of a large-triangle frame for no visible gain in 8-bit
+// colour.
 #pragma once
 #include <cmath>
 #include <cstddef>
