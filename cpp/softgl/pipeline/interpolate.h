@@ -97,12 +97,18 @@ namespace softgl {
 template <int V>   // 3: triangles, 2: lines
 struct Avx512Interpolator {
     __m512 pa[V], pb[V], pc[V];   // Q, L_1 (, L_2)
-    __m512 q_constant;
     ConstantQ cq;
+    __m512 q_constant;
     __m512i base_x, base_y;
+    // Four quads' 16 int32 words to lanes: pick a lane's quad x (y), add its pixel's dx (dy).
+    __m512i pick_x, pick_y, pixel_x, pixel_y;
     SOFTGL_AVX512_TARGET explicit Avx512Interpolator(const VaryingInterpolation& v)
-        : q_constant(_mm512_set1_ps(ConstantQ(v.inv_w).q)), cq(v.inv_w), base_x(_mm512_set1_epi32(v.base_x)),
-          base_y(_mm512_set1_epi32(v.base_y)) {
+        : cq(v.inv_w), q_constant(_mm512_set1_ps(cq.q)), base_x(_mm512_set1_epi32(v.base_x)),
+          base_y(_mm512_set1_epi32(v.base_y)),
+          pick_x(_mm512_setr_epi32(0, 0, 0, 0, 4, 4, 4, 4, 8, 8, 8, 8, 12, 12, 12, 12)),
+          pick_y(_mm512_add_epi32(pick_x, _mm512_set1_epi32(1))),
+          pixel_x(_mm512_setr_epi32(0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1)),
+          pixel_y(_mm512_setr_epi32(0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1, 1)) {
         for (int k = 0; k < V; ++k) {
             const FloatPlane& pl = k == 0 ? v.inv_w : v.weight[k - 1];
             pa[k] = _mm512_set1_ps(pl.a), pb[k] = _mm512_set1_ps(pl.b), pc[k] = _mm512_set1_ps(pl.c);
@@ -121,12 +127,8 @@ struct Avx512Interpolator {
     }
     // The same for the 16 lanes of four quads given as 16 int32 words (x at 0, 4, 8, 12; y one after).
     SOFTGL_AVX512_TARGET void weights(__m512i xy, __m512& l1, __m512& l2) const {
-        const __m512i pick_x = _mm512_setr_epi32(0, 0, 0, 0, 4, 4, 4, 4, 8, 8, 8, 8, 12, 12, 12, 12);
-        const __m512i pick_y = _mm512_add_epi32(pick_x, _mm512_set1_epi32(1));
-        const __m512i px = _mm512_setr_epi32(0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1, 0, 1);
-        const __m512i py = _mm512_setr_epi32(0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1, 1, 0, 0, 1, 1);
-        weights_at(_mm512_add_epi32(_mm512_permutexvar_epi32(pick_x, xy), px),
-                   _mm512_add_epi32(_mm512_permutexvar_epi32(pick_y, xy), py), l1, l2);
+        weights_at(_mm512_add_epi32(_mm512_permutexvar_epi32(pick_x, xy), pixel_x),
+                   _mm512_add_epi32(_mm512_permutexvar_epi32(pick_y, xy), pixel_y), l1, l2);
     }
     // out = (v_0 + l_1 * d_1) + l_2 * d_2 (lines: v_0 + l_1 * d_1).
     SOFTGL_AVX512_TARGET static __m512 value(float v0, float d1, float d2, __m512 l1, __m512 l2) {
