@@ -150,6 +150,7 @@ void bind_testing(py::module_& m) {
               d["fragments_killed_early"] = stats.fragments_killed_early;
               d["fragments_killed_late"] = stats.fragments_killed_late;
               d["fragments_discarded"] = stats.fragments_discarded;
+              d["fragments_hidden"] = stats.fragments_hidden;
               d["samples_written"] = stats.samples_written;
               d["samples_blended"] = stats.samples_blended;
               d["draws_skipped_no_output"] = stats.draws_skipped_no_output;
@@ -190,6 +191,12 @@ void bind_testing(py::module_& m) {
     // Draws run in batches of this many primitives (all contexts, all threads); 0 = the default.
     // Returns the previous size.
     t.def("set_draw_batch_primitives", &softgl::set_draw_batch_primitives, py::arg("primitives"));
+    // Hidden-surface removal: 0 never, 1 where primitives pile up (the default), 2 in every tile
+    // with two or more primitives. Returns the previous mode.
+    t.def("set_hidden_surface_removal", [](int mode) {
+        if (mode < 0 || mode > 2) throw py::value_error("hidden-surface removal: 0, 1 or 2");
+        return int(softgl::set_hidden_surface_removal(softgl::HiddenSurfaceRemoval(mode)));
+    }, py::arg("mode"));
     // GLM as the reference for softgl.transforms (the C++ side's math library).
     t.def("glm_perspective", [](float fovy, float aspect, float n, float f) { return from_glm(glm::perspective(fovy, aspect, n, f)); });
     t.def("glm_ortho", [](float l, float r, float b, float tp, float n, float f) { return from_glm(glm::ortho(l, r, b, tp, n, f)); });

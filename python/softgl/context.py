@@ -197,7 +197,13 @@ class Context(_core.Context):
         ``vertices_shaded`` counts vertex shader runs: each distinct vertex once per instance
         and batch, so in a draw of more batches than one, a vertex whose primitives fall in two
         batches (a strip's two vertices at a boundary, a fan's centre, an index reused far
-        apart) counts in each."""
+        apart) counts in each.
+
+        ``fragments_hidden`` counts fragments that passed the tests but were not shaded, because
+        a later primitive of the same draw covers their pixel and nothing blends (hidden-surface
+        removal, single-sampled targets, in tiles where primitives pile up): the bytes are the
+        same as when every fragment is shaded. A shader's loop-limit abort can then only come
+        from a fragment that is shaded."""
         return self._stats(reset)
 
     @property

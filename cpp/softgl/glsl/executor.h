@@ -91,7 +91,8 @@ public:
     void run(const StageRun& run);
 
     // Loops that run longer than this many iterations abort the draw (a GPU would hang or
-    // lose the context; softgl reports it).
+    // lose the context; softgl reports it). Only fragments that are shaded can abort: those
+    // hidden by hidden-surface removal (pipeline/draw.cpp OwnerMap) are not run.
     uint64_t max_loop_iterations = 1u << 24;
 
     // Testing: run the lane loops at `level` (must be supported by the CPU).

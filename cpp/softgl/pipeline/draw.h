@@ -33,6 +33,7 @@ struct DrawStats {
     uint64_t quads = 0, blocks_accepted_whole = 0;
     uint64_t fragments_shaded = 0;      // lanes run through the fragment shader (helpers included)
     uint64_t fragments_killed_early = 0, fragments_killed_late = 0, fragments_discarded = 0;
+    uint64_t fragments_hidden = 0;      // passed the tests, then covered by a later one: not shaded
     uint64_t samples_written = 0, samples_blended = 0;
     uint64_t draws_skipped_no_output = 0;  // nothing could change: no shading at all
     uint64_t draws_early_depth = 0;        // depth/stencil tested before shading
@@ -64,5 +65,11 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& stats);
 inline constexpr uint32_t kDrawBatchPrimitivesMax = 1u << 24;
 uint32_t draw_batch_primitives();
 uint32_t set_draw_batch_primitives(uint32_t primitives);
+
+// For tests: hidden-surface removal (pipeline/draw.cpp OwnerMap) in the tiles where primitives
+// pile up (the default), in every tile with two or more, or never (the bytes must not change).
+// Returns the previous mode.
+enum class HiddenSurfaceRemoval { Off, WherePilesUp, InEveryTile };
+HiddenSurfaceRemoval set_hidden_surface_removal(HiddenSurfaceRemoval mode);
 
 }  // namespace softgl
