@@ -267,28 +267,37 @@ def textured_quads(kind: str, layers: int = 8, tex_size: int = 512, scale: float
     """Issue 5 textured fill rate (one lookup: nearest, bilinear, trilinear) and issue 3 (c) (two
     lookups): `layers` full-screen quads, no blending, no depth. Texture coordinates run over
     `scale` repeats of a `tex_size`² texture, so at 1024² a pixel covers 1.5 texels (LOD ~0.6:
-    minified, trilinear blends levels 0 and 1)."""
+    minified, trilinear blends levels 0 and 1). Each quad is a draw of its own, so that every
+    layer is shaded (softgl removes hidden surfaces within a draw).
     quad = np.array([[-1, -1], [1, -1], [1, 1], [-1, -1], [1, 1], [-1, 1]], np.float32)
     pos = np.tile(quad, (layers, 1))
     if kind == "two":
         tex = {"uBase": Texture(_texture_image(tex_size, 31), "LINEAR_MIPMAP_LINEAR", "LINEAR", mipmap=True),
                "uDetail": Texture(_texture_image(64, 32), "LINEAR", "LINEAR")}
-        return Scene(TEX_VS, TEX2_FS, {"aPos": pos}, uniforms={"uScale": scale}, textures=tex)
+        return Scene(TEX_VS, TEX2_FS, {"aPos": pos}, uniforms={"uScale": scale}, textures=tex,
+                     draws=_quad_draws(layers))
     filters = {"nearest": ("NEAREST", "NEAREST", False), "bilinear": ("LINEAR", "LINEAR", False),
                "trilinear": ("LINEAR_MIPMAP_LINEAR", "LINEAR", True)}[kind]
     tex = {"uTex": Texture(_texture_image(tex_size, 30), filters[0], filters[1], mipmap=filters[2])}
-    return Scene(TEX_VS, TEX1_FS, {"aPos": pos}, uniforms={"uScale": scale}, textures=tex)
+    return Scene(TEX_VS, TEX1_FS, {"aPos": pos}, uniforms={"uScale": scale}, textures=tex,
+                 draws=_quad_draws(layers))
+
+
+def _quad_draws(layers: int) -> list:
+    """One draw per full-screen quad (6 vertices each)."""
+    return [Draw(6 * k, 6) for k in range(layers)]
 
 
 def executor_scene(kind: str, layers: int = 8) -> Scene:
     """Issue 3's executor benchmark: `layers` full-screen quads with (a) an interpolated color or
-    (b) Lambert with 3 spotlights, no blending, no depth: every pixel is shaded `layers` times."""
+    (b) Lambert with 3 spotlights, no blending, no depth: every pixel is shaded `layers` times
+    (a draw per quad: softgl removes hidden surfaces within a draw)."""
     quad = np.array([[-1, -1], [1, -1], [1, 1], [-1, -1], [1, 1], [-1, 1]], np.float32)
     pos = np.tile(quad, (layers, 1))
     if kind == "color":
         color = np.tile(np.array([[1, 0, 0, 1], [0, 1, 0, 1], [0, 0, 1, 1], [1, 0, 0, 1],
                                   [0, 0, 1, 1], [1, 1, 1, 1]], np.float32), (layers, 1))
-        return Scene(COLOR_VS, COLOR_FS, {"aPos": pos, "aColor": color})
+        return Scene(COLOR_VS, COLOR_FS, {"aPos": pos, "aColor": color}, draws=_quad_draws(layers))
     if kind == "spot":
         base = spotlight_mesh(64)
         p3 = np.concatenate([pos * 0.9, np.full((len(pos), 1), -2.0)], axis=1)
@@ -300,7 +309,7 @@ def executor_scene(kind: str, layers: int = 8) -> Scene:
         # Orthographic-like projection: clip = (x, y, 0, 1) after w = 1 (z = -2 mapped into range).
         proj = np.array([[1 / 0.9, 0, 0, 0], [0, 1 / 0.9, 0, 0], [0, 0, 0.1, 0], [0, 0, 0, 1]])
         u["uProjectionMatrix"] = _mat(proj)
-        return Scene(SPOT_VS, SPOT_FS, {"aPos": p3, "aNormal": normal}, uniforms=u)
+        return Scene(SPOT_VS, SPOT_FS, {"aPos": p3, "aNormal": normal}, uniforms=u, draws=_quad_draws(layers))
     raise ValueError(kind)
 
 
