@@ -268,7 +268,7 @@ def textured_quads(kind: str, layers: int = 8, tex_size: int = 512, scale: float
     lookups): `layers` full-screen quads, no blending, no depth. Texture coordinates run over
     `scale` repeats of a `tex_size`² texture, so at 1024² a pixel covers 1.5 texels (LOD ~0.6:
     minified, trilinear blends levels 0 and 1). Each quad is a draw of its own, so that every
-    layer is shaded (softgl removes hidden surfaces within a draw).
+    layer is shaded (softgl removes hidden surfaces within a draw)."""
     quad = np.array([[-1, -1], [1, -1], [1, 1], [-1, -1], [1, 1], [-1, 1]], np.float32)
     pos = np.tile(quad, (layers, 1))
     if kind == "two":
