@@ -19,10 +19,37 @@ TileRect TileGrid::rect(size_t tile) const {
 }
 
 void Bins::reset(const TileGrid& grid) {
+    for (uint32_t t : occupied_) lists_[t].clear();
+    occupied_.clear();
     grid_ = grid;
     lists_.resize(grid.count());
-    for (auto& l : lists_) l.clear();
     tiles_skipped = 0;
+}
+
+void Bins::begin_gather(const TileGrid& grid, const Bins* parts, size_t count) {
+    reset(grid);
+    marks_.resize(grid.count());
+    for (size_t i = 0; i < count; ++i)
+        for (uint32_t t : parts[i].occupied_)
+            if (!marks_[t]) marks_[t] = 1, occupied_.push_back(t);
+    for (uint32_t t : occupied_) marks_[t] = 0;
+}
+
+void Bins::checkerboard_order(std::vector<uint32_t>& out) const {
+    out.clear();
+    const size_t tiles_x = size_t(grid_.tiles_x), tiles_y = size_t(grid_.tiles_y);
+    if (occupied_.size() * 8 < grid_.count()) {
+        // Few tiles (small draws): sort them by (parity, tile), a division each.
+        for (uint32_t t : occupied_) out.push_back(uint32_t((t / tiles_x + t % tiles_x) & 1) << 31 | t);
+        std::sort(out.begin(), out.end());
+        for (uint32_t& t : out) t &= ~(uint32_t(1) << 31);
+        return;
+    }
+    // Row by row, every other tile (no division per tile).
+    for (size_t parity = 0; parity < 2; ++parity)
+        for (size_t ty = 0; ty < tiles_y; ++ty)
+            for (size_t t = ty * tiles_x + ((ty + parity) & 1); t < (ty + 1) * tiles_x; t += 2)
+                if (!lists_[t].empty()) out.push_back(uint32_t(t));
 }
 
 void Bins::add(const std::vector<PrimitiveSetup>& prims, size_t first) {
@@ -33,7 +60,7 @@ void Bins::gather_tile(size_t t, const Bins* parts, size_t count, const uint32_t
     std::vector<uint32_t>& list = lists_[t];
     size_t total = 0;
     for (size_t i = 0; i < count; ++i) total += parts[i].lists_[t].size();
-    list.resize(total);   // every element is written below
+    list.resize(total);   // every element is written below (total > 0: an occupied tile)
     uint32_t* dst = list.data();
     for (size_t i = 0; i < count; ++i) {
         const std::vector<uint32_t>& part = parts[i].lists_[t];
@@ -50,7 +77,7 @@ void Bins::add(const PrimitiveSetup* prims, size_t count, uint32_t index_base) {
         const int32_t tx0 = p.x0 / kTileSize, tx1 = (p.x1 - 1) / kTileSize;
         const int32_t ty0 = p.y0 / kTileSize, ty1 = (p.y1 - 1) / kTileSize;
         if (tx0 == tx1 && ty0 == ty1) {   // the common case: a small primitive in one tile
-            lists_[size_t(ty0) * grid_.tiles_x + tx0].push_back(n);
+            append(size_t(ty0) * grid_.tiles_x + tx0, n);
             continue;
         }
         for (int32_t ty = ty0; ty <= ty1; ++ty) {
@@ -67,7 +94,7 @@ void Bins::add(const PrimitiveSetup* prims, size_t count, uint32_t index_base) {
                     outside = a * (a > 0 ? X1 : X0) + b * (b > 0 ? Y1 : Y0) + p.c[i] < 0;
                 }
                 if (outside) { ++tiles_skipped; continue; }
-                lists_[size_t(ty) * grid_.tiles_x + tx].push_back(n);
+                append(size_t(ty) * grid_.tiles_x + tx, n);
             }
         }
     }

@@ -27,6 +27,9 @@ GlslVertexShader::GlslVertexShader(std::shared_ptr<const glsl::LinkedProgram> pr
     : program_(std::move(program)), input_location_(input_location), input_component_(input_component) {
     for (int loc : input_location_)
         if (loc >= 0 && loc < kMaxVertexAttribs) used_ |= 1u << loc;
+    for (const glsl::Slot& s : program_->vertex.inputs)
+        input_builtin_.push_back(s.name == "gl_VertexID" ? Builtin::VertexId
+                                 : s.name == "gl_InstanceID" ? Builtin::InstanceId : Builtin::None);
     const auto& outputs = program_->vertex.outputs;
     output_word_.assign(outputs.size(), -1);
     for (size_t i = 0; i < outputs.size(); ++i) {
@@ -48,38 +51,37 @@ GlslVertexShader::GlslVertexShader(std::shared_ptr<const glsl::LinkedProgram> pr
 void GlslVertexShader::run(const std::array<AttributeStream, kMaxVertexAttribs>& attribs, size_t count,
                            const uint32_t* vertex_ids, uint32_t instance_id, VertexShaderOutputs& out) const {
     const glsl::IrProgram& ir = program_->vertex;
-    std::vector<Scalar> ids(count), instances(count);
-    for (size_t v = 0; v < count; ++v) ids[v].u = vertex_ids ? vertex_ids[v] : uint32_t(v), instances[v].u = instance_id;
-    std::vector<const Scalar*> inputs(ir.inputs.size(), nullptr);
+    std::unique_ptr<Run> borrowed;
+    {
+        std::lock_guard<std::mutex> lock(runs_mutex_);
+        if (!idle_runs_.empty()) borrowed = std::move(idle_runs_.back()), idle_runs_.pop_back();
+    }
+    if (!borrowed) borrowed = std::make_unique<Run>(Run{std::make_unique<glsl::Executor>(ir), {}, {}, {}, {}, {}});
+    Run& r = *borrowed;
+    r.ids.resize(count);
+    r.instances.resize(count);
+    for (size_t v = 0; v < count; ++v) r.ids[v].u = vertex_ids ? vertex_ids[v] : uint32_t(v), r.instances[v].u = instance_id;
+    r.inputs.assign(ir.inputs.size(), nullptr);
     for (size_t i = 0; i < ir.inputs.size(); ++i) {
-        const glsl::Slot& s = ir.inputs[i];
-        if (s.name == "gl_VertexID") inputs[i] = ids.data();
-        else if (s.name == "gl_InstanceID") inputs[i] = instances.data();
+        if (input_builtin_[i] == Builtin::VertexId) r.inputs[i] = r.ids.data();
+        else if (input_builtin_[i] == Builtin::InstanceId) r.inputs[i] = r.instances.data();
         else if (input_location_[i] >= 0 && input_location_[i] < kMaxVertexAttribs) {
             const auto& stream = attribs[size_t(input_location_[i])].comp[size_t(input_component_[i])];
-            inputs[i] = reinterpret_cast<const Scalar*>(stream.data());
+            r.inputs[i] = reinterpret_cast<const Scalar*>(stream.data());
         }
     }
-    std::vector<std::vector<Scalar>> results(ir.outputs.size(), std::vector<Scalar>(count));
-    std::vector<Scalar*> outputs(ir.outputs.size());
-    for (size_t i = 0; i < outputs.size(); ++i) outputs[i] = results[i].data();
-    std::unique_ptr<glsl::Executor> executor;
-    {
-        std::lock_guard<std::mutex> lock(executors_mutex_);
-        if (!idle_executors_.empty()) executor = std::move(idle_executors_.back()), idle_executors_.pop_back();
-    }
-    if (!executor) executor = std::make_unique<glsl::Executor>(ir);
+    // Output i at results[i * count ..], zero where the shader does not write it.
+    r.results.assign(ir.outputs.size() * count, Scalar{});
+    r.outputs.resize(ir.outputs.size());
+    for (size_t i = 0; i < r.outputs.size(); ++i) r.outputs[i] = r.results.data() + i * count;
     glsl::StageRun run;
     run.lane_count = int(count);
-    run.inputs = inputs.data();
-    run.outputs = outputs.data();
+    run.inputs = r.inputs.data();
+    run.outputs = r.outputs.data();
     run.uniforms = uniforms_;
     run.sampler = textures_ ? textures_ : &sampler_;
-    executor->run(run);
-    {
-        std::lock_guard<std::mutex> lock(executors_mutex_);
-        idle_executors_.push_back(std::move(executor));
-    }
+    r.executor->run(run);
+    const Scalar* const* const results = r.outputs.data();
 
     out.count = count;
     out.position.assign(count * 4, 0.0f);
@@ -95,6 +97,8 @@ void GlslVertexShader::run(const std::array<AttributeStream, kMaxVertexAttribs>&
         if (output_word_[i] < 0) continue;
         for (size_t v = 0; v < count; ++v) out.varyings[v * words + size_t(output_word_[i])] = results[i][v].u;
     }
+    std::lock_guard<std::mutex> lock(runs_mutex_);
+    idle_runs_.push_back(std::move(borrowed));
 }
 
 namespace {

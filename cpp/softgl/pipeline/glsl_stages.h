@@ -41,10 +41,19 @@ private:
     int point_size_slot_ = -1;
     uint32_t used_ = 0;
     VaryingLayout layout_;
+    enum class Builtin : uint8_t { None, VertexId, InstanceId };
+    std::vector<Builtin> input_builtin_;   // per vertex input slot
     const glsl::Scalar* uniforms_ = nullptr;
-    // run() may be called from several threads at once: each call borrows an idle executor.
-    mutable std::mutex executors_mutex_;
-    mutable std::vector<std::unique_ptr<glsl::Executor>> idle_executors_;
+    // run() may be called from several threads at once: each call borrows an idle executor with
+    // its working arrays (kept between calls: a one-vertex draw allocates nothing).
+    struct Run {
+        std::unique_ptr<glsl::Executor> executor;
+        std::vector<glsl::Scalar> ids, instances, results;
+        std::vector<const glsl::Scalar*> inputs;
+        std::vector<glsl::Scalar*> outputs;
+    };
+    mutable std::mutex runs_mutex_;
+    mutable std::vector<std::unique_ptr<Run>> idle_runs_;
     mutable IncompleteTextureSampler sampler_;
 };
 
