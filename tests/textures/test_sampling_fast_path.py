@@ -217,6 +217,31 @@ def test_fast_path_sampler_object_and_second_unit():
         r.compare(source, c0, cx, cy, special)
 
 
+def test_fast_path_lookups_under_branches_on_two_units():
+    # Each lookup runs with part of its lanes inactive (the branch), on its own unit: the fast
+    # path takes the unit of the active lanes only, and inactive lanes give (0, 0, 0, 1).
+    r = Renderer()
+    gl = r.gl
+    for unit, (w, h, min_filter) in ((1, (9, 14, "LINEAR_MIPMAP_LINEAR")), (2, (16, 8, "NEAREST"))):
+        gl.activeTexture(gl.TEXTURE0 + unit)
+        random_levels(gl, gl.TEXTURE_2D, w, h)
+        set_params(gl, gl.TEXTURE_2D, min_filter, "LINEAR")
+    gl.activeTexture(gl.TEXTURE0)
+    source = fs(LOOKUPS["implicit"]).replace("uniform highp sampler2D tex;", "uniform highp sampler2D tex, tex2;").replace(
+        "color = texture(tex, p.xy);",
+        "color = vec4(0.0);\n"
+        "    if (int(gl_FragCoord.x) % 3 == 1) color = texture(tex, p.xy);\n"
+        "    if (int(gl_FragCoord.x + gl_FragCoord.y) % 2 == 0) color += texture(tex2, p.yx);")
+    assert "tex2, p.yx" in source
+    prog = softgl.program(gl, VS3, source)
+    gl.useProgram(prog)
+    gl.uniform1i(gl.getUniformLocation(prog, "tex"), 1)
+    gl.uniform1i(gl.getUniformLocation(prog, "tex2"), 2)
+    r.programs[source] = prog
+    for c0, cx, cy, special in MAPS.values():
+        r.compare(source, c0, cx, cy, special)
+
+
 def test_fast_path_2d_array_layers():
     r = Renderer()
     gl = r.gl

@@ -884,11 +884,14 @@ bool one_unit(const glsl::TextureQuery& q, int32_t& unit) {
     while (first < q.lane_count && q.active && !q.active[first]) ++first;
     if (first == q.lane_count) return false;
     unit = q.unit[first].i;
-    uint32_t other_unit = 0;   // branch-free loops, so that they vectorize
+    // Branch-free loops over all lanes (lane `first` adds nothing), so that they vectorize:
+    // this runs twice per query over the whole batch.
+    const int32_t u = unit;
+    uint32_t other_unit = 0;
     if (q.active)
-        for (int l = first + 1; l < q.lane_count; ++l) other_unit |= q.active[l] ? uint32_t(q.unit[l].i ^ unit) : 0u;
+        for (int l = 0; l < q.lane_count; ++l) other_unit |= uint32_t(q.unit[l].i ^ u) & (0u - uint32_t(q.active[l] != 0));
     else
-        for (int l = first + 1; l < q.lane_count; ++l) other_unit |= uint32_t(q.unit[l].i ^ unit);
+        for (int l = 0; l < q.lane_count; ++l) other_unit |= uint32_t(q.unit[l].i ^ u);
     return other_unit == 0;
 }
 
