@@ -328,18 +328,20 @@ __attribute__((target(SOFTGL_AVX512))) const UniformColorTable& uniform_colour_t
 
 // A table applied to 64 destination bytes (16 pixels): per channel c in `channels` (bit c) two
 // 128-entry byte lookups (vpermi2b, AVX-512 VBMI), bit 7 of the destination byte choosing between
-// them, each merged into channel c's bytes below or above 128 only; the other bytes keep their
-// values (the indices of the lookups that follow). q[c][k] holds the table's bytes 64k .. 64k + 63.
+// them; the other channels keep their bytes. q[c][k] holds the table's bytes 64k .. 64k + 63.
+// Every lookup indexes the destination itself (merging each into the last one's result instead
+// made a chain of eight lookups per 16 pixels: 1.3x slower).
 __attribute__((target(SOFTGL_AVX512 ",avx512vbmi"))) inline __m512i look_up(const __m512i (&q)[4][4], unsigned channels,
                                                                             __m512i d) {
     const __mmask64 upper = _mm512_movepi8_mask(d);   // destination bytes >= 128
+    __m512i r = d;
     for (int c = 0; c < 4; ++c) {
         if (!(channels >> c & 1)) continue;
         const __mmask64 channel = 0x1111111111111111ull << c;
-        d = _mm512_mask2_permutex2var_epi8(q[c][0], d, channel & ~upper, q[c][1]);
-        d = _mm512_mask2_permutex2var_epi8(q[c][2], d, channel & upper, q[c][3]);
+        r = _mm512_mask_mov_epi8(r, channel & ~upper, _mm512_permutex2var_epi8(q[c][0], d, q[c][1]));
+        r = _mm512_mask_mov_epi8(r, channel & upper, _mm512_permutex2var_epi8(q[c][2], d, q[c][3]));
     }
-    return d;
+    return r;
 }
 __attribute__((target(SOFTGL_AVX512))) inline void load_table(const uint8_t (&bytes)[4][256], __m512i (&q)[4][4]) {
     for (int c = 0; c < 4; ++c)
