@@ -156,6 +156,7 @@ void bind_testing(py::module_& m) {
               d["draws_skipped_no_output"] = stats.draws_skipped_no_output;
               d["draws_early_depth"] = stats.draws_early_depth;
               d["draws_plain_write"] = stats.draws_plain_write;
+              d["draws_blend_table"] = stats.draws_blend_table;
               return d;
           },
           py::arg("ctx"), py::arg("mode"), py::arg("positions"), py::arg("colors"), py::arg("indices") = py::none(),
@@ -374,6 +375,51 @@ void bind_testing(py::module_& m) {
           py::arg("quads"), py::arg("values"), py::arg("base_x"), py::arg("base_y"), py::arg("first"),
           py::arg("blend"), py::arg("funcs_and_equations"), py::arg("mask"), py::arg("has_alpha"), py::arg("dst"),
           py::arg("rows"), py::arg("image"));
+    // pipeline/fragment_ops' blend table (build_blend_table, apply_blend_table_at at one level) for the
+    // constant colour `colour`: blending as fragment_ops_write; quads (n, 2) int32 lower-left
+    // pixels, dst (4n,) uint32 their lanes; rows: PixelRows' bits, for quads in `image` ((h, w)
+    // uint32 pixels). Returns (per_channel, dst, image) after the call (dst and image unchanged
+    // when the blend is not per channel).
+    t.def("blend_table_lanes",
+          [](int level, const std::array<uint32_t, 6>& fe, const std::array<float, 4>& constant,
+             const std::array<bool, 4>& mask, bool has_alpha, const std::array<float, 4>& colour,
+             py::array_t<int32_t, py::array::c_style | py::array::forcecast> quads,
+             py::array_t<uint32_t, py::array::c_style | py::array::forcecast> dst, uint64_t rows,
+             py::array_t<uint32_t, py::array::c_style | py::array::forcecast> image) {
+              const size_t n = quads.ndim() == 2 ? size_t(quads.shape(0)) : 0;
+              if (quads.ndim() != 2 || quads.shape(1) != 2 || dst.ndim() != 1 || size_t(dst.shape(0)) != 4 * n ||
+                  image.ndim() != 2 || n > 64)
+                  throw py::value_error("quads (n <= 64, 2), dst (4n,), image (h, w)");
+              for (size_t i = 0; i < n; ++i)   // rows of four must lie inside the image: written unchecked
+                  if (rows >> i & 1)
+                      if (i + 4 > n || quads.at(i, 0) < 0 || quads.at(i, 1) < 0 || quads.at(i, 0) + 8 > image.shape(1) ||
+                          quads.at(i, 1) + 2 > image.shape(0))
+                          throw py::value_error("a row of four outside the image");
+              softgl::State state;
+              state.blend.enabled = true;
+              state.blend.src_rgb = fe[0]; state.blend.dst_rgb = fe[1];
+              state.blend.src_alpha = fe[2]; state.blend.dst_alpha = fe[3];
+              state.blend.equation_rgb = fe[4]; state.blend.equation_alpha = fe[5];
+              state.blend.color = constant;
+              state.color_mask = mask;
+              const softgl::BlendOp op = softgl::BlendOp::from_state(state, has_alpha);
+              std::vector<softgl::Quad> q(n);
+              for (size_t i = 0; i < n; ++i) q[i] = softgl::Quad(quads.at(i, 0), quads.at(i, 1), 0);
+              py::array_t<uint32_t> out(py::ssize_t(4 * n));
+              std::memcpy(out.mutable_data(), dst.data(), 16 * n);
+              py::array_t<uint32_t> picture({image.shape(0), image.shape(1)});
+              std::memcpy(picture.mutable_data(), image.data(), size_t(image.nbytes()));
+              const bool per_channel = softgl::blend_is_per_channel(op);
+              if (per_channel) {
+                  softgl::BlendTable table;
+                  softgl::build_blend_table(softgl::color_kernel(op), op, colour.data(), table);
+                  const softgl::PixelRows pixel_rows{reinterpret_cast<uint8_t*>(picture.mutable_data()), size_t(image.shape(1)), rows};
+                  softgl::apply_blend_table_at(softgl::SimdLevel(level), table, q.data(), n, out.mutable_data(), pixel_rows);
+              }
+              return std::make_tuple(per_channel, out, picture);
+          },
+          py::arg("level"), py::arg("funcs_and_equations"), py::arg("constant"), py::arg("mask"), py::arg("has_alpha"),
+          py::arg("colour"), py::arg("quads"), py::arg("dst"), py::arg("rows"), py::arg("image"));
     // pipeline/early_depth at one instruction-set level: the depth plane (a, b, c) + offset with its
     // origin (1/256 pixel), the samples' positions in a pixel (1/256 pixel), quads (n, 3) int64 rows
     // (x, y, coverage bits), a (h, w, samples) uint32 depth buffer. Returns (survived (n, 4) uint16,

@@ -43,8 +43,8 @@ def blend64(src, dst, sf, df, sfa, dfa, eq, eqa, k, has_alpha=True):
     if not has_alpha:
         d[:, 3] = 1
     k = np.clip(np.asarray(k, np.float64), 0, 1)
-    S = factor64(sf, s, d, k)
-    D = factor64(df, s, d, k)
+    S = factor64(sf, s, d, k).copy()   # copies: SRC_COLOR and DST_COLOR return s and d themselves
+    D = factor64(df, s, d, k).copy()
     S[:, 3] = factor64(sfa, s, d, k)[:, 3]
     D[:, 3] = factor64(dfa, s, d, k)[:, 3]
     out = np.empty_like(s)

@@ -38,6 +38,7 @@ void DrawStats::add(const DrawStats& o) {
     fragments_hidden += o.fragments_hidden;
     samples_written += o.samples_written; samples_blended += o.samples_blended;
     draws_skipped_no_output += o.draws_skipped_no_output; draws_early_depth += o.draws_early_depth;
+    draws_blend_table += o.draws_blend_table;
     draws_plain_write += o.draws_plain_write; seconds_vertex += o.seconds_vertex;
     seconds_setup += o.seconds_setup; seconds_fragment += o.seconds_fragment;
 }
@@ -490,6 +491,9 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
     // copied_word's place in smooth_words when its four words are interpolated there, or -1: such
     // chunks on the single-sampled drawing buffer skip the batch (write_interpolated_color_lanes).
     int copied_index = -1;
+    // With `constant`, single-sampled and blending per channel: the blend as a table (fragment_ops.h).
+    BlendTable table;
+    const BlendTable* blend_table = nullptr;
     const bool constant_kernels = !(!early && tests) && writes_color && !coverage_ops && !fog.enabled && !sink && drawing_buffer;
     // Hidden-surface removal (OwnerMap): single-sampled, no blending that reads the destination (a
     // float buffer's ONE/ZERO blending reads it: inf * 0 is NaN), tests before shading on the
@@ -785,7 +789,13 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                         }
                     };
                     const uint64_t before = w.stats.samples_written;
-                    if (S == 1 && kernel != ColorKernel::Generic) {
+                    if (constant_chunks && blend_table) {   // by lookup; rows of four in place
+                        uint32_t* const d = w.pixels.data();
+                        const uint64_t rows = whole_rows_of_four(buffer_pixels, cq, masks, kept);
+                        load_chunk_pixels(buffer_pixels, cq, masks, kept, d, rows);
+                        apply_blend_table(*blend_table, cq, kept, d, PixelRows{buffer_pixels.color, pitch, rows});
+                        w.stats.samples_written += store_chunk_pixels(buffer_pixels, cq, masks, kept, d, rows);
+                    } else if (S == 1 && kernel != ColorKernel::Generic) {
                         // Gather the destination pixels (only when the kernel reads them), blend all
                         // lanes at once, scatter back (ChunkPixels).
                         uint32_t* const d = w.pixels.data();
@@ -1052,6 +1062,11 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
             if (constant) {
                 float* const lanes = at_least(ds_.constant_color, 4 * kChunkLanes);
                 for (size_t c = 0; c < 4; ++c) std::fill_n(lanes + c * kChunkLanes, kChunkLanes, ds_.constant.color[c]);
+                if (constant_kernels && S == 1 && !plain_write && blend_is_per_channel(blend)) {
+                    build_blend_table(kernel, blend, ds_.constant.color.data(), table);
+                    blend_table = &table;
+                    st.draws_blend_table = 1;
+                }
             }
             // What the fragment shader reads: only these varying words are computed per lane.
             for (int word = 0; word < words; ++word) {

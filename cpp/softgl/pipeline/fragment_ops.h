@@ -129,3 +129,29 @@ void write_interpolated_color_lanes(ColorKernel kernel, const BlendOp& op, const
                                     const Quad* quads, size_t n, uint32_t* dst, const PixelRows& rows);
 
 }  // namespace softgl
+
+namespace softgl {
+
+// A constant source colour (a uniform-only shader, DESIGN §4) blended by factors and equations
+// under which channel c's result depends on destination channel c alone: ES 3.0 table 4.2's rgb
+// factors read only d[c], except DST_ALPHA, ONE_MINUS_DST_ALPHA and SRC_ALPHA_SATURATE (d[3]),
+// which are constant (d[3] = 1) without destination alpha; alpha's factors read only d[3]. Then
+// a 256-entry byte table per channel, the reference kernel's results on every destination byte,
+// blends by lookup, exactly.
+bool blend_is_per_channel(const BlendOp& op);
+struct BlendTable {
+    alignas(64) uint8_t bytes[4][256];   // bytes[c][d]: channel c's result over destination byte d
+    unsigned channels = 0xF;             // bit c: channel c is written (the others' entries are d)
+};
+// Runs the colour kernel (write_color_lanes_at, scalar level) on colour[] over the destinations
+// d * 0x01010101, d = 0..255; channels the colour mask leaves out come out as the identity.
+void build_blend_table(ColorKernel kernel, const BlendOp& op, const float colour[4], BlendTable& table);
+// The table applied to the lanes of quads[0 .. n) (dst as write_color_lanes) and, in place, to
+// the rows of four `rows` marks (as write_interpolated_color_lanes: their lanes are left as they
+// were). AVX-512 VBMI looks up 64 bytes at a time where the CPU has it; every level gives the
+// same bytes.
+void apply_blend_table_at(SimdLevel level, const BlendTable& table, const Quad* quads, size_t n, uint32_t* dst,
+                          const PixelRows& rows);
+void apply_blend_table(const BlendTable& table, const Quad* quads, size_t n, uint32_t* dst, const PixelRows& rows);
+
+}  // namespace softgl
