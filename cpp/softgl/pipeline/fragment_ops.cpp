@@ -409,7 +409,7 @@ __attribute__((target(SOFTGL_AVX512))) void lanes_avx512(const BlendOp& op, cons
 // written nor read back (they were a third of a large copy-shader triangle's time). A whole row
 // of four quads is computed in row order (lanes 0..7 row y, 8..15 row y + 1: the same pixels,
 // so the same values) and goes straight into the buffer's rows, without the lanes' scatter.
-template <ColorKernel K, int V>
+template <ColorKernel K, int V, bool AlphaFixed>
 __attribute__((target(SOFTGL_AVX512))) void interpolated_lanes_avx512(const BlendOp& op, const VaryingInterpolation& v,
                                                                      size_t first, const Quad* quads, size_t n,
                                                                      uint32_t* dst, const PixelRows& rows) {
@@ -425,20 +425,11 @@ __attribute__((target(SOFTGL_AVX512))) void interpolated_lanes_avx512(const Blen
         if (!op.write[size_t(c)]) keep |= 0xFFu << (8 * c);
     const __m512i keep_v = _mm512_set1_epi32(int(keep));
     const bool read_dst = K != ColorKernel::Plain || keep;
-    // A channel equal at every vertex (d_1 = d_2 = 0) is (v_0 + l_1 * 0) + l_2 * 0 at each lane:
-    // with finite weights the products are zeros, which leave v_0 as it is or turn a zero v_0
-    // into a zero (clamped to the same +0), so the channel is clamp01(v_0) in every lane.
-    const bool finite = weights_always_finite(v, interpolator.cq);
-    bool fixed[4];
-    __m512 fixed_s[4];
-    for (size_t c = 0; c < 4; ++c) {
-        fixed[c] = finite && d1[c] == 0 && d2[c] == 0;
-        fixed_s[c] = clamp01_ps16(_mm512_set1_ps(v0[c]));
-    }
+    const __m512 alpha = clamp01_ps16(_mm512_set1_ps(v0[3]));   // AlphaFixed: every lane's
     auto pixels = [&](__m512 l1, __m512 l2, __m512i d32) __attribute__((target(SOFTGL_AVX512))) {
         __m512 s[4];
         for (int c = 0; c < 4; ++c)
-            s[c] = fixed[c] ? fixed_s[c] : clamp01_ps16(Avx512Interpolator<V>::value(v0[c], d1[c], d2[c], l1, l2));
+            s[c] = AlphaFixed && c == 3 ? alpha : clamp01_ps16(Avx512Interpolator<V>::value(v0[c], d1[c], d2[c], l1, l2));
         return _mm512_ternarylogic_epi32(keep_v, blend_ps16<K>(op, s, d32), d32, 0xAC);   // as lanes16
     };
     auto group = [&](size_t i, __mmask16 lanes, bool full) __attribute__((target(SOFTGL_AVX512))) {
@@ -528,6 +519,21 @@ void move_row_of_four(const PixelRows& rows, const Quad& q, uint32_t* lanes) {
             else std::memcpy(px, lanes + 4 * k + 2 * y, 8);
         }
 }
+
+#if defined(SOFTGL_HAVE_AVX2_KERNELS) && defined(SOFTGL_HAVE_AVX512_INTERPOLATOR)
+// Alpha equal at every vertex (d_1 = d_2 = 0: opaque or evenly translucent geometry) is
+// (v_0 + l_1 * 0) + l_2 * 0 at each lane: with finite weights the products are zeros, which leave
+// v_0 as it is or turn a zero v_0 into a zero (clamped to the same +0), so alpha is clamp01(v_0)
+// in every lane, and the kernel skips its interpolation.
+template <ColorKernel K, int V>
+void interpolated_lanes_avx512(const BlendOp& op, const VaryingInterpolation& v, size_t first, const Quad* quads,
+                               size_t n, uint32_t* dst, const PixelRows& rows) {
+    const bool alpha_fixed = weights_always_finite(v, ConstantQ(v.inv_w)) && v.values[v.count + first + 3] == 0 &&
+                             (V == 2 || v.values[2 * v.count + first + 3] == 0);
+    if (alpha_fixed) interpolated_lanes_avx512<K, V, true>(op, v, first, quads, n, dst, rows);
+    else interpolated_lanes_avx512<K, V, false>(op, v, first, quads, n, dst, rows);
+}
+#endif
 
 template <ColorKernel K>
 void interpolated_lanes_at(SimdLevel level, const BlendOp& op, const VaryingInterpolation& v, size_t first,
