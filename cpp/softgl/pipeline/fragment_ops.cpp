@@ -425,7 +425,7 @@ __attribute__((target(SOFTGL_AVX512))) void interpolated_lanes_avx512(const Blen
         if (!op.write[size_t(c)]) keep |= 0xFFu << (8 * c);
     const __m512i keep_v = _mm512_set1_epi32(int(keep));
     const bool read_dst = K != ColorKernel::Plain || keep;
-    const __m512 alpha = clamp01_ps16(_mm512_set1_ps(v0[3]));   // AlphaFixed: every lane's
+    const __m512 alpha = clamp01_ps16(_mm512_set1_ps(v0[3]));   // every lane's alpha when AlphaFixed (below)
     auto pixels = [&](__m512 l1, __m512 l2, __m512i d32) __attribute__((target(SOFTGL_AVX512))) {
         __m512 s[4];
         for (int c = 0; c < 4; ++c)
