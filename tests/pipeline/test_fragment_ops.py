@@ -7,9 +7,10 @@ ONE_MINUS_SRC_ALPHA; ONE,ONE) are checked exhaustively over all 256 destination 
 channel against a dense set of source values: every float that rounds to a different unorm8
 boundary neighbourhood, out-of-range values, -0, NaN and infinities, with every colour mask, with
 and without destination alpha, per pixel and in the lane kernels at every instruction-set level.
-The lanes' float -> unorm8 conversion (an integer form in the AVX2 kernel) is also checked on its
-own against float_to_unorm8 over a dense sweep of float bit patterns (a one-off run over every
-float in [0, 1] and every 32-bit pattern found no difference).
+The lanes' float -> unorm8 conversion (an integer form in the AVX2 kernel, an FMA in the AVX-512
+one) is also checked on its own against float_to_unorm8 over a dense sweep of float bit patterns
+(a one-off run over every float in [0, 1] and every 32-bit pattern found no difference for the
+integer form; the AVX-512 form is checked on every float in [0, 1] each run).
 """
 import itertools
 
@@ -128,6 +129,13 @@ def test_lane_conversion_equals_float_to_unorm8(level):
     assert mismatches(level, F32_ONE, 0xFFFFFFFF, 4099) == 0
     assert mismatches(level, 0x7F7FFFF0, 0x80000010) == 0   # largest floats, inf, NaN, -0
     assert mismatches(level, 0xFF7FFFF0, 0xFFFFFFFF) == 0   # -inf, negative NaNs
+
+
+@pytest.mark.skipif(_core.testing.simd_level() < 3, reason="the AVX-512 kernels need AVX-512 F+BW+DQ+VL")
+def test_avx512_conversion_every_float_in_0_1():
+    # The AVX-512 lanes convert with an FMA into the integer range of floats (fragment_ops.cpp,
+    # unorm8_pixels_ps16): checked on every float in [0, 1], about 1.07e9 values.
+    assert _core.testing.unorm8_conversion_mismatches(3, 0, F32_ONE) == 0
 
 
 def test_lane_kernels_every_tail_length():

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cstdint>
 
 #include "softgl/pipeline/interpolate.h"
 
@@ -214,20 +215,27 @@ inline bool has_vbmi() {
 #pragma GCC diagnostic ignored "-Wuninitialized"
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 // The lane kernel sixteen lanes at a time: the AVX2 kernel's operations, lane for lane, in 512-bit
-// registers (the same clamps, the same division for d / 255, the same integer float -> unorm8).
+// registers (the same clamps, the same division for d / 255; float -> unorm8 by an FMA, exact too).
 __attribute__((target(SOFTGL_AVX512))) inline __m512 clamp01_ps16(__m512 v) {
     return _mm512_min_ps(_mm512_max_ps(v, _mm512_setzero_ps()), _mm512_set1_ps(1.0f));   // as clamp01_ps
 }
-// unorm8_at_byte_ps8 of 16 lanes (vpsrlvd gives 0 for counts of 32 or more here too).
-__attribute__((target(SOFTGL_AVX512))) inline __m512i unorm8_at_byte_ps16(__m512 v, int c) {
-    const __m512i bits = _mm512_castps_si512(v);
-    // (bits & 0x7FFFFF) | 0x800000 in one instruction (0xEA: a & b | c).
-    const __m512i m = _mm512_ternarylogic_epi32(bits, _mm512_set1_epi32(0x7FFFFF), _mm512_set1_epi32(0x800000), 0xEA);
-    const __m512i m255 = _mm512_sub_epi32(_mm512_slli_epi32(m, 8), m);
-    const __m512i shift = _mm512_sub_epi32(_mm512_set1_epi32(149), _mm512_srli_epi32(bits, 23));
-    const __m512i x = _mm512_add_epi32(_mm512_srlv_epi32(m255, shift), _mm512_set1_epi32(1));   // floor(v*510) + 1
-    if (c == 0) return _mm512_srli_epi32(x, 1);
-    return _mm512_and_si512(_mm512_slli_epi32(x, 8 * c - 1), _mm512_set1_epi32(int(0xFFu << (8 * c))));
+// float_to_unorm8 of four channels' values v (each in [0, 1 + 2^-22]: clamped, or a blend of
+// clamped values) packed into pixels, byte c = channel c. float_to_unorm8(v) is floor(v*255 + 0.5)
+// (double(v) * 255 + 0.5 is exact in double). One FMA gives it: v*255 + 2^23 is rounded once, to
+// nearest even, into [2^23, 2^24) where floats are the integers, so the result is 2^23 + n with n
+// the integer nearest v*255, bits 0x4B000000 + n. That n is floor(v*255 + 0.5) but at a tie,
+// v*255 = k + 0.5, i.e. v = (2k + 1)/510, a float only when 255 divides 2k + 1 (2k + 1 <= 511): v =
+// 1/2, k = 127, which the tie rounds to even 128, floor's value too. v < 1 + 2^-22 keeps n <= 255.
+// An FMA here is an exact integer conversion, not a contraction of the reference's arithmetic
+// (tests/pipeline/test_fragment_ops.py checks every float in [0, 1] against float_to_unorm8).
+// Shifting by 8c (c >= 1) drops the exponent bits 0x4B, and channel 0 keeps its low byte.
+__attribute__((target(SOFTGL_AVX512))) inline __m512i unorm8_pixels_ps16(const __m512 (&v)[4]) {
+    __m512i n[4];
+    for (int c = 0; c < 4; ++c)
+        n[c] = _mm512_castps_si512(_mm512_fmadd_ps(v[c], _mm512_set1_ps(255.0f), _mm512_set1_ps(0x1p23f)));
+    // (n0 & 0xFF) | n1 << 8 (0xEA: a & b | c), then | n2 << 16 | n3 << 24 (0xFE: a | b | c).
+    const __m512i rg = _mm512_ternarylogic_epi32(n[0], _mm512_set1_epi32(0xFF), _mm512_slli_epi32(n[1], 8), 0xEA);
+    return _mm512_ternarylogic_epi32(rg, _mm512_slli_epi32(n[2], 16), _mm512_slli_epi32(n[3], 24), 0xFE);
 }
 // Destination byte c of each lane as float(byte) / 255.0f * 2^32, exactly and without a division:
 // byte / 255 is 0.bbbb... in base 256, so u = byte * 0x01010101 (the byte in all four bytes, one
@@ -249,25 +257,23 @@ __attribute__((target(SOFTGL_AVX512))) inline __m512i blend_ps16(const BlendOp& 
     const __m512 two_m32 = _mm512_set1_ps(0x1p-32f);
     const __m512 df = _mm512_sub_ps(_mm512_set1_ps(1.0f), s[3]);   // AlphaOver: 1 - s[3]
     const __m512 df_2m32 = _mm512_mul_ps(df, two_m32);
-    __m512i packed = _mm512_setzero_si512();
+    __m512 out[4];
     for (int c = 0; c < 4; ++c) {
-        __m512 out;
         const bool d_is_one = c == 3 && !op.has_alpha;
         if constexpr (K == ColorKernel::Plain) {
-            out = s[c];
+            out[c] = s[c];
         } else if constexpr (K == ColorKernel::AlphaOver) {
             // s * sf + d * df with sf = s[3], df = 1 - s[3]. s, d and df lie in [0, 1], so out is
             // in [0, 1 + 2^-22] (each product at most its factor, a + (1 - a) within an ulp of 1):
-            // no clamp, as the integer conversion gives 255 up to 511/510.
+            // no clamp, as unorm8_pixels_ps16 allows up to 1 + 2^-22.
             const __m512 d_df = d_is_one ? df : _mm512_mul_ps(unorm8_to_float_times_2p32_ps16(d32, c), df_2m32);
-            out = _mm512_add_ps(_mm512_mul_ps(s[c], s[3]), d_df);
+            out[c] = _mm512_add_ps(_mm512_mul_ps(s[c], s[3]), d_df);
         } else {   // Additive: s * 1 + d * 1, where the multiplications by 1 are exact
             const __m512 d = d_is_one ? _mm512_set1_ps(1.0f) : _mm512_mul_ps(unorm8_to_float_times_2p32_ps16(d32, c), two_m32);
-            out = clamp01_ps16(_mm512_add_ps(s[c], d));
+            out[c] = clamp01_ps16(_mm512_add_ps(s[c], d));
         }
-        packed = _mm512_or_si512(packed, unorm8_at_byte_ps16(out, c));
     }
-    return packed;
+    return unorm8_pixels_ps16(out);
 }
 
 // One colour for every lane (bit for bit), as a shader that reads only uniforms gives: lane l's
@@ -452,7 +458,7 @@ __attribute__((target(SOFTGL_AVX512))) void lanes_avx512(const BlendOp& op, cons
 // written nor read back (they were a third of a large copy-shader triangle's time). A whole row
 // of four quads is computed in row order (lanes 0..7 row y, 8..15 row y + 1: the same pixels,
 // so the same values) and goes straight into the buffer's rows, without the lanes' scatter.
-template <ColorKernel K, int V>
+template <ColorKernel K, int V, bool AlphaFixed>
 __attribute__((target(SOFTGL_AVX512))) void interpolated_lanes_avx512(const BlendOp& op, const VaryingInterpolation& v,
                                                                      size_t first, const Quad* quads, size_t n,
                                                                      uint32_t* dst, const PixelRows& rows) {
@@ -468,9 +474,11 @@ __attribute__((target(SOFTGL_AVX512))) void interpolated_lanes_avx512(const Blen
         if (!op.write[size_t(c)]) keep |= 0xFFu << (8 * c);
     const __m512i keep_v = _mm512_set1_epi32(int(keep));
     const bool read_dst = K != ColorKernel::Plain || keep;
+    const __m512 alpha = clamp01_ps16(_mm512_set1_ps(v0[3]));   // every lane's alpha when AlphaFixed (below)
     auto pixels = [&](__m512 l1, __m512 l2, __m512i d32) __attribute__((target(SOFTGL_AVX512))) {
         __m512 s[4];
-        for (int c = 0; c < 4; ++c) s[c] = clamp01_ps16(Avx512Interpolator<V>::value(v0[c], d1[c], d2[c], l1, l2));
+        for (int c = 0; c < 4; ++c)
+            s[c] = AlphaFixed && c == 3 ? alpha : clamp01_ps16(Avx512Interpolator<V>::value(v0[c], d1[c], d2[c], l1, l2));
         return _mm512_ternarylogic_epi32(keep_v, blend_ps16<K>(op, s, d32), d32, 0xAC);   // as lanes16
     };
     auto group = [&](size_t i, __mmask16 lanes, bool full) __attribute__((target(SOFTGL_AVX512))) {
@@ -491,12 +499,19 @@ __attribute__((target(SOFTGL_AVX512))) void interpolated_lanes_avx512(const Blen
     const __m512i row_x = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 0, 1, 2, 3, 4, 5, 6, 7);
     const __m512i row_y = _mm512_setr_epi32(0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 1, 1, 1, 1);
     const uint64_t in_row = rows.rows | rows.rows << 1 | rows.rows << 2 | rows.rows << 3;
+    // Rows of four come in runs down the same columns (the raster's 8x8 blocks): their columns'
+    // part of the planes is computed once per run.
+    typename Avx512Interpolator<V>::Columns columns{};
+    int64_t columns_x = INT64_MIN;   // none yet
     size_t done = 0;   // the lanes of quads before `done` are written
     for (size_t i = 0; i < n;) {
         if (rows.rows >> i & 1) {
+            if (quads[i].x != columns_x) {
+                columns = interpolator.columns_at(_mm512_add_epi32(_mm512_set1_epi32(quads[i].x), row_x));
+                columns_x = quads[i].x;
+            }
             __m512 l1, l2;
-            interpolator.weights_at(_mm512_add_epi32(_mm512_set1_epi32(quads[i].x), row_x),
-                                    _mm512_add_epi32(_mm512_set1_epi32(quads[i].y), row_y), l1, l2);
+            interpolator.weights_at(columns, _mm512_add_epi32(_mm512_set1_epi32(quads[i].y), row_y), l1, l2);
             uint8_t* const row0 = rows.color + 4 * (size_t(quads[i].y) * rows.pitch + size_t(quads[i].x));
             uint8_t* const row1 = row0 + 4 * rows.pitch;
             const __m512i d32 = !read_dst ? _mm512_setzero_si512()
@@ -553,6 +568,21 @@ void move_row_of_four(const PixelRows& rows, const Quad& q, uint32_t* lanes) {
             else std::memcpy(px, lanes + 4 * k + 2 * y, 8);
         }
 }
+
+#if defined(SOFTGL_HAVE_AVX2_KERNELS) && defined(SOFTGL_HAVE_AVX512_INTERPOLATOR)
+// Alpha equal at every vertex (d_1 = d_2 = 0: opaque or evenly translucent geometry) is
+// (v_0 + l_1 * 0) + l_2 * 0 at each lane: with finite weights the products are zeros, which leave
+// v_0 as it is or turn a zero v_0 into a zero (clamped to the same +0), so alpha is clamp01(v_0)
+// in every lane, and the kernel skips its interpolation.
+template <ColorKernel K, int V>
+void interpolated_lanes_avx512(const BlendOp& op, const VaryingInterpolation& v, size_t first, const Quad* quads,
+                               size_t n, uint32_t* dst, const PixelRows& rows) {
+    const bool alpha_fixed = weights_always_finite(v, ConstantQ(v.inv_w)) && v.values[v.count + first + 3] == 0 &&
+                             (V == 2 || v.values[2 * v.count + first + 3] == 0);
+    if (alpha_fixed) interpolated_lanes_avx512<K, V, true>(op, v, first, quads, n, dst, rows);
+    else interpolated_lanes_avx512<K, V, false>(op, v, first, quads, n, dst, rows);
+}
+#endif
 
 template <ColorKernel K>
 void interpolated_lanes_at(SimdLevel level, const BlendOp& op, const VaryingInterpolation& v, size_t first,

@@ -10,9 +10,9 @@
 //    and scale by 2^-32 exactly (folded into ONE_MINUS_SRC_ALPHA; fragment_ops.cpp has the proof).
 //  * float -> unorm8 is float_to_unorm8 with floor replaced by truncation, which is the same for
 //    the non-negative values it sees (the argument is clamped first), and avoids a libm call. The
-//    AVX2 and AVX-512 lanes compute the same floor(v*255 + 0.5) exactly in integers from v's
-//    exponent and significand (fragment_ops.cpp; checked against float_to_unorm8 on every float
-//    in [0, 1]).
+//    AVX2 lanes compute the same floor(v*255 + 0.5) exactly in integers from v's exponent and
+//    significand, the AVX-512 lanes with one FMA into the integer range of floats
+//    (fragment_ops.cpp; checked against float_to_unorm8 on every float in [0, 1]).
 //  * with one colour in every lane, the AVX-512 kernel looks each channel's result up in a table
 //    of the kernel's own results over the 256 destination values (the result of a lane depends
 //    on nothing else then).

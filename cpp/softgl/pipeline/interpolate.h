@@ -77,6 +77,20 @@ struct ConstantQ {
           q(1.0f / pl.c) {}
 };
 
+// Whether l_1 and l_2 are finite at every pixel: q constant and |(c + a*dx) + b*dy| * |q| far below
+// FLT_MAX for any offsets an int32 gives (|dx|, |dy| <= 2^31), with room for the float roundings
+// (each a factor of at most 1 + 2^-23). NaN or infinite planes fail the test.
+inline bool weights_always_finite(const VaryingInterpolation& v, const ConstantQ& cq) {
+    if (!cq.constant) return false;
+    for (int k = 0; k + 1 < v.vertices; ++k) {
+        const FloatPlane& pl = v.weight[k];
+        const double bound = (std::fabs(double(pl.c)) + (std::fabs(double(pl.a)) + std::fabs(double(pl.b))) * 0x1p31) *
+                             std::fabs(double(cq.q)) * 4.0;
+        if (!(bound < 0x1p127)) return false;
+    }
+    return true;
+}
+
 }  // namespace softgl
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
@@ -114,16 +128,28 @@ struct Avx512Interpolator {
             pa[k] = _mm512_set1_ps(pl.a), pb[k] = _mm512_set1_ps(pl.b), pc[k] = _mm512_set1_ps(pl.c);
         }
     }
-    // The weights l_1, l_2 (lines: 0) of the lanes whose pixel offsets are (x - base_x, y - base_y).
-    SOFTGL_AVX512_TARGET void weights_at(__m512i x, __m512i y, __m512& l1, __m512& l2) const {
+    // The part of each plane's value that depends on the column alone, c + a * dx, for lanes in
+    // columns x (dx = x - base_x); Q's only when it is not constant.
+    struct Columns {
+        __m512 p[V];
+    };
+    SOFTGL_AVX512_TARGET Columns columns_at(__m512i x) const {
         const __m512 dx = _mm512_cvtepi32_ps(_mm512_sub_epi32(x, base_x));
+        Columns col;
+        for (int k = 0; k < V; ++k)
+            col.p[k] = k == 0 && cq.constant ? pc[0] : _mm512_add_ps(pc[k], _mm512_mul_ps(pa[k], dx));
+        return col;
+    }
+    // The weights l_1, l_2 (lines: 0) of the lanes in columns `col` and rows y (dy = y - base_y).
+    SOFTGL_AVX512_TARGET void weights_at(const Columns& col, __m512i y, __m512& l1, __m512& l2) const {
         const __m512 dy = _mm512_cvtepi32_ps(_mm512_sub_epi32(y, base_y));
-        auto eval = [&](int k) SOFTGL_AVX512_TARGET {
-            return _mm512_add_ps(_mm512_add_ps(pc[k], _mm512_mul_ps(pa[k], dx)), _mm512_mul_ps(pb[k], dy));
-        };
+        auto eval = [&](int k) SOFTGL_AVX512_TARGET { return _mm512_add_ps(col.p[k], _mm512_mul_ps(pb[k], dy)); };
         const __m512 q = cq.constant ? q_constant : _mm512_div_ps(_mm512_set1_ps(1.0f), eval(0));
         l1 = cq.unit ? eval(1) : _mm512_mul_ps(eval(1), q);
         l2 = V == 3 ? (cq.unit ? eval(2) : _mm512_mul_ps(eval(2), q)) : _mm512_setzero_ps();
+    }
+    SOFTGL_AVX512_TARGET void weights_at(__m512i x, __m512i y, __m512& l1, __m512& l2) const {
+        weights_at(columns_at(x), y, l1, l2);
     }
     // The same for the 16 lanes of four quads given as 16 int32 words (x at 0, 4, 8, 12; y one after).
     SOFTGL_AVX512_TARGET void weights(__m512i xy, __m512& l1, __m512& l2) const {
