@@ -61,6 +61,31 @@ def brute_force(edges, bbox, tile, samples):
     return out
 
 
+def block_counts(edges, bbox, tile, samples):
+    """(rejected, accepted, partial) by testing every 8x8 block of bbox ∩ tile, one by one: each
+    edge's extremes over the rectangle spanned by the block's (clipped) samples."""
+    x0, y0 = max(bbox[0], tile[0]), max(bbox[1], tile[1])
+    x1, y1 = min(bbox[2], tile[2]), min(bbox[3], tile[3])
+    if x0 >= x1 or y0 >= y1:
+        return 0, 0, 0
+    ox = [o[0] for o in OFFSETS[samples]]
+    oy = [o[1] for o in OFFSETS[samples]]
+    counts = [0, 0, 0]
+    for by in range(y0 & ~7, y1, 8):
+        for bx in range(x0 & ~7, x1, 8):
+            cx0, cx1, cy0, cy1 = max(bx, x0), min(bx + 8, x1), max(by, y0), min(by + 8, y1)
+            xs = (cx0 * SUB + min(ox), (cx1 - 1) * SUB + max(ox))
+            ys = (cy0 * SUB + min(oy), (cy1 - 1) * SUB + max(oy))
+            values = [[a * x + b * y + c for x in xs for y in ys] for a, b, c in edges]
+            if any(max(v) < 0 for v in values):
+                counts[0] += 1
+            elif all(min(v) >= 0 for v in values):
+                counts[1] += 1
+            else:
+                counts[2] += 1
+    return tuple(counts)
+
+
 def signed(v):
     return v - (1 << 64) if v >= 1 << 63 else v
 
@@ -147,6 +172,7 @@ def test_scalar_matches_brute_force(kind, samples):
         edges, bbox, tile = random_case(rng, kind)
         quads, (rejected, accepted, partial, nquads) = rasterize(0, edges, bbox, tile, samples)
         assert nquads == len(quads)
+        assert (rejected, accepted, partial) == block_counts(edges, bbox, tile, samples)
         assert decode(quads) == brute_force(edges, bbox, tile, samples)
         # Blocks bottom-up then left-right, quads likewise; no quad twice.
         keys = [(signed(y) // 8, signed(x) // 8, signed(y), signed(x)) for x, y, _ in quads.tolist()]
