@@ -186,10 +186,6 @@ void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, i
         int64_t row[N] = {};   // the edges at (0, by)
         if (whole_rows)
             for (int i = 0; i < N; ++i) row[i] = B[i] * (int64_t(by) * kSubPixel) + C[i];
-        // Each edge's maximum over a block of the row is monotone in bx (a*X1 grows with bx when
-        // a > 0, a*X0 falls when a < 0), so the blocks not rejected form one interval: the first
-        // rejection after it rejects the rest of the row.
-        bool in_interval = false;
         for (int32_t bx = x0 & ~(kBlockSize - 1); bx < x1; bx += kBlockSize) {
             const int32_t cx0 = std::max(bx, x0), cx1 = std::min(bx + kBlockSize, x1);
             // Rejected when some edge's maximum is negative, accepted when no edge's minimum is
@@ -212,15 +208,7 @@ void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, i
                 }
             }
             const bool accept = min_or >= 0;
-            if (max_or < 0) {
-                if (in_interval) {
-                    rejected += uint64_t((x1 - bx + kBlockSize - 1) / kBlockSize);
-                    break;
-                }
-                ++rejected;
-                continue;
-            }
-            in_interval = true;
+            if (max_or < 0) { ++rejected; continue; }
             accepted += accept;
             partial += !accept;
 
