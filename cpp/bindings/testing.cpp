@@ -452,14 +452,14 @@ void bind_testing(py::module_& m) {
               const size_t killed = softgl::early_depth_test_at(softgl::SimdLevel(level), t, q.data(), n, survived.mutable_data());
               return py::make_tuple(survived, killed, buffer);
           });
-    // pipeline/raster at one instruction-set level: edges (n, 3) int64 rows (a, b, c) (n = 3 or 4),
+    // pipeline/raster at one instruction-set level: edges (n, 3) int64 rows (a, b, c) (n = 2, 3 or 4),
     // bbox and tile (x0, y0, x1, y1) in pixels. Returns (quads (m, 3) uint64 rows (x, y, coverage),
     // (blocks_rejected, blocks_accepted, blocks_partial, quads)).
     t.def("rasterize_edges",
           [](int level, py::array_t<int64_t, py::array::c_style | py::array::forcecast> edges,
              std::array<int32_t, 4> bbox, std::array<int32_t, 4> tile, int samples) {
-              if (edges.ndim() != 2 || edges.shape(1) != 3 || (edges.shape(0) != 3 && edges.shape(0) != 4))
-                  throw py::value_error("edges (3 or 4, 3)");
+              if (edges.ndim() != 2 || edges.shape(1) != 3 || edges.shape(0) < 2 || edges.shape(0) > 4)
+                  throw py::value_error("edges (2, 3 or 4, 3)");
               softgl::PrimitiveSetup p{};
               p.edge_count = uint8_t(edges.shape(0));
               for (int i = 0; i < p.edge_count; ++i) p.a[i] = edges.at(i, 0), p.b[i] = edges.at(i, 1), p.c[i] = edges.at(i, 2);

@@ -61,6 +61,31 @@ def brute_force(edges, bbox, tile, samples):
     return out
 
 
+def block_counts(edges, bbox, tile, samples):
+    """(rejected, accepted, partial) by testing every 8x8 block of bbox ∩ tile, one by one: each
+    edge's extremes over the rectangle spanned by the block's (clipped) samples."""
+    x0, y0 = max(bbox[0], tile[0]), max(bbox[1], tile[1])
+    x1, y1 = min(bbox[2], tile[2]), min(bbox[3], tile[3])
+    if x0 >= x1 or y0 >= y1:
+        return 0, 0, 0
+    ox = [o[0] for o in OFFSETS[samples]]
+    oy = [o[1] for o in OFFSETS[samples]]
+    counts = [0, 0, 0]
+    for by in range(y0 & ~7, y1, 8):
+        for bx in range(x0 & ~7, x1, 8):
+            cx0, cx1, cy0, cy1 = max(bx, x0), min(bx + 8, x1), max(by, y0), min(by + 8, y1)
+            xs = (cx0 * SUB + min(ox), (cx1 - 1) * SUB + max(ox))
+            ys = (cy0 * SUB + min(oy), (cy1 - 1) * SUB + max(oy))
+            values = [[a * x + b * y + c for x in xs for y in ys] for a, b, c in edges]
+            if any(max(v) < 0 for v in values):
+                counts[0] += 1
+            elif all(min(v) >= 0 for v in values):
+                counts[1] += 1
+            else:
+                counts[2] += 1
+    return tuple(counts)
+
+
 def signed(v):
     return v - (1 << 64) if v >= 1 << 63 else v
 
@@ -89,9 +114,16 @@ def random_case(rng, kind):
         ys = [int(np.clip(cy + rng.integers(-40 * SUB, 40 * SUB), -lim, lim))] + \
              [int(v) for v in rng.integers(-lim, lim, 2)]
     else:
-        size = {"small": 14, "sliver": 40, "tiny": 3, "big": 90, "quad": 30}[kind]
+        size = {"small": 14, "sliver": 40, "tiny": 3, "big": 90, "quad": 30, "band": 30}[kind]
         cx, cy = (tx + int(rng.integers(-8, 72))) * SUB, (ty + int(rng.integers(-8, 72))) * SUB
-        if kind == "quad":         # a line-like parallelogram or an axis-aligned rectangle (points)
+        if kind == "band":         # a single-sample line's 2 band edges, its bbox the major extent
+            hx, hy = (int(v) for v in rng.integers(1, size * SUB, 2))
+            h = int(rng.integers(1, 4)) * SUB // 2
+            xs, ys = [cx - hx, cx + hx, cx + hx, cx - hx], [cy - hy - h, cy + hy - h, cy + hy + h, cy - hy + h]
+            if rng.random() < 0.5:
+                xs, ys = ys, xs
+            edges = polygon_edges(xs, ys)[0::2]   # both sides parallel to the segment
+        elif kind == "quad":         # a line-like parallelogram or an axis-aligned rectangle (points)
             hx, hy = (int(v) for v in rng.integers(1, size * SUB, 2))
             if rng.random() < 0.5:
                 xs, ys = [cx - hx, cx + hx, cx + hx, cx - hx], [cy - hy, cy - hy, cy + hy, cy + hy]
@@ -109,7 +141,8 @@ def random_case(rng, kind):
                 ys[2] = int(ys[0] + t * (ys[1] - ys[0])) + int(rng.integers(-40, 40))
         if rng.random() < 0.3:     # on the 1/16 grid: ties at sample positions
             xs, ys = [x & ~15 for x in xs], [y & ~15 for y in ys]
-    edges = polygon_edges(xs, ys)
+    if kind != "band":
+        edges = polygon_edges(xs, ys)
     bbox = [min(xs) // SUB, min(ys) // SUB, max(xs) // SUB + 1, max(ys) // SUB + 1]
     if rng.random() < 0.5:         # scissor: odd rectangles
         sx, sy = tx + int(rng.integers(-3, 40)), ty + int(rng.integers(-3, 40))
@@ -123,7 +156,7 @@ def random_case(rng, kind):
 
 @pytest.mark.skipif(T.simd_level() < 2, reason="no AVX2 on this CPU")
 @pytest.mark.parametrize("samples", [1, 2, 4, 8, 16])
-@pytest.mark.parametrize("kind", ["small", "tiny", "sliver", "big", "quad", "huge"])
+@pytest.mark.parametrize("kind", ["small", "tiny", "sliver", "big", "quad", "band", "huge"])
 def test_simd_levels_match_scalar(kind, samples):
     rng = np.random.default_rng(zlib.crc32(f"{kind}{samples}".encode()))
     n = 300 if samples == 1 else 60
@@ -140,13 +173,14 @@ def test_simd_levels_match_scalar(kind, samples):
 
 
 @pytest.mark.parametrize("samples", [1, 4, 16])
-@pytest.mark.parametrize("kind", ["small", "sliver", "quad", "huge", "big"])
+@pytest.mark.parametrize("kind", ["small", "sliver", "quad", "band", "huge", "big"])
 def test_scalar_matches_brute_force(kind, samples):
     rng = np.random.default_rng(zlib.crc32(f"bf{kind}{samples}".encode()))
     for _ in range(40):
         edges, bbox, tile = random_case(rng, kind)
         quads, (rejected, accepted, partial, nquads) = rasterize(0, edges, bbox, tile, samples)
         assert nquads == len(quads)
+        assert (rejected, accepted, partial) == block_counts(edges, bbox, tile, samples)
         assert decode(quads) == brute_force(edges, bbox, tile, samples)
         # Blocks bottom-up then left-right, quads likewise; no quad twice.
         keys = [(signed(y) // 8, signed(x) // 8, signed(y), signed(x)) for x, y, _ in quads.tolist()]

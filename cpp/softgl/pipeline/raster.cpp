@@ -348,14 +348,18 @@ void rasterize_at(SimdLevel level, const PrimitiveSetup& prim, const TileRect& t
     if (x0 >= x1 || y0 >= y1) return;
     InsideRowsFn<3> rows3 = nullptr;
     InsideRowsFn<4> rows4 = nullptr;
+    InsideRowsFn<2> rows2 = nullptr;
     PutBlockFn block = put_block;
 #if defined(SOFTGL_HAVE_SIMD_RASTER)
-    if (level == SimdLevel::AVX512) rows3 = inside_rows_avx512<3>, rows4 = inside_rows_avx512<4>, block = put_block_avx512;
-    else if (level == SimdLevel::AVX2) rows3 = inside_rows_avx2<3>, rows4 = inside_rows_avx2<4>;
+    if (level == SimdLevel::AVX512)
+        rows3 = inside_rows_avx512<3>, rows4 = inside_rows_avx512<4>, rows2 = inside_rows_avx512<2>, block = put_block_avx512;
+    else if (level == SimdLevel::AVX2)
+        rows3 = inside_rows_avx2<3>, rows4 = inside_rows_avx2<4>, rows2 = inside_rows_avx2<2>;
 #else
     (void)level;
 #endif
     if (prim.edge_count == 3) raster_edges<3>(prim, x0, y0, x1, y1, pattern, rows3, block, out, stats);
+    else if (prim.edge_count == 2) raster_edges<2>(prim, x0, y0, x1, y1, pattern, rows2, block, out, stats);
     else raster_edges<4>(prim, x0, y0, x1, y1, pattern, rows4, block, out, stats);
 }
 

@@ -577,6 +577,7 @@ void Setup::line(const float* p0, const float* p1, uint32_t i0, uint32_t i1, uin
         set(1, -dx, -dy, dx * e.X + dy * e.Y, 0.0);
         set(2, -dy, dx, (dy * a.X - dx * a.Y) + int64_t(half_floor), half - half_floor);
         set(3, dy, -dx, (dx * a.Y - dy * a.X) + int64_t(half_floor), half - half_floor);
+        s.edge_count = 4;
         // Bounding box of the four corners A, B +- n (w/2), one unit outwards for rounding.
         const double ox = std::fabs(double(dy)) * (0.5 * state_.line_width * kSubPixel / len);
         const double oy = std::fabs(double(dx)) * (0.5 * state_.line_width * kSubPixel / len);
@@ -612,9 +613,10 @@ void Setup::line(const float* p0, const float* p1, uint32_t i0, uint32_t i1, uin
         bxmin = std::min(a.X, e.X) - hx; bxmax = std::max(a.X, e.X) + hx;
         bymin = std::min(a.Y, e.Y) - hy; bymax = std::max(a.Y, e.Y) + hy;
         if (state_.samples == 1 && state_.line_rule == LineRule::DiamondExit) {
-            // The two band edges (parallel to the segment: edges 0 and 2 of the parallelogram),
-            // then, instead of its end edges, pixel-boundary edges around the first and last
-            // major-axis pixel the diamond-exit rule produces.
+            // The two band edges (parallel to the segment: edges 0 and 2 of the parallelogram);
+            // instead of its end edges, the bounding box's major-axis range [lo, hi): the pixel
+            // boundaries around the first and last major-axis pixel the diamond-exit rule
+            // produces. Two edges: the rasterizer tests half as many per pixel.
             const int64_t shift = (w - 1) * (kSubPixel / 2);
             const int64_t sax = x_major ? a.X : a.X - shift, say = x_major ? a.Y - shift : a.Y;
             const int64_t sbx = x_major ? e.X : e.X - shift, sby = x_major ? e.Y - shift : e.Y;
@@ -627,13 +629,7 @@ void Setup::line(const float* p0, const float* p1, uint32_t i0, uint32_t i1, uin
             const int64_t lo = first * kSubPixel, hi = (last + 1) * kSubPixel;   // [lo, hi)
             make_edge(s, 0, px[0], py[0], px[1], py[1]);
             make_edge(s, 1, px[2], py[2], px[3], py[3]);
-            if (x_major) {
-                make_edge(s, 2, lo, 1, lo, 0);   // runs down: a left edge, x >= lo included
-                make_edge(s, 3, hi, 0, hi, 1);   // runs up: x < hi
-            } else {
-                make_edge(s, 2, 0, lo, 1, lo);   // runs right: a bottom edge, y >= lo included
-                make_edge(s, 3, 1, hi, 0, hi);   // runs left: y < hi
-            }
+            s.edge_count = 2;
             // The end pixels lie within 1/2 pixel (major) of the offset segment's ends, so the
             // band there lies within 1/2 pixel (minor, |slope| <= 1) of the original bounds.
             if (x_major) {
@@ -645,6 +641,7 @@ void Setup::line(const float* p0, const float* p1, uint32_t i0, uint32_t i1, uin
             }
         } else {
             for (int i = 0; i < 4; ++i) make_edge(s, i, px[i], py[i], px[(i + 1) & 3], py[(i + 1) & 3]);
+            s.edge_count = 4;
         }
     }
     if (!finish_bbox(s, bxmin, bymin, bxmax, bymax)) {
@@ -672,7 +669,6 @@ void Setup::line(const float* p0, const float* p1, uint32_t i0, uint32_t i1, uin
     s.vertex[0] = i0; s.vertex[1] = i1; s.vertex[2] = i1;
     s.primitive = primitive;
     s.kind = PrimitiveKind::Line;
-    s.edge_count = 4;
     s.front_facing = true;
     s.point_x = s.point_y = s.point_size = 0;
     ++stats.emitted;

@@ -13,7 +13,8 @@
 // framebuffer. A sample on a vertex is covered only if both edges through it are included.
 //
 // Primitives are convex polygons of 3 (triangles) or 4 (points, lines) edges, all with the same
-// representation, so one rasterizer serves all of them.
+// representation, so one rasterizer serves all of them. Single-sample diamond-exit lines keep only
+// their 2 band edges: their bounding box is exactly their major-axis extent (see Setup::line).
 #pragma once
 #include <cstddef>
 #include <cstdint>
@@ -88,7 +89,8 @@ struct alignas(64) PrimitiveSetup {
     PrimitiveSetup() {}
 
     // Coverage: a sample at fixed-point window position (X, Y) (units of 1/256 pixel) is inside when
-    // a[i]*X + b[i]*Y + c[i] >= 0 for every edge i < edge_count (the tie rule is folded into c).
+    // a[i]*X + b[i]*Y + c[i] >= 0 for every edge i < edge_count (the tie rule is folded into c)
+    // and its pixel is inside the bounding box.
     int64_t a[4], b[4], c[4];
     // Pixel bounding box [x0, x1) x [y0, y1), already inside the RasterState clip rectangle.
     int32_t x0, y0, x1, y1;
@@ -104,7 +106,7 @@ struct alignas(64) PrimitiveSetup {
                                       // for triangles, vertex[1] for lines: the provoking vertex)
     uint32_t primitive;               // the primitive's number in the draw
     PrimitiveKind kind;
-    uint8_t edge_count;               // 3 or 4
+    uint8_t edge_count;               // 2, 3 or 4
     bool front_facing;                // gl_FrontFacing (points and lines: true)
     AreaShape area_shape;             // see area_offset
     float point_x, point_y, point_size;   // points: window centre and size, for gl_PointCoord
