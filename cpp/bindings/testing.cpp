@@ -84,6 +84,30 @@ struct InterpolationInputs {
     InterpolationInputs(const InterpolationInputs&) = delete;   // vi points into this object
 };
 
+// The colour hooks' blend state: funcs_and_equations (srcRGB, dstRGB, srcA, dstA, eqRGB, eqA).
+softgl::BlendOp blend_op(bool enabled, const std::array<uint32_t, 6>& fe, const std::array<bool, 4>& mask,
+                         bool has_alpha, const std::array<float, 4>& constant = {0, 0, 0, 0}) {
+    softgl::State state;
+    state.blend.enabled = enabled;
+    state.blend.src_rgb = fe[0]; state.blend.dst_rgb = fe[1];
+    state.blend.src_alpha = fe[2]; state.blend.dst_alpha = fe[3];
+    state.blend.equation_rgb = fe[4]; state.blend.equation_alpha = fe[5];
+    state.blend.color = constant;
+    state.color_mask = mask;
+    return softgl::BlendOp::from_state(state, has_alpha);
+}
+
+// PixelRows' rows of four (bit i: quads i .. i + 3) must lie inside the image: the kernels write
+// there unchecked. quads (n, 2) int32 lower-left pixels, image (h, w).
+template <class Quads>
+void check_rows_inside(const Quads& quads, size_t n, uint64_t rows, py::ssize_t height, py::ssize_t width) {
+    for (size_t i = 0; i < n; ++i)
+        if (rows >> i & 1)
+            if (i + 4 > n || quads.at(i, 0) < 0 || quads.at(i, 1) < 0 || quads.at(i, 0) + 8 > width ||
+                quads.at(i, 1) + 2 > height)
+                throw py::value_error("a row of four outside the image");
+}
+
 }  // namespace
 
 void bind_testing(py::module_& m) {
@@ -221,14 +245,7 @@ void bind_testing(py::module_& m) {
              const std::array<bool, 4>& mask, bool has_alpha,
              py::array_t<float, py::array::c_style | py::array::forcecast> src,
              py::array_t<uint8_t, py::array::c_style | py::array::forcecast> dst, bool lanes, int level) {
-              softgl::State state;
-              state.blend.enabled = true;
-              state.blend.src_rgb = fe[0]; state.blend.dst_rgb = fe[1];
-              state.blend.src_alpha = fe[2]; state.blend.dst_alpha = fe[3];
-              state.blend.equation_rgb = fe[4]; state.blend.equation_alpha = fe[5];
-              state.blend.color = constant;
-              state.color_mask = mask;
-              const softgl::BlendOp op = softgl::BlendOp::from_state(state, has_alpha);
+              const softgl::BlendOp op = blend_op(true, fe, mask, has_alpha, constant);
               if (src.ndim() != 2 || src.shape(1) != 4 || dst.ndim() != 2 || dst.shape(1) != 4 ||
                   src.shape(0) != dst.shape(0))
                   throw py::value_error("src must be (N, 4) float32 and dst (N, 4) uint8");
@@ -340,19 +357,8 @@ void bind_testing(py::module_& m) {
                   (rows && (!fused || n > 64)))
                   throw py::value_error("values (vertices, words >= first + 4), dst (4n,), image (h, w); rows only "
                                         "fused, with n <= 64");
-              // Rows of four must lie inside the image: the kernel writes there unchecked.
-              for (size_t i = 0; i < n; ++i)
-                  if (rows >> i & 1)
-                      if (i + 4 > n || quads.at(i, 0) < 0 || quads.at(i, 1) < 0 || quads.at(i, 0) + 8 > image.shape(1) ||
-                          quads.at(i, 1) + 2 > image.shape(0))
-                          throw py::value_error("a row of four outside the image");
-              softgl::State state;
-              state.blend.enabled = blend;
-              state.blend.src_rgb = fe[0]; state.blend.dst_rgb = fe[1];
-              state.blend.src_alpha = fe[2]; state.blend.dst_alpha = fe[3];
-              state.blend.equation_rgb = fe[4]; state.blend.equation_alpha = fe[5];
-              state.color_mask = mask;
-              const softgl::BlendOp op = softgl::BlendOp::from_state(state, has_alpha);
+              check_rows_inside(quads, n, rows, image.shape(0), image.shape(1));
+              const softgl::BlendOp op = blend_op(blend, fe, mask, has_alpha);
               const softgl::ColorKernel kernel = softgl::color_kernel(op);
               if (kernel == softgl::ColorKernel::Generic) throw py::value_error("no fused kernel for Generic blending");
               py::array_t<uint32_t> out(py::ssize_t(4 * n));
@@ -390,19 +396,8 @@ void bind_testing(py::module_& m) {
               if (quads.ndim() != 2 || quads.shape(1) != 2 || dst.ndim() != 1 || size_t(dst.shape(0)) != 4 * n ||
                   image.ndim() != 2 || n > 64)
                   throw py::value_error("quads (n <= 64, 2), dst (4n,), image (h, w)");
-              for (size_t i = 0; i < n; ++i)   // rows of four must lie inside the image: written unchecked
-                  if (rows >> i & 1)
-                      if (i + 4 > n || quads.at(i, 0) < 0 || quads.at(i, 1) < 0 || quads.at(i, 0) + 8 > image.shape(1) ||
-                          quads.at(i, 1) + 2 > image.shape(0))
-                          throw py::value_error("a row of four outside the image");
-              softgl::State state;
-              state.blend.enabled = true;
-              state.blend.src_rgb = fe[0]; state.blend.dst_rgb = fe[1];
-              state.blend.src_alpha = fe[2]; state.blend.dst_alpha = fe[3];
-              state.blend.equation_rgb = fe[4]; state.blend.equation_alpha = fe[5];
-              state.blend.color = constant;
-              state.color_mask = mask;
-              const softgl::BlendOp op = softgl::BlendOp::from_state(state, has_alpha);
+              check_rows_inside(quads, n, rows, image.shape(0), image.shape(1));
+              const softgl::BlendOp op = blend_op(true, fe, mask, has_alpha, constant);
               std::vector<softgl::Quad> q(n);
               for (size_t i = 0; i < n; ++i) q[i] = softgl::Quad(quads.at(i, 0), quads.at(i, 1), 0);
               py::array_t<uint32_t> out(py::ssize_t(4 * n));
