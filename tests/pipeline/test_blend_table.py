@@ -100,18 +100,8 @@ VS = """#version 300 es
 in vec4 aPos;
 void main() { gl_Position = aPos; }
 """
-UNIFORM_FS = """#version 300 es
-precision highp float;
-uniform vec4 uColor;
-out vec4 fragColor;
-void main() { fragColor = uColor; }
-"""
-PER_FRAGMENT_FS = """#version 300 es
-precision highp float;
-uniform vec4 uColor;
-out vec4 fragColor;
-void main() { fragColor = uColor + vec4(0.0 * gl_FragCoord.x); }
-"""
+# The same colour from a uniform-only shader and from one shaded per fragment.
+from test_uniform_only_shading import PER_FRAGMENT_FS, UNIFORM_FS  # noqa: E402
 
 
 def render(fs, size, threads, funcs, eqs, mask, colours, alpha=True):
