@@ -382,7 +382,9 @@ void for_chunks(ThreadPool& pool, size_t count, const Job& job) {
 
 }  // namespace
 
+namespace {
 std::atomic<HiddenSurfaceRemoval> hidden_surface_removal{HiddenSurfaceRemoval::WherePilesUp};
+}  // namespace
 
 HiddenSurfaceRemoval set_hidden_surface_removal(HiddenSurfaceRemoval mode) {
     return hidden_surface_removal.exchange(mode);
