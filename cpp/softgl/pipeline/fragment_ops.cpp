@@ -277,14 +277,14 @@ __attribute__((target(SOFTGL_AVX512))) inline __m512i blend_ps16(const BlendOp& 
 }
 
 // One colour for every lane (bit for bit), as a shader that reads only uniforms gives: lane l's
-// result is then a function of its destination byte per channel, which a 256-entry table per
-// channel holds. The table is the kernel's own output on the 256 destinations i * 0x01010101,
-// kept per thread for the next call (a uniform-only shader gives one colour for the whole draw).
+// result is then a function of its destination byte per channel (K blends per channel), a
+// BlendTable, kept per thread for the next call with the same colour. Its entries for channels
+// the colour mask leaves out are not used (apply_table takes the channels from the call's op).
 struct UniformColorTable {
     uint32_t colour[4] = {};
     int kernel = -1;
     bool has_alpha = false;
-    alignas(64) uint8_t bytes[4][256];   // bytes[c][d]: channel c's result over destination byte d
+    BlendTable table;
 };
 
 // The bits in which lanes l .. l + 15 (those in `lanes`) differ from want[c], over the channels.
@@ -313,19 +313,12 @@ __attribute__((target(SOFTGL_AVX512))) inline bool uniform_colour(const float* s
 }
 
 template <ColorKernel K>
-__attribute__((target(SOFTGL_AVX512))) const UniformColorTable& uniform_colour_table(const BlendOp& op,
-                                                                                   const uint32_t colour[4]) {
+const UniformColorTable& uniform_colour_table(const BlendOp& op, const uint32_t colour[4]) {
     thread_local UniformColorTable t;
     if (t.kernel == int(K) && t.has_alpha == op.has_alpha && std::memcmp(t.colour, colour, 16) == 0) return t;
-    __m512 s[4];
-    for (int c = 0; c < 4; ++c) s[c] = clamp01_ps16(_mm512_castsi512_ps(_mm512_set1_epi32(int(colour[c]))));
-    for (int i = 0; i < 256; i += 16) {
-        const __m512i d = _mm512_mullo_epi32(_mm512_add_epi32(_mm512_set1_epi32(i), _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 8, 9, 10, 11, 12, 13, 14, 15)),
-                                             _mm512_set1_epi32(0x01010101));
-        const __m512i px = blend_ps16<K>(op, s, d);
-        for (int c = 0; c < 4; ++c)
-            _mm_store_si128(reinterpret_cast<__m128i*>(&t.bytes[c][i]), _mm512_cvtepi32_epi8(_mm512_srli_epi32(px, 8 * c)));
-    }
+    float src[4];
+    std::memcpy(src, colour, 16);
+    build_blend_table(K, op, src, t.table);
     std::memcpy(t.colour, colour, 16);
     t.kernel = int(K);
     t.has_alpha = op.has_alpha;
@@ -356,7 +349,7 @@ __attribute__((target(SOFTGL_AVX512))) inline void load_table(const uint8_t (&by
 __attribute__((target(SOFTGL_AVX512 ",avx512vbmi"))) void apply_table(const UniformColorTable& t, const BlendOp& op,
                                                                      uint32_t* dst, size_t n) {
     __m512i q[4][4];
-    load_table(t.bytes, q);
+    load_table(t.table.bytes, q);
     unsigned channels = 0;
     for (int c = 0; c < 4; ++c) channels |= unsigned(op.write[size_t(c)]) << c;
     size_t l = 0;

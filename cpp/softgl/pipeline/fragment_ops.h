@@ -128,10 +128,6 @@ void write_interpolated_color_lanes_at(SimdLevel level, ColorKernel kernel, cons
 void write_interpolated_color_lanes(ColorKernel kernel, const BlendOp& op, const VaryingInterpolation& v, size_t first,
                                     const Quad* quads, size_t n, uint32_t* dst, const PixelRows& rows);
 
-}  // namespace softgl
-
-namespace softgl {
-
 // A constant source colour (a uniform-only shader, DESIGN §4) blended by factors and equations
 // under which channel c's result depends on destination channel c alone: ES 3.0 table 4.2's rgb
 // factors read only d[c], except DST_ALPHA, ONE_MINUS_DST_ALPHA and SRC_ALPHA_SATURATE (d[3]),
