@@ -374,6 +374,7 @@ namespace softgl {
 namespace {
 
 std::atomic<int> depth_bounds_mode{1};
+std::atomic<int> depth_bounds_level{-1};   // testing: the SIMD level of the block reads, -1 the best
 
 // depth_word(Encoding::Depth24, z) for a finite z: the clamp, then the rounding.
 inline uint32_t depth24_word(double z) {
@@ -399,14 +400,18 @@ __attribute__((target("avx2"))) void block_bounds_avx2(const uint32_t* row, size
 
 }  // namespace
 
-int set_depth_bounds(int mode) { return depth_bounds_mode.exchange(mode); }
+int set_depth_bounds(int mode, int level) {
+    depth_bounds_level.store(level);
+    return depth_bounds_mode.exchange(mode);
+}
 
 void DepthBounds::begin_tile(const EarlyDepth& t, const TileRect& rect) {
     enabled_ = depth_bounds_mode.load(std::memory_order_relaxed) != 0 && t.pattern->count == 1 &&
                (t.func == gl::LESS || t.func == gl::LEQUAL || t.func == gl::GREATER || t.func == gl::GEQUAL);
     func_ = t.func;
     write_ = t.write;
-    vector_ = best_simd_level() >= SimdLevel::AVX2;
+    const int level = depth_bounds_level.load(std::memory_order_relaxed);
+    vector_ = (level < 0 ? best_simd_level() : SimdLevel(level)) >= SimdLevel::AVX2;
     rect_ = rect;
     sample_x_ = t.pattern->x[0], sample_y_ = t.pattern->y[0];
     depth_ = t.depth;

@@ -67,8 +67,9 @@ private:
 };
 
 // Testing: depth bounds on (the default) or off (every primitive rasterized and tested), and
-// sabotage (bounds read one word too low/high, so that a test comparing against the off path
-// must fail). Returns the previous mode: 0 off, 1 on, 2 sabotaged.
-int set_depth_bounds(int mode);
+// sabotaged (the primitive's depth taken at the wrong corner, so that a test comparing with the
+// off path must fail); `level` the SIMD level of the block reads (-1: the best). Returns the
+// previous mode: 0 off, 1 on, 2 sabotaged.
+int set_depth_bounds(int mode, int level = -1);
 
 }  // namespace softgl
