@@ -47,7 +47,7 @@ def scene(seed, n=40):
     return pos, color, draws
 
 
-def render(mode, level, seed, size, threads, antialias=False):
+def render(mode, level, seed, size, threads, antialias=False, smooth=False):
     """The scene's draws; returns (colour bytes, depth words, counters)."""
     pos, color, draws = scene(seed)
     gl = softgl.Context(*size, threads=threads, antialias=antialias, preserveDrawingBuffer=True)
@@ -63,6 +63,8 @@ def render(mode, level, seed, size, threads, antialias=False):
     gl.clearDepth(0.5 if seed % 2 else 1.0)
     gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT)
     gl.enable(gl.DEPTH_TEST)
+    if smooth:
+        gl.enable(gl.getExtension("SOFTGL_smooth").POLYGON_SMOOTH)
     gl.stats(reset=True)
     previous = _core.testing.set_depth_bounds(mode, level)
     try:
@@ -125,9 +127,10 @@ def test_sabotaged_bounds_are_caught():
     assert caught >= 3
 
 
-def test_off_for_multisampling():
-    off = render(0, -1, 1, (133, 97), 1, antialias=True)
-    on = render(1, -1, 1, (133, 97), 2, antialias=True)
+@pytest.mark.parametrize("kw", [dict(antialias=True), dict(smooth=True)])
+def test_off_for_multisampling_and_area_coverage(kw):
+    off = render(0, -1, 1, (133, 97), 1, **kw)
+    on = render(1, -1, 1, (133, 97), 2, **kw)
     assert on[0] == off[0] and on[1] == off[1]
     assert on[2]["primitives_depth_hidden"] == 0
 

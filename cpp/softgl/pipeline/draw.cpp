@@ -472,6 +472,9 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
         quad_depth_test.depth = default_fb->depth_samples(0, 0);
         quad_depth_test.pitch = pitch;
     }
+    // Primitives hidden in a whole tile skip raster and test (DepthBounds); not with area coverage,
+    // which reaches pixels whose centre (the tested sample) is outside the bounding box.
+    const bool depth_bounds = quad_depth && !state.smooth.polygon && !state.smooth.line && !state.smooth.point;
 
     // Single-sampled drawing buffer pixels (as 32-bit words) for prefetching; null when not touched.
     const uint32_t* const color_pixels = drawing_buffer && S == 1 && writes_color
@@ -510,7 +513,7 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
         const std::vector<uint32_t>& list = bins->tile(tile);
         Scratch& w = scratch[worker];
         const TileRect rect = grid.rect(tile);
-        if (quad_depth) w.depth_bounds.begin_tile(quad_depth_test, rect);
+        if (depth_bounds) w.depth_bounds.begin_tile(quad_depth_test, rect);
         w.masks.resize(kChunkLanes);
         w.pixels.resize(kChunkLanes);
         // The fragment batch's arrays only grow (to a whole chunk): no zero fill per chunk.
@@ -537,7 +540,7 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
             uint64_t survived = 0;
             for (size_t li = 0; li < list.size(); ++li) {
                 const PrimitiveSetup& p = prims[list[li]];
-                if (quad_depth && w.depth_bounds.hides(p)) { ++w.stats.primitives_depth_hidden; continue; }
+                if (depth_bounds && w.depth_bounds.hides(p)) { ++w.stats.primitives_depth_hidden; continue; }
                 w.quads.clear();
                 rasterize(p, rect, pattern, w.quads, counted_in_second_pass);
                 const Quad* const q = w.quads.data();
@@ -590,7 +593,7 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
             }
             if (hide && !w.owns[li]) continue;   // hidden everywhere in this tile
             const PrimitiveSetup& p = prims[list[li]];
-            if (!hide && quad_depth && w.depth_bounds.hides(p)) { ++w.stats.primitives_depth_hidden; continue; }
+            if (!hide && depth_bounds && w.depth_bounds.hides(p)) { ++w.stats.primitives_depth_hidden; continue; }
             w.quads.clear();
             w.areas.clear();
             const bool area = S == 1 && ((p.kind == PrimitiveKind::Triangle && state.smooth.polygon) ||

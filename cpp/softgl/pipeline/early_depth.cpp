@@ -440,13 +440,7 @@ void DepthBounds::read_block(int block) {
     known_ |= uint64_t(1) << block;
 }
 
-bool DepthBounds::hides(const PrimitiveSetup& p) {
-    if (!enabled_) return false;
-    // The primitive's pixels lie in its bounding box within the tile. A small one costs less to
-    // rasterize and test than its blocks' bounds.
-    const int32_t x0 = std::max(p.x0, rect_.x0), x1 = std::min(p.x1, rect_.x1);
-    const int32_t y0 = std::max(p.y0, rect_.y0), y1 = std::min(p.y1, rect_.y1);
-    if (x0 >= x1 || y0 >= y1 || int64_t(x1 - x0) * int64_t(y1 - y0) < kMinPixels) return false;
+bool DepthBounds::hides_box(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, int32_t y1) {
     const int bx0 = (x0 - rect_.x0) / kBlockSize, bx1 = (x1 - 1 - rect_.x0) / kBlockSize;
     const int by0 = (y0 - rect_.y0) / kBlockSize, by1 = (y1 - 1 - rect_.y0) / kBlockSize;
     const uint64_t row = ((uint64_t(1) << (bx1 - bx0 + 1)) - 1) << bx0;

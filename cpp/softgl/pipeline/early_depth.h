@@ -8,6 +8,7 @@
 // quad's pixel row (two pixels, 8 sample words); other sample counts run the scalar level. All
 // give the same words and decisions as the scalar level (DESIGN §3).
 #pragma once
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 
@@ -49,12 +50,21 @@ public:
     void begin_tile(const EarlyDepth& t, const TileRect& rect);
     // Whether every fragment of `p` in the tile fails the test; if not, and the test writes
     // depth, the blocks under p's bounding box are read again when next needed.
-    bool hides(const PrimitiveSetup& p);
+    bool hides(const PrimitiveSetup& p) {
+        if (!enabled_) return false;
+        // The primitive's pixels lie in its bounding box within the tile. A small one costs less
+        // to rasterize and test than its blocks' bounds.
+        const int32_t x0 = std::max(p.x0, rect_.x0), x1 = std::min(p.x1, rect_.x1);
+        const int32_t y0 = std::max(p.y0, rect_.y0), y1 = std::min(p.y1, rect_.y1);
+        if (x0 >= x1 || y0 >= y1 || int64_t(x1 - x0) * int64_t(y1 - y0) < kMinPixels) return false;
+        return hides_box(p, x0, y0, x1, y1);
+    }
 
 private:
     static constexpr int kBlocksPerRow = kTileSize / kBlockSize;
     static_assert(kBlocksPerRow * kBlocksPerRow == 64, "one bit of `known_` per block");
     static constexpr int64_t kMinPixels = 256;   // bounding box area in the tile
+    bool hides_box(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, int32_t y1);
     void read_block(int block);
     bool enabled_ = false, write_ = false, vector_ = false;
     GLenum func_ = gl::LESS;
