@@ -222,6 +222,14 @@ void bind_testing(py::module_& m) {
         if (mode < 0 || mode > 2) throw py::value_error("hidden-surface removal: 0, 1 or 2");
         return int(softgl::set_hidden_surface_removal(softgl::HiddenSurfaceRemoval(mode)));
     }, py::arg("mode"));
+    // Depth bounds (pipeline/early_depth DepthBounds): 0 off, 1 on (the default), 2 sabotaged (for
+    // tests that must catch a wrong bound); simd_level of the block reads (-1: the best). Returns
+    // the previous mode.
+    t.def("set_depth_bounds", [](int mode, int simd_level) {
+        if (mode < 0 || mode > 2) throw py::value_error("depth bounds: 0, 1 or 2");
+        if (simd_level < -1 || simd_level > int(softgl::best_simd_level())) throw py::value_error("depth bounds: simd level");
+        return softgl::set_depth_bounds(mode, simd_level);
+    }, py::arg("mode"), py::arg("simd_level") = -1);
     // GLM as the reference for softgl.transforms (the C++ side's math library).
     t.def("glm_perspective", [](float fovy, float aspect, float n, float f) { return from_glm(glm::perspective(fovy, aspect, n, f)); });
     t.def("glm_ortho", [](float l, float r, float b, float tp, float n, float f) { return from_glm(glm::ortho(l, r, b, tp, n, f)); });

@@ -203,7 +203,14 @@ class Context(_core.Context):
         a later primitive of the same draw covers their pixel and nothing blends (hidden-surface
         removal, single-sampled targets, in tiles where primitives pile up): the bytes are the
         same as when every fragment is shaded. A shader's loop-limit abort can then only come
-        from a fragment that is shaded."""
+        from a fragment that is shaded.
+
+        ``primitives_depth_hidden`` counts (primitive, tile) pairs that were neither rasterized
+        nor tested, because the tile's stored depth words show that every fragment of the
+        primitive there fails the early depth test (single-sampled LESS, LEQUAL, GREATER or
+        GEQUAL on the drawing buffer without smoothing, primitives whose bounding box covers at
+        least 256 pixels of the tile): their fragments are in no other counter (not in ``fragments_killed_early``
+        nor ``quads``); the bytes are the same as when they are tested."""
         return self._stats(reset)
 
     @property

@@ -35,7 +35,7 @@ void DrawStats::add(const DrawStats& o) {
     tiles_touched += o.tiles_touched; quads += o.quads; blocks_accepted_whole += o.blocks_accepted_whole;
     fragments_shaded += o.fragments_shaded; fragments_killed_early += o.fragments_killed_early;
     fragments_killed_late += o.fragments_killed_late; fragments_discarded += o.fragments_discarded;
-    fragments_hidden += o.fragments_hidden;
+    fragments_hidden += o.fragments_hidden; primitives_depth_hidden += o.primitives_depth_hidden;
     samples_written += o.samples_written; samples_blended += o.samples_blended;
     draws_skipped_no_output += o.draws_skipped_no_output; draws_early_depth += o.draws_early_depth;
     draws_blend_table += o.draws_blend_table;
@@ -100,6 +100,7 @@ struct alignas(64) Scratch {
     std::vector<uint16_t> masks;      // per lane of a chunk: surviving sample mask
     std::vector<uint64_t> owners;     // hidden-surface removal: the tile's owner map (OwnerMap)
     std::vector<uint8_t> owns;        // ... and per entry of the tile's list, whether it owns a pixel
+    DepthBounds depth_bounds;         // the tile's stored depth bounds (early depth, skips hidden primitives)
     FragmentBatch batch;
     FragmentResults results;
     RasterStats raster;
@@ -471,6 +472,9 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
         quad_depth_test.depth = default_fb->depth_samples(0, 0);
         quad_depth_test.pitch = pitch;
     }
+    // Primitives hidden in a whole tile skip raster and test (DepthBounds); not with area coverage,
+    // which reaches pixels whose centre (the tested sample) is outside the bounding box.
+    const bool depth_bounds = quad_depth && !state.smooth.polygon && !state.smooth.line && !state.smooth.point;
 
     // Single-sampled drawing buffer pixels (as 32-bit words) for prefetching; null when not touched.
     const uint32_t* const color_pixels = drawing_buffer && S == 1 && writes_color
@@ -509,6 +513,7 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
         const std::vector<uint32_t>& list = bins->tile(tile);
         Scratch& w = scratch[worker];
         const TileRect rect = grid.rect(tile);
+        if (depth_bounds) w.depth_bounds.begin_tile(quad_depth_test, rect);
         w.masks.resize(kChunkLanes);
         w.pixels.resize(kChunkLanes);
         // The fragment batch's arrays only grow (to a whole chunk): no zero fill per chunk.
@@ -535,6 +540,7 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
             uint64_t survived = 0;
             for (size_t li = 0; li < list.size(); ++li) {
                 const PrimitiveSetup& p = prims[list[li]];
+                if (depth_bounds && w.depth_bounds.hides(p)) { ++w.stats.primitives_depth_hidden; continue; }
                 w.quads.clear();
                 rasterize(p, rect, pattern, w.quads, counted_in_second_pass);
                 const Quad* const q = w.quads.data();
@@ -587,6 +593,7 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
             }
             if (hide && !w.owns[li]) continue;   // hidden everywhere in this tile
             const PrimitiveSetup& p = prims[list[li]];
+            if (!hide && depth_bounds && w.depth_bounds.hides(p)) { ++w.stats.primitives_depth_hidden; continue; }
             w.quads.clear();
             w.areas.clear();
             const bool area = S == 1 && ((p.kind == PrimitiveKind::Triangle && state.smooth.polygon) ||

@@ -34,6 +34,7 @@ struct DrawStats {
     uint64_t fragments_shaded = 0;      // lanes run through the fragment shader (helpers included)
     uint64_t fragments_killed_early = 0, fragments_killed_late = 0, fragments_discarded = 0;
     uint64_t fragments_hidden = 0;      // passed the tests, then covered by a later one: not shaded
+    uint64_t primitives_depth_hidden = 0;  // (primitive, tile) pairs failing early depth everywhere: not rasterized
     uint64_t samples_written = 0, samples_blended = 0;
     uint64_t draws_skipped_no_output = 0;  // nothing could change: no shading at all
     uint64_t draws_early_depth = 0;        // depth/stencil tested before shading

@@ -1,5 +1,8 @@
 #include "softgl/pipeline/early_depth.h"
 
+#include <algorithm>
+#include <atomic>
+#include <cmath>
 #include <cstddef>
 #include <cstring>
 
@@ -362,6 +365,118 @@ size_t early_depth_test_at(SimdLevel level, const EarlyDepth& t, const Quad* qua
 #endif
     (void)level;
     return early_depth_scalar(t, quads, n, survived);
+}
+
+}  // namespace softgl
+
+namespace softgl {
+
+namespace {
+
+std::atomic<int> depth_bounds_mode{1};
+std::atomic<int> depth_bounds_level{-1};   // testing: the SIMD level of the block reads, -1 the best
+
+// depth_word(Encoding::Depth24, z) for a finite z: the clamp, then the rounding.
+inline uint32_t depth24_word(double z) {
+    const double d = z > 0.0 ? z : 0.0;
+    return uint32_t((d < 1.0 ? d : 1.0) * 16777215.0 + 0.5);
+}
+
+#if defined(SOFTGL_HAVE_AVX2_EARLY_DEPTH)
+// The smallest and largest word of 8 rows of 8 words.
+__attribute__((target("avx2"))) void block_bounds_avx2(const uint32_t* row, size_t pitch, uint32_t& lo, uint32_t& hi) {
+    __m256i mn = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(row)), mx = mn;
+    for (int r = 1; r < kBlockSize; ++r) {
+        const __m256i v = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(row + size_t(r) * pitch));
+        mn = _mm256_min_epu32(mn, v), mx = _mm256_max_epu32(mx, v);
+    }
+    __m128i l = _mm_min_epu32(_mm256_castsi256_si128(mn), _mm256_extracti128_si256(mn, 1));
+    __m128i h = _mm_max_epu32(_mm256_castsi256_si128(mx), _mm256_extracti128_si256(mx, 1));
+    l = _mm_min_epu32(l, _mm_shuffle_epi32(l, 0x4E)), h = _mm_max_epu32(h, _mm_shuffle_epi32(h, 0x4E));
+    l = _mm_min_epu32(l, _mm_shuffle_epi32(l, 0xB1)), h = _mm_max_epu32(h, _mm_shuffle_epi32(h, 0xB1));
+    lo = uint32_t(_mm_cvtsi128_si32(l)), hi = uint32_t(_mm_cvtsi128_si32(h));
+}
+#endif
+
+}  // namespace
+
+int set_depth_bounds(int mode, int level) {
+    depth_bounds_level.store(level);
+    return depth_bounds_mode.exchange(mode);
+}
+
+void DepthBounds::begin_tile(const EarlyDepth& t, const TileRect& rect) {
+    enabled_ = depth_bounds_mode.load(std::memory_order_relaxed) != 0 && t.pattern->count == 1 &&
+               (t.func == gl::LESS || t.func == gl::LEQUAL || t.func == gl::GREATER || t.func == gl::GEQUAL);
+    func_ = t.func;
+    write_ = t.write;
+    const int level = depth_bounds_level.load(std::memory_order_relaxed);
+    vector_ = (level < 0 ? best_simd_level() : SimdLevel(level)) >= SimdLevel::AVX2;
+    rect_ = rect;
+    sample_x_ = t.pattern->x[0], sample_y_ = t.pattern->y[0];
+    depth_ = t.depth;
+    pitch_ = t.pitch;
+    known_ = 0;
+}
+
+void DepthBounds::read_block(int block) {
+    const int32_t x0 = rect_.x0 + block % kBlocksPerRow * kBlockSize, y0 = rect_.y0 + block / kBlocksPerRow * kBlockSize;
+    const int32_t x1 = std::min(x0 + kBlockSize, rect_.x1), y1 = std::min(y0 + kBlockSize, rect_.y1);
+    const uint32_t* const first = &depth_[size_t(y0) * pitch_ + size_t(x0)];
+    uint32_t lo = UINT32_MAX, hi = 0;
+#if defined(SOFTGL_HAVE_AVX2_EARLY_DEPTH)
+    if (vector_ && x1 - x0 == kBlockSize && y1 - y0 == kBlockSize) {
+        block_bounds_avx2(first, pitch_, lo, hi);
+    } else
+#endif
+    {
+        for (int32_t y = 0; y < y1 - y0; ++y)
+            for (int32_t x = 0; x < x1 - x0; ++x) {
+                const uint32_t v = first[size_t(y) * pitch_ + size_t(x)];
+                lo = std::min(lo, v), hi = std::max(hi, v);
+            }
+    }
+    min_[block] = lo, max_[block] = hi;
+    known_ |= uint64_t(1) << block;
+}
+
+bool DepthBounds::hides_box(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, int32_t y1) {
+    const int bx0 = (x0 - rect_.x0) / kBlockSize, bx1 = (x1 - 1 - rect_.x0) / kBlockSize;
+    const int by0 = (y0 - rect_.y0) / kBlockSize, by1 = (y1 - 1 - rect_.y0) / kBlockSize;
+    const uint64_t row = ((uint64_t(1) << (bx1 - bx0 + 1)) - 1) << bx0;
+    uint64_t blocks = 0;
+    for (int by = by0; by <= by1; ++by) blocks |= row << (by * kBlocksPerRow);
+
+    // The plane as depth_at evaluates it at the pixel centre of (x, y): ((c + a*fx) + b*fy) +
+    // offset. Each evaluation is within a few units in the last place of the sum of its terms'
+    // magnitudes, at most `size` over the box (|fx|, |fy| largest at a corner): a corner's value
+    // less (plus) 2^-40 * size is below (above) every pixel's value in the box.
+    const double a = p.depth.a, b = p.depth.b, c = p.depth.c, offset = p.depth_offset;
+    const auto fx = [&](int32_t x) { return double(int64_t(x) * kSubPixel + sample_x_ - p.origin_x) * (1.0 / kSubPixel); };
+    const auto fy = [&](int32_t y) { return double(int64_t(y) * kSubPixel + sample_y_ - p.origin_y) * (1.0 / kSubPixel); };
+    const double size = std::fabs(c) + std::fabs(offset) + std::fabs(a) * std::max(std::fabs(fx(x0)), std::fabs(fx(x1 - 1))) +
+                        std::fabs(b) * std::max(std::fabs(fy(y0)), std::fabs(fy(y1 - 1)));
+    bool hidden = false;
+    if (std::isfinite(size)) {
+        const double margin = size * 0x1p-40;
+        // Fails everywhere: LESS/LEQUAL when the nearest value is not below (not at most) every
+        // stored word, GREATER/GEQUAL when the farthest is not above (not at least) every one.
+        const bool nearest = func_ == gl::LESS || func_ == gl::LEQUAL;
+        const bool sabotaged = depth_bounds_mode.load(std::memory_order_relaxed) == 2;
+        const bool low_x = (a >= 0) == (nearest != sabotaged), low_y = (b >= 0) == (nearest != sabotaged);
+        const double corner = ((c + a * fx(low_x ? x0 : x1 - 1)) + b * fy(low_y ? y0 : y1 - 1)) + offset;
+        const uint32_t word = depth24_word(nearest ? corner - margin : corner + margin);
+        uint32_t lo = UINT32_MAX, hi = 0;
+        for (uint64_t rest = blocks; rest; rest &= rest - 1) {
+            const int block = __builtin_ctzll(rest);
+            if (!(known_ >> block & 1)) read_block(block);
+            lo = std::min(lo, min_[block]), hi = std::max(hi, max_[block]);
+        }
+        hidden = func_ == gl::LESS ? word >= hi : func_ == gl::LEQUAL ? word > hi
+               : func_ == gl::GREATER ? word <= lo : word < lo;
+    }
+    if (!hidden && write_) known_ &= ~blocks;   // its test may change these blocks' words
+    return hidden;
 }
 
 }  // namespace softgl

@@ -8,10 +8,12 @@
 // quad's pixel row (two pixels, 8 sample words); other sample counts run the scalar level. All
 // give the same words and decisions as the scalar level (DESIGN §3).
 #pragma once
+#include <algorithm>
 #include <cstddef>
 #include <cstdint>
 
 #include "softgl/api/state.h"
+#include "softgl/pipeline/bin.h"
 #include "softgl/pipeline/fragment_ops.h"
 #include "softgl/pipeline/raster.h"
 #include "softgl/pipeline/setup.h"
@@ -33,5 +35,51 @@ size_t early_depth_test_at(SimdLevel level, const EarlyDepth& t, const Quad* qua
 inline size_t early_depth_test(const EarlyDepth& t, const Quad* quads, size_t n, uint16_t* survived) {
     return early_depth_test_at(best_simd_level(), t, quads, n, survived);
 }
+
+// Depth bounds per 8x8 block of a tile, to skip the raster and early depth test of a primitive
+// that fails the test at every pixel of the tile (one sample per pixel, LESS/LEQUAL/GREATER/
+// GEQUAL, 24-bit depth, no stencil). A block's smallest and largest stored words are read when
+// first needed and again after a primitive that may write depth covered the block, so they are
+// always exact: the decision depends on the stored words only (same at any thread count, batch
+// size or SIMD level). The primitive's plane is linear, so its extreme over the pixel centres of
+// its bounding box within the tile is at a corner; a margin of rounding error keeps the test
+// conservative (depth_word is monotonic). One per worker, begun per tile pass.
+class DepthBounds {
+public:
+    // Starts tile `rect` of a draw whose early depth test is t (prim unset).
+    void begin_tile(const EarlyDepth& t, const TileRect& rect);
+    // Whether every fragment of `p` in the tile fails the test; if not, and the test writes
+    // depth, the blocks under p's bounding box are read again when next needed.
+    bool hides(const PrimitiveSetup& p) {
+        if (!enabled_) return false;
+        // The primitive's pixels lie in its bounding box within the tile. A small one costs less
+        // to rasterize and test than its blocks' bounds.
+        const int32_t x0 = std::max(p.x0, rect_.x0), x1 = std::min(p.x1, rect_.x1);
+        const int32_t y0 = std::max(p.y0, rect_.y0), y1 = std::min(p.y1, rect_.y1);
+        if (x0 >= x1 || y0 >= y1 || int64_t(x1 - x0) * int64_t(y1 - y0) < kMinPixels) return false;
+        return hides_box(p, x0, y0, x1, y1);
+    }
+
+private:
+    static constexpr int kBlocksPerRow = kTileSize / kBlockSize;
+    static_assert(kBlocksPerRow * kBlocksPerRow == 64, "one bit of `known_` per block");
+    static constexpr int64_t kMinPixels = 256;   // bounding box area in the tile
+    bool hides_box(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, int32_t y1);
+    void read_block(int block);
+    bool enabled_ = false, write_ = false, vector_ = false;
+    GLenum func_ = gl::LESS;
+    TileRect rect_{};
+    int64_t sample_x_ = 0, sample_y_ = 0;     // the pixel's sample position in 1/256 pixel
+    const uint32_t* depth_ = nullptr;         // EarlyDepth::depth and pitch
+    size_t pitch_ = 0;
+    uint64_t known_ = 0;                      // bit b: min_[b], max_[b] are current
+    uint32_t min_[kBlocksPerRow * kBlocksPerRow] = {}, max_[kBlocksPerRow * kBlocksPerRow] = {};
+};
+
+// Testing: depth bounds on (the default) or off (every primitive rasterized and tested), and
+// sabotaged (the primitive's depth taken at the wrong corner, so that a test comparing with the
+// off path must fail); `level` the SIMD level of the block reads (-1: the best). Returns the
+// previous mode: 0 off, 1 on, 2 sabotaged.
+int set_depth_bounds(int mode, int level = -1);
 
 }  // namespace softgl
