@@ -347,7 +347,18 @@ inline void Setup::emit_triangle(const WindowVertex& w0, const WindowVertex& w1,
     const WindowVertex& v1 = area2 < 0 ? w2 : w1;
     const WindowVertex& v2 = area2 < 0 ? w1 : w2;
     if (area2 < 0) area2 = -area2;
+    // Nested min/max: conditional moves (min({...}) is a loop of unpredictable branches).
+    int64_t xmin = std::min(v0.X, std::min(v1.X, v2.X)), xmax = std::max(v0.X, std::max(v1.X, v2.X));
+    int64_t ymin = std::min(v0.Y, std::min(v1.Y, v2.Y)), ymax = std::max(v0.Y, std::max(v1.Y, v2.Y));
+    if (state_.sample_bounds && state_.samples == 1) {
+        // Pixel p's centre p * 256 + 128 lies in [min, max] for floor_pixel(min + 127) <= p <=
+        // floor_pixel(max - 128): finish_bbox's floor_pixel(min) and floor_pixel(max) + 1 of these
+        // are exactly that range (a centre on the extent's border stays in: it may be covered).
+        const int64_t low = kSubPixel / 2 - 1, high = kSubPixel / 2;
+        xmin += low, ymin += low, xmax -= high, ymax -= high;
+    }
     PrimitiveSetup& s = out.emplace_back();   // built in place (no copy of the large record)
+    if (!finish_bbox(s, xmin, ymin, xmax, ymax)) { ++stats.outside; out.pop_back(); return; }
     const WindowVertex* v[3] = {&v0, &v1, &v2};
     for (int i = 0; i < 3; ++i) {
         const WindowVertex& j = *v[(i + 1) % 3];
@@ -357,10 +368,6 @@ inline void Setup::emit_triangle(const WindowVertex& w0, const WindowVertex& w1,
     s.a[3] = s.b[3] = s.c[3] = 0;
     s.area_offset[3] = 0;
     s.area_shape = AreaShape::Polygon;
-    // Nested min/max: conditional moves (min({...}) is a loop of unpredictable branches).
-    const int64_t xmin = std::min(v0.X, std::min(v1.X, v2.X)), xmax = std::max(v0.X, std::max(v1.X, v2.X));
-    const int64_t ymin = std::min(v0.Y, std::min(v1.Y, v2.Y)), ymax = std::max(v0.Y, std::max(v1.Y, v2.Y));
-    if (!finish_bbox(s, xmin, ymin, xmax, ymax)) { ++stats.outside; out.pop_back(); return; }
 
     s.origin_x = v0.X;
     s.origin_y = v0.Y;
