@@ -202,9 +202,10 @@ def test_project_vertices_every_simd_level(viewport):
 @pytest.mark.parametrize("seed", range(4))
 def test_sample_bounds_keep_every_covered_sample(seed):
     """RasterState::sample_bounds (draws on single-sampled targets) shrinks a triangle's bounding box
-    to the pixel centres within its extent and drops triangles between centres: the same samples,
-    depths, weights and owners as the full box, and as the float64 reference. Vertices on a quarter
-    pixel grid put pixel centres exactly on extents' borders, where a box one pixel too small fails."""
+    to the pixel centres within its extent and drops small triangles that cover no centre: the same
+    samples, depths, weights and owners as the full box, and as the int64 reference. Vertices on a
+    quarter pixel grid put pixel centres exactly on edges and extents' borders, where a box one
+    pixel too small or a wrong tie in the centre test fails."""
     rng = np.random.default_rng(seed)
     n = 400
     centre = rng.integers(-2, 4 * W + 8, (n, 1, 2)) / 4
