@@ -35,7 +35,7 @@ py::dict raster_coverage(int32_t width, int32_t height,
                          int depth_bits, int samples, unsigned threads,
                          std::optional<std::tuple<int32_t, int32_t, int32_t, int32_t>> scissor,
                          std::optional<py::array_t<float, py::array::c_style | py::array::forcecast>> point_sizes,
-                         double line_width, bool record, const std::string& line_rule) {
+                         double line_width, bool record, const std::string& line_rule, bool sample_bounds) {
     if (positions.ndim() != 2 || positions.shape(1) != 4)
         throw py::value_error("positions must have shape (N, 4)");
     ProbeInput in;
@@ -71,6 +71,7 @@ py::dict raster_coverage(int32_t width, int32_t height,
     st.depth_bits = depth_bits;
     st.samples = samples;
     st.line_width = line_width;
+    st.sample_bounds = sample_bounds;
     if (line_rule == "diamond_exit") st.line_rule = LineRule::DiamondExit;
     else if (line_rule == "half_open") st.line_rule = LineRule::HalfOpen;
     else throw py::value_error("line_rule must be 'diamond_exit' or 'half_open'");
@@ -178,7 +179,7 @@ void bind_raster(py::module_& m) {
           py::arg("polygon_offset") = py::none(), py::arg("depth_bits") = 24,
           py::arg("samples") = 1, py::arg("threads") = 1u, py::arg("scissor") = py::none(),
           py::arg("point_sizes") = py::none(), py::arg("line_width") = 1.0, py::arg("record") = true,
-          py::arg("line_rule") = "diamond_exit",
+          py::arg("line_rule") = "diamond_exit", py::arg("sample_bounds") = false,
           "Coverage of primitives given in clip coordinates (testing/benchmarks): per-sample hit "
           "counts and depth of the last primitive, per-pixel last primitive, facing, weights. "
           "Arrays are [y][x], row 0 = bottom. Enum arguments take GL values. record=False: only samples_covered and stats (benchmarks).");

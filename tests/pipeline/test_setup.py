@@ -5,7 +5,7 @@ import pytest
 from softgl import _core
 
 from conftest import (GL_BACK, GL_CCW, GL_CW, GL_FRONT, GL_FRONT_AND_BACK, clip_from_window,
-                      coverage, snap, window_from_clip)
+                      coverage, ref_triangle_coverage, snap, window_from_clip)
 
 W = H = 32
 CCW_TRI = [(2.3, 3.1), (14.7, 4.2), (6.1, 13.9)]        # left half, counter-clockwise
@@ -197,3 +197,39 @@ def test_project_vertices_every_simd_level(viewport):
         xy, zw = _core.testing.project_vertices(level, pos, 1024, 1024, viewport)
         assert np.array_equal(xy, xy0), level
         assert np.array_equal(zw.view(np.int64), zw0.view(np.int64)), level
+
+
+@pytest.mark.parametrize("seed", range(4))
+def test_sample_bounds_keep_every_covered_sample(seed):
+    """RasterState::sample_bounds (draws on single-sampled targets) shrinks a triangle's bounding box
+    to the pixel centres within its extent and drops small triangles that cover no centre: the same
+    samples, depths, weights and owners as the full box, and as the int64 reference. Vertices on a
+    quarter pixel grid put pixel centres exactly on edges and extents' borders, where a box one
+    pixel too small or a wrong tie in the centre test fails."""
+    rng = np.random.default_rng(seed)
+    n = 400
+    centre = rng.integers(-2, 4 * W + 8, (n, 1, 2)) / 4
+    xy = (centre + rng.integers(-4, 5, (n, 3, 2)) / 4).reshape(-1, 2)   # up to 2 pixels across
+    clip = clip_from_window(xy, W, H, z=rng.uniform(-1, 1, 3 * n))
+    full = coverage(W, H, clip)
+    tight = coverage(W, H, clip, sample_bounds=True)
+    for key in ("count", "depth", "last", "front", "weights"):
+        np.testing.assert_array_equal(tight[key], full[key], err_msg=key)
+    fixed = snap(window_from_clip(clip, W, H))
+    expected = sum(ref_triangle_coverage(fixed[3 * t:3 * t + 3], W, H) for t in range(n)).astype(np.uint32)
+    np.testing.assert_array_equal(tight["count"], expected)
+    dropped = full["setup"]["emitted"] - tight["setup"]["emitted"]
+    assert dropped > 20
+    assert tight["setup"]["outside"] - full["setup"]["outside"] == dropped
+    # Covered centres on a border of their triangle's extent (the cases an off-by-one box loses).
+    on_border = 0
+    for t in range(n):
+        v = fixed[3 * t:3 * t + 3]
+        py, px, _ = np.nonzero(ref_triangle_coverage(v, W, H))
+        cx, cy = px * 256 + 128, py * 256 + 128
+        on_border += np.sum((cx == v[:, 0].min()) | (cx == v[:, 0].max()) | (cy == v[:, 1].min()) | (cy == v[:, 1].max()))
+    assert on_border > 10
+    # Multisampled targets keep the full box.
+    ms = coverage(W, H, clip, samples=4, sample_bounds=True)
+    assert ms["setup"]["emitted"] == full["setup"]["emitted"]
+    np.testing.assert_array_equal(ms["count"], coverage(W, H, clip, samples=4)["count"])

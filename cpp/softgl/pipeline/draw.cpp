@@ -84,6 +84,7 @@ RasterState raster_state(const State& s, const RenderTarget& fb) {
     // SOFTGL_smooth shapes (GL 1.5 §3.4-3.5); smoothing is ignored when multisampling (§3.2.1).
     r.line_smooth = s.smooth.line && r.samples == 1;
     r.point_smooth = s.smooth.point && r.samples == 1;
+    r.sample_bounds = r.samples == 1 && !s.smooth.polygon;
     return r;
 }
 

@@ -62,6 +62,19 @@ void plane3(Double2 v0, Double2 v1, Double2 v2, double dx1, double dy1, double d
     p1.a = a[1]; p1.b = b[1]; p1.c = v0[1];
 }
 
+// Whether the sample at the centre of some pixel of the bounding box is inside the triangle's
+// edges (the rasterizer's exact test, tie rule included): a few pixels at most.
+bool covers_a_centre(const PrimitiveSetup& s) {
+    for (int32_t y = s.y0; y < s.y1; ++y)
+        for (int32_t x = s.x0; x < s.x1; ++x) {
+            const int64_t X = int64_t(x) * kSubPixel + kSubPixel / 2, Y = int64_t(y) * kSubPixel + kSubPixel / 2;
+            bool inside = true;
+            for (int i = 0; i < 3; ++i) inside &= s.a[i] * X + s.b[i] * Y + s.c[i] >= 0;
+            if (inside) return true;
+        }
+    return false;
+}
+
 Plane constant_plane(double v) {
     Plane p;
     p.c = v;
@@ -347,7 +360,19 @@ inline void Setup::emit_triangle(const WindowVertex& w0, const WindowVertex& w1,
     const WindowVertex& v1 = area2 < 0 ? w2 : w1;
     const WindowVertex& v2 = area2 < 0 ? w1 : w2;
     if (area2 < 0) area2 = -area2;
+    // Nested min/max: conditional moves (min({...}) is a loop of unpredictable branches).
+    int64_t xmin = std::min(v0.X, std::min(v1.X, v2.X)), xmax = std::max(v0.X, std::max(v1.X, v2.X));
+    int64_t ymin = std::min(v0.Y, std::min(v1.Y, v2.Y)), ymax = std::max(v0.Y, std::max(v1.Y, v2.Y));
+    const bool tight = state_.sample_bounds && state_.samples == 1;
+    if (tight) {
+        // Pixel p's centre p * 256 + 128 lies in [min, max] for floor_pixel(min + 127) <= p <=
+        // floor_pixel(max - 128): finish_bbox's floor_pixel(min) and floor_pixel(max) + 1 of these
+        // are exactly that range (a centre on the extent's border stays in: it may be covered).
+        const int64_t low = kSubPixel / 2 - 1, high = kSubPixel / 2;
+        xmin += low, ymin += low, xmax -= high, ymax -= high;
+    }
     PrimitiveSetup& s = out.emplace_back();   // built in place (no copy of the large record)
+    if (!finish_bbox(s, xmin, ymin, xmax, ymax)) { ++stats.outside; out.pop_back(); return; }
     const WindowVertex* v[3] = {&v0, &v1, &v2};
     for (int i = 0; i < 3; ++i) {
         const WindowVertex& j = *v[(i + 1) % 3];
@@ -357,10 +382,7 @@ inline void Setup::emit_triangle(const WindowVertex& w0, const WindowVertex& w1,
     s.a[3] = s.b[3] = s.c[3] = 0;
     s.area_offset[3] = 0;
     s.area_shape = AreaShape::Polygon;
-    // Nested min/max: conditional moves (min({...}) is a loop of unpredictable branches).
-    const int64_t xmin = std::min(v0.X, std::min(v1.X, v2.X)), xmax = std::max(v0.X, std::max(v1.X, v2.X));
-    const int64_t ymin = std::min(v0.Y, std::min(v1.Y, v2.Y)), ymax = std::max(v0.Y, std::max(v1.Y, v2.Y));
-    if (!finish_bbox(s, xmin, ymin, xmax, ymax)) { ++stats.outside; out.pop_back(); return; }
+    if (tight && (s.x1 - s.x0) * (s.y1 - s.y0) <= 4 && !covers_a_centre(s)) { ++stats.outside; out.pop_back(); return; }
 
     s.origin_x = v0.X;
     s.origin_y = v0.Y;

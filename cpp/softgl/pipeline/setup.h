@@ -64,6 +64,12 @@ struct RasterState {
     bool line_smooth = false;
     bool point_smooth = false;
     bool point_smooth_square = false;
+    // With samples == 1, triangles that need only their samples (no SOFTGL_smooth polygon
+    // area): a triangle's bounding box spans only the pixels whose centre lies within the
+    // triangle's extent, and a triangle that covers no centre is dropped at setup (counted as
+    // outside) when that box is empty or has at most 4 pixels: most triangles under a pixel across
+    // cover no centre.
+    bool sample_bounds = false;
 
     // Convenience: whole framebuffer, viewport = framebuffer, no scissor.
     static RasterState for_target(int32_t width, int32_t height);
@@ -146,6 +152,7 @@ struct SetupStats {
     uint64_t primitives = 0;   // primitives given to setup
     uint64_t invalid = 0;      // dropped: NaN or infinite coordinate
     uint64_t outside = 0;      // dropped: outside the clip volume or the framebuffer/scissor rectangle
+                               // (or, with sample_bounds, a small triangle covering no pixel centre)
     uint64_t clipped = 0;      // needed clipping (near/far/w/guard band) and survived
     uint64_t culled = 0;       // dropped by cullFace
     uint64_t zero_area = 0;    // dropped: no area after snapping
