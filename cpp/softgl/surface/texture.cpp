@@ -522,6 +522,10 @@ void Texture::refresh_rgba8(int32_t base, int32_t q) {
         const Image* found = find(0, level);
         if (!found || found->rgba8_generation == generation) continue;
         Image& img = image(0, level);
+        if (img.rgba8_seen_generation != generation) {
+            img.rgba8_seen_generation = generation;
+            continue;
+        }
         img.rgba8_generation = generation;
         img.rgba8.clear();
         const FormatInfo& f = *img.format;

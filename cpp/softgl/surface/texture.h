@@ -107,6 +107,7 @@ struct Image {
     // rgba8_generation equals its texture's generation (see Texture::refresh_rgba8).
     std::vector<uint32_t> rgba8;
     uint64_t rgba8_generation = ~uint64_t(0);
+    uint64_t rgba8_seen_generation = ~uint64_t(0);   // the generation the last draw bound
 
     bool defined() const { return format != nullptr; }
     size_t texel_count() const { return size_t(width) * size_t(height) * size_t(depth) * size_t(samples); }
@@ -160,7 +161,10 @@ public:
     const Image* find(int face, int level) const;
     // Brings the byte copies (Image::rgba8) of levels [base, q] of a 2D texture of an 8-bit unorm
     // format up to date with `generation`; levels whose floats are not all k / 255 get none.
-    // Called when a draw binds the texture (single-threaded), so lookups only read them.
+    // Called when a draw binds the texture (single-threaded), so lookups only read them. A copy
+    // costs a pass over the level, worth it for textures that stay as they are: a level is
+    // copied at the second draw that binds it unchanged (not for a render target sampled once
+    // after each change).
     void refresh_rgba8(int32_t base, int32_t q);
     // The current byte copy of a level, or null.
     const uint32_t* rgba8(const Image& img) const {
