@@ -488,6 +488,7 @@ bool Context::check_draw_framebuffer(const char* call, const uint32_t used_units
                 return false;
             }
         }
+    for (const Attachment& a : fb.color) if (a.texture) ++a.texture->generation;   // the draw writes them
     return true;
 }
 
@@ -876,6 +877,7 @@ void Context::blit_framebuffer(int32_t sx0, int32_t sy0, int32_t sx1, int32_t sy
                 if (b < gl::COLOR_ATTACHMENT0 || b >= gl::COLOR_ATTACHMENT0 + uint32_t(kMaxColorAttachments)) continue;
                 const Attachment& a = draw_framebuffer_->color[b - gl::COLOR_ATTACHMENT0];
                 if (Image* img = a.image()) dst_images.push_back({img, layer_offset(*img, a.layer)});
+                if (a.texture) ++a.texture->generation;   // the blit writes it
             }
         }
         if (have_source) {

@@ -407,6 +407,7 @@ std::atomic<bool> count_queries{false};   // only the testing hook counts (no sh
 // One level of a 2D / 2D array texture.
 struct Plane {
     const float* texels;   // 4 floats per texel, layer-major then row-major
+    const uint32_t* rgba8; // the same texels as bytes (Texture::rgba8), or null
     int32_t width, height, layers;
     bool width_pot, height_pot;
 };
@@ -767,6 +768,45 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512))) inline void texels16(const Layers
     out[3] = _mm512_castpd_ps(_mm512_unpackhi_pd(t1, t3));
 }
 
+// k / 255 of 16 lanes (0 <= k <= 255), correctly rounded as unorm()'s division, without one: q =
+// k * (1/255) is off by at most an ulp, the residual k - 255 q is exact in one FMA, and q + r / 255
+// in one more rounds to the quotient (checked for all 256 k by test_rgba8_copy_every_byte_value).
+__attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) inline __m512 unorm8_16(__m512i k) {
+    const __m512 kf = _mm512_cvtepi32_ps(k), inv = _mm512_set1_ps(1.0f / 255.0f);
+    const __m512 q = _mm512_mul_ps(kf, inv);
+    const __m512 r = _mm512_fnmadd_ps(q, _mm512_set1_ps(255.0f), kf);
+    return _mm512_fmadd_ps(r, inv, q);
+}
+
+// The four channels of 16 packed texels as k / 255, the floats the storage holds.
+__attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) inline void unpack16(__m512i t, __m512 out[4]) {
+    const __m512i byte = _mm512_set1_epi32(255);
+    for (int c = 0; c < 4; ++c) out[c] = unorm8_16(_mm512_and_si512(_mm512_srli_epi32(t, 8 * c), byte));
+}
+
+// texels16 from a byte copy (Texture::rgba8).
+__attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) inline void texels16(const uint32_t* rgba8, __m512i index, __m512 out[4]) {
+    alignas(64) int32_t at[16];
+    alignas(64) uint32_t t[16];
+    _mm512_store_si512(at, index);
+    for (int l = 0; l < 16; ++l) t[l] = rgba8[at[l]];
+    unpack16(_mm512_load_si512(t), out);
+}
+
+// texel_pairs16 from a byte copy: one 8-byte load per lane.
+__attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) inline void texel_pairs16(const uint32_t* rgba8, __m512i index,
+                                                                               __m512 left[4], __m512 right[4]) {
+    alignas(64) int32_t at[16];
+    alignas(64) uint64_t pair[16];
+    _mm512_store_si512(at, index);
+    for (int l = 0; l < 16; ++l) std::memcpy(&pair[l], rgba8 + at[l], 8);
+    const __m512i p0 = _mm512_load_si512(pair), p1 = _mm512_load_si512(pair + 8);
+    // The low halves are the left texels, the high halves the right ones.
+    unpack16(_mm512_inserti64x4(_mm512_castsi256_si512(_mm512_cvtepi64_epi32(p0)), _mm512_cvtepi64_epi32(p1), 1), left);
+    unpack16(_mm512_inserti64x4(_mm512_castsi256_si512(_mm512_cvtepi64_epi32(_mm512_srli_epi64(p0, 32))),
+                                _mm512_cvtepi64_epi32(_mm512_srli_epi64(p1, 32)), 1), right);
+}
+
 // texels16 of two horizontally adjacent texels per lane (index[l] and index[l] + 1 in one row),
 // read as one 8-float load each: left[c] and right[c] are their channel vectors. Register m holds
 // lanes m and m + 4 (m < 4) or m + 4 and m + 8, so that after an 8x8 transpose in each 256-bit
@@ -802,7 +842,7 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512))) inline void texel_pairs16(const L
 
 // filter8 of one plane for 16 lanes, out[c] = channel c of the 16 results.
 template <bool kLayered>
-__attribute__((target(SOFTGL_SAMPLER_AVX512))) void filter16(const Fast2D& f, const Plane& p, bool linear,
+__attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) void filter16(const Fast2D& f, const Plane& p, bool linear,
                                                              const float* s, const float* t, const float* r,
                                                              __m512 out[4]) {
     Layers16<kLayered> layers{p.texels, {}};
@@ -817,7 +857,9 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512))) void filter16(const Fast2D& f, co
         wrap16(f.wrap_s, ifloor_floored16(_mm512_floor_ps(u)), p.width, p.width_pot, false, i0, i1);
         wrap16(f.wrap_t, ifloor_floored16(_mm512_floor_ps(v)), p.height, p.height_pot, false, j0, j1);
         // Texel indices in int32: 4 * w * h <= 2^30 floats (kMaxTextureSize is 16384).
-        texels16(layers, _mm512_add_epi32(_mm512_mullo_epi32(j0, width), i0), out);
+        const __m512i index = _mm512_add_epi32(_mm512_mullo_epi32(j0, width), i0);
+        if (!kLayered && p.rgba8) texels16(p.rgba8, index, out);
+        else texels16(layers, index, out);
         return;
     }
     const __m512 half = _mm512_set1_ps(0.5f), one = _mm512_set1_ps(1.0f);
@@ -830,7 +872,16 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512))) void filter16(const Fast2D& f, co
     const __m512 w[4] = {_mm512_mul_ps(na, nb), _mm512_mul_ps(a, nb), _mm512_mul_ps(na, b), _mm512_mul_ps(a, b)};
     const __m512i row0 = _mm512_mullo_epi32(j0, width), row1 = _mm512_mullo_epi32(j1, width);
     __m512 texel[4][4];   // t00, t10, t01, t11
-    if (_mm512_cmpeq_epi32_mask(i1, _mm512_add_epi32(i0, _mm512_set1_epi32(1))) == 0xFFFF) {
+    const bool pairs = _mm512_cmpeq_epi32_mask(i1, _mm512_add_epi32(i0, _mm512_set1_epi32(1))) == 0xFFFF;
+    if (!kLayered && p.rgba8 && pairs) {
+        texel_pairs16(p.rgba8, _mm512_add_epi32(row0, i0), texel[0], texel[1]);
+        texel_pairs16(p.rgba8, _mm512_add_epi32(row1, i0), texel[2], texel[3]);
+    } else if (!kLayered && p.rgba8) {
+        texels16(p.rgba8, _mm512_add_epi32(row0, i0), texel[0]);
+        texels16(p.rgba8, _mm512_add_epi32(row0, i1), texel[1]);
+        texels16(p.rgba8, _mm512_add_epi32(row1, i0), texel[2]);
+        texels16(p.rgba8, _mm512_add_epi32(row1, i1), texel[3]);
+    } else if (pairs) {
         // No lane wraps between its columns: each row's two texels are neighbours in memory.
         texel_pairs16(layers, _mm512_add_epi32(row0, i0), texel[0], texel[1]);
         texel_pairs16(layers, _mm512_add_epi32(row1, i0), texel[2], texel[3]);
@@ -936,7 +987,7 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
     for (int32_t level = bt.base; level <= bt.q; ++level) {
         const Image* img = tex.find(0, level);
         if (!img || img->format->kind() != SampleKind::Float || img->color.size() != img->texel_count() * 4) return false;
-        f.planes[size_t(level - bt.base)] = {img->color.data(), img->width, img->height, img->depth,
+        f.planes[size_t(level - bt.base)] = {img->color.data(), tex.rgba8(*img), img->width, img->height, img->depth,
                                              is_power_of_two(img->width), is_power_of_two(img->height)};
     }
     f.wrap_s = p.wrap_s, f.wrap_t = p.wrap_t;

@@ -495,6 +495,47 @@ const Image* Texture::find(int face, int level) const {
     return &levels[size_t(level)];
 }
 
+namespace {
+
+// The texels of an 8-bit unorm image as bytes (Image::rgba8); false if a float is not k / 255
+// (every writer quantizes to unorm(k, 8), so this does not happen; the floats stay the truth).
+bool pack_unorm8(const Image& img, std::vector<uint32_t>& bytes) {
+    bytes.resize(img.texel_count());
+    for (size_t i = 0; i < bytes.size(); ++i) {
+        uint32_t packed = 0;
+        for (int c = 0; c < 4; ++c) {
+            const float v = img.color[i * 4 + size_t(c)];
+            const uint32_t k = v >= 0.0f && v <= 1.0f ? uint32_t(std::lround(v * 255.0f)) : 0;
+            if (unorm(k, 8) != v || std::signbit(v)) return false;
+            packed |= k << (8 * c);
+        }
+        bytes[i] = packed;
+    }
+    return true;
+}
+
+}  // namespace
+
+void Texture::refresh_rgba8(int32_t base, int32_t q) {
+    if (target != gl::TEXTURE_2D) return;
+    for (int32_t level = base; level <= q; ++level) {
+        const Image* found = find(0, level);
+        if (!found || found->rgba8_generation == generation) continue;
+        Image& img = image(0, level);
+        if (img.rgba8_seen_generation != generation) {
+            img.rgba8_seen_generation = generation;
+            continue;
+        }
+        img.rgba8_generation = generation;
+        img.rgba8.clear();
+        const FormatInfo& f = *img.format;
+        const bool unorm8 = f.kind() == SampleKind::Float && f.encoding == Encoding::Unorm &&
+                            std::all_of(f.bits.begin(), f.bits.end(), [](uint8_t b) { return b == 0 || b == 8; });
+        if (unorm8 && img.samples == 1 && img.color.size() == img.texel_count() * 4 && !pack_unorm8(img, img.rgba8))
+            img.rgba8.clear();
+    }
+}
+
 bool needs_mipmaps(GLenum min_filter) { return min_filter != gl::NEAREST && min_filter != gl::LINEAR; }
 
 bool is_power_of_two(int32_t v) { return v > 0 && (v & (v - 1)) == 0; }

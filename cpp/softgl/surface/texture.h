@@ -102,6 +102,12 @@ struct Image {
     std::vector<uint32_t> integer;               // Int/Uint kind: 4 per texel (sample)
     std::vector<uint32_t> depth_words;           // Depth kind: 1 per texel (sample)
     std::vector<uint8_t> stencil;                // depth-stencil and stencil formats
+    // 8-bit unorm formats: `color` as bytes (R | G << 8 | B << 16 | A << 24 per texel, k for
+    // k / 255), a copy the sampler reads instead (4x less memory), current when
+    // rgba8_generation equals its texture's generation (see Texture::refresh_rgba8).
+    std::vector<uint32_t> rgba8;
+    uint64_t rgba8_generation = ~uint64_t(0);
+    uint64_t rgba8_seen_generation = ~uint64_t(0);   // the generation the last draw bound
 
     bool defined() const { return format != nullptr; }
     size_t texel_count() const { return size_t(width) * size_t(height) * size_t(depth) * size_t(samples); }
@@ -153,6 +159,17 @@ public:
     int faces() const { return target == gl::TEXTURE_CUBE_MAP ? 6 : 1; }
     Image& image(int face, int level);  // grows the arrays as needed
     const Image* find(int face, int level) const;
+    // Brings the byte copies (Image::rgba8) of levels [base, q] of a 2D texture of an 8-bit unorm
+    // format up to date with `generation`; levels whose floats are not all k / 255 get none.
+    // Called when a draw binds the texture (single-threaded), so lookups only read them. A copy
+    // costs a pass over the level, worth it for textures that stay as they are: a level is
+    // copied at the second draw that binds it unchanged (not for a render target sampled once
+    // after each change).
+    void refresh_rgba8(int32_t base, int32_t q);
+    // The current byte copy of a level, or null.
+    const uint32_t* rgba8(const Image& img) const {
+        return img.rgba8_generation == generation && !img.rgba8.empty() ? img.rgba8.data() : nullptr;
+    }
 };
 
 class Sampler : public Object {
