@@ -22,6 +22,7 @@
 #include "softgl/pipeline/interpolate.h"
 #include "softgl/pipeline/sample_mask.h"
 #include "softgl/pipeline/raster.h"
+#include "softgl/pipeline/whole_rect.h"
 #include "softgl/pipeline/setup.h"
 #include "softgl/surface/formats.h"
 
@@ -598,6 +599,11 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                 AreaOptions options;
                 options.sampled = hint == gl::FASTEST;   // NICEST and DONT_CARE: exact areas
                 rasterize_area(p, rect, pattern, options, w.quads, w.areas, w.raster);
+            } else if (const PartRect part = part_in_tile(p, rect);
+                       blend_table && !tests && !hide && !part.empty() && covers_part(p, pattern, part)) {
+                apply_blend_table_to_rect(*blend_table, PixelRect{buffer_pixels.color, pitch, part.x0, part.y0, part.x1, part.y1});
+                count_covered_part(part, w.raster, w.stats);   // whole_rect.h
+                continue;
             } else {
                 rasterize(p, rect, pattern, w.quads, w.raster);
             }
