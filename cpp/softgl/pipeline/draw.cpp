@@ -599,11 +599,8 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                 AreaOptions options;
                 options.sampled = hint == gl::FASTEST;   // NICEST and DONT_CARE: exact areas
                 rasterize_area(p, rect, pattern, options, w.quads, w.areas, w.raster);
-            } else if (const PartRect part = part_in_tile(p, rect);
-                       blend_table && !tests && !hide && !part.empty() && covers_part(p, pattern, part)) {
-                apply_blend_table_to_rect(*blend_table, PixelRect{buffer_pixels.color, pitch, part.x0, part.y0, part.x1, part.y1});
-                count_covered_part(part, w.raster, w.stats);   // whole_rect.h
-                continue;
+            } else if (blend_table && !tests && !hide) {   // covered blocks in place, the rest as quads
+                blend_covered_part(p, rect, pattern, *blend_table, buffer_pixels.color, pitch, w.quads, w.raster, w.stats);
             } else {
                 rasterize(p, rect, pattern, w.quads, w.raster);
             }
