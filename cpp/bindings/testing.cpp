@@ -423,6 +423,31 @@ void bind_testing(py::module_& m) {
           },
           py::arg("level"), py::arg("funcs_and_equations"), py::arg("constant"), py::arg("mask"), py::arg("has_alpha"),
           py::arg("colour"), py::arg("quads"), py::arg("dst"), py::arg("rows"), py::arg("image"));
+    // apply_blend_table_to_rect_at at one level: the table for `colour` (as blend_table_lanes)
+    // applied in place to the pixels [x0, x1) x [y0, y1) of `image` ((h, w) uint32 pixels).
+    // Returns (per_channel, image after the call).
+    t.def("blend_table_rect",
+          [](int level, const std::array<uint32_t, 6>& fe, const std::array<float, 4>& constant,
+             const std::array<bool, 4>& mask, bool has_alpha, const std::array<float, 4>& colour,
+             const std::array<int32_t, 4>& rect, py::array_t<uint32_t, py::array::c_style | py::array::forcecast> image) {
+              if (image.ndim() != 2 || rect[0] < 0 || rect[1] < 0 || rect[0] > rect[2] || rect[1] > rect[3] ||
+                  rect[2] > image.shape(1) || rect[3] > image.shape(0))
+                  throw py::value_error("image (h, w), rect (x0, y0, x1, y1) inside it");
+              const softgl::BlendOp op = blend_op(true, fe, mask, has_alpha, constant);
+              py::array_t<uint32_t> picture({image.shape(0), image.shape(1)});
+              std::memcpy(picture.mutable_data(), image.data(), size_t(image.nbytes()));
+              const bool per_channel = softgl::blend_is_per_channel(op);
+              if (per_channel) {
+                  softgl::BlendTable table;
+                  softgl::build_blend_table(softgl::color_kernel(op), op, colour.data(), table);
+                  const softgl::PixelRect r{reinterpret_cast<uint8_t*>(picture.mutable_data()), size_t(image.shape(1)),
+                                            rect[0], rect[1], rect[2], rect[3]};
+                  softgl::apply_blend_table_to_rect_at(softgl::SimdLevel(level), table, r);
+              }
+              return std::make_tuple(per_channel, picture);
+          },
+          py::arg("level"), py::arg("funcs_and_equations"), py::arg("constant"), py::arg("mask"), py::arg("has_alpha"),
+          py::arg("colour"), py::arg("rect"), py::arg("image"));
     // pipeline/early_depth at one instruction-set level: the depth plane (a, b, c) + offset with its
     // origin (1/256 pixel), the samples' positions in a pixel (1/256 pixel), quads (n, 3) int64 rows
     // (x, y, coverage bits), a (h, w, samples) uint32 depth buffer. Returns (survived (n, 4) uint16,

@@ -96,6 +96,36 @@ def test_table_equals_the_reference_for_every_factor_pair(has_alpha):
             check_kernel(rng, funcs, (eq, eqa), (True,) * 4, has_alpha)
 
 
+def test_rect_equals_the_reference():
+    """apply_blend_table_to_rect (a primitive covering its whole part of a tile, draw.cpp): the
+    rectangle's pixels as blend_unorm8 gives them, all others unchanged; rows shorter and longer
+    than 16 pixels, odd offsets, empty rectangles, at every level."""
+    rng = np.random.default_rng(77)
+    masks = [(True,) * 4, (True, False, True, False), (False, False, False, True)]
+    pairs = [("SRC_ALPHA", "ONE_MINUS_SRC_ALPHA") * 2, ("ONE", "ONE") * 2, ("DST_COLOR", "ZERO", "ONE", "ONE")]
+    pairs += [tuple(str(f) for f in rng.choice(FACTORS, 4)) for _ in range(20)]
+    for funcs in pairs:
+        has_alpha = bool(rng.integers(0, 2))
+        eqs = tuple(str(q) for q in rng.choice(EQUATIONS, 2))
+        mask = masks[int(rng.integers(0, len(masks)))]
+        fe = [e(f) for f in funcs] + [e(q) for q in eqs]
+        colour, constant = random_colour(rng), tuple(float(v) for v in rng.uniform(-0.2, 1.2, 4))
+        h, w = int(rng.integers(1, 30)), int(rng.integers(1, 70))
+        image = rng.integers(0, 2**32, (h, w), dtype=np.uint64).astype(np.uint32)
+        x0, x1 = sorted(int(v) for v in rng.integers(0, w + 1, 2))
+        y0, y1 = sorted(int(v) for v in rng.integers(0, h + 1, 2))
+        want = image.copy()
+        part = image[y0:y1, x0:x1].copy()
+        src = np.tile(np.array(colour, np.float32), (part.size, 1))
+        out = _core.testing.blend_unorm8(fe, constant, mask, has_alpha, src, part.view(np.uint8).reshape(-1, 4))
+        want[y0:y1, x0:x1] = out.reshape(-1).view(np.uint32).reshape(part.shape)
+        for level in range(_core.testing.simd_level() + 1):
+            ok, got = _core.testing.blend_table_rect(level, fe, constant, mask, has_alpha, colour, (x0, y0, x1, y1), image)
+            assert ok == per_channel(funcs, has_alpha)
+            where = f"{funcs} {eqs} mask {mask} alpha {has_alpha} colour {colour} rect {(x0, y0, x1, y1)} level {level}"
+            np.testing.assert_array_equal(got, want if ok else image, err_msg=where)
+
+
 VS = """#version 300 es
 in vec4 aPos;
 void main() { gl_Position = aPos; }
@@ -104,9 +134,9 @@ void main() { gl_Position = aPos; }
 from test_uniform_only_shading import PER_FRAGMENT_FS, UNIFORM_FS  # noqa: E402
 
 
-def render(fs, size, threads, funcs, eqs, mask, colours, alpha=True):
+def render(fs, size, threads, funcs, eqs, mask, colours, alpha=True, scissor=None):
     """A full-screen quad and two triangles with edges inside the buffer per colour, blended onto a
-    random background. Returns (RGBA bytes, gl.stats())."""
+    random background (inside `scissor`, x, y, w, h, if given). Returns (RGBA bytes, gl.stats())."""
     w, h = size
     gl = softgl.Context(w, h, threads=threads, alpha=alpha, antialias=False, preserveDrawingBuffer=True)
     prog = softgl.program(gl, VS, fs)
@@ -129,6 +159,9 @@ def render(fs, size, threads, funcs, eqs, mask, colours, alpha=True):
             gl.clearColor(*(float(v) for v in rng.integers(0, 256, 4) / 255))
             gl.clear(gl.COLOR_BUFFER_BIT)
     gl.disable(gl.SCISSOR_TEST)
+    if scissor:
+        gl.enable(gl.SCISSOR_TEST)
+        gl.scissor(*scissor)
     gl.enable(gl.BLEND)
     gl.blendFuncSeparate(*(e(f) for f in funcs))
     gl.blendEquationSeparate(*(e(q) for q in eqs))
@@ -170,6 +203,26 @@ def test_table_draws_equal_per_fragment_shading(size, threads):
         plain = funcs == ("ONE", "ZERO") * 2 and eqs == ("FUNC_ADD",) * 2
         table = writes and not plain and per_channel(funcs, alpha)
         assert stats.pop("draws_blend_table") == (len(colours) if table else 0), (funcs, eqs, mask, alpha)
+        assert ref_stats.pop("draws_blend_table") == 0
+        counters = lambda s: {k: v for k, v in s.items() if not k.startswith("seconds")}
+        assert counters(stats) == counters(ref_stats)
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+@pytest.mark.parametrize("size, scissor", [((200, 150), None), ((203, 133), None), ((203, 133), (3, 5, 150, 121))])
+def test_covered_tiles_equal_per_fragment_shading(size, scissor, threads):
+    # Buffers of several 64-pixel tiles: most of each full-screen triangle's tiles are covered
+    # whole (blended in place, draw.cpp / whole_rect.h), the tiles on its diagonal and the inner
+    # triangles' take the quads; odd sizes and an odd scissor make parts of partial quads.
+    rng = np.random.default_rng(size[0] + size[1] + threads)
+    cases = [(("SRC_ALPHA", "ONE_MINUS_SRC_ALPHA") * 2, ("FUNC_ADD",) * 2, (True,) * 4, True),
+             (("ONE", "ONE_MINUS_SRC_COLOR", "ONE", "ZERO"), ("FUNC_REVERSE_SUBTRACT", "FUNC_ADD"), (True, True, False, True), False)]
+    for funcs, eqs, mask, alpha in cases:
+        colours = [random_colour(rng) for _ in range(3)]
+        got, stats = render(UNIFORM_FS, size, threads, funcs, eqs, mask, colours, alpha, scissor)
+        want, ref_stats = render(PER_FRAGMENT_FS, size, threads, funcs, eqs, mask, colours, alpha, scissor)
+        assert got.tobytes() == want.tobytes(), (funcs, eqs, mask, alpha)
+        assert stats.pop("draws_blend_table") == len(colours)
         assert ref_stats.pop("draws_blend_table") == 0
         counters = lambda s: {k: v for k, v in s.items() if not k.startswith("seconds")}
         assert counters(stats) == counters(ref_stats)

@@ -22,6 +22,7 @@
 #include "softgl/pipeline/interpolate.h"
 #include "softgl/pipeline/sample_mask.h"
 #include "softgl/pipeline/raster.h"
+#include "softgl/pipeline/whole_rect.h"
 #include "softgl/pipeline/setup.h"
 #include "softgl/surface/formats.h"
 
@@ -606,6 +607,8 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
                 AreaOptions options;
                 options.sampled = hint == gl::FASTEST;   // NICEST and DONT_CARE: exact areas
                 rasterize_area(p, rect, pattern, options, w.quads, w.areas, w.raster);
+            } else if (blend_table && !tests && !hide) {   // covered blocks in place, the rest as quads
+                blend_covered_part(p, rect, pattern, *blend_table, buffer_pixels.color, pitch, w.quads, w.raster, w.stats);
             } else {
                 rasterize(p, rect, pattern, w.quads, w.raster);
             }

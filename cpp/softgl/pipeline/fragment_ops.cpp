@@ -396,6 +396,28 @@ __attribute__((target(SOFTGL_AVX512 ",avx512vbmi"))) void apply_blend_table_avx5
     }
 }
 
+// apply_blend_table_to_rect_at's AVX-512 VBMI level: each row as 16 pixels at a time, the last
+// ones masked. A tile's rows are 256 bytes apart by a whole buffer row, too short a run for the
+// hardware prefetchers: the row kAheadRows below is fetched while this one is looked up.
+constexpr int32_t kAheadRows = 4;
+__attribute__((target(SOFTGL_AVX512 ",avx512vbmi"))) void apply_blend_table_to_rect_avx512(const BlendTable& t,
+                                                                                          const PixelRect& r) {
+    __m512i q[4][4];
+    load_table(t.bytes, q);
+    const size_t width = size_t(r.x1 - r.x0);
+    for (int32_t y = r.y0; y < r.y1; ++y) {
+        uint32_t* const row = reinterpret_cast<uint32_t*>(r.color) + size_t(y) * r.pitch + size_t(r.x0);
+        if (y + kAheadRows < r.y1)
+            for (size_t b = 0; b < 4 * width; b += 64) __builtin_prefetch(reinterpret_cast<const uint8_t*>(row + kAheadRows * r.pitch) + b, 1);
+        size_t x = 0;
+        for (; x + 16 <= width; x += 16) _mm512_storeu_si512(row + x, look_up(q, t.channels, _mm512_loadu_si512(row + x)));
+        if (x < width) {
+            const __mmask16 tail = __mmask16((1u << (width - x)) - 1);
+            _mm512_mask_storeu_epi32(row + x, tail, look_up(q, t.channels, _mm512_maskz_loadu_epi32(tail, row + x)));
+        }
+    }
+}
+
 // Lanes l .. l + 15 of the lane kernel (only those in `tail` unless Full: masked loads and
 // stores only where needed).
 template <ColorKernel K, bool Full>
@@ -637,6 +659,12 @@ void apply_blend_table_scalar(const BlendTable& t, const Quad* quads, size_t n, 
             }
     }
 }
+void apply_blend_table_to_rect_scalar(const BlendTable& t, const PixelRect& r) {
+    for (int32_t y = r.y0; y < r.y1; ++y) {
+        uint32_t* const row = reinterpret_cast<uint32_t*>(r.color) + size_t(y) * r.pitch;
+        for (int32_t x = r.x0; x < r.x1; ++x) row[x] = look_up_pixel(t, row[x]);
+    }
+}
 
 }  // namespace
 
@@ -716,6 +744,15 @@ void apply_blend_table_at(SimdLevel level, const BlendTable& table, const Quad* 
 
 void apply_blend_table(const BlendTable& table, const Quad* quads, size_t n, uint32_t* dst, const PixelRows& rows) {
     apply_blend_table_at(best_simd_level(), table, quads, n, dst, rows);
+}
+
+void apply_blend_table_to_rect_at(SimdLevel level, const BlendTable& table, const PixelRect& rect) {
+    if (level == SimdLevel::AVX512 && has_vbmi()) return apply_blend_table_to_rect_avx512(table, rect);
+    apply_blend_table_to_rect_scalar(table, rect);
+}
+
+void apply_blend_table_to_rect(const BlendTable& table, const PixelRect& rect) {
+    apply_blend_table_to_rect_at(best_simd_level(), table, rect);
 }
 
 }  // namespace softgl

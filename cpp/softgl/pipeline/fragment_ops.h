@@ -149,5 +149,15 @@ void build_blend_table(ColorKernel kernel, const BlendOp& op, const float colour
 void apply_blend_table_at(SimdLevel level, const BlendTable& table, const Quad* quads, size_t n, uint32_t* dst,
                           const PixelRows& rows);
 void apply_blend_table(const BlendTable& table, const Quad* quads, size_t n, uint32_t* dst, const PixelRows& rows);
+// The table applied in place to every pixel of [x0, x1) x [y0, y1) of the single-sampled RGBA8
+// buffer `color` (pitch in pixels): a primitive that covers a whole part of a tile (draw.cpp), with
+// no quads built or gathered. The same bytes as apply_blend_table_at on that part's quads.
+struct PixelRect {
+    uint8_t* color = nullptr;   // pixel (0, 0)
+    size_t pitch = 0;           // pixels from one row to the next
+    int32_t x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+};
+void apply_blend_table_to_rect_at(SimdLevel level, const BlendTable& table, const PixelRect& rect);
+void apply_blend_table_to_rect(const BlendTable& table, const PixelRect& rect);
 
 }  // namespace softgl

@@ -1,0 +1,21 @@
+// A draw blended by table (fragment_ops.h BlendTable: a uniform-only shader, single-sampled, no
+// depth/stencil tests, coverage ops or smoothing) needs no quads where a primitive covers whole
+// 8x8 blocks: those are blended in place, row by row (apply_blend_table_to_rect), and only the
+// rest of the primitive is rasterized.
+#pragma once
+#include <cstdint>
+#include <vector>
+
+#include "softgl/pipeline/draw.h"
+#include "softgl/pipeline/raster.h"
+
+namespace softgl {
+
+// p's pixels in `tile` on the RGBA8 buffer `color` (pitch in pixels): a part covered whole (every
+// pixel's one sample of `sp` inside every edge) is blended at once; otherwise, per row of blocks,
+// the run of covered blocks is, and the rest is rasterized, appended to `quads` for the caller to
+// blend. `raster` and `stats` count what rasterizing and blending it all as quads would count.
+void blend_covered_part(const PrimitiveSetup& p, const TileRect& tile, const SamplePattern& sp, const BlendTable& table,
+                        uint8_t* color, size_t pitch, std::vector<Quad>& quads, RasterStats& raster, DrawStats& stats);
+
+}  // namespace softgl
