@@ -47,18 +47,22 @@ def scene(seed, n=40):
     return pos, color, draws
 
 
-def render(mode, level, seed, size, threads, antialias=False, smooth=False):
-    """The scene's draws; returns (colour bytes, depth words, counters)."""
-    pos, color, draws = scene(seed)
-    gl = softgl.Context(*size, threads=threads, antialias=antialias, preserveDrawingBuffer=True)
-    prog = softgl.program(gl, VS, FS, {"aPos": 0, "aColor": 1})
-    gl.useProgram(prog)
+def bind_scene(gl, pos, color):
+    """The colour program and the (n, 4) position and colour arrays as its attributes."""
+    gl.useProgram(softgl.program(gl, VS, FS, {"aPos": 0, "aColor": 1}))
     gl.bindVertexArray(gl.createVertexArray())
     for loc, data in ((0, pos), (1, color)):
         gl.bindBuffer(gl.ARRAY_BUFFER, gl.createBuffer())
         gl.bufferData(gl.ARRAY_BUFFER, data, gl.STATIC_DRAW)
         gl.enableVertexAttribArray(loc)
         gl.vertexAttribPointer(loc, 4, gl.FLOAT, False, 0, 0)
+
+
+def render(mode, level, seed, size, threads, antialias=False, smooth=False):
+    """The scene's draws; returns (colour bytes, depth words, counters)."""
+    pos, color, draws = scene(seed)
+    gl = softgl.Context(*size, threads=threads, antialias=antialias, preserveDrawingBuffer=True)
+    bind_scene(gl, pos, color)
     gl.clearColor(0.2, 0.4, 0.6, 1.0)
     gl.clearDepth(0.5 if seed % 2 else 1.0)
     gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT)
@@ -150,14 +154,7 @@ def test_the_large_triangle_scene_skips_most_hidden_primitives():
     out = {}
     for mode in (0, 1):
         gl = softgl.Context(256, 256, antialias=False)
-        prog = softgl.program(gl, VS, FS, {"aPos": 0, "aColor": 1})
-        gl.useProgram(prog)
-        gl.bindVertexArray(gl.createVertexArray())
-        for loc, data in ((0, pos), (1, color)):
-            gl.bindBuffer(gl.ARRAY_BUFFER, gl.createBuffer())
-            gl.bufferData(gl.ARRAY_BUFFER, data, gl.STATIC_DRAW)
-            gl.enableVertexAttribArray(loc)
-            gl.vertexAttribPointer(loc, 4, gl.FLOAT, False, 0, 0)
+        bind_scene(gl, pos, color)
         gl.enable(gl.DEPTH_TEST)
         gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT)
         gl.stats(reset=True)
