@@ -209,8 +209,9 @@ class Context(_core.Context):
         nor tested, because the tile's stored depth words show that every fragment of the
         primitive there fails the early depth test (single-sampled LESS, LEQUAL, GREATER or
         GEQUAL on the drawing buffer without smoothing, primitives whose bounding box covers at
-        least 256 pixels of the tile): their fragments are in no other counter (not in ``fragments_killed_early``
-        nor ``quads``); the bytes are the same as when they are tested."""
+        least 256 pixels of the tile): their fragments are in no other counter (not in
+        ``fragments_killed_early`` nor ``quads``); the bytes are the same as when they are
+        tested."""
         return self._stats(reset)
 
     @property
