@@ -97,6 +97,21 @@ softgl::BlendOp blend_op(bool enabled, const std::array<uint32_t, 6>& fe, const 
     return softgl::BlendOp::from_state(state, has_alpha);
 }
 
+// A copy of a (h, w) uint32 image, for hooks that return the image after writing into it.
+py::array_t<uint32_t> copy_image(const py::array_t<uint32_t, py::array::c_style | py::array::forcecast>& image) {
+    py::array_t<uint32_t> picture({image.shape(0), image.shape(1)});
+    std::memcpy(picture.mutable_data(), image.data(), size_t(image.nbytes()));
+    return picture;
+}
+
+// The blend table of `op` for the constant colour `colour`, as a draw builds it; false (no table)
+// when the blend is not per channel.
+bool constant_blend_table(const softgl::BlendOp& op, const std::array<float, 4>& colour, softgl::BlendTable& table) {
+    if (!softgl::blend_is_per_channel(op)) return false;
+    softgl::build_blend_table(softgl::color_kernel(op), op, colour.data(), table);
+    return true;
+}
+
 // PixelRows' rows of four (bit i: quads i .. i + 3) must lie inside the image: the kernels write
 // there unchecked. quads (n, 2) int32 lower-left pixels, image (h, w).
 template <class Quads>
@@ -372,8 +387,7 @@ void bind_testing(py::module_& m) {
               py::array_t<uint32_t> out(py::ssize_t(4 * n));
               std::memcpy(out.mutable_data(), dst.data(), 16 * n);
               const softgl::SimdLevel simd = softgl::SimdLevel(level);
-              py::array_t<uint32_t> picture({image.shape(0), image.shape(1)});
-              std::memcpy(picture.mutable_data(), image.data(), size_t(image.nbytes()));
+              py::array_t<uint32_t> picture = copy_image(image);
               if (fused) {
                   const softgl::PixelRows pixel_rows{reinterpret_cast<uint8_t*>(picture.mutable_data()), size_t(image.shape(1)), rows};
                   softgl::write_interpolated_color_lanes_at(simd, kernel, op, in.vi, first, in.quads.data(), n, out.mutable_data(), pixel_rows);
@@ -410,12 +424,10 @@ void bind_testing(py::module_& m) {
               for (size_t i = 0; i < n; ++i) q[i] = softgl::Quad(quads.at(i, 0), quads.at(i, 1), 0);
               py::array_t<uint32_t> out(py::ssize_t(4 * n));
               std::memcpy(out.mutable_data(), dst.data(), 16 * n);
-              py::array_t<uint32_t> picture({image.shape(0), image.shape(1)});
-              std::memcpy(picture.mutable_data(), image.data(), size_t(image.nbytes()));
-              const bool per_channel = softgl::blend_is_per_channel(op);
+              py::array_t<uint32_t> picture = copy_image(image);
+              softgl::BlendTable table;
+              const bool per_channel = constant_blend_table(op, colour, table);
               if (per_channel) {
-                  softgl::BlendTable table;
-                  softgl::build_blend_table(softgl::color_kernel(op), op, colour.data(), table);
                   const softgl::PixelRows pixel_rows{reinterpret_cast<uint8_t*>(picture.mutable_data()), size_t(image.shape(1)), rows};
                   softgl::apply_blend_table_at(softgl::SimdLevel(level), table, q.data(), n, out.mutable_data(), pixel_rows);
               }
@@ -434,12 +446,10 @@ void bind_testing(py::module_& m) {
                   rect[2] > image.shape(1) || rect[3] > image.shape(0))
                   throw py::value_error("image (h, w), rect (x0, y0, x1, y1) inside it");
               const softgl::BlendOp op = blend_op(true, fe, mask, has_alpha, constant);
-              py::array_t<uint32_t> picture({image.shape(0), image.shape(1)});
-              std::memcpy(picture.mutable_data(), image.data(), size_t(image.nbytes()));
-              const bool per_channel = softgl::blend_is_per_channel(op);
+              py::array_t<uint32_t> picture = copy_image(image);
+              softgl::BlendTable table;
+              const bool per_channel = constant_blend_table(op, colour, table);
               if (per_channel) {
-                  softgl::BlendTable table;
-                  softgl::build_blend_table(softgl::color_kernel(op), op, colour.data(), table);
                   const softgl::PixelRect r{reinterpret_cast<uint8_t*>(picture.mutable_data()), size_t(image.shape(1)),
                                             rect[0], rect[1], rect[2], rect[3]};
                   softgl::apply_blend_table_to_rect_at(softgl::SimdLevel(level), table, r);
