@@ -1,4 +1,4 @@
-"""Generate cpp/softgl/api/enums.h from tests/webgl/reference/enums.json (dumped from real WebGL).
+"""Generate cpp/softgl/core/enums.h from tests/webgl/reference/enums.json (dumped from real WebGL).
 
     python tools/gen_enums.py
 """
@@ -29,5 +29,5 @@ for name in names:
     value = v1.get(name, v2.get(name))
     lines.append(f'    {{"{name}", {value}, {1 if name in v1 else 2}}},')
 lines += ["};", "", "}  // namespace softgl::gl", ""]
-(ROOT / "cpp/softgl/api/enums.h").write_text("\n".join(lines))
+(ROOT / "cpp/softgl/core/enums.h").write_text("\n".join(lines))
 print(f"{len(names)} enums")

@@ -1,6 +1,6 @@
 #include <pybind11/pybind11.h>
 
-#include "softgl/api/enums.h"
+#include "softgl/core/enums.h"
 
 namespace py = pybind11;
 

@@ -11,6 +11,8 @@
 
 namespace py = pybind11;
 namespace glsl = softgl::glsl;
+using softgl::SimdLevel;
+using softgl::best_simd_level;
 
 namespace {
 
@@ -153,12 +155,16 @@ py::tuple link_py(const std::string& vertex, const std::string& fragment, int ve
     return py::make_tuple(r.ok, r.info_log, r.ok ? py::object(program_dict(*r.program)) : py::object(py::none()));
 }
 
-// The executor's SIMD levels by name, in order; those up to best_simd_level() run on this CPU.
-const char* const kSimdLevelNames[] = {"portable", "avx2", "avx512"};
+// The executor's builds by name, in order (core/simd.h: "portable" serves Scalar and SSE2); those
+// up to best_simd_level() run on this CPU.
+const char* const kExecutorLevelNames[] = {"portable", "avx2", "avx512"};
+const SimdLevel kExecutorLevels[] = {SimdLevel::SSE2, SimdLevel::AVX2, SimdLevel::AVX512};
+int executor_level_count() { return best_simd_level() >= SimdLevel::AVX512 ? 3 : best_simd_level() >= SimdLevel::AVX2 ? 2 : 1; }
+const char* executor_level_name(SimdLevel level) { return level >= SimdLevel::AVX512 ? "avx512" : level >= SimdLevel::AVX2 ? "avx2" : "portable"; }
 
-glsl::SimdLevel simd_level_named(const std::string& name) {
-    for (int k = 0; k <= int(glsl::best_simd_level()); ++k)
-        if (name == kSimdLevelNames[k]) return glsl::SimdLevel(k);
+SimdLevel simd_level_named(const std::string& name) {
+    for (int k = 0; k < executor_level_count(); ++k)
+        if (name == kExecutorLevelNames[k]) return kExecutorLevels[k];
     throw py::value_error("simd '" + name + "' is not available (see glsl_simd_levels())");
 }
 
@@ -166,7 +172,7 @@ glsl::SimdLevel simd_level_named(const std::string& name) {
 // uniforms: WebGL uniform name (or base name) -> values; textures: unit -> (h, w, 4) float array.
 py::dict run_py(const std::string& source, const std::string& stage, int version, py::dict inputs, py::dict uniforms,
                 int lanes, py::dict textures, int batch, int repeat, std::string simd) {
-    const glsl::SimdLevel level = simd.empty() ? glsl::best_simd_level() : simd_level_named(simd);
+    const SimdLevel level = simd.empty() ? best_simd_level() : simd_level_named(simd);
     glsl::CompileResult compiled = glsl::compile(source, stage_from(stage), version);
     if (!compiled.ok) throw py::value_error("compile failed:\n" + compiled.info_log);
     const glsl::CompiledShader& shader = *compiled.shader;
@@ -288,13 +294,13 @@ void bind_glsl(py::module_& m) {
           "simd: '' (the best the CPU has) or one of glsl_simd_levels()");
     m.def("glsl_simd_levels", [] {
         std::vector<std::string> levels;
-        for (int k = 0; k <= int(glsl::best_simd_level()); ++k) levels.push_back(kSimdLevelNames[k]);
+        for (int k = 0; k < executor_level_count(); ++k) levels.push_back(kExecutorLevelNames[k]);
         return levels;
     }, "The executor's SIMD levels this CPU can run: 'portable', 'avx2', 'avx512'");
     m.def("glsl_set_default_simd_level", [](const std::string& simd) {
-        glsl::set_default_simd_level(simd.empty() ? glsl::best_simd_level() : simd_level_named(simd));
+        glsl::set_default_simd_level(simd.empty() ? best_simd_level() : simd_level_named(simd));
     }, py::arg("simd"),
        "The level of executors created from now on (draws of programs linked later): one of "
        "glsl_simd_levels(), '' for the best the CPU has");
-    m.def("glsl_default_simd_level", [] { return std::string(kSimdLevelNames[int(glsl::default_simd_level())]); });
+    m.def("glsl_default_simd_level", [] { return std::string(executor_level_name(glsl::default_simd_level())); });
 }

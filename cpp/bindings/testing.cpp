@@ -17,7 +17,7 @@
 #include "softgl/pipeline/draw.h"
 #include "softgl/pipeline/glsl_stages.h"
 #include "softgl/pipeline/passthrough_shaders.h"
-#include "softgl/pipeline/blend.h"
+#include "softgl/surface/blend.h"
 #include "softgl/pipeline/depth_stencil.h"
 #include "softgl/pipeline/clip.h"
 #include "softgl/pipeline/setup.h"
@@ -177,7 +177,7 @@ void bind_testing(py::module_& m) {
               {
                   py::gil_scoped_release release;
                   softgl::RenderTarget target = softgl::RenderTarget::for_default(ctx.framebuffer());
-                  softgl::DrawInputs in{ctx.state(), vao, ctx.current_attribs(), vs, fs, target, ctx.pool()};
+                  softgl::DrawInputs in{ctx.state(), vao, ctx.current_attribs(), vs, fs, target, ctx.pool(), ctx.tuning()};
                   softgl::draw(in, call, stats);
               }
               py::dict d;

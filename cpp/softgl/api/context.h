@@ -9,9 +9,9 @@
 #include <vector>
 
 #include "softgl/api/errors.h"
-#include "softgl/api/objects.h"
+#include "softgl/core/objects.h"
 #include "softgl/api/programs.h"
-#include "softgl/api/state.h"
+#include "softgl/core/state.h"
 #include "softgl/api/textures.h"
 #include "softgl/api/value.h"
 #include "softgl/pipeline/draw.h"
@@ -78,6 +78,8 @@ public:
     int32_t drawing_buffer_height() const { return framebuffer_.height(); }
     const State& state() const { return state_; }
     ThreadPool& pool();
+    // The speed-path switches of this context's draws (core/tuning.h), from the process default.
+    Tuning& tuning() { return tuning_; }
     DrawStats& stats() { return stats_; }
     const std::array<CurrentAttrib, kMaxVertexAttribs>& current_attribs() const { return current_attribs_; }
     DefaultFramebuffer& framebuffer() { return framebuffer_; }
@@ -385,6 +387,7 @@ private:
     // ---- end textures and framebuffers ------------------------------------------------------
 
     std::unique_ptr<ThreadPool> pool_;   // created at the first draw
+    Tuning tuning_ = Tuning::process_default();
     DrawStats stats_;
 };
 

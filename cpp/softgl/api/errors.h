@@ -5,7 +5,7 @@
 #include <functional>
 #include <string>
 
-#include "softgl/api/enums.h"
+#include "softgl/core/enums.h"
 
 namespace softgl {
 

@@ -6,7 +6,7 @@
 #include <string>
 #include <vector>
 
-#include "softgl/api/objects.h"
+#include "softgl/core/objects.h"
 #include "softgl/glsl/compiler.h"
 #include "softgl/pipeline/glsl_stages.h"
 

@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <memory>
 
-#include "softgl/api/objects.h"
+#include "softgl/core/objects.h"
 #include "softgl/surface/texture.h"
 
 namespace softgl {

@@ -144,21 +144,6 @@ struct ExecutorFrame {
 };
 using Frame = ExecutorFrame;
 
-SimdLevel best_simd_level() {
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-    static const SimdLevel level = [] {
-        __builtin_cpu_init();
-        if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
-            __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512vl"))
-            return SimdLevel::AVX512;
-        return __builtin_cpu_supports("avx2") ? SimdLevel::AVX2 : SimdLevel::Portable;
-    }();
-    return level;
-#else
-    return SimdLevel::Portable;
-#endif
-}
-
 static std::atomic<SimdLevel>& default_level() {
     static std::atomic<SimdLevel> level{best_simd_level()};
     return level;
@@ -331,7 +316,8 @@ void Executor::run_batch(const StageRun& run, int first, int lanes) {
     switch (simd_) {
     case SimdLevel::AVX512: execute_avx512(lanes, run); break;
     case SimdLevel::AVX2: execute_avx2(lanes, run); break;
-    case SimdLevel::Portable: execute_portable(lanes, run); break;
+    case SimdLevel::SSE2:
+    case SimdLevel::Scalar: execute_portable(lanes, run); break;
     }
     for (size_t i = 0; i < program_.outputs.size(); ++i) {
         Scalar* dst = run.outputs ? run.outputs[i] : nullptr;

@@ -16,6 +16,7 @@
 #include <stdexcept>
 #include <vector>
 
+#include "softgl/core/simd.h"
 #include "softgl/glsl/ir.h"
 
 namespace softgl::glsl {
@@ -69,13 +70,12 @@ struct StageRun {
 
 struct ExecutorFrame;
 
-// The instruction set the lane loops are compiled for. Portable is the baseline build (SSE2 on
-// x86-64); AVX2 and AVX512 are the same code compiled again for 8- and 16-float vectors (no FMA),
-// chosen at run time when the CPU has them (AVX512: F+BW+DQ+VL). Every level gives the same
-// bits: the loops use only IEEE operations that round identically at any width, and the same
-// libm functions (called per lane).
-enum class SimdLevel : uint8_t { Portable, AVX2, AVX512 };
-SimdLevel best_simd_level();   // the best this CPU runs
+// The lane loops are compiled three times: the portable baseline build (SSE2 on x86-64; it serves
+// SimdLevel::Scalar and SSE2), and again for 8- and 16-float vectors (AVX2, AVX512; no FMA),
+// chosen at run time (core/simd.h). Every level gives the same bits: the loops use only IEEE
+// operations that round identically at any width, and the same libm functions (called per lane).
+using softgl::SimdLevel;
+using softgl::best_simd_level;
 // The level new Executors start at: best_simd_level(), unless lowered (tests, benchmarks: A/B
 // of the levels through the whole pipeline in one process). Must not exceed best_simd_level().
 SimdLevel default_simd_level();
@@ -129,7 +129,7 @@ private:
     std::vector<int> output_alias_;   // per program output: 1 if its register may alias the caller's array
     std::vector<ExecutorFrame> frames_;
     size_t prologue_end_ = 0;      // leading uniform loads: filled once per run, not per batch
-    SimdLevel simd_ = SimdLevel::Portable;
+    SimdLevel simd_ = SimdLevel::SSE2;
     bool skip_inactive_lanes_ = false;   // libm calls only in active lanes (see the constructor)
     int max_depth_ = 0;
     std::vector<Scalar> scratch_;  // derivatives for texture lookups

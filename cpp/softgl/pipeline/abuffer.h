@@ -21,7 +21,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "softgl/pipeline/blend.h"
+#include "softgl/surface/blend.h"
 #include "softgl/runtime/thread_pool.h"
 #include "softgl/surface/framebuffer.h"
 

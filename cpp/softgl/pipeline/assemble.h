@@ -5,7 +5,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "softgl/api/enums.h"
+#include "softgl/core/enums.h"
 
 namespace softgl {
 

@@ -2,7 +2,7 @@
 #pragma once
 #include <cstdint>
 
-#include "softgl/api/state.h"
+#include "softgl/core/state.h"
 
 namespace softgl {
 

@@ -13,7 +13,7 @@
 #include "softgl/pipeline/assemble.h"
 #include "softgl/pipeline/bin.h"
 #include "softgl/pipeline/coverage.h"
-#include "softgl/pipeline/blend.h"
+#include "softgl/surface/blend.h"
 #include "softgl/pipeline/depth_stencil.h"
 #include "softgl/pipeline/early_depth.h"
 #include "softgl/pipeline/fog.h"

@@ -6,8 +6,9 @@
 #include <array>
 #include <cstdint>
 
-#include "softgl/api/objects.h"
-#include "softgl/api/state.h"
+#include "softgl/core/objects.h"
+#include "softgl/core/state.h"
+#include "softgl/core/tuning.h"
 #include "softgl/pipeline/shader_stage.h"
 #include "softgl/runtime/thread_pool.h"
 #include "softgl/surface/render_target.h"
@@ -54,6 +55,7 @@ struct DrawInputs {
     const FragmentShader& fragment_shader;
     RenderTarget& target;             // the drawing buffer or a framebuffer object's attachments
     ThreadPool& pool;
+    const Tuning& tuning;             // the context's speed-path switches (core/tuning.h)
     FragmentSink* sink = nullptr;   // blend lab hooks (pipeline/fragment_sink.h); null = off
 };
 
@@ -64,14 +66,12 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& stats);
 // For tests: the batch size, set to split small draws into many batches (the bytes must not
 // change). 0 restores the default; sizes are capped at kDrawBatchPrimitivesMax. Returns the
 // previous size.
-inline constexpr uint32_t kDrawBatchPrimitivesMax = 1u << 24;
 uint32_t draw_batch_primitives();
 uint32_t set_draw_batch_primitives(uint32_t primitives);
 
 // For tests: hidden-surface removal (pipeline/draw.cpp OwnerMap) in the tiles where primitives
 // pile up (the default), in every tile with two or more, or never (the bytes must not change).
 // Returns the previous mode.
-enum class HiddenSurfaceRemoval { Off, WherePilesUp, InEveryTile };
 HiddenSurfaceRemoval set_hidden_surface_removal(HiddenSurfaceRemoval mode);
 
 }  // namespace softgl

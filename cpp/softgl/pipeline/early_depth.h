@@ -12,9 +12,9 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "softgl/api/state.h"
+#include "softgl/core/state.h"
 #include "softgl/pipeline/bin.h"
-#include "softgl/pipeline/fragment_ops.h"
+#include "softgl/core/simd.h"
 #include "softgl/pipeline/raster.h"
 #include "softgl/pipeline/setup.h"
 

@@ -8,7 +8,7 @@
 #pragma once
 #include <array>
 
-#include "softgl/api/state.h"
+#include "softgl/core/state.h"
 
 namespace softgl {
 

@@ -203,10 +203,7 @@ __attribute__((target("avx2"))) void lanes_avx2(const BlendOp& op, const float* 
 #endif
 
 // AVX-512 VBMI (byte permutes): the table lookups' instructions, on top of the AVX512 level.
-inline bool has_vbmi() {
-    static const bool vbmi = __builtin_cpu_supports("avx512vbmi");
-    return vbmi;
-}
+inline bool has_vbmi() { return cpu_has_avx512_vbmi(); }
 
 #define SOFTGL_AVX512 "avx512f,avx512bw,avx512dq,avx512vl"
 // GCC 12's AVX-512 intrinsics start from _mm512_undefined_*(), which -W(maybe-)uninitialized
@@ -667,24 +664,6 @@ void apply_blend_table_to_rect_scalar(const BlendTable& t, const PixelRect& r) {
 }
 
 }  // namespace
-
-SimdLevel best_simd_level() {
-    static const SimdLevel level = [] {
-#if defined(SOFTGL_HAVE_AVX2_KERNELS)
-        __builtin_cpu_init();
-        if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
-            __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512vl"))
-            return SimdLevel::AVX512;
-        if (__builtin_cpu_supports("avx2")) return SimdLevel::AVX2;
-#endif
-#if defined(__SSE2__)
-        return SimdLevel::SSE2;
-#else
-        return SimdLevel::Scalar;
-#endif
-    }();
-    return level;
-}
 
 void write_color_lanes_at(SimdLevel level, ColorKernel kernel, const BlendOp& op, const float* src, size_t stride,
                           uint32_t* dst, size_t n) {

@@ -22,7 +22,8 @@
 #include <cstdint>
 #include <cstring>
 
-#include "softgl/pipeline/blend.h"
+#include "softgl/core/simd.h"
+#include "softgl/surface/blend.h"
 #include "softgl/surface/formats.h"
 
 namespace softgl {
@@ -96,13 +97,8 @@ namespace softgl {
 void write_color_lanes(ColorKernel kernel, const BlendOp& op, const float* src, size_t stride, uint32_t* dst,
                        size_t n);
 
-// The instruction sets the lane kernels come in. Every level gives the same bytes (the same IEEE
-// operations in the same order; no FMA, DESIGN §3). write_color_lanes runs the best the CPU
-// supports (runtime dispatch: the module itself is built for any x86-64); the explicit form is
-// for the tests that prove the levels equal.
-// AVX512: AVX-512 F+BW+DQ+VL; a stage without an AVX-512 kernel runs its AVX2 one at that level.
-enum class SimdLevel : uint8_t { Scalar, SSE2, AVX2, AVX512 };
-SimdLevel best_simd_level();
+// write_color_lanes runs the best level the CPU supports (core/simd.h); the explicit form is for
+// the tests that prove the levels equal.
 void write_color_lanes_at(SimdLevel level, ColorKernel kernel, const BlendOp& op, const float* src, size_t stride,
                           uint32_t* dst, size_t n);
 

@@ -22,7 +22,7 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "softgl/pipeline/fragment_ops.h"
+#include "softgl/core/simd.h"
 #include "softgl/pipeline/raster.h"
 #include "softgl/pipeline/setup.h"
 

@@ -8,7 +8,7 @@
 #include <string>
 #include <vector>
 
-#include "softgl/pipeline/blend.h"
+#include "softgl/surface/blend.h"
 #include "softgl/pipeline/depth_stencil.h"
 #include "softgl/surface/framebuffer.h"
 

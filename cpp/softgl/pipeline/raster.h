@@ -10,7 +10,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "softgl/pipeline/fragment_ops.h"
+#include "softgl/core/simd.h"
 #include "softgl/pipeline/setup.h"
 
 namespace softgl {

@@ -21,7 +21,7 @@
 #include <vector>
 
 #include "softgl/pipeline/clip.h"
-#include "softgl/pipeline/fragment_ops.h"
+#include "softgl/core/simd.h"
 #include "softgl/pipeline/viewport.h"
 
 namespace softgl {

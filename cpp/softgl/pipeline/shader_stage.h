@@ -6,7 +6,7 @@
 #include <cstdint>
 #include <vector>
 
-#include "softgl/api/objects.h"
+#include "softgl/core/objects.h"
 #include "softgl/pipeline/vertex_fetch.h"
 
 namespace softgl {

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "softgl/pipeline/draw.h"
+#include "softgl/pipeline/fragment_ops.h"
 #include "softgl/pipeline/raster.h"
 
 namespace softgl {

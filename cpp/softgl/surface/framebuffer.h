@@ -9,7 +9,7 @@
 #include <string>
 #include <vector>
 
-#include "softgl/api/state.h"
+#include "softgl/core/state.h"
 
 namespace softgl {
 

@@ -6,7 +6,7 @@
 #include <array>
 #include <cstdint>
 
-#include "softgl/pipeline/blend.h"
+#include "softgl/surface/blend.h"
 #include "softgl/surface/framebuffer.h"
 #include "softgl/surface/texture.h"
 

@@ -1,5 +1,7 @@
 #include "softgl/surface/sampler.h"
 
+#include "softgl/core/simd.h"
+
 #include <algorithm>
 #include <atomic>
 #include <cmath>
@@ -536,10 +538,7 @@ private:
 #if defined(__x86_64__) || defined(__i386__)
 #define SOFTGL_SAMPLER_AVX2 1
 
-bool cpu_has_avx2() {
-    static const bool has = [] { __builtin_cpu_init(); return __builtin_cpu_supports("avx2") != 0; }();
-    return has;
-}
+bool cpu_has_avx2() { return best_simd_level() >= SimdLevel::AVX2; }
 
 // ifloor of values that are already integral (or NaN, or infinite): NaN -> 0, saturated.
 __attribute__((target("avx2"))) inline __m256i ifloor_floored8(__m256 fl) {
@@ -696,14 +695,7 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const LevelChoice 
 #pragma GCC diagnostic ignored "-Wuninitialized"
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 
-bool cpu_has_avx512() {
-    static const bool has = [] {
-        __builtin_cpu_init();
-        return __builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
-               __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512vl");
-    }();
-    return has;
-}
+bool cpu_has_avx512() { return best_simd_level() >= SimdLevel::AVX512; }
 
 // ifloor_floored8 of 16 lanes.
 __attribute__((target(SOFTGL_SAMPLER_AVX512))) inline __m512i ifloor_floored16(__m512 fl) {

@@ -10,6 +10,7 @@
 #include <array>
 #include <cstdint>
 
+#include "softgl/core/tuning.h"
 #include "softgl/glsl/executor.h"
 #include "softgl/surface/texture.h"
 
@@ -43,10 +44,7 @@ private:
     bool sample_2d(const glsl::TextureQuery& query, SimdBlocks simd) const;
 };
 
-// Which path lookups take: the general per-lane path only, the 2D fast path without SIMD, with
-// the best SIMD the CPU has (the default), or with AVX2 at most (so that a machine with AVX-512
-// tests the AVX2 blocks too). All give the same bits (NaNs aside: which NaN).
-enum class SamplerPath : int { General, Scalar, Best, Avx2 };
+// Which path lookups take (core/tuning.h SamplerPath). All give the same bits (NaNs aside: which NaN).
 // Testing: sets the path and returns how many queries the fast path served since the last call.
 uint64_t set_sampler_path(SamplerPath path);
 

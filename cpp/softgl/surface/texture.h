@@ -22,7 +22,7 @@
 #include <string>
 #include <vector>
 
-#include "softgl/api/objects.h"
+#include "softgl/core/objects.h"
 
 namespace softgl {
 

@@ -5,7 +5,7 @@
 #include <array>
 #include <cstdint>
 
-#include "softgl/api/state.h"
+#include "softgl/core/state.h"
 
 namespace softgl {
 

@@ -3,8 +3,8 @@
 #include <array>
 #include <cstdint>
 
-#include "softgl/api/enums.h"
-#include "softgl/api/softgl_enums.h"
+#include "softgl/core/enums.h"
+#include "softgl/core/softgl_enums.h"
 
 namespace softgl {
 

@@ -6,7 +6,7 @@
 #include <memory>
 #include <vector>
 
-#include "softgl/api/enums.h"
+#include "softgl/core/enums.h"
 
 namespace softgl {
 

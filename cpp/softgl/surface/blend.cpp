@@ -1,4 +1,4 @@
-#include "softgl/pipeline/blend.h"
+#include "softgl/surface/blend.h"
 
 #include <algorithm>
 

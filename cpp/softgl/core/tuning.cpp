@@ -1,0 +1,10 @@
+#include "softgl/core/tuning.h"
+
+namespace softgl {
+
+Tuning& Tuning::process_default() {
+    static Tuning tuning;
+    return tuning;
+}
+
+}  // namespace softgl

@@ -1,0 +1,54 @@
+// How a context runs its draws: the switches of softgl's speed paths. None of them changes a drawn
+// byte (the tests compare every path with and without them); they exist so that the tests can
+// prove that, and so that a benchmark can A/B a path. Each Context holds its own copy, taken from
+// the process default when it is created (docs/architecture.md, "The draw plan").
+#pragma once
+#include <cstdint>
+
+#include "softgl/core/simd.h"
+
+namespace softgl {
+
+// Hidden-surface removal within a draw (pipeline/tile_pass: the owner map): off, where a tile's
+// primitives pile up (the default), or in every tile with two or more primitives.
+enum class HiddenSurfaceRemoval : uint8_t { Off, WherePilesUp, InEveryTile };
+
+// Per-tile depth bounds (pipeline/early_depth DepthBounds): off, on (the default), or on with the
+// primitive's depth taken at the wrong corner, so that the tests comparing with Off must fail.
+enum class DepthBoundsMode : uint8_t { Off, On, SabotagedForTests };
+
+// Texture lookups (surface/sampler): the general path for every query; the 2D fast path with
+// scalar arithmetic; the fast path at the best level the CPU and `simd` allow (the default);
+// the fast path's AVX2 blocks even on an AVX-512 CPU.
+enum class SamplerPath : uint8_t { General, Scalar, Best, Avx2 };
+
+inline constexpr uint32_t kDrawBatchPrimitivesDefault = 1u << 16;
+inline constexpr uint32_t kDrawBatchPrimitivesMax = 1u << 24;
+
+struct Tuning {
+    // The highest SIMD level any stage runs (raster, early depth, interpolation, colour kernels,
+    // sampler, GLSL executor); capped at best_simd_level(). Lower it to A/B the levels.
+    SimdLevel simd = best_simd_level();
+    // Primitives per batch of a draw (pipeline/draw.cpp): bounds a draw's working memory. Small
+    // values split small draws into many batches (the bytes must not change), up to
+    // kDrawBatchPrimitivesMax.
+    uint32_t batch_primitives = kDrawBatchPrimitivesDefault;
+    HiddenSurfaceRemoval hidden_surface_removal = HiddenSurfaceRemoval::WherePilesUp;
+    DepthBoundsMode depth_bounds = DepthBoundsMode::On;
+    // A fragment shader that only copies one varying to its colour is not run: the colour
+    // kernels read the interpolated varying (pipeline/glsl_stages FragmentShader::copies).
+    bool fragment_copies = true;
+    SamplerPath sampler_path = SamplerPath::Best;
+
+    bool operator==(const Tuning& o) const {
+        return simd == o.simd && batch_primitives == o.batch_primitives &&
+               hidden_surface_removal == o.hidden_surface_removal && depth_bounds == o.depth_bounds &&
+               fragment_copies == o.fragment_copies && sampler_path == o.sampler_path;
+    }
+    bool operator!=(const Tuning& o) const { return !(*this == o); }
+
+    // The tuning new contexts start with. Not for use while another thread creates a context.
+    static Tuning& process_default();
+};
+
+}  // namespace softgl
