@@ -8,6 +8,7 @@ void bind_context(py::module_& m);
 void bind_uniform_arrays(py::module_& m);
 void bind_textures(py::module_& m);
 void bind_testing(py::module_& m);
+void bind_tuning(py::module_& m);
 void bind_raster(py::module_& m);
 void bind_glsl(py::module_& m);
 void bind_blendlab(py::module_& m);
@@ -19,6 +20,7 @@ PYBIND11_MODULE(_core, m) {
     bind_uniform_arrays(m);
     bind_textures(m);
     bind_testing(m);
+    bind_tuning(m);
     bind_raster(m);
     bind_glsl(m);
     bind_blendlab(m);
