@@ -1,7 +1,8 @@
 """Mesa llvmpipe as softgl's speed reference: render a scene description, time it, read it back.
 
-DESIGN §5: every performance figure is a ratio softgl/llvmpipe measured in the same run, on the
-same scene, with the same shaders and the same thread count. This module is the llvmpipe half.
+docs/architecture.md, "Tests and references": every performance figure is a ratio softgl/llvmpipe
+measured in the same run, on the same scene, with the same shaders and the same thread count. This
+module is the llvmpipe half.
 
 How it talks to Mesa: ctypes over EGL (``libEGL.so.1``) and OpenGL ES (``libGLESv2.so.2``), with
 the surfaceless platform (``EGL_MESA_platform_surfaceless``) and an **OpenGL ES 3.0 context**, so

@@ -9,7 +9,7 @@ namespace softgl::bindings {
 
 namespace py = pybind11;
 
-// A getParameter-style value in the Python form WebGL's JS value maps to (DESIGN §1).
+// A getParameter-style value in the Python form WebGL's JS value maps to (docs/architecture.md, "Layers").
 inline py::object to_python(const softgl::Value& value) {
     struct Visitor {
         py::object operator()(const softgl::Null&) const { return py::none(); }

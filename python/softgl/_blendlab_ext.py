@@ -1,7 +1,8 @@
 """The extension objects of the blend lab: SOFTGL_exact_transparency and SOFTGL_introspection.
 
-Both are softgl's own (DESIGN §1): enabled with ``gl.getExtension(name)``, they never change
-what pure WebGL code does. Values 0x1D1xx are softgl's (OpenGL has no such enums).
+Both are softgl's own (docs/architecture.md, "The blend lab"): enabled with
+``gl.getExtension(name)``, they never change what pure WebGL code does. Values 0x1D1xx are softgl's
+(OpenGL has no such enums).
 
 SOFTGL_exact_transparency::
 

@@ -39,7 +39,7 @@ _EXTENSION_CONSTANTS = {
     "EXT_blend_minmax": {"MIN_EXT": 0x8007, "MAX_EXT": 0x8008},
     "OES_vertex_array_object": {"VERTEX_ARRAY_BINDING_OES": 0x85B5},
     "ANGLE_instanced_arrays": {"VERTEX_ATTRIB_ARRAY_DIVISOR_ANGLE": 0x88FE},
-    # softgl's fog: OpenGL 1.x enum values (DESIGN §1).
+    # softgl's fog: OpenGL 1.x enum values (docs/architecture.md, "The blend lab").
     "SOFTGL_fog": {"FOG": 0x0B60, "FOG_DENSITY": 0x0B62, "FOG_START": 0x0B63, "FOG_END": 0x0B64,
                    "FOG_MODE": 0x0B65, "FOG_COLOR": 0x0B66, "LINEAR": 0x2601, "EXP": 0x0800,
                    "EXP2": 0x0801, "FOG_COORDINATE_SOURCE": 0x8450, "FRAGMENT_DEPTH": 0x8452,
@@ -190,7 +190,7 @@ class Context(_core.Context):
 
     def stats(self, reset: bool = False) -> dict:
         """softgl's counters since the context was made (or last reset): what the draws did and
-        what they skipped (DESIGN §4), with seconds per stage.
+        what they skipped (docs/architecture.md, "Fast paths"), with seconds per stage.
 
         A draw runs in batches of 65,536 primitives (bounded memory). ``tiles_touched`` counts
         the tiles a draw has work in once per draw, however many of its batches reach a tile.

@@ -64,7 +64,8 @@ def brute_force(tris, background):
     frags = [[[] for _ in range(W)] for _ in range(H)]
     ambiguous = np.zeros((H, W), bool)
     for k, (pos, color, funcs) in enumerate(tris):
-        # Window coordinates snapped to 8 sub-pixel bits (DESIGN §3); z to [0, 1].
+        # Window coordinates snapped to 8 sub-pixel bits, z to [0, 1] (docs/architecture.md,
+        # "Numeric rules").
         wx = np.round((pos[:, 0].astype(np.float64) + 1) * W / 2 * 256) / 256
         wy = np.round((pos[:, 1].astype(np.float64) + 1) * H / 2 * 256) / 256
         wz = (pos[:, 2].astype(np.float64) + 1) / 2

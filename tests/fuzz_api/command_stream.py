@@ -8,10 +8,10 @@ creates and deletes objects, including objects that are bound or in use, switche
 listener between warning and raising (strict), and installs a GLWarning handler that calls back
 into the context while the failing call is still on the stack (re-entrancy).
 
-After every call it checks the contract of DESIGN §1: the process is alive; the call either
-succeeded, or recorded exactly the error it reported (GLWarning / GLError) and changed nothing
-observable (every getParameter value, the vertex attribute state, the bound buffers' sizes, the
-program's uniforms and the drawing buffer's pixels). Any other exception is a failure.
+After every call it checks the contract of docs/architecture.md, "Layers": the process is alive; the
+call either succeeded, or recorded exactly the error it reported (GLWarning / GLError) and changed
+nothing observable (every getParameter value, the vertex attribute state, the bound buffers' sizes,
+the program's uniforms and the drawing buffer's pixels). Any other exception is a failure.
 
 The same class drives the bounded hypothesis test (test_command_stream.py) and the long runs
 (tools/fuzz_api.py).

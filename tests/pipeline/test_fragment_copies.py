@@ -1,8 +1,8 @@
 """Fragment shaders that only copy varyings or constants to their colour outputs skip the executor
-(DESIGN §4; FragmentShader::copies). The shortcut must give the executor's bits exactly, -0.0,
-infinities and NaN payloads included (a Mov copies bits), and must not be taken by shaders that do
-more (discard, gl_FragDepth, built-ins, arithmetic). (NaN payloads do not survive the float
-attachment on either path; the Mov semantics keep them in the results.)
+(docs/architecture.md, "Fast paths"; FragmentShader::copies). The shortcut must give the executor's
+bits exactly, -0.0, infinities and NaN payloads included (a Mov copies bits), and must not be taken
+by shaders that do more (discard, gl_FragDepth, built-ins, arithmetic). (NaN payloads do not survive
+the float attachment on either path; the Mov semantics keep them in the results.)
 
 Expected values: flat varyings carry the provoking vertex's bits unchanged (ES 3.0 §2.18.1), so a
 copy of one is compared with the input bits themselves; smooth varyings are compared with the same

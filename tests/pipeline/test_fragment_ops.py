@@ -1,5 +1,6 @@
-"""The specialised per-fragment colour kernels (cpp/softgl/pipeline/fragment_ops.h) give exactly
-the bytes of the reference blend_unorm8 (DESIGN §3: a fast path must equal the float path).
+"""The specialised per-fragment colour kernels (cpp/softgl/pipeline/fragment_ops.h) give exactly the
+bytes of the reference blend_unorm8 (docs/architecture.md, "Numeric rules": a fast path must equal
+the float path).
 
 Every source/destination factor pair and equation goes through the dispatcher (most fall back to
 the reference itself); the specialised ones (blending off / ONE,ZERO; SRC_ALPHA,

@@ -1,9 +1,9 @@
-"""Hidden-surface removal (pipeline/draw.cpp OwnerMap, DESIGN §4): without blending, a pixel ends
-with the colour of the last fragment that passed the tests, so in tiles where a draw's primitives
-pile up only those fragments are shaded. It must not change a byte: every draw here is compared
-with the same draw without it (mode 0) and with it in every tile (mode 2), colour and depth, at 1
-and 2 threads; flat-coloured rectangles are also compared with a painter's model in NumPy, and the
-counters with a hand count."""
+"""Hidden-surface removal (pipeline/draw.cpp OwnerMap; docs/architecture.md, "Fast paths"): without
+blending, a pixel ends with the colour of the last fragment that passed the tests, so in tiles where
+a draw's primitives pile up only those fragments are shaded. It must not change a byte: every draw
+here is compared with the same draw without it (mode 0) and with it in every tile (mode 2), colour
+and depth, at 1 and 2 threads; flat-coloured rectangles are also compared with a painter's model in
+NumPy, and the counters with a hand count."""
 import numpy as np
 import pytest
 

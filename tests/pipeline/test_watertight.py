@@ -1,6 +1,6 @@
-"""Watertightness (DESIGN §3): a mesh hits every covered sample exactly once, with no cracks along
-shared edges and no double hits, for grids with jittered vertices, fans and strips, including tiny
-and sliver triangles, in both windings."""
+"""Watertightness (docs/architecture.md, "Numeric rules"): a mesh hits every covered sample exactly
+once, with no cracks along shared edges and no double hits, for grids with jittered vertices, fans
+and strips, including tiny and sliver triangles, in both windings."""
 import numpy as np
 import pytest
 

@@ -28,10 +28,11 @@ KNOWN_SOFTGL_BUGS: dict[str, str] = {}
 # are what was measured: an "at most", so a change that makes softgl agree more still passes and
 # one that makes it agree less fails. Not softgl bugs: both behaviours are allowed by the spec.
 SUBPIXEL = ("sub-pixel precision: SwiftShader snaps window coordinates to 4 bits "
-            "(SUBPIXEL_BITS 4), softgl to 8 (DESIGN §3, SUBPIXEL_BITS 8), so an edge passing "
-            "within ~1/32 px of a pixel center or sample can land on either side. With vertices "
-            "on the 1/16 grid (raster_rules_grid16_*, msaa_grid16_triangles) both agree exactly; "
-            "subpixel_precision_triangle is one such pixel worked out by hand")
+            "(SUBPIXEL_BITS 4), softgl to 8 (SUBPIXEL_BITS 8; docs/architecture.md, 'Numeric "
+            "rules'), so an edge passing within ~1/32 px of a pixel center or sample can land on "
+            "either side. With vertices on the 1/16 grid (raster_rules_grid16_*, "
+            "msaa_grid16_triangles) both agree exactly; subpixel_precision_triangle is one such "
+            "pixel worked out by hand")
 WIDE_POINTS = ("wide points are not limited to the viewport in ES (only clipped by their "
                "center); Chromium (ANGLE/Vulkan) drops their fragments outside the viewport, "
                "softgl draws them (scissor still applies). Minimal repro: "

@@ -1,4 +1,4 @@
-// softgl's own enums, for its extensions beyond WebGL (DESIGN §1): OpenGL's historical values where
+// softgl's own enums, for its extensions beyond WebGL (docs/architecture.md, "The blend lab"): OpenGL's historical values where
 // OpenGL has the concept (GL 1.x fog, smoothing), new values in an unused range otherwise.
 #pragma once
 #include <cstdint>

@@ -6,7 +6,7 @@
 // AVX-512 level a row of up to four side-by-side quads (two pixel rows of 8). Four samples per
 // pixel (MSAA 4x): the AVX2 level tests a pixel's four samples at once, the AVX-512 level a
 // quad's pixel row (two pixels, 8 sample words); other sample counts run the scalar level. All
-// give the same words and decisions as the scalar level (DESIGN §3).
+// give the same words and decisions as the scalar level (docs/architecture.md, "Numeric rules").
 #pragma once
 #include <algorithm>
 #include <cstddef>

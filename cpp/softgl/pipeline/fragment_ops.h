@@ -1,4 +1,4 @@
-// Per-fragment colour operations specialised on the blend state (DESIGN §4): the draw picks one
+// Per-fragment colour operations specialised on the blend state (docs/architecture.md, "Fast paths"): the draw picks one
 // kernel per draw from a canonical key, and every kernel gives exactly the bytes of the reference
 // blend_unorm8 (blend.cpp), which stays the definition. tests/pipeline/test_fragment_ops.py
 // checks the equality over every factor/equation combination, all 256 destination values and
@@ -124,7 +124,7 @@ void write_interpolated_color_lanes_at(SimdLevel level, ColorKernel kernel, cons
 void write_interpolated_color_lanes(ColorKernel kernel, const BlendOp& op, const VaryingInterpolation& v, size_t first,
                                     const Quad* quads, size_t n, uint32_t* dst, const PixelRows& rows);
 
-// A constant source colour (a uniform-only shader, DESIGN §4) blended by factors and equations
+// A constant source colour (a uniform-only shader: docs/architecture.md, "Fast paths") blended by factors and equations
 // under which channel c's result depends on destination channel c alone: ES 3.0 table 4.2's rgb
 // factors read only d[c], except DST_ALPHA, ONE_MINUS_DST_ALPHA and SRC_ALPHA_SATURATE (d[3]),
 // which are constant (d[3] = 1) without destination alpha; alpha's factors read only d[3]. Then

@@ -132,7 +132,7 @@ GlslFragmentShader::GlslFragmentShader(std::shared_ptr<const glsl::LinkedProgram
                         : input_builtin_[i] == 4 ? usage.reads_front_facing : usage.reads_point_coord;
         if (input_builtin_[i] >= 0 && read) builtins_read_ |= 1u << input_builtin_[i];
     }
-    // DESIGN §4: a shader whose outputs depend only on uniforms gives every lane the same values
+    // docs/architecture.md, "Fast paths": a shader whose outputs depend only on uniforms gives every lane the same values
     // (lanes are independent; derivatives of uniform values are the same in every lane), so one
     // quad is shaded and its values are copied to the others.
     uniform_only_ = program_->reflection.fragment_depends_only_on_uniforms &&
@@ -164,7 +164,7 @@ GlslFragmentShader::GlslFragmentShader(std::shared_ptr<const glsl::LinkedProgram
     copies_only_ = find_copies();
 }
 
-// DESIGN §4: a program that is nothing but Movs (and main's function markers) from varyings or
+// docs/architecture.md, "Fast paths": a program that is nothing but Movs (and main's function markers) from varyings or
 // constants to colour outputs gives every lane its sources' bits (a Mov copies bits, -0.0 and
 // NaN payloads included; with no control flow every lane is active), so run() copies them and
 // the pipeline may read them straight from the batch.

@@ -2,7 +2,7 @@
 //
 // Hierarchical: the tile ∩ bounding box is walked in 8x8-pixel blocks; a block that lies entirely
 // outside one edge is skipped, a block entirely inside all edges is emitted with full coverage and
-// no per-sample test (DESIGN §4), and only the remaining blocks test every sample. Output is 2x2
+// no per-sample test (docs/architecture.md, "Fast paths"), and only the remaining blocks test every sample. Output is 2x2
 // quads (the unit the fragment shader runs on, so derivatives have neighbours) with a per-pixel
 // sample mask. Results are exact (integer edge functions), so block-level accept/reject never changes
 // coverage, only speed.

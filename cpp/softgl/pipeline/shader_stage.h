@@ -60,7 +60,7 @@ struct FragmentResults {
     std::vector<uint8_t> killed;       // [lane], 1 where the shader discarded
 };
 
-// The colour outputs of a shader that only copies varyings or constants to them (DESIGN §4:
+// The colour outputs of a shader that only copies varyings or constants to them (docs/architecture.md, "Fast paths":
 // such a shader needs no shading): component c of output o is varying word word[4 * o + c] of
 // the lane, bit for bit, or the constant bits[4 * o + c] where that word is -1.
 struct FragmentCopies {
@@ -81,14 +81,14 @@ public:
     virtual bool may_discard() const = 0;
     virtual bool writes_depth() const = 0;
     // The built-ins run() reads (FragmentBuiltin bits): the pipeline fills only these arrays of
-    // the batch (DESIGN §4: what the shader does not read is not computed). Varyings: the vertex
+    // the batch (docs/architecture.md, "Fast paths": what the shader does not read is not computed). Varyings: the vertex
     // stage's VaryingLayout::read_by_fragment says which words are filled.
     virtual uint32_t builtins_read() const { return ~0u; }
     // Called once per draw before run(): `workers` threads will call run() concurrently.
     virtual void prepare(unsigned workers) const { (void)workers; }
     // Runs on worker thread `worker` (< the prepared count), each with its own batch and results.
     virtual void run(const FragmentBatch& batch, FragmentResults& out, unsigned worker) const = 0;
-    // DESIGN §4: a shader whose results depend only on uniforms gives every fragment of a draw
+    // docs/architecture.md, "Fast paths": a shader whose results depend only on uniforms gives every fragment of a draw
     // the same values. Such a shader fills `out` for one lane (lanes = 1 in the layout above) on
     // `worker` and returns true; any other returns false. After prepare(), like run().
     virtual bool run_constant(FragmentResults& out, unsigned worker) const { (void)out, (void)worker; return false; }

@@ -6,7 +6,7 @@
 
 namespace softgl {
 
-// Fixed-point window coordinates: 8 sub-pixel bits (DESIGN §3).
+// Fixed-point window coordinates: 8 sub-pixel bits (docs/architecture.md, "Numeric rules").
 inline constexpr int kSubPixelBits = 8;
 inline constexpr int64_t kSubPixel = int64_t(1) << kSubPixelBits;
 

@@ -1,4 +1,4 @@
-// A fixed pool of worker threads with a parallel-for, used to rasterise screen tiles (DESIGN §2).
+// A fixed pool of worker threads with a parallel-for, used to rasterise screen tiles (docs/architecture.md, "Threads").
 //
 // Determinism: parallel_for hands every index to exactly one thread, and the work for one index
 // (one tile) runs start to finish on that thread, so as long as items touch disjoint data (each tile

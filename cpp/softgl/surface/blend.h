@@ -19,7 +19,7 @@ struct BlendOp {
     bool has_alpha = true;                       // alpha:false -> destination alpha reads as 1
 
     static BlendOp from_state(const State& state, bool has_alpha);
-    // ONE, ZERO with FUNC_ADD on both is a plain write (DESIGN §4): no destination read.
+    // ONE, ZERO with FUNC_ADD on both is a plain write (docs/architecture.md, "Fast paths"): no destination read.
     bool is_plain_write() const;
 };
 

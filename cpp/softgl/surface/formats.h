@@ -19,7 +19,7 @@ inline float clamp01(float v) { return v > 0.0f ? (v < 1.0f ? v : 1.0f) : 0.0f; 
 
 // Float colour buffers store every NaN as the one quiet NaN: which NaN an IEEE operation returns
 // when both operands are NaN depends on operand order, which SIMD and scalar code may not share,
-// so without this the stored bits of a NaN could differ between CPUs (DESIGN §3: same bytes).
+// so without this the stored bits of a NaN could differ between CPUs (docs/architecture.md, "Determinism").
 inline float canonical_nan(float v) { return v != v ? std::nanf("") : v; }
 
 }  // namespace softgl
