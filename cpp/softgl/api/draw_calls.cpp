@@ -68,7 +68,8 @@ void Context::run_draw(const DrawCall& call) {
     in.sink = blendlab_sink();                  // blend lab hooks; null unless enabled
     draw(in, call, stats_);
     // Counted per worker by the stages (no shared writes while drawing); summed here, per draw.
-    stats_.texture_queries_fast += p.vertex_stage->take_fast_texture_queries() + p.fragment_stage->take_fast_texture_queries();
+    stats_.texture_queries_fast +=
+        p.vertex_stage->take_fast_texture_queries() + p.fragment_stage->take_fast_texture_queries();
     if (in.sink) blendlab().end_draw();         // reports an A-buffer/log over its memory limit
 }
 
