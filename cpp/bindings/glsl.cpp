@@ -160,7 +160,6 @@ py::tuple link_py(const std::string& vertex, const std::string& fragment, int ve
 const char* const kExecutorLevelNames[] = {"portable", "avx2", "avx512"};
 const SimdLevel kExecutorLevels[] = {SimdLevel::SSE2, SimdLevel::AVX2, SimdLevel::AVX512};
 int executor_level_count() { return best_simd_level() >= SimdLevel::AVX512 ? 3 : best_simd_level() >= SimdLevel::AVX2 ? 2 : 1; }
-const char* executor_level_name(SimdLevel level) { return level >= SimdLevel::AVX512 ? "avx512" : level >= SimdLevel::AVX2 ? "avx2" : "portable"; }
 
 SimdLevel simd_level_named(const std::string& name) {
     for (int k = 0; k < executor_level_count(); ++k)
@@ -246,7 +245,7 @@ py::dict run_py(const std::string& source, const std::string& stage, int version
     {
         py::gil_scoped_release release;
         glsl::Executor executor(program, batch);
-        executor.force_simd_level(level);
+        executor.set_simd_level(level);
         auto start = std::chrono::steady_clock::now();
         for (int k = 0; k < std::max(repeat, 1); ++k) executor.run(run);
         seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -297,10 +296,4 @@ void bind_glsl(py::module_& m) {
         for (int k = 0; k < executor_level_count(); ++k) levels.push_back(kExecutorLevelNames[k]);
         return levels;
     }, "The executor's SIMD levels this CPU can run: 'portable', 'avx2', 'avx512'");
-    m.def("glsl_set_default_simd_level", [](const std::string& simd) {
-        glsl::set_default_simd_level(simd.empty() ? best_simd_level() : simd_level_named(simd));
-    }, py::arg("simd"),
-       "The level of executors created from now on (draws of programs linked later): one of "
-       "glsl_simd_levels(), '' for the best the CPU has");
-    m.def("glsl_default_simd_level", [] { return std::string(executor_level_name(glsl::default_simd_level())); });
 }

@@ -515,13 +515,6 @@ void bind_testing(py::module_& m) {
               return py::make_tuple(out, py::make_tuple(stats.blocks_rejected, stats.blocks_accepted,
                                                         stats.blocks_partial, stats.quads));
           });
-    // Texture lookups: 0 the general per-lane path, 1 the 2D fast path without SIMD, 2 with the
-    // best SIMD (the default), 3 with AVX2 at most; returns how many queries the fast path served
-    // since the last call.
-    t.def("sampler_path", [](int path) {
-        if (path < 0 || path > 3) throw py::value_error("sampler path: 0, 1, 2 or 3");
-        return softgl::set_sampler_path(softgl::SamplerPath(path));
-    });
     // Fragment shaders that only copy varyings or constants: true takes the shortcut (the
     // default), false runs them on the executor; returns how many draws took it since the last call.
     t.def("fragment_copies", &softgl::set_fragment_copies, py::arg("enabled"));

@@ -211,7 +211,12 @@ class Context(_core.Context):
         GEQUAL on the drawing buffer without smoothing, primitives whose bounding box covers at
         least 256 pixels of the tile): their fragments are in no other counter (not in
         ``fragments_killed_early`` nor ``quads``); the bytes are the same as when they are
-        tested."""
+        tested.
+
+        ``texture_queries_fast`` counts texture lookups served by the sampler's 2D fast path
+        (filtered lookups of one 2D or 2D array texture of a float-sampled colour format), one per
+        shader instruction and batch of lanes, not per lane; the other lookups take the general
+        path, with the same bits."""
         return self._stats(reset)
 
     @property

@@ -1,5 +1,6 @@
 """The benchmark scenes (benchmarks/scenes.py) drawn by softgl give exactly the bytes recorded in
-reference/scene_bytes.json, at every thread count.
+reference/scene_bytes.json, at every thread count and at every SIMD level this CPU runs (the
+context's tuning, core/tuning.h).
 
 The hashes were recorded before the speed work on the draw path (executor, fragment batches,
 per-fragment ops), so every fast path must reproduce the straightforward path's bytes. They guard
@@ -21,6 +22,8 @@ from pathlib import Path
 
 import pytest
 
+from softgl import _core
+
 BENCHMARKS = Path(__file__).resolve().parents[2] / "benchmarks"
 sys.path.insert(0, str(BENCHMARKS))
 import scenes as S  # noqa: E402
@@ -30,11 +33,15 @@ SIZE = 96
 UPDATE = bool(os.environ.get("SOFTGL_UPDATE_SCENE_BYTES"))
 SPECS = {s.key: s for s in S.SUITE + S.EXECUTOR}
 _recorded = json.loads(REFERENCE.read_text()) if REFERENCE.exists() else {}
+# Tuning::simd levels up to this CPU's best; the best is the default.
+SIMD = ["scalar", "sse2", "avx2", "avx512"][:_core.testing.simd_level() + 1]
+THREADS = (1, 2, 3)
 
 
-def _digest(key: str, threads: int) -> str:
+def _digest(key: str, threads: int, simd: str) -> str:
     spec = SPECS[key]
     r = S.SoftglRenderer(SIZE, SIZE, threads=threads, samples=spec.samples)
+    _core.testing.set_tuning(r.gl, simd=simd)
     img = r.render(spec.build(SIZE))
     r.gl.finish()
     # Depth too: early/late depth paths must leave the same depth buffer (seen by a second frame).
@@ -42,13 +49,15 @@ def _digest(key: str, threads: int) -> str:
     return hashlib.sha256(img.tobytes() + img2.tobytes()).hexdigest()
 
 
+@pytest.mark.parametrize("simd", SIMD)
 @pytest.mark.parametrize("key", sorted(SPECS))
-def test_scene_bytes_for_any_thread_count(key):
-    got = {t: _digest(key, t) for t in (1, 2, 3)}
-    assert len(set(got.values())) == 1, f"{key}: bytes depend on the thread count: {got}"
+def test_scene_bytes_for_any_thread_count_and_simd_level(key, simd):
+    got = {t: _digest(key, t, simd) for t in THREADS}
+    assert len(set(got.values())) == 1, f"{key} at {simd}: bytes depend on the thread count: {got}"
     if UPDATE:
-        _recorded[key] = got[1]
-        REFERENCE.write_text(json.dumps(dict(sorted(_recorded.items())), indent=1) + "\n")
+        if simd == SIMD[-1]:
+            _recorded[key] = got[1]
+            REFERENCE.write_text(json.dumps(dict(sorted(_recorded.items())), indent=1) + "\n")
         return
     assert key in _recorded, "no recorded bytes: run with SOFTGL_UPDATE_SCENE_BYTES=1"
-    assert got[1] == _recorded[key], f"{key}: drawn bytes changed"
+    assert got[1] == _recorded[key], f"{key} at {simd}: drawn bytes changed"

@@ -163,21 +163,27 @@ def test_pack_nan_is_zero_at_every_level():
 
 
 BENCHMARKS = pathlib.Path(__file__).resolve().parents[2] / "benchmarks"
+# The Tuning::simd levels this CPU runs (core/tuning.h; the executor's portable build serves the first two).
+SIMD = ["scalar", "sse2", "avx2", "avx512"][:_core.testing.simd_level() + 1]
 
 
 @pytest.mark.parametrize("scene", ["exec_color", "exec_spot", "exec_tex2", "spot_mesh", "small_blend"])
 def test_pipeline_bytes_equal_at_every_level(scene):
-    # New executors (here: a new context's programs) run at the level set as the default.
+    # A context's draws run at its tuning's level: a new context's (from the process default, its
+    # programs' executors new), and one context's changed between draws (its executors reused).
     sys.path.insert(0, str(BENCHMARKS))
     import scenes
     spec = {s.key: s for s in scenes.SUITE + scenes.EXECUTOR}[scene]
     digests = {}
-    try:
-        for level in LEVELS:
-            _core.glsl_set_default_simd_level(level)
-            assert _core.glsl_default_simd_level() == level
+    reused = scenes.SoftglRenderer(64, 64, threads=2)
+    for level in SIMD:
+        before = _core.testing.set_default_tuning(simd=level)
+        try:
             r = scenes.SoftglRenderer(64, 64, threads=2)
-            digests[level] = hashlib.sha256(r.render(spec.build(64)).tobytes()).hexdigest()
-    finally:
-        _core.glsl_set_default_simd_level("")
+        finally:
+            _core.testing.set_default_tuning(**before)
+        assert _core.testing.tuning(r.gl)["simd"] == level
+        digests["new", level] = hashlib.sha256(r.render(spec.build(64)).tobytes()).hexdigest()
+        _core.testing.set_tuning(reused.gl, simd=level)
+        digests["reused", level] = hashlib.sha256(reused.render(spec.build(64)).tobytes()).hexdigest()
     assert len(set(digests.values())) == 1, digests

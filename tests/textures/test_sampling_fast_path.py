@@ -3,8 +3,8 @@ resolved once per query) must give the same bits as the general per-lane path: e
 and wrap, mipmap levels, LOD bias / explicit LOD / gradients / offsets, odd and NPOT sizes,
 and coordinates that are negative, huge, infinite or NaN. Each image is drawn into an
 RGBA32F target by the general path, the fast path without SIMD, with AVX2 blocks of 8 lanes and
-with the best SIMD (AVX-512 blocks of 16 lanes where the CPU has it; testing hook), and compared
-as uint32 bits (NaNs as NaNs)."""
+with the best SIMD (AVX-512 blocks of 16 lanes where the CPU has it; the context's tuning), and
+compared as uint32 bits (NaNs as NaNs); gl.stats() shows whether the fast path served the lookups."""
 import numpy as np
 import pytest
 
@@ -64,15 +64,21 @@ def assert_same_bits(fast, general):
                                   np.where(both_nan, 0, general.view(np.uint32)))
 
 
-# _core.testing.sampler_path: general, fast scalar, fast with the best SIMD (AVX-512 blocks of 16
-# lanes where the CPU has it), fast with AVX2 blocks of 8 at most.
-GENERAL, SCALAR, BEST, AVX2 = 0, 1, 2, 3
+# The context's tuning (core/tuning.h SamplerPath): general, fast scalar, fast with the best SIMD
+# (AVX-512 blocks of 16 lanes where the CPU has it), fast with AVX2 blocks of 8 at most.
+GENERAL, SCALAR, BEST, AVX2 = "general", "scalar", "best", "avx2"
+PATHS = (GENERAL, SCALAR, AVX2, BEST)
 
 
-@pytest.fixture(autouse=True)
-def restore_fast_path():
-    yield
-    _core.testing.sampler_path(BEST)
+def use_path(gl, path):
+    """Sets the context's sampler path and zeroes its counters."""
+    _core.testing.set_tuning(gl, sampler_path=path)
+    gl.stats(reset=True)
+
+
+def fast_queries(gl):
+    """The lookups the fast path served since use_path (one per shader instruction and batch)."""
+    return gl.stats()["texture_queries_fast"]
 
 
 class Renderer:
@@ -99,12 +105,13 @@ class Renderer:
     def compare(self, *args, expect_fast=True, **kw):
         """Draws with the general path, the fast path without SIMD, with AVX2 and with the best SIMD;
         asserts equal bits; returns the image."""
-        images = []
-        for path in (GENERAL, SCALAR, AVX2, BEST):
-            _core.testing.sampler_path(path)
+        images, served = [], []
+        for path in PATHS:
+            use_path(self.gl, path)
             images.append(self.draw(*args, **kw))
-            served = _core.testing.sampler_path(BEST)
-            assert (served > 0) == (expect_fast and path != GENERAL), (path, served)
+            served.append(fast_queries(self.gl))
+        # Every fast path serves the same queries; the general path none.
+        assert served[0] == 0 and served[1] == served[2] == served[3] and (served[1] > 0) == expect_fast, served
         for img in images[1:]:
             assert_same_bits(img, images[0])
         return images[0]
@@ -288,6 +295,24 @@ def test_fast_path_with_threads():
     r.compare(fs(LOOKUPS["implicit"]), c0, (60.0, 3.0, 0), (-5.0, 40.0, 0), special)
 
 
+def test_sampler_path_is_the_drawing_contexts_at_each_draw():
+    # Two contexts with different paths draw in turn, then swap paths between draws of the same
+    # programs (whose stages and executors are reused): each draw takes its own context's path.
+    a, b = Renderer(threads=2), Renderer(threads=1)
+    for r in (a, b):
+        random_levels(r.gl, r.gl.TEXTURE_2D, 32, 32)
+        set_params(r.gl, r.gl.TEXTURE_2D, "LINEAR_MIPMAP_LINEAR", "LINEAR")
+    c0, cx, cy, special = MAPS["minified-rotated"]
+    for first, second in ((GENERAL, BEST), (SCALAR, GENERAL), (GENERAL, AVX2)):
+        use_path(a.gl, first)
+        use_path(b.gl, second)
+        for _ in range(2):
+            for r in (a, b):
+                r.draw(fs(LOOKUPS["implicit"]), c0, cx, cy, special)
+        assert (fast_queries(a.gl) > 0) == (first != GENERAL), (first, fast_queries(a.gl))
+        assert (fast_queries(b.gl) > 0) == (second != GENERAL), (second, fast_queries(b.gl))
+
+
 def test_fast_path_webgl1_npot_clamped():
     # WebGL 1 (ES 2.0 + WebGL 1.0 §5.13.8): NPOT textures are complete with CLAMP_TO_EDGE and no
     # mipmaps only; drawn into the RGBA8 default framebuffer.
@@ -303,11 +328,11 @@ def test_fast_path_webgl1_npot_clamped():
     for wrap, expect_fast in (("CLAMP_TO_EDGE", True), ("REPEAT", False)):
         set_params(gl, gl.TEXTURE_2D, "LINEAR", "LINEAR", wrap, wrap)
         images = []
-        for path in (GENERAL, SCALAR, AVX2, BEST):
-            _core.testing.sampler_path(path)
+        for path in PATHS:
+            use_path(gl, path)
             draw_quad(gl, prog, *MAPS["minified-rotated"][:3])
             images.append(gl.readPixels(0, 0, W, H, gl.RGBA, gl.UNSIGNED_BYTE))
-            assert (_core.testing.sampler_path(BEST) > 0) == (expect_fast and path != GENERAL)
+            assert (fast_queries(gl) > 0) == (expect_fast and path != GENERAL)
         for img in images[1:]:
             np.testing.assert_array_equal(img, images[0])
 
@@ -322,10 +347,11 @@ def test_benchmark_scenes_same_bytes_on_every_path(key, threads):
     spec = {s.key: s for s in scenes.SUITE + scenes.EXECUTOR + scenes.TEXTURED}[key]
     size = 72
     images = []
-    for path in (GENERAL, SCALAR, AVX2, BEST):
-        _core.testing.sampler_path(path)
-        images.append(scenes.SoftglRenderer(size, size, threads=threads).render(spec.build(size)))
-        assert (_core.testing.sampler_path(BEST) > 0) == (path != GENERAL)
+    for path in PATHS:
+        r = scenes.SoftglRenderer(size, size, threads=threads)
+        use_path(r.gl, path)
+        images.append(r.render(spec.build(size)))
+        assert (fast_queries(r.gl) > 0) == (path != GENERAL)
     assert images[0].any()
     for img in images[1:]:
         np.testing.assert_array_equal(img, images[0])

@@ -3,7 +3,8 @@ refreshed when a draw binds the texture and the texture changed since. Every loo
 k / 255 exactly as the float storage holds it, and a changed texture must never sample its old
 contents: after rendering into it through a framebuffer, copyTexSubImage2D, texSubImage2D, a blit
 and generateMipmap, each draw is checked against a NumPy model of the new contents, on every
-sampler path (general, fast scalar, AVX2 blocks, best SIMD) and at 1 and 2 threads."""
+sampler path (general, fast scalar, AVX2 blocks, best SIMD: the context's tuning) and at 1 and 2
+threads."""
 import numpy as np
 import pytest
 
@@ -11,7 +12,7 @@ import softgl
 from softgl import _core
 from helpers import VS3, draw_quad, float_target
 
-GENERAL, SCALAR, BEST, AVX2 = 0, 1, 2, 3
+GENERAL, SCALAR, BEST, AVX2 = "general", "scalar", "best", "avx2"
 PATHS = [GENERAL, SCALAR, AVX2, BEST]
 N = 32   # texture and target side: pixel (x, y) samples texel (x, y) of the level drawn
 
@@ -23,12 +24,6 @@ in vec3 uvw;
 out vec4 color;
 void main() { color = textureLod(tex, uvw.xy, lod); }
 """
-
-
-@pytest.fixture(autouse=True)
-def restore_fast_path():
-    yield
-    _core.testing.sampler_path(BEST)
 
 
 def unorm8(k):
@@ -60,12 +55,14 @@ class Scene:
         side = N >> level
         images = []
         for path in PATHS:
-            _core.testing.sampler_path(path)
+            _core.testing.set_tuning(gl, sampler_path=path)
+            gl.stats(reset=True)
             draw_quad(self.gl, self.prog)
             assert gl.getError() == gl.NO_ERROR
+            assert (gl.stats()["texture_queries_fast"] > 0) == (path != GENERAL), path   # the path was taken
             images.append(gl.readPixels(0, 0, side, side, gl.RGBA, gl.FLOAT) if level == 0 else
                           gl.readPixels(0, 0, N, N, gl.RGBA, gl.FLOAT)[::1 << level, ::1 << level])
-        _core.testing.sampler_path(BEST)
+        _core.testing.set_tuning(gl, sampler_path=BEST)
         for path, img in zip(PATHS, images):
             np.testing.assert_array_equal(img.view(np.uint32), images[0].view(np.uint32), err_msg=f"path {path}")
         return images[0]

@@ -1,7 +1,6 @@
 #include "softgl/glsl/executor.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstring>
 #include <limits>
@@ -144,16 +143,7 @@ struct ExecutorFrame {
 };
 using Frame = ExecutorFrame;
 
-static std::atomic<SimdLevel>& default_level() {
-    static std::atomic<SimdLevel> level{best_simd_level()};
-    return level;
-}
-SimdLevel default_simd_level() { return default_level().load(std::memory_order_relaxed); }
-void set_default_simd_level(SimdLevel level) {
-    default_level().store(std::min(level, best_simd_level()), std::memory_order_relaxed);
-}
-
-Executor::Executor(const IrProgram& program, int batch_lanes) : program_(program), simd_(default_simd_level()) {
+Executor::Executor(const IrProgram& program, int batch_lanes) : program_(program), simd_(best_simd_level()) {
     batch_ = std::max(4, (batch_lanes + 3) / 4 * 4);
     registers_.assign(static_cast<size_t>(program.register_count) * batch_, Scalar{});
     reg_ptr_.resize(program.register_count);
@@ -720,6 +710,9 @@ void Executor::texture(const Instruction& ins, int n, const StageRun& run) {
     q.lod = t.lod != kNoReg ? reg(t.lod) : nullptr;
     for (int k = 0; k < 3; ++k) q.offset[k] = t.offset[k];
     for (int k = 0; k < 4; ++k) q.out[k] = t.dst[k] != kNoReg ? reg(t.dst[k]) : nullptr;
+    q.path = run.sampler_path;
+    q.simd = simd_;
+    q.fast_queries = run.fast_texture_queries;
     if (t.lod_mode == TextureLod::Gradient) {
         for (int k = 0; k < 3; ++k) {
             q.ddx[k] = t.grad_x[k] != kNoReg ? reg(t.grad_x[k]) : nullptr;

@@ -11,12 +11,14 @@
 // Results never depend on the batch size or lane count: lanes are independent (except inside a
 // quad, and quads are never split as long as batch sizes are multiples of 4).
 #pragma once
+#include <algorithm>
 #include <array>
 #include <cstdint>
 #include <stdexcept>
 #include <vector>
 
 #include "softgl/core/simd.h"
+#include "softgl/core/tuning.h"
 #include "softgl/glsl/ir.h"
 
 namespace softgl::glsl {
@@ -40,6 +42,13 @@ struct TextureQuery {
     const Scalar* ddy[3] = {nullptr, nullptr, nullptr};
     int offset[3] = {0, 0, 0};
     Scalar* out[4] = {nullptr, nullptr, nullptr, nullptr};  // results (.f, .i or .u); Size: width, height, depth
+    // How the pipeline's sampler may serve the query: the draw's path (core/tuning.h) and at most
+    // the executor's SIMD level.
+    SamplerPath path = SamplerPath::Best;
+    SimdLevel simd = SimdLevel::Scalar;
+    // The sampler adds 1 here when its fast path serves the query: the worker's own counter, so
+    // no two threads write it (null: not counted).
+    uint64_t* fast_queries = nullptr;
 };
 
 class TextureSampler {
@@ -66,6 +75,8 @@ struct StageRun {
     const Scalar* uniforms = nullptr;  // the flat uniform buffer (reflection offsets)
     TextureSampler* sampler = nullptr;
     uint8_t* discarded = nullptr;      // fragment: set to 1 for lanes that executed discard
+    SamplerPath sampler_path = SamplerPath::Best;   // TextureQuery::path of every lookup
+    uint64_t* fast_texture_queries = nullptr;       // TextureQuery::fast_queries of every lookup
 };
 
 struct ExecutorFrame;
@@ -76,10 +87,7 @@ struct ExecutorFrame;
 // operations that round identically at any width, and the same libm functions (called per lane).
 using softgl::SimdLevel;
 using softgl::best_simd_level;
-// The level new Executors start at: best_simd_level(), unless lowered (tests, benchmarks: A/B
-// of the levels through the whole pipeline in one process). Must not exceed best_simd_level().
-SimdLevel default_simd_level();
-void set_default_simd_level(SimdLevel level);
+using softgl::SamplerPath;
 
 class Executor {
 public:
@@ -95,8 +103,10 @@ public:
     // hidden by hidden-surface removal (pipeline/draw.cpp OwnerMap) are not run.
     uint64_t max_loop_iterations = 1u << 24;
 
-    // Testing: run the lane loops at `level` (must be supported by the CPU).
-    void force_simd_level(SimdLevel level) { simd_ = level; }
+    // The level the lane loops (and the sampler's, TextureQuery::simd) run at: best_simd_level()
+    // unless lowered, e.g. to a draw's Tuning::simd; capped at best_simd_level().
+    void set_simd_level(SimdLevel level) { simd_ = std::min(level, best_simd_level()); }
+    SimdLevel simd_level() const { return simd_; }
 
 private:
     void run_batch(const StageRun& run, int first_lane, int lanes);

@@ -40,6 +40,7 @@ void DrawStats::add(const DrawStats& o) {
     samples_written += o.samples_written; samples_blended += o.samples_blended;
     draws_skipped_no_output += o.draws_skipped_no_output; draws_early_depth += o.draws_early_depth;
     draws_blend_table += o.draws_blend_table;
+    texture_queries_fast += o.texture_queries_fast;
     draws_plain_write += o.draws_plain_write; seconds_vertex += o.seconds_vertex;
     seconds_setup += o.seconds_setup; seconds_fragment += o.seconds_fragment;
 }
@@ -960,6 +961,7 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
     };
     if (whole_instances) list_vertices(0, per_instance);
     const uint32_t used = vs.used_attributes();
+    vs.prepare(in.tuning);
     std::vector<uint8_t>& touched = ds_.touched;   // tiles_touched counts each tile once per draw
     SetupStats setup_stats;
     bool tile_pass_prepared = false;
@@ -1070,7 +1072,7 @@ void draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
         // ---- per tile on the pool: raster, tests, shading, blending ----
         if (!tile_pass_prepared) {   // once per draw, before the first tile pass
             if (scratch.size() < in.pool.size()) scratch.resize(in.pool.size());
-            fs.prepare(in.pool.size());
+            fs.prepare(in.pool.size(), in.tuning);
             constant = fs.run_constant(ds_.constant, 0);
             if (constant) {
                 float* const lanes = at_least(ds_.constant_color, 4 * kChunkLanes);

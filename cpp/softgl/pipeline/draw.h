@@ -41,6 +41,7 @@ struct DrawStats {
     uint64_t draws_early_depth = 0;        // depth/stencil tested before shading
     uint64_t draws_plain_write = 0;        // blending off or ONE/ZERO/ADD: no destination read
     uint64_t draws_blend_table = 0;        // a constant colour blended by table lookup (fragment_ops.h)
+    uint64_t texture_queries_fast = 0;     // lookups (per instruction and batch of lanes) served by the 2D fast path
     double seconds_vertex = 0, seconds_setup = 0, seconds_fragment = 0;
     void add(const DrawStats& o);
 };

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <cstring>
+#include <utility>
 
 namespace softgl {
 
@@ -48,6 +49,18 @@ GlslVertexShader::GlslVertexShader(std::shared_ptr<const glsl::LinkedProgram> pr
     }
 }
 
+void GlslVertexShader::prepare(const Tuning& tuning) const {
+    simd_ = tuning.simd;
+    sampler_path_ = tuning.sampler_path;
+}
+
+uint64_t GlslVertexShader::take_fast_texture_queries() const {
+    std::lock_guard<std::mutex> lock(runs_mutex_);
+    uint64_t n = 0;
+    for (const auto& r : idle_runs_) n += std::exchange(r->fast_texture_queries, 0);
+    return n;
+}
+
 void GlslVertexShader::run(const std::array<AttributeStream, kMaxVertexAttribs>& attribs, size_t count,
                            const uint32_t* vertex_ids, uint32_t instance_id, VertexShaderOutputs& out) const {
     const glsl::IrProgram& ir = program_->vertex;
@@ -58,6 +71,7 @@ void GlslVertexShader::run(const std::array<AttributeStream, kMaxVertexAttribs>&
     }
     if (!borrowed) borrowed = std::make_unique<Run>(Run{std::make_unique<glsl::Executor>(ir), {}, {}, {}, {}, {}});
     Run& r = *borrowed;
+    r.executor->set_simd_level(simd_);   // executors outlive draws; the level is the draw's
     r.ids.resize(count);
     r.instances.resize(count);
     for (size_t v = 0; v < count; ++v) r.ids[v].u = vertex_ids ? vertex_ids[v] : uint32_t(v), r.instances[v].u = instance_id;
@@ -80,6 +94,8 @@ void GlslVertexShader::run(const std::array<AttributeStream, kMaxVertexAttribs>&
     run.outputs = r.outputs.data();
     run.uniforms = uniforms_;
     run.sampler = textures_ ? textures_ : &sampler_;
+    run.sampler_path = sampler_path_;
+    run.fast_texture_queries = &r.fast_texture_queries;
     r.executor->run(run);
     const Scalar* const* const results = r.outputs.data();
 
@@ -211,11 +227,19 @@ const FragmentCopies* GlslFragmentShader::copies() const {
     return &copies_;
 }
 
-void GlslFragmentShader::prepare(unsigned workers) const {
-    if (workers_.size() >= workers) return;
-    workers_.resize(workers);
-    for (auto& w : workers_)
+void GlslFragmentShader::prepare(unsigned workers, const Tuning& tuning) const {
+    if (workers_.size() < workers) workers_.resize(workers);
+    sampler_path_ = tuning.sampler_path;
+    for (Worker& w : workers_) {
         if (!w.executor) w.executor = std::make_unique<glsl::Executor>(program_->fragment);
+        w.executor->set_simd_level(tuning.simd);   // executors outlive draws; the level is the draw's
+    }
+}
+
+uint64_t GlslFragmentShader::take_fast_texture_queries() const {
+    uint64_t n = 0;
+    for (Worker& w : workers_) n += std::exchange(w.fast_texture_queries, 0);
+    return n;
 }
 
 void GlslFragmentShader::run(const FragmentBatch& b, FragmentResults& out, unsigned worker) const {
@@ -269,6 +293,8 @@ void GlslFragmentShader::run(const FragmentBatch& b, FragmentResults& out, unsig
     run.outputs = w.output_ptrs.data();
     run.uniforms = uniforms_;
     run.sampler = textures_ ? textures_ : &w.sampler;
+    run.sampler_path = sampler_path_;
+    run.fast_texture_queries = &w.fast_texture_queries;
     run.discarded = may_discard() ? out.killed.data() : nullptr;
     w.executor->run(run);
     if (R < L) {

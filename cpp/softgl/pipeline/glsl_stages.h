@@ -25,14 +25,19 @@ public:
                      const std::vector<int>& input_component);
     uint32_t used_attributes() const override { return used_; }
     const VaryingLayout& varying_layout() const override { return layout_; }
+    void prepare(const Tuning& tuning) const override;
     void run(const std::array<AttributeStream, kMaxVertexAttribs>& attribs, size_t count,
              const uint32_t* vertex_ids, uint32_t instance_id, VertexShaderOutputs& out) const override;
     void set_uniforms(const glsl::Scalar* uniforms) { uniforms_ = uniforms; }
     // The bound textures for this draw (null: every lookup reads an incomplete texture).
     void set_sampler(glsl::TextureSampler* sampler) { textures_ = sampler; }
+    // The lookups the sampler's fast path served since the last call (DrawStats::texture_queries_fast).
+    uint64_t take_fast_texture_queries() const;
 
 private:
     glsl::TextureSampler* textures_ = nullptr;
+    mutable SimdLevel simd_ = best_simd_level();             // the draw's (prepare)
+    mutable SamplerPath sampler_path_ = SamplerPath::Best;   // the draw's (prepare)
     std::shared_ptr<const glsl::LinkedProgram> program_;
     std::vector<int> input_location_;    // per vertex input slot: attribute location, -1 built-in
     std::vector<int> input_component_;   // per vertex input slot: component of that location
@@ -51,6 +56,7 @@ private:
         std::vector<glsl::Scalar> ids, instances, results;
         std::vector<const glsl::Scalar*> inputs;
         std::vector<glsl::Scalar*> outputs;
+        uint64_t fast_texture_queries = 0;
     };
     mutable std::mutex runs_mutex_;
     mutable std::vector<std::unique_ptr<Run>> idle_runs_;
@@ -67,7 +73,7 @@ public:
     bool may_discard() const override { return program_->reflection.fragment_usage.may_discard; }
     bool writes_depth() const override { return program_->reflection.fragment_usage.writes_frag_depth; }
     uint32_t builtins_read() const override { return builtins_read_; }
-    void prepare(unsigned workers) const override;
+    void prepare(unsigned workers, const Tuning& tuning) const override;
     void run(const FragmentBatch& batch, FragmentResults& out, unsigned worker) const override;
     bool run_constant(FragmentResults& out, unsigned worker) const override;
     const FragmentCopies* copies() const override;
@@ -75,10 +81,13 @@ public:
     // The bound textures for this draw (null: every lookup reads an incomplete texture). The
     // sampler must be safe to call from several workers at once (TextureUnitSampler is).
     void set_sampler(glsl::TextureSampler* sampler) { textures_ = sampler; }
+    // The lookups the sampler's fast path served since the last call (DrawStats::texture_queries_fast).
+    uint64_t take_fast_texture_queries() const;
 
 private:
     bool find_copies();
     glsl::TextureSampler* textures_ = nullptr;
+    mutable SamplerPath sampler_path_ = SamplerPath::Best;   // the draw's (prepare)
     std::shared_ptr<const glsl::LinkedProgram> program_;
     std::vector<int> input_word_;        // per fragment input slot: varying word, or -1
     std::vector<int> input_builtin_;     // per fragment input slot: 0..3 FragCoord, 4 FrontFacing, 5..6 PointCoord, -1
@@ -100,6 +109,7 @@ private:
         FragmentBatch quad;                          // run_constant: one quad, inputs all zero
         FragmentResults quad_results;
         IncompleteTextureSampler sampler;
+        uint64_t fast_texture_queries = 0;
     };
     mutable std::vector<Worker> workers_;
 };

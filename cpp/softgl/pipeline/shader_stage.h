@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "softgl/core/objects.h"
+#include "softgl/core/tuning.h"
 #include "softgl/pipeline/vertex_fetch.h"
 
 namespace softgl {
@@ -31,6 +32,9 @@ public:
     virtual ~VertexShader() = default;
     virtual uint32_t used_attributes() const = 0;   // bit per attribute location
     virtual const VaryingLayout& varying_layout() const = 0;
+    // Called once per draw before run(), with the draw's tuning (a context's may change between
+    // draws, and each context has its own).
+    virtual void prepare(const Tuning& tuning) const { (void)tuning; }
     // Shades `count` vertices; attribs[loc] holds their attribute values for each used location;
     // vertex_ids[v] is gl_VertexID. Must be safe to call from several threads at once.
     virtual void run(const std::array<AttributeStream, kMaxVertexAttribs>& attribs, size_t count,
@@ -84,8 +88,9 @@ public:
     // the batch (docs/architecture.md, "Fast paths": what the shader does not read is not computed). Varyings: the vertex
     // stage's VaryingLayout::read_by_fragment says which words are filled.
     virtual uint32_t builtins_read() const { return ~0u; }
-    // Called once per draw before run(): `workers` threads will call run() concurrently.
-    virtual void prepare(unsigned workers) const { (void)workers; }
+    // Called once per draw before run(), with the draw's tuning: `workers` threads will call run()
+    // concurrently.
+    virtual void prepare(unsigned workers, const Tuning& tuning) const { (void)workers, (void)tuning; }
     // Runs on worker thread `worker` (< the prepared count), each with its own batch and results.
     virtual void run(const FragmentBatch& batch, FragmentResults& out, unsigned worker) const = 0;
     // docs/architecture.md, "Fast paths": a shader whose results depend only on uniforms gives every fragment of a draw

@@ -3,7 +3,6 @@
 #include "softgl/core/simd.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstring>
 
@@ -402,10 +401,6 @@ void TextureUnitSampler::sample_lanes(const glsl::TextureQuery& q) const {
 
 namespace {
 
-std::atomic<int> path_level{int(SamplerPath::Best)};
-std::atomic<uint64_t> fast_path_queries{0};
-std::atomic<bool> count_queries{false};   // only the testing hook counts (no shared writes otherwise)
-
 // One level of a 2D / 2D array texture.
 struct Plane {
     const float* texels;   // 4 floats per texel, layer-major then row-major
@@ -537,8 +532,6 @@ private:
 
 #if defined(__x86_64__) || defined(__i386__)
 #define SOFTGL_SAMPLER_AVX2 1
-
-bool cpu_has_avx2() { return best_simd_level() >= SimdLevel::AVX2; }
 
 // ifloor of values that are already integral (or NaN, or infinite): NaN -> 0, saturated.
 __attribute__((target("avx2"))) inline __m256i ifloor_floored8(__m256 fl) {
@@ -695,7 +688,6 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const LevelChoice 
 #pragma GCC diagnostic ignored "-Wuninitialized"
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 
-bool cpu_has_avx512() { return best_simd_level() >= SimdLevel::AVX512; }
 
 // ifloor_floored8 of 16 lanes.
 __attribute__((target(SOFTGL_SAMPLER_AVX512))) inline __m512i ifloor_floored16(__m512 fl) {
@@ -954,12 +946,6 @@ bool TextureUnitSampler::lod_matters(const glsl::TextureQuery& q) const {
     return mipmapped || min_linear != (bt.params.mag_filter == gl::LINEAR);
 }
 
-uint64_t set_sampler_path(SamplerPath path) {
-    path_level = int(path);
-    count_queries = true;
-    return fast_path_queries.exchange(0);
-}
-
 bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd) const {
     if (q.kind != TextureKind::Sample || q.shadow || q.result != BaseType::Float ||
         (q.dim != SamplerDim::Tex2D && q.dim != SamplerDim::Tex2DArray))
@@ -1071,14 +1057,14 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
 }
 
 void TextureUnitSampler::sample(const glsl::TextureQuery& q) {
-    const SamplerPath path = SamplerPath(path_level.load(std::memory_order_relaxed));
+    // q.simd is at most best_simd_level() (glsl::Executor::set_simd_level).
     SimdBlocks simd = SimdBlocks::None;
 #ifdef SOFTGL_SAMPLER_AVX2
-    if ((path == SamplerPath::Best || path == SamplerPath::Avx2) && cpu_has_avx2()) simd = SimdBlocks::Avx2;
-    if (path == SamplerPath::Best && cpu_has_avx512()) simd = SimdBlocks::Avx512;
+    if ((q.path == SamplerPath::Best || q.path == SamplerPath::Avx2) && q.simd >= SimdLevel::AVX2) simd = SimdBlocks::Avx2;
+    if (q.path == SamplerPath::Best && q.simd >= SimdLevel::AVX512) simd = SimdBlocks::Avx512;
 #endif
-    if (path != SamplerPath::General && sample_2d(q, simd)) {
-        if (count_queries.load(std::memory_order_relaxed)) fast_path_queries.fetch_add(1, std::memory_order_relaxed);
+    if (q.path != SamplerPath::General && sample_2d(q, simd)) {
+        if (q.fast_queries) ++*q.fast_queries;
         return;
     }
     sample_lanes(q);

@@ -27,6 +27,8 @@ struct BoundTexture {
 
 inline constexpr int kSamplerUnits = 32;
 
+// Each query takes the path its TextureQuery::path names (core/tuning.h SamplerPath), with SIMD
+// blocks up to TextureQuery::simd; all give the same bits (NaNs aside: which NaN).
 class TextureUnitSampler : public glsl::TextureSampler {
 public:
     // units[unit][dim]: dim 0 = 2D, 1 = 3D, 2 = cube, 3 = 2D array.
@@ -43,10 +45,6 @@ private:
     enum class SimdBlocks { None, Avx2, Avx512 };
     bool sample_2d(const glsl::TextureQuery& query, SimdBlocks simd) const;
 };
-
-// Which path lookups take (core/tuning.h SamplerPath). All give the same bits (NaNs aside: which NaN).
-// Testing: sets the path and returns how many queries the fast path served since the last call.
-uint64_t set_sampler_path(SamplerPath path);
 
 int dim_index(glsl::SamplerDim dim);
 
