@@ -7,7 +7,7 @@
 
 #include "softgl/glsl/compiler.h"
 #include "softgl/glsl/executor.h"
-#include "softgl/glsl/test_sampler.h"
+#include "testing/test_sampler.h"
 
 namespace py = pybind11;
 namespace glsl = softgl::glsl;
@@ -224,11 +224,11 @@ py::dict run_py(const std::string& source, const std::string& stage, int version
     std::vector<Scalar*> output_ptrs;
     for (auto& o : output_data) output_ptrs.push_back(o.data());
     std::vector<uint8_t> discarded(lanes, 0);
-    glsl::TestSampler sampler;
+    softgl::testing::TestSampler sampler;
     for (auto [key, value] : textures) {
         auto a = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(value);
         if (a.ndim() != 3 || a.shape(2) != 4) throw py::value_error("textures must be (h, w, 4) arrays");
-        glsl::TestImage img;
+        softgl::testing::TestImage img;
         img.height = static_cast<int>(a.shape(0));
         img.width = static_cast<int>(a.shape(1));
         img.rgba.assign(a.data(), a.data() + a.size());

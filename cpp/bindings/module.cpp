@@ -9,7 +9,7 @@ void bind_uniform_arrays(py::module_& m);
 void bind_textures(py::module_& m);
 void bind_testing(py::module_& m);
 void bind_tuning(py::module_& m);
-void bind_raster(py::module_& m);
+void bind_probes(py::module_& m);
 void bind_glsl(py::module_& m);
 void bind_blendlab(py::module_& m);
 
@@ -21,7 +21,7 @@ PYBIND11_MODULE(_core, m) {
     bind_textures(m);
     bind_testing(m);
     bind_tuning(m);
-    bind_raster(m);
+    bind_probes(m);
     bind_glsl(m);
     bind_blendlab(m);
 }

@@ -39,12 +39,13 @@ def sources():
 
 
 def includes(path: Path):
+    # Quoted includes name a file beside the includer or below cpp/ (the include directory).
     for m in INCLUDE.finditer(path.read_text()):
         name = m.group(1)
-        if name.startswith("softgl/"):
-            yield CPP / name
-        elif (path.parent / name).exists():
+        if (path.parent / name).exists():
             yield path.parent / name
+        elif name.startswith("softgl/") or (CPP / name).exists():
+            yield CPP / name
 
 
 def test_every_layer_is_known():
@@ -117,3 +118,19 @@ def test_the_rule_catches_a_wrong_include(tmp_path, monkeypatch):
         assert "surface/y.h (surface) includes softgl/pipeline/x.h (pipeline)" in str(e)
     else:
         raise AssertionError("a surface -> pipeline include was not reported")
+
+
+def test_the_rule_catches_a_harness_include(tmp_path, monkeypatch):
+    # A product file including a harness by its path below cpp/ ("testing/...") must be reported.
+    root = tmp_path / "cpp"
+    (root / "softgl" / "pipeline").mkdir(parents=True)
+    (root / "testing").mkdir(parents=True)
+    (root / "testing" / "probe.h").write_text("#pragma once\n")
+    (root / "softgl" / "pipeline" / "draw.cpp").write_text('#include "testing/probe.h"\n')
+    monkeypatch.setattr(__import__(__name__), "CPP", root)
+    try:
+        test_product_code_includes_no_harness()
+    except AssertionError as e:
+        assert "softgl/pipeline/draw.cpp includes testing/probe.h" in str(e)
+    else:
+        raise AssertionError("a pipeline -> testing include was not reported")

@@ -4,7 +4,6 @@
 #include <stdexcept>
 
 #include "softgl/glsl/builtins.h"
-#include "softgl/glsl/lower.h"
 
 namespace softgl::glsl {
 namespace {

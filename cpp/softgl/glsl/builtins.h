@@ -5,6 +5,7 @@
 #include <vector>
 
 #include "softgl/glsl/ir.h"
+#include "softgl/glsl/ir_builder.h"
 #include "softgl/glsl/preprocessor.h"
 #include "softgl/glsl/types.h"
 
@@ -52,5 +53,10 @@ struct BuiltinFunction {
 const std::vector<BuiltinFunction>& builtin_functions();
 // Indices of built-ins named `name` (all versions; the caller filters).
 const std::vector<int>& builtin_overloads(const std::string& name);
+
+// Lowers a call of `f` (builtins.cpp). `args` are the evaluated arguments; for modf, `out_value`
+// receives the out parameter's value. Records derivative use in `usage`.
+Value lower_builtin_call(IrBuilder& b, const BuiltinFunction& f, const std::vector<Value>& args, Stage stage,
+                         ShaderUsage& usage, Value* out_value);
 
 }  // namespace softgl::glsl

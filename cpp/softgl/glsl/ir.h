@@ -130,6 +130,23 @@ struct IrProgram {
     std::string dump() const;  // a readable listing, for tests and debugging
 };
 
+// What a lowered program does besides its code, for reflection and the pipeline (recorded by the
+// lowering, lower.cpp, and the built-in functions', builtins.cpp).
+struct ShaderUsage {
+    bool may_discard = false;
+    bool writes_frag_depth = false;
+    bool uses_derivatives = false;   // dFdx/dFdy/fwidth or implicit-LOD texture lookups
+    bool reads_frag_coord = false;
+    bool reads_front_facing = false;
+    bool reads_point_coord = false;
+    bool writes_point_size = false;
+    bool uses_vertex_id = false;
+    bool uses_instance_id = false;
+    // ES 1.00 with `#extension GL_EXT_draw_buffers` enabled and gl_FragColor written: the colour
+    // goes to every draw buffer (EXT_draw_buffers / WEBGL_draw_buffers). Set by the compiler.
+    bool frag_color_broadcast = false;
+};
+
 // Calls f(reg) for every register instruction i reads. A masked write keeps the old value in
 // inactive lanes, so StoreIndexed also reads its targets, and so does a Mov of a variable unless
 // `mov_reads_target` is false (for callers that only reason about lanes the Mov writes).

@@ -1,8 +1,10 @@
-#include "softgl/glsl/test_sampler.h"
+#include "testing/test_sampler.h"
 
 #include <cmath>
 
-namespace softgl::glsl {
+namespace softgl::testing {
+
+using namespace glsl;   // the executor's query types
 
 void TestSampler::sample(const TextureQuery& q) {
     if (q.dim != SamplerDim::Tex2D || q.shadow) throw ExecutionError("the test sampler supports only 2D colour textures");
@@ -53,4 +55,4 @@ void TestSampler::sample(const TextureQuery& q) {
     }
 }
 
-}  // namespace softgl::glsl
+}  // namespace softgl::testing

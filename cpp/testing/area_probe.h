@@ -8,9 +8,10 @@
 #include <vector>
 
 #include "softgl/pipeline/coverage.h"
-#include "softgl/pipeline/coverage_probe.h"
+#include "softgl/runtime/thread_pool.h"
+#include "testing/probe.h"
 
-namespace softgl {
+namespace softgl::testing {
 
 struct AreaProbeResult {
     int32_t width = 0, height = 0;
@@ -28,4 +29,4 @@ struct AreaProbeResult {
 AreaProbeResult area_probe(const ProbeInput& input, const RasterState& state,
                            const AreaOptions& options, ThreadPool& pool);
 
-}  // namespace softgl
+}  // namespace softgl::testing

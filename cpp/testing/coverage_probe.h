@@ -5,26 +5,13 @@
 // the reference wiring for the real draw: replace the per-quad loop in coverage_probe.cpp with
 // fragment shading and per-fragment operations.
 #pragma once
-#include <cstddef>
 #include <cstdint>
 #include <vector>
 
-#include "softgl/pipeline/raster.h"
-#include "softgl/pipeline/setup.h"
 #include "softgl/runtime/thread_pool.h"
+#include "testing/probe.h"
 
-namespace softgl {
-
-struct ProbeInput {
-    const float* positions = nullptr;   // clip coordinates, 4 floats per vertex
-    size_t vertex_count = 0;
-    PrimitiveKind kind = PrimitiveKind::Triangle;
-    const uint32_t* indices = nullptr;  // vertices_per_primitive per primitive; null: 0, 1, 2, ...
-    size_t primitive_count = 0;
-    const float* point_sizes = nullptr; // per vertex; null: 1
-    bool record = true;                 // false: only count covered samples (benchmarks the
-                                        // geometry and coverage alone; images stay empty)
-};
+namespace softgl::testing {
 
 struct ProbeResult {
     int32_t width = 0, height = 0, samples = 1;
@@ -44,4 +31,4 @@ struct ProbeResult {
 // Throws std::invalid_argument on bad sizes or out-of-range indices.
 ProbeResult coverage_probe(const ProbeInput& input, const RasterState& state, ThreadPool& pool);
 
-}  // namespace softgl
+}  // namespace softgl::testing

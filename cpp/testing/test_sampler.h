@@ -1,4 +1,4 @@
-// A simple TextureSampler for testing shaders without the pipeline: 2D RGBA float images per
+// A simple glsl::TextureSampler for testing shaders without the pipeline: 2D RGBA float images per
 // texture unit, REPEAT wrapping, bilinear filtering (or nearest), no mipmaps (the LOD is
 // ignored), texelFetch and textureSize. Shadow, 3D, cube and array samplers are not
 // supported and raise ExecutionError (never wrong values).
@@ -8,7 +8,7 @@
 
 #include "softgl/glsl/executor.h"
 
-namespace softgl::glsl {
+namespace softgl::testing {
 
 struct TestImage {
     int width = 0;
@@ -17,10 +17,10 @@ struct TestImage {
     bool nearest = false;
 };
 
-class TestSampler : public TextureSampler {
+class TestSampler : public glsl::TextureSampler {
 public:
     std::map<int, TestImage> units;
-    void sample(const TextureQuery& query) override;
+    void sample(const glsl::TextureQuery& query) override;
 };
 
-}  // namespace softgl::glsl
+}  // namespace softgl::testing
