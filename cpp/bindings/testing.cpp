@@ -228,23 +228,6 @@ void bind_testing(py::module_& m) {
         const softgl::VertexRange r = softgl::primitive_vertex_range(mode, count, p0, p1);
         return py::make_tuple(r.begin, r.end, r.and_zero);
     });
-    // Draws run in batches of this many primitives (all contexts, all threads); 0 = the default.
-    // Returns the previous size.
-    t.def("set_draw_batch_primitives", &softgl::set_draw_batch_primitives, py::arg("primitives"));
-    // Hidden-surface removal: 0 never, 1 where primitives pile up (the default), 2 in every tile
-    // with two or more primitives. Returns the previous mode.
-    t.def("set_hidden_surface_removal", [](int mode) {
-        if (mode < 0 || mode > 2) throw py::value_error("hidden-surface removal: 0, 1 or 2");
-        return int(softgl::set_hidden_surface_removal(softgl::HiddenSurfaceRemoval(mode)));
-    }, py::arg("mode"));
-    // Depth bounds (pipeline/early_depth DepthBounds): 0 off, 1 on (the default), 2 sabotaged (for
-    // tests that must catch a wrong bound); simd_level of the block reads (-1: the best). Returns
-    // the previous mode.
-    t.def("set_depth_bounds", [](int mode, int simd_level) {
-        if (mode < 0 || mode > 2) throw py::value_error("depth bounds: 0, 1 or 2");
-        if (simd_level < -1 || simd_level > int(softgl::best_simd_level())) throw py::value_error("depth bounds: simd level");
-        return softgl::set_depth_bounds(mode, simd_level);
-    }, py::arg("mode"), py::arg("simd_level") = -1);
     // GLM as the reference for softgl.transforms (the C++ side's math library).
     t.def("glm_perspective", [](float fovy, float aspect, float n, float f) { return from_glm(glm::perspective(fovy, aspect, n, f)); });
     t.def("glm_ortho", [](float l, float r, float b, float tp, float n, float f) { return from_glm(glm::ortho(l, r, b, tp, n, f)); });
@@ -522,9 +505,6 @@ void bind_testing(py::module_& m) {
         if (path < 0 || path > 3) throw py::value_error("sampler path: 0, 1, 2 or 3");
         return softgl::set_sampler_path(softgl::SamplerPath(path));
     });
-    // Fragment shaders that only copy varyings or constants: true takes the shortcut (the
-    // default), false runs them on the executor; returns how many draws took it since the last call.
-    t.def("fragment_copies", &softgl::set_fragment_copies, py::arg("enabled"));
     t.def("blend_unorm8",
           [](const std::array<uint32_t, 6>& funcs_and_equations, const std::array<float, 4>& constant,
              const std::array<bool, 4>& mask, bool has_alpha,
