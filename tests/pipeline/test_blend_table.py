@@ -204,6 +204,8 @@ def test_table_draws_equal_per_fragment_shading(size, threads):
         table = writes and not plain and per_channel(funcs, alpha)
         assert stats.pop("draws_blend_table") == (len(colours) if table else 0), (funcs, eqs, mask, alpha)
         assert ref_stats.pop("draws_blend_table") == 0
+        assert stats.pop("draws_constant_color") == (len(colours) if writes else 0), (funcs, eqs, mask, alpha)
+        assert ref_stats.pop("draws_constant_color") == 0
         counters = lambda s: {k: v for k, v in s.items() if not k.startswith("seconds")}
         assert counters(stats) == counters(ref_stats)
 
@@ -224,6 +226,7 @@ def test_covered_tiles_equal_per_fragment_shading(size, scissor, threads):
         assert got.tobytes() == want.tobytes(), (funcs, eqs, mask, alpha)
         assert stats.pop("draws_blend_table") == len(colours)
         assert ref_stats.pop("draws_blend_table") == 0
+        assert stats.pop("draws_constant_color") == len(colours) and ref_stats.pop("draws_constant_color") == 0
         counters = lambda s: {k: v for k, v in s.items() if not k.startswith("seconds")}
         assert counters(stats) == counters(ref_stats)
 
