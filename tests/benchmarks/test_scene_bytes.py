@@ -52,3 +52,18 @@ def test_scene_bytes_for_any_thread_count(key):
         return
     assert key in _recorded, "no recorded bytes: run with SOFTGL_UPDATE_SCENE_BYTES=1"
     assert got[1] == _recorded[key], f"{key}: drawn bytes changed"
+
+
+LEVELS = ("scalar", "sse2", "avx2", "avx512")
+
+
+@pytest.mark.parametrize("key", sorted(SPECS))
+def test_scene_bytes_at_every_simd_level(key):
+    """The draw stages' kernels at each SIMD level the CPU has (the contexts' tuning, simd) give
+    the recorded bytes."""
+    from softgl import _core
+    from softgl.testing import default_tuned
+    assert key in _recorded, "no recorded bytes: run with SOFTGL_UPDATE_SCENE_BYTES=1"
+    for level in LEVELS[:_core.testing.simd_level() + 1]:
+        with default_tuned(simd=level):
+            assert _digest(key, 1) == _recorded[key], f"{key}: drawn bytes changed at simd level {level}"

@@ -1,7 +1,7 @@
 """A fragment shader whose outputs depend only on uniforms runs once per draw (DESIGN §4,
-pipeline/draw.cpp: its colour goes straight to the colour kernels). It must give the same bytes
-and the same gl.stats() counters as a shader that computes the same colour per fragment, and the
-colour the blend equation gives in float64. Tiny draws run their tile pass on the caller: the
+pipeline/tile_pass.cpp: its colour goes straight to the colour kernels). It must give the same
+bytes and the same gl.stats() counters (but draws_constant_color) as a shader that computes the
+same colour per fragment, and the colour the blend equation gives in float64. Tiny draws run their tile pass on the caller: the
 bytes must not depend on the thread count."""
 import numpy as np
 import pytest
