@@ -38,10 +38,11 @@ T* at_least(std::vector<T>& v, size_t n) {
     return v.data();
 }
 
-// Hidden-surface removal (DESIGN §4). Without blending, a pixel ends with the colour of the last
-// fragment that passed the tests (no discard, no shader depth: the tests come before shading), so
-// in a tile where primitives pile up, a first pass runs every primitive's raster and early tests
-// and keeps, per pixel, the list entry of the last survivor; the second pass shades only those.
+// Hidden-surface removal (docs/architecture.md, "Fast paths"). Without blending, a pixel ends with
+// the colour of the last fragment that passed the tests (no discard, no shader depth: the tests
+// come before shading), so in a tile where primitives pile up, a first pass runs every primitive's
+// raster and early tests and keeps, per pixel, the list entry of the last survivor; the second
+// pass shades only those.
 // The owner map holds per quad of the tile four uint16_t owners, laid out like a quad's coverage
 // (pixel j in bits 16j..16j+15), so a quad is marked and filtered with a few word operations.
 struct OwnerMap {
