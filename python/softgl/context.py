@@ -216,8 +216,38 @@ class Context(_core.Context):
         ``texture_queries_fast`` counts texture lookups served by the sampler's 2D fast path
         (filtered lookups of one 2D or 2D array texture of a float-sampled colour format), one per
         shader instruction and batch of lanes, not per lane; the other lookups take the general
-        path, with the same bits."""
+        path, with the same bits.
+
+        The ``draws_*`` counters count draws by kind, once per draw (see ``last_draw_plan``):
+        ``draws_skipped_no_output`` (nothing writable), ``draws_plain_write`` (no destination
+        read), ``draws_early_depth`` and ``draws_late_tests`` (depth/stencil before or after
+        the shader), ``draws_per_lane_color`` (colour blended lane by lane: blend lab, fog,
+        coverage operations, smoothing, framebuffer objects, late tests), and, for draws that
+        reached their first tile pass, ``draws_constant_color`` (a uniform-only shader run once,
+        its colour straight to the colour kernels), ``draws_blend_table`` (that colour blended by
+        table lookup) and ``draws_copied_varying`` (a shader that only copies varyings or
+        constants to its colours, not run)."""
         return self._stats(reset)
+
+    def last_draw_plan(self) -> dict | None:
+        """The plan of this context's last draw call (docs/architecture.md, "The draw plan"):
+        which kernels and fast paths it took, and for each fast path it did not take, why not.
+        None before the first draw.
+
+        A dict of field -> value. Yes/no fields are bools, counts ints, kinds strings
+        (``primitives``: 'points', 'lines' or 'triangles'; ``skip``: 'no',
+        'rasterizer_discard' or 'no_output'; ``target``; ``simd``; ``kernel``: 'plain',
+        'alpha_over', 'additive' or 'generic'). Each fast path (``tests_before_shading``,
+        ``quad_depth``, ``depth_bounds``, ``hidden_surface_removal``, ``fragment_copies``,
+        ``fused_copy``, ``constant_color``, ``blend_table``, ``whole_rect_blend``,
+        ``color_kernels``) is True when taken, and ``<path>_why_not`` names the first reason it
+        was not (e.g. 'stencil_test', 'blend_lab', 'tuning_off'), or is None. The fields under
+        ``shaded`` (``uniform_only``, ``constant_color``, ``blend_table``, ``whole_rect_blend``)
+        are decided when the draw's first tile pass starts, as the shader runs once; a draw that
+        rasterized nothing leaves them 'not_rasterized' or 'not_shaded'. ``hash`` is the plan's
+        hash (equal plans, equal hashes) and ``text`` the plan printed, one line per stage
+        (``print(gl.last_draw_plan()["text"])``)."""
+        return self._last_draw_plan()
 
     @property
     def canvas(self):

@@ -1,5 +1,6 @@
 """Image assertions for tests: per-channel tolerance, outlier count and PSNR, with the images
-written to disk when a comparison fails.
+written to disk when a comparison fails; and ``tuned`` / ``default_tuned``, which switch softgl's
+speed paths (core/tuning.h) for a block, to A/B a path.
 
 Errors are in normalized units: a uint8 value v means v/255, uint16 v/65535, floats as they are.
 So ``atol=1/255`` allows one 8-bit step, and a uint8 image can be compared with a float64
@@ -11,6 +12,7 @@ from __future__ import annotations
 import math
 import os
 import re
+from contextlib import contextmanager
 from dataclasses import dataclass
 from pathlib import Path
 
@@ -170,3 +172,30 @@ def assert_images_close(actual, expected, *, atol: float = 1 / 255, max_outliers
                              f"(actual {a[at].item()!r}, expected {b[at].item()!r})\n"
                              f"  images written to {path}")
     return stats
+
+
+@contextmanager
+def tuned(gl, **fields):
+    """Within the block, ``gl`` draws with these speed-path switches (fields of core/tuning.h:
+    simd, batch_primitives, hidden_surface_removal, depth_bounds, fragment_copies, sampler_path;
+    see softgl._core.testing.set_tuning); afterwards its previous switches are back. Yields the
+    context's switches as they were."""
+    from softgl import _core
+    previous = _core.testing.set_tuning(gl, **fields)
+    try:
+        yield previous
+    finally:
+        _core.testing.set_tuning(gl, **previous)
+
+
+@contextmanager
+def default_tuned(**fields):
+    """Within the block, contexts created get these speed-path switches (as ``tuned``; for code
+    that makes its own contexts, e.g. the benchmark scenes); afterwards the previous defaults are
+    back. Contexts made within the block keep theirs."""
+    from softgl import _core
+    previous = _core.testing.set_default_tuning(**fields)
+    try:
+        yield previous
+    finally:
+        _core.testing.set_default_tuning(**previous)

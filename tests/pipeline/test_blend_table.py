@@ -97,7 +97,7 @@ def test_table_equals_the_reference_for_every_factor_pair(has_alpha):
 
 
 def test_rect_equals_the_reference():
-    """apply_blend_table_to_rect (a primitive covering its whole part of a tile, draw.cpp): the
+    """apply_blend_table_to_rect (a primitive covering its whole part of a tile, whole_rect.h): the
     rectangle's pixels as blend_unorm8 gives them, all others unchanged; rows shorter and longer
     than 16 pixels, odd offsets, empty rectangles, at every level."""
     rng = np.random.default_rng(77)
@@ -204,6 +204,8 @@ def test_table_draws_equal_per_fragment_shading(size, threads):
         table = writes and not plain and per_channel(funcs, alpha)
         assert stats.pop("draws_blend_table") == (len(colours) if table else 0), (funcs, eqs, mask, alpha)
         assert ref_stats.pop("draws_blend_table") == 0
+        assert stats.pop("draws_constant_color") == (len(colours) if writes else 0), (funcs, eqs, mask, alpha)
+        assert ref_stats.pop("draws_constant_color") == 0
         counters = lambda s: {k: v for k, v in s.items() if not k.startswith("seconds")}
         assert counters(stats) == counters(ref_stats)
 
@@ -212,7 +214,7 @@ def test_table_draws_equal_per_fragment_shading(size, threads):
 @pytest.mark.parametrize("size, scissor", [((200, 150), None), ((203, 133), None), ((203, 133), (3, 5, 150, 121))])
 def test_covered_tiles_equal_per_fragment_shading(size, scissor, threads):
     # Buffers of several 64-pixel tiles: most of each full-screen triangle's tiles are covered
-    # whole (blended in place, draw.cpp / whole_rect.h), the tiles on its diagonal and the inner
+    # whole (blended in place, tile_pass.cpp / whole_rect.h), the tiles on its diagonal and the inner
     # triangles' take the quads; odd sizes and an odd scissor make parts of partial quads.
     rng = np.random.default_rng(size[0] + size[1] + threads)
     cases = [(("SRC_ALPHA", "ONE_MINUS_SRC_ALPHA") * 2, ("FUNC_ADD",) * 2, (True,) * 4, True),
@@ -224,6 +226,7 @@ def test_covered_tiles_equal_per_fragment_shading(size, scissor, threads):
         assert got.tobytes() == want.tobytes(), (funcs, eqs, mask, alpha)
         assert stats.pop("draws_blend_table") == len(colours)
         assert ref_stats.pop("draws_blend_table") == 0
+        assert stats.pop("draws_constant_color") == len(colours) and ref_stats.pop("draws_constant_color") == 0
         counters = lambda s: {k: v for k, v in s.items() if not k.startswith("seconds")}
         assert counters(stats) == counters(ref_stats)
 

@@ -2,8 +2,10 @@
 fails the early depth test, judged from the tile's stored depth words, is neither rasterized nor
 tested there. It must not change a byte: random depth-tested draws (all 8 depth functions, depth
 mask on and off, clears in between, scissor, polygon offset, odd sizes, 1 and 2 threads, every
-SIMD level of the block reads) are compared, colour and depth words, with the same draws with the
-bounds off (mode 0); a sabotaged bound (mode 2) must make that comparison fail."""
+SIMD level, which picks the block reads' kernel) are compared, colour and depth words, with the
+same draws with the bounds off (mode 0); a sabotaged bound (mode 2) must make that comparison fail.
+The modes and levels are the context's tuning (depth_bounds 'off', 'on', 'sabotaged_for_tests';
+simd)."""
 import numpy as np
 import pytest
 
@@ -24,6 +26,8 @@ void main() { fragColor = vColor; }
 """
 FUNCS = ("NEVER", "LESS", "EQUAL", "LEQUAL", "GREATER", "NOTEQUAL", "GEQUAL", "ALWAYS")
 LEVELS = range(_core.testing.simd_level() + 1)
+SIMD = ("scalar", "sse2", "avx2", "avx512")   # the tuning's names of LEVELS
+MODES = ("off", "on", "sabotaged_for_tests")   # depth bounds modes 0, 1, 2
 
 
 def scene(seed, n=40):
@@ -62,6 +66,7 @@ def render(mode, level, seed, size, threads, antialias=False, smooth=False):
     """The scene's draws; returns (colour bytes, depth words, counters)."""
     pos, color, draws = scene(seed)
     gl = softgl.Context(*size, threads=threads, antialias=antialias, preserveDrawingBuffer=True)
+    _core.testing.set_tuning(gl, depth_bounds=MODES[mode], **({"simd": SIMD[level]} if level >= 0 else {}))
     bind_scene(gl, pos, color)
     gl.clearColor(0.2, 0.4, 0.6, 1.0)
     gl.clearDepth(0.5 if seed % 2 else 1.0)
@@ -70,31 +75,27 @@ def render(mode, level, seed, size, threads, antialias=False, smooth=False):
     if smooth:
         gl.enable(gl.getExtension("SOFTGL_smooth").POLYGON_SMOOTH)
     gl.stats(reset=True)
-    previous = _core.testing.set_depth_bounds(mode, level)
-    try:
-        for d in draws:
-            if d["clear"] is not None:   # a partial clear of the depth words (scissored)
-                gl.enable(gl.SCISSOR_TEST)
-                gl.scissor(size[0] // 4, size[1] // 3, size[0] // 2, size[1] // 2)
-                gl.depthMask(True)
-                gl.clearDepth(d["clear"])
-                gl.clear(gl.DEPTH_BUFFER_BIT)
-                gl.disable(gl.SCISSOR_TEST)
-            gl.depthFunc(getattr(gl, d["func"]))
-            gl.depthMask(d["mask"])
-            if d["offset"]:
-                gl.enable(gl.POLYGON_OFFSET_FILL)
-                gl.polygonOffset(2.0, 40.0)
-            else:
-                gl.disable(gl.POLYGON_OFFSET_FILL)
-            if d["scissor"]:
-                gl.enable(gl.SCISSOR_TEST)
-                gl.scissor(*d["scissor"])
-            else:
-                gl.disable(gl.SCISSOR_TEST)
-            gl.drawArrays(gl.TRIANGLES, d["first"], d["count"])
-    finally:
-        _core.testing.set_depth_bounds(previous)
+    for d in draws:
+        if d["clear"] is not None:   # a partial clear of the depth words (scissored)
+            gl.enable(gl.SCISSOR_TEST)
+            gl.scissor(size[0] // 4, size[1] // 3, size[0] // 2, size[1] // 2)
+            gl.depthMask(True)
+            gl.clearDepth(d["clear"])
+            gl.clear(gl.DEPTH_BUFFER_BIT)
+            gl.disable(gl.SCISSOR_TEST)
+        gl.depthFunc(getattr(gl, d["func"]))
+        gl.depthMask(d["mask"])
+        if d["offset"]:
+            gl.enable(gl.POLYGON_OFFSET_FILL)
+            gl.polygonOffset(2.0, 40.0)
+        else:
+            gl.disable(gl.POLYGON_OFFSET_FILL)
+        if d["scissor"]:
+            gl.enable(gl.SCISSOR_TEST)
+            gl.scissor(*d["scissor"])
+        else:
+            gl.disable(gl.SCISSOR_TEST)
+        gl.drawArrays(gl.TRIANGLES, d["first"], d["count"])
     assert gl.getError() == gl.NO_ERROR
     stats = {k: v for k, v in gl.stats().items() if not k.startswith("seconds")}
     image = gl.readPixels(0, 0, *size, gl.RGBA, gl.UNSIGNED_BYTE).tobytes()
@@ -154,15 +155,13 @@ def test_the_large_triangle_scene_skips_most_hidden_primitives():
     out = {}
     for mode in (0, 1):
         gl = softgl.Context(256, 256, antialias=False)
+        _core.testing.set_tuning(gl, depth_bounds=MODES[mode])
         bind_scene(gl, pos, color)
         gl.enable(gl.DEPTH_TEST)
         gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT)
         gl.stats(reset=True)
-        previous = _core.testing.set_depth_bounds(mode)
-        try:
-            gl.drawArrays(gl.TRIANGLES, 0, 3 * n)
-        finally:
-            _core.testing.set_depth_bounds(previous)
+        gl.drawArrays(gl.TRIANGLES, 0, 3 * n)
+        assert gl.last_draw_plan()["depth_bounds"] == (mode == 1)
         out[mode] = (gl.readPixels(0, 0, 256, 256, gl.RGBA, gl.UNSIGNED_BYTE).tobytes(),
                      _core.testing.read_depth(gl).tobytes(), gl.stats())
     assert out[1][0] == out[0][0] and out[1][1] == out[0][1]

@@ -2,7 +2,8 @@
 stage (only the vertices its primitives use), setup and binning, and the per-tile pass before the
 next, so a draw's working memory is bounded. Batches must not change a byte.
 
-Here the batch size is set small (softgl._core.testing.set_draw_batch_primitives), so draws of a
+Here the batch size is set small (the batch_primitives field of the contexts' tuning, set as the
+default for the contexts each test makes: softgl._core.testing.set_default_tuning), so draws of a
 few hundred primitives cross many batch boundaries, at every kind of position: inside an
 instance, at instance boundaries, between a strip's odd and even triangles, before a fan's or a
 loop's last primitive. Each is compared with the same draw in one batch (the batch size set huge)
@@ -26,9 +27,11 @@ MODES = ("POINTS", "LINES", "LINE_STRIP", "LINE_LOOP", "TRIANGLES", "TRIANGLE_ST
 
 @pytest.fixture
 def batch_size():
-    """Sets the batch size for the test; restores the default afterwards."""
-    yield testing.set_draw_batch_primitives
-    testing.set_draw_batch_primitives(0)
+    """A function setting the batch size of the contexts made after it (the default tuning);
+    the previous default is back after the test."""
+    previous = testing.default_tuning()
+    yield lambda size: testing.set_default_tuning(batch_primitives=size)
+    testing.set_default_tuning(**previous)
 
 
 def primitives(mode, count):

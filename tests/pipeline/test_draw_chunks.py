@@ -164,10 +164,10 @@ def test_large_triangles_same_bytes_as_a_framebuffer_object(blend, fs):
     pos = np.column_stack([centre + rng.uniform(-1.2, 1.2, (n, 2)), np.zeros(n), np.ones(n)])
     color = rng.uniform(0, 1, (n, 4))
     images = []
-    # Every fragment reaches the colour kernels: no hidden-surface removal (its own tests).
-    previous = softgl._core.testing.set_hidden_surface_removal(0)
     for target in ("drawing buffer", "framebuffer object"):
         gl = softgl.Context(w, h, antialias=False, threads=1, preserveDrawingBuffer=True)
+        # Every fragment reaches the colour kernels: no hidden-surface removal (its own tests).
+        softgl._core.testing.set_tuning(gl, hidden_surface_removal="off")
         prog = softgl.program(gl, VS, COPY_FS if fs == "copy" else FS)
         gl.useProgram(prog)
         if target == "framebuffer object":
@@ -199,6 +199,6 @@ def test_large_triangles_same_bytes_as_a_framebuffer_object(blend, fs):
         stats = gl.stats()
         assert stats["samples_written"] > 3 * w * h   # overlapping triangles
         assert stats["blocks_accepted_whole"] > 50    # whole 8x8 blocks: rows of four whole quads
-    softgl._core.testing.set_hidden_surface_removal(previous)
+        assert gl.last_draw_plan()["hidden_surface_removal_why_not"] == "tuning_off"
     np.testing.assert_array_equal(images[0], images[1])
     assert len(np.unique(images[0].reshape(-1, 4), axis=0)) > 100   # not one flat colour

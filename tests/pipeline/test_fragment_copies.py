@@ -6,7 +6,8 @@ the float attachment on either path; the Mov semantics keep them in the results.
 
 Expected values: flat varyings carry the provoking vertex's bits unchanged (ES 3.0 §2.18.1), so a
 copy of one is compared with the input bits themselves; smooth varyings are compared with the same
-draw run on the executor (_core.testing.fragment_copies(False))."""
+draw run on the executor (the context's tuning fragment_copies=False). gl.stats() counts the draws
+that took the shortcut (draws_copied_varying)."""
 import numpy as np
 import pytest
 
@@ -47,6 +48,7 @@ def render(fs, values, qualifier="flat", outputs=1, copies=True, setup=None):
     """Draws QUAD into `outputs` RGBA32F attachments; returns their (H, W, 4) uint32 bits and how
     many draws took the copy shortcut."""
     gl = softgl.Context(W, H, antialias=False)
+    core.testing.set_tuning(gl, fragment_copies=copies)
     assert gl.getExtension("EXT_color_buffer_float") is not None
     fb = gl.createFramebuffer()
     gl.bindFramebuffer(gl.FRAMEBUFFER, fb)
@@ -70,12 +72,9 @@ def render(fs, values, qualifier="flat", outputs=1, copies=True, setup=None):
         gl.vertexAttribPointer(loc, data.shape[1], gl.FLOAT, False, 0, 0)
     if setup:
         setup(gl, prog)
-    core.testing.fragment_copies(copies)
-    try:
-        gl.drawArrays(gl.TRIANGLES, 0, 6)
-        taken = core.testing.fragment_copies(True)
-    finally:
-        core.testing.fragment_copies(True)
+    gl.drawArrays(gl.TRIANGLES, 0, 6)
+    taken = gl.stats()["draws_copied_varying"]
+    assert gl.last_draw_plan()["fragment_copies"] == (taken == 1)
     out = []
     for t in texs:
         read = gl.createFramebuffer()
@@ -121,7 +120,7 @@ def test_flat_copy_is_the_provoking_vertex_bits():
 
 
 @pytest.mark.parametrize("body, want", [
-    ("o0 = vB.wzyx;", lambda v: v[5, [7, 6, 5, 4]]),                       # not consecutive: run() copies
+    ("o0 = vB.wzyx;", lambda v: v[5, [7, 6, 5, 4]]),                       # not consecutive: the tile pass copies
     ("o0 = vec4(vA.xy, -0.0, 1.0);", lambda v: np.array([v[5, 0], v[5, 1], -0.0, 1.0], np.float32)),
     ("o0 = vec4(vB.x, vB.x, vA.w, vA.w);", lambda v: v[5, [4, 4, 3, 3]]),
 ])
@@ -193,6 +192,9 @@ def test_webgl1_frag_color_and_blending_on_the_drawing_buffer(mode, blend, sprea
     images = []
     for copies in (True, False):
         gl = softgl.Context(64, 64, antialias=False)
+        # Every fragment through the kernels: hidden-surface removal picks its tiles by shader
+        # cost, so it would shade different fragments in the two runs (its own tests).
+        core.testing.set_tuning(gl, fragment_copies=copies, hidden_surface_removal="off")
         prog = softgl.program(gl, vs, fs1)
         gl.useProgram(prog)
         for name, data in (("pos", pos), ("color", color)):
@@ -204,21 +206,15 @@ def test_webgl1_frag_color_and_blending_on_the_drawing_buffer(mode, blend, sprea
         if BLENDS[blend]:
             gl.enable(gl.BLEND)
             gl.blendFunc(*(getattr(gl, f) for f in BLENDS[blend]))
-        core.testing.fragment_copies(copies)
-        # Every fragment through the kernels: hidden-surface removal picks its tiles by shader
-        # cost, so it would shade different fragments in the two runs (its own tests).
-        hsr = core.testing.set_hidden_surface_removal(0)
-        try:
-            gl.drawArrays(getattr(gl, mode), 0, 3 * n)
-            taken = core.testing.fragment_copies(True)
-        finally:
-            core.testing.fragment_copies(True)
-            core.testing.set_hidden_surface_removal(hsr)
-        assert taken == (1 if copies else 0)
+        gl.drawArrays(getattr(gl, mode), 0, 3 * n)
+        assert gl.stats()["draws_copied_varying"] == (1 if copies else 0)
+        plan = gl.last_draw_plan()
+        assert plan["fused_copy"] == copies, plan["text"]   # the fused kernel: smooth vec4, RGBA8
         images.append((np.asarray(gl.readPixels(0, 0, 64, 64, gl.RGBA, gl.UNSIGNED_BYTE)), gl.stats()))
     assert (images[0][0] == images[1][0]).all()
     assert images[0][0].any()
-    counters = [{k: v for k, v in stats.items() if not k.startswith("seconds")} for _, stats in images]
+    counters = [{k: v for k, v in stats.items() if not k.startswith("seconds") and k != "draws_copied_varying"}
+                for _, stats in images]
     assert counters[0] == counters[1]   # the same counters (fragments shaded, samples written...)
 
 

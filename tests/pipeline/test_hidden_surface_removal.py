@@ -1,8 +1,9 @@
-"""Hidden-surface removal (pipeline/draw.cpp OwnerMap; docs/architecture.md, "Fast paths"): without
-blending, a pixel ends with the colour of the last fragment that passed the tests, so in tiles where
-a draw's primitives pile up only those fragments are shaded. It must not change a byte: every draw
-here is compared with the same draw without it (mode 0) and with it in every tile (mode 2), colour
-and depth, at 1 and 2 threads; flat-coloured rectangles are also compared with a painter's model in
+"""Hidden-surface removal (pipeline/tile_pass.cpp OwnerMap; docs/architecture.md, "Fast paths"):
+without blending, a pixel ends with the colour of the last fragment that passed the tests, so in
+tiles where a draw's primitives pile up only those fragments are shaded. It must not change a
+byte: every draw here is compared with the same draw without it (mode 0, the context's tuning
+hidden_surface_removal='off') and with it in every tile (mode 2, 'in_every_tile'), colour and
+depth, at 1 and 2 threads; flat-coloured rectangles are also compared with a painter's model in
 NumPy, and the counters with a hand count."""
 import numpy as np
 import pytest
@@ -56,11 +57,16 @@ void main() { if (vColor.a < 0.3) discard; fragColor = vColor; }
 """
 
 
+MODES = ("off", "where_piles_up", "in_every_tile")   # modes 0, 1, 2
+
+
 @pytest.fixture
 def hsr_mode():
-    previous = _core.testing.set_hidden_surface_removal(1)
-    yield _core.testing.set_hidden_surface_removal
-    _core.testing.set_hidden_surface_removal(previous)
+    """The default tuning for the test's contexts, hidden-surface removal where primitives pile
+    up (each draw sets its mode); the previous default is back after the test."""
+    previous = _core.testing.set_default_tuning(hidden_surface_removal="where_piles_up")
+    yield
+    _core.testing.set_default_tuning(**previous)
 
 
 def counters(gl):
@@ -95,12 +101,13 @@ def render(mode, fs, pos, color, threads=1, setup=None, primitive="TRIANGLES", f
     if setup:
         setup(gl, prog)
     gl.stats(reset=True)
-    previous = _core.testing.set_hidden_surface_removal(mode)
-    try:
-        gl.drawArrays(getattr(gl, primitive), 0, len(pos))
-    finally:
-        _core.testing.set_hidden_surface_removal(previous)
+    _core.testing.set_tuning(gl, hidden_surface_removal=MODES[mode])
+    gl.drawArrays(getattr(gl, primitive), 0, len(pos))
     assert gl.getError() == gl.NO_ERROR
+    plan = gl.last_draw_plan()
+    assert plan["hidden_surface_in_every_tile"] == (mode == 2)
+    if mode == 0:
+        assert plan["hidden_surface_removal_why_not"] == "tuning_off"
     stats = counters(gl)
     if targets:
         images = []
@@ -226,11 +233,8 @@ def test_not_used_where_the_result_depends_on_hidden_fragments(hsr_mode):
 
 def test_batches_each_remove_their_own_hidden_surfaces(hsr_mode):
     pos, color = triangles(np.random.default_rng(9), 50)
-    previous = _core.testing.set_draw_batch_primitives(7)
-    try:
-        same_with_and_without(COPY_FS, pos, color)
-    finally:
-        _core.testing.set_draw_batch_primitives(previous)
+    _core.testing.set_default_tuning(batch_primitives=7)   # hsr_mode restores the default
+    same_with_and_without(COPY_FS, pos, color)
 
 
 def test_rectangles_match_a_painters_model_and_a_hand_count(hsr_mode):

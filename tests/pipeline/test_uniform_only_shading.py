@@ -1,8 +1,8 @@
 """A fragment shader whose outputs depend only on uniforms runs once per draw (docs/architecture.md,
-"Fast paths"; pipeline/draw.cpp: its colour goes straight to the colour kernels). It must give the
-same bytes and the same gl.stats() counters as a shader that computes the same colour per fragment,
-and the colour the blend equation gives in float64. Tiny draws run their tile pass on the caller:
-the bytes must not depend on the thread count."""
+"Fast paths"; pipeline/tile_pass.cpp: its colour goes straight to the colour kernels). It must give
+the same bytes and the same gl.stats() counters (but draws_constant_color) as a shader that
+computes the same colour per fragment, and the colour the blend equation gives in float64. Tiny
+draws run their tile pass on the caller: the bytes must not depend on the thread count."""
 import numpy as np
 import pytest
 
@@ -159,6 +159,8 @@ def test_uniform_only_equals_per_fragment_shading(setup, mode, samples):
     image, c = render(UNIFORM_FS, **args)
     reference, rc = render(PER_FRAGMENT_FS, **args)
     assert image.tobytes() == reference.tobytes()
+    # Every uniform-only draw takes the constant colour to the colour kernels; no other does.
+    assert c.pop("draws_constant_color") == c["draws"] and rc.pop("draws_constant_color") == 0
     assert c == rc
     assert c["fragments_shaded"] > 0
     if setup == "depth_less" and mode == "TRIANGLES":
@@ -172,6 +174,9 @@ def test_uniform_gl_frag_depth_equals_per_fragment_shading(setup):
     image, c = render(UNIFORM_DEPTH_FS, setup=SETUPS[setup], z=z)
     reference, rc = render(PER_FRAGMENT_DEPTH_FS, setup=SETUPS[setup], z=z)
     assert image.tobytes() == reference.tobytes()
+    # Without a depth test the written depth goes nowhere: the constant colour to the kernels.
+    assert c.pop("draws_constant_color") == (c["draws"] if setup == "plain" else 0)
+    assert rc.pop("draws_constant_color") == 0
     assert c == rc
     if setup == "depth_less":   # depths 0.05, 0.6, 0.5: the second and third layers fail LESS
         assert c["fragments_killed_late"] == 2 * SIZE * SIZE

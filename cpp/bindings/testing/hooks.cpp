@@ -30,7 +30,6 @@ BlendOp blend_op(bool enabled, const std::array<uint32_t, 6>& fe, const std::arr
 void bind_testing(py::module_& m) {
     auto t = m.def_submodule("testing", "single pipeline stages, for tests");
     bind_testing_draw(t);
-    bind_testing_tuning_hooks(t);
     bind_testing_transforms(t);
     bind_testing_fragment_ops(t);
     // The lane kernels' instruction-set levels: 0 scalar, 1 SSE2, 2 AVX2, 3 AVX-512; the best this CPU runs.

@@ -81,6 +81,8 @@ public:
     // The speed-path switches of this context's draws (core/tuning.h), from the process default.
     Tuning& tuning() { return tuning_; }
     DrawStats& stats() { return stats_; }
+    // The plan of the last draw that reached the pipeline (pipeline/draw_plan.h); null before one.
+    const DrawPlan* last_draw_plan() const { return last_draw_plan_ ? &*last_draw_plan_ : nullptr; }
     const std::array<CurrentAttrib, kMaxVertexAttribs>& current_attribs() const { return current_attribs_; }
     DefaultFramebuffer& framebuffer() { return framebuffer_; }
     ErrorState& errors() { return errors_; }
@@ -389,6 +391,7 @@ private:
     std::unique_ptr<ThreadPool> pool_;   // created at the first draw
     Tuning tuning_ = Tuning::process_default();
     DrawStats stats_;
+    std::optional<DrawPlan> last_draw_plan_;
 };
 
 std::string enum_name(uint32_t value);   // "BLEND" or "0x1234"

@@ -66,7 +66,7 @@ void Context::run_draw(const DrawCall& call) {
     }
     DrawInputs in{*state, *vertex_array_, current_attribs_, *p.vertex_stage, *p.fragment_stage, target, pool(), tuning_};
     in.sink = blendlab_sink();                  // blend lab hooks; null unless enabled
-    draw(in, call, stats_);
+    last_draw_plan_ = draw(in, call, stats_);
     // Counted per worker by the stages (no shared writes while drawing); summed here, per draw.
     stats_.texture_queries_fast +=
         p.vertex_stage->take_fast_texture_queries() + p.fragment_stage->take_fast_texture_queries();

@@ -1,7 +1,6 @@
 #include "softgl/pipeline/early_depth.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 #include <cstddef>
 #include <cstring>
@@ -373,9 +372,6 @@ namespace softgl {
 
 namespace {
 
-std::atomic<int> depth_bounds_mode{1};
-std::atomic<int> depth_bounds_level{-1};   // testing: the SIMD level of the block reads, -1 the best
-
 // depth_word(Encoding::Depth24, z) for a finite z: the clamp, then the rounding.
 inline uint32_t depth24_word(double z) {
     const double d = z > 0.0 ? z : 0.0;
@@ -400,18 +396,13 @@ __attribute__((target("avx2"))) void block_bounds_avx2(const uint32_t* row, size
 
 }  // namespace
 
-int set_depth_bounds(int mode, int level) {
-    depth_bounds_level.store(level);
-    return depth_bounds_mode.exchange(mode);
-}
-
-void DepthBounds::begin_tile(const EarlyDepth& t, const TileRect& rect) {
-    enabled_ = depth_bounds_mode.load(std::memory_order_relaxed) != 0 && t.pattern->count == 1 &&
+void DepthBounds::begin_tile(const EarlyDepth& t, const TileRect& rect, DepthBoundsMode mode, SimdLevel level) {
+    enabled_ = mode != DepthBoundsMode::Off && t.pattern->count == 1 &&
                (t.func == gl::LESS || t.func == gl::LEQUAL || t.func == gl::GREATER || t.func == gl::GEQUAL);
+    sabotaged_ = mode == DepthBoundsMode::SabotagedForTests;
     func_ = t.func;
     write_ = t.write;
-    const int level = depth_bounds_level.load(std::memory_order_relaxed);
-    vector_ = (level < 0 ? best_simd_level() : SimdLevel(level)) >= SimdLevel::AVX2;
+    vector_ = level >= SimdLevel::AVX2;
     rect_ = rect;
     sample_x_ = t.pattern->x[0], sample_y_ = t.pattern->y[0];
     depth_ = t.depth;
@@ -462,8 +453,7 @@ bool DepthBounds::hides_box(const PrimitiveSetup& p, int32_t x0, int32_t y0, int
         // Fails everywhere: LESS/LEQUAL when the nearest value is not below (not at most) every
         // stored word, GREATER/GEQUAL when the farthest is not above (not at least) every one.
         const bool nearest = func_ == gl::LESS || func_ == gl::LEQUAL;
-        const bool sabotaged = depth_bounds_mode.load(std::memory_order_relaxed) == 2;
-        const bool low_x = (a >= 0) == (nearest != sabotaged), low_y = (b >= 0) == (nearest != sabotaged);
+        const bool low_x = (a >= 0) == (nearest != sabotaged_), low_y = (b >= 0) == (nearest != sabotaged_);
         const double corner = ((c + a * fx(low_x ? x0 : x1 - 1)) + b * fy(low_y ? y0 : y1 - 1)) + offset;
         const uint32_t word = depth24_word(nearest ? corner - margin : corner + margin);
         uint32_t lo = UINT32_MAX, hi = 0;

@@ -12,9 +12,10 @@
 #include <cstddef>
 #include <cstdint>
 
-#include "softgl/core/state.h"
-#include "softgl/pipeline/bin.h"
 #include "softgl/core/simd.h"
+#include "softgl/core/state.h"
+#include "softgl/core/tuning.h"
+#include "softgl/pipeline/bin.h"
 #include "softgl/pipeline/raster.h"
 #include "softgl/pipeline/setup.h"
 
@@ -46,8 +47,10 @@ inline size_t early_depth_test(const EarlyDepth& t, const Quad* quads, size_t n,
 // conservative (depth_word is monotonic). One per worker, begun per tile pass.
 class DepthBounds {
 public:
-    // Starts tile `rect` of a draw whose early depth test is t (prim unset).
-    void begin_tile(const EarlyDepth& t, const TileRect& rect);
+    // Starts tile `rect` of a draw whose early depth test is t (prim unset), in `mode` (the draw
+    // plan's: Off skips nothing; SabotagedForTests takes the primitive's depth at the wrong
+    // corner, so that a test comparing with Off must fail), reading blocks at `level`.
+    void begin_tile(const EarlyDepth& t, const TileRect& rect, DepthBoundsMode mode, SimdLevel level);
     // Whether every fragment of `p` in the tile fails the test; if not, and the test writes
     // depth, the blocks under p's bounding box are read again when next needed.
     bool hides(const PrimitiveSetup& p) {
@@ -66,7 +69,7 @@ private:
     static constexpr int64_t kMinPixels = 256;   // bounding box area in the tile
     bool hides_box(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, int32_t y1);
     void read_block(int block);
-    bool enabled_ = false, write_ = false, vector_ = false;
+    bool enabled_ = false, write_ = false, vector_ = false, sabotaged_ = false;
     GLenum func_ = gl::LESS;
     TileRect rect_{};
     int64_t sample_x_ = 0, sample_y_ = 0;     // the pixel's sample position in 1/256 pixel
@@ -75,11 +78,5 @@ private:
     uint64_t known_ = 0;                      // bit b: min_[b], max_[b] are current
     uint32_t min_[kBlocksPerRow * kBlocksPerRow] = {}, max_[kBlocksPerRow * kBlocksPerRow] = {};
 };
-
-// Testing: depth bounds on (the default) or off (every primitive rasterized and tested), and
-// sabotaged (the primitive's depth taken at the wrong corner, so that a test comparing with the
-// off path must fail); `level` the SIMD level of the block reads (-1: the best). Returns the
-// previous mode: 0 off, 1 on, 2 sabotaged.
-int set_depth_bounds(int mode, int level = -1);
 
 }  // namespace softgl

@@ -146,7 +146,7 @@ void apply_blend_table_at(SimdLevel level, const BlendTable& table, const Quad* 
                           const PixelRows& rows);
 void apply_blend_table(const BlendTable& table, const Quad* quads, size_t n, uint32_t* dst, const PixelRows& rows);
 // The table applied in place to every pixel of [x0, x1) x [y0, y1) of the single-sampled RGBA8
-// buffer `color` (pitch in pixels): a primitive that covers a whole part of a tile (draw.cpp), with
+// buffer `color` (pitch in pixels): a primitive that covers a whole part of a tile (whole_rect.h), with
 // no quads built or gathered. The same bytes as apply_blend_table_at on that part's quads.
 struct PixelRect {
     uint8_t* color = nullptr;   // pixel (0, 0)

@@ -1,9 +1,9 @@
-// The blend lab's window into a draw: hooks that pipeline/draw.cpp calls at the points where a
-// fragment is tested, discarded, shaded and blended. draw.cpp holds a null pointer unless the
-// context has exact transparency (A-buffer) or introspection enabled, so when both are off the
-// hooks cost one predicted branch each and change nothing.
+// The blend lab's window into a draw: hooks that the tile pass (pipeline/tile_pass.cpp) calls at
+// the points where a fragment is tested, discarded, shaded and blended. A draw gets a sink only
+// when the context has exact transparency (A-buffer) or introspection enabled; the tile pass's
+// steps take it as a compile-time parameter (WithSink), so a draw without it runs no hook code.
 //
-// Threading: draw.cpp runs the per-fragment work per screen tile on the thread pool, batch of
+// Threading: the tile pass runs the per-fragment work per screen tile on the thread pool, batch of
 // primitives after batch; within a batch each tile is owned by one worker, and it sees the
 // draw's primitives in order. Implementations
 // keep their records per tile (kTileSize squares), so no locks are needed and the records are in

@@ -1,7 +1,6 @@
 #include "softgl/pipeline/glsl_stages.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cstring>
 #include <utility>
 
@@ -117,16 +116,6 @@ void GlslVertexShader::run(const std::array<AttributeStream, kMaxVertexAttribs>&
     idle_runs_.push_back(std::move(borrowed));
 }
 
-namespace {
-std::atomic<bool> fragment_copies_enabled{true};
-std::atomic<uint64_t> fragment_copies_taken{0};
-}  // namespace
-
-uint64_t set_fragment_copies(bool enabled) {
-    fragment_copies_enabled = enabled;
-    return fragment_copies_taken.exchange(0);
-}
-
 GlslFragmentShader::GlslFragmentShader(std::shared_ptr<const glsl::LinkedProgram> program, const VaryingLayout&)
     : program_(std::move(program)) {
     const glsl::IrProgram& ir = program_->fragment;
@@ -182,8 +171,8 @@ GlslFragmentShader::GlslFragmentShader(std::shared_ptr<const glsl::LinkedProgram
 
 // docs/architecture.md, "Fast paths": a program that is nothing but Movs (and main's function markers) from varyings or
 // constants to colour outputs gives every lane its sources' bits (a Mov copies bits, -0.0 and
-// NaN payloads included; with no control flow every lane is active), so run() copies them and
-// the pipeline may read them straight from the batch.
+// NaN payloads included; with no control flow every lane is active), so the pipeline may copy
+// them from the batch instead of calling run() (pipeline/tile_pass, the shade step).
 bool GlslFragmentShader::find_copies() {
     const glsl::IrProgram& ir = program_->fragment;
     if (may_discard() || writes_depth()) return false;
@@ -220,12 +209,7 @@ bool GlslFragmentShader::find_copies() {
     return true;
 }
 
-// Called once per draw (FragmentShader::copies): the count is per draw, run() is not counted.
-const FragmentCopies* GlslFragmentShader::copies() const {
-    if (!copies_only_ || !fragment_copies_enabled.load(std::memory_order_relaxed)) return nullptr;
-    fragment_copies_taken.fetch_add(1, std::memory_order_relaxed);
-    return &copies_;
-}
+const FragmentCopies* GlslFragmentShader::copies() const { return copies_only_ ? &copies_ : nullptr; }
 
 void GlslFragmentShader::prepare(unsigned workers, const Tuning& tuning) const {
     if (workers_.size() < workers) workers_.resize(workers);
@@ -249,18 +233,6 @@ void GlslFragmentShader::run(const FragmentBatch& b, FragmentResults& out, unsig
     const size_t O = size_t(outputs_);
     out.outputs = outputs_;
     if (out.color.size() < 4 * O * L) out.color.resize(4 * O * L);   // grows only: no zero fill per batch
-    if (copies_only_ && fragment_copies_enabled.load(std::memory_order_relaxed)) {   // find_copies: no executor
-        out.killed.clear();
-        for (size_t k = 0; k < 4 * O; ++k) {
-            if (copies_.word[k] >= 0) std::memcpy(&out.color[k * L], &b.varyings[size_t(copies_.word[k]) * L], 4 * L);
-            else {
-                float value;
-                std::memcpy(&value, &copies_.bits[k], 4);
-                std::fill_n(&out.color[k * L], L, value);
-            }
-        }
-        return;
-    }
     const size_t R = uniform_only_ ? std::min<size_t>(L, 4) : L;   // lanes actually run
     if (builtins_read_ & kFrontFacing) {
         w.builtins.resize(R);

@@ -63,10 +63,6 @@ private:
     mutable IncompleteTextureSampler sampler_;
 };
 
-// Testing: turns the FragmentCopies shortcut on or off (off: every program runs on the executor)
-// and returns how many draws took it since the last call.
-uint64_t set_fragment_copies(bool enabled);
-
 class GlslFragmentShader : public FragmentShader {
 public:
     GlslFragmentShader(std::shared_ptr<const glsl::LinkedProgram> program, const VaryingLayout& layout);

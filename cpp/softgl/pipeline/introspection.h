@@ -1,7 +1,7 @@
 // "Explain a pixel" (SOFTGL_introspection): a log of what happened to every fragment sample
 // since the last clear, kept per screen tile in submission order, queried per pixel with
-// gl.fragments(x, y). The log is written by the FragmentSink hooks in draw.cpp and costs nothing
-// when introspection is off (the hooks are not called).
+// gl.fragments(x, y). The log is written by the FragmentSink hooks of the tile pass
+// (pipeline/tile_pass.cpp) and costs nothing when introspection is off (the hooks are not called).
 #pragma once
 #include <atomic>
 #include <cstdint>

@@ -97,8 +97,9 @@ public:
     // the same values. Such a shader fills `out` for one lane (lanes = 1 in the layout above) on
     // `worker` and returns true; any other returns false. After prepare(), like run().
     virtual bool run_constant(FragmentResults& out, unsigned worker) const { (void)out, (void)worker; return false; }
-    // Non-null when run() only copies (FragmentCopies; no discard, no depth): the pipeline may
-    // read the colours straight from the batch instead of calling run().
+    // Non-null when the program only copies (FragmentCopies; no discard, no depth): the pipeline
+    // copies the colours from the batch, or reads them there, instead of calling run() (unless the
+    // context's Tuning turns fragment_copies off; run() always runs the program).
     virtual const FragmentCopies* copies() const { return nullptr; }
 };
 

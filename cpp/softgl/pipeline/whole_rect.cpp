@@ -26,8 +26,9 @@ bool covers(const PrimitiveSetup& p, const SamplePattern& sp, const Part& r) {
 // Blends a covered part in place and counts what rasterizing and blending it would: every 8x8
 // block it touches accepted, every quad it touches emitted (each has a covered pixel), four lanes
 // shaded per quad, every pixel written and blended.
-void blend_part(const BlendTable& table, uint8_t* color, size_t pitch, const Part& r, RasterStats& raster, DrawStats& stats) {
-    apply_blend_table_to_rect(table, PixelRect{color, pitch, r.x0, r.y0, r.x1, r.y1});
+void blend_part(SimdLevel level, const BlendTable& table, uint8_t* color, size_t pitch, const Part& r,
+                RasterStats& raster, DrawStats& stats) {
+    apply_blend_table_to_rect_at(level, table, PixelRect{color, pitch, r.x0, r.y0, r.x1, r.y1});
     const uint64_t blocks = uint64_t((r.x1 - 1) / kBlockSize - r.x0 / kBlockSize + 1) *
                             uint64_t((r.y1 - 1) / kBlockSize - r.y0 / kBlockSize + 1);
     const uint64_t quads = uint64_t((r.x1 - (r.x0 & ~1) + 1) / 2) * uint64_t((r.y1 - (r.y0 & ~1) + 1) / 2);
@@ -42,13 +43,15 @@ void blend_part(const BlendTable& table, uint8_t* color, size_t pitch, const Par
 
 }  // namespace
 
-void blend_covered_part(const PrimitiveSetup& p, const TileRect& tile, const SamplePattern& sp, const BlendTable& table,
-                        uint8_t* color, size_t pitch, std::vector<Quad>& quads, RasterStats& raster, DrawStats& stats) {
+void blend_covered_part(SimdLevel level, const PrimitiveSetup& p, const TileRect& tile, const SamplePattern& sp,
+                        const BlendTable& table, uint8_t* color, size_t pitch, std::vector<Quad>& quads,
+                        RasterStats& raster, DrawStats& stats) {
     const Part part{std::max(p.x0, tile.x0), std::max(p.y0, tile.y0), std::min(p.x1, tile.x1), std::min(p.y1, tile.y1)};
     if (part.empty()) return;
-    if (covers(p, sp, part)) return blend_part(table, color, pitch, part, raster, stats);
+    if (covers(p, sp, part)) return blend_part(level, table, color, pitch, part, raster, stats);
     // Rows of blocks pay off only where a part holds whole blocks (a small primitive: one raster).
-    if (part.x1 - part.x0 < 2 * kBlockSize || part.y1 - part.y0 < 2 * kBlockSize) return rasterize(p, tile, sp, quads, raster);
+    if (part.x1 - part.x0 < 2 * kBlockSize || part.y1 - part.y0 < 2 * kBlockSize)
+        return rasterize_at(level, p, tile, sp, quads, raster);
     for (int32_t by = part.y0 & ~(kBlockSize - 1); by < part.y1; by += kBlockSize) {
         const int32_t y0 = std::max(by, part.y0), y1 = std::min(by + kBlockSize, part.y1);
         // The covered blocks of this row from the first one on, [xa, xb): one run, as a primitive
@@ -66,9 +69,9 @@ void blend_covered_part(const PrimitiveSetup& p, const TileRect& tile, const Sam
         // The rest of the row as quads, in raster's order (left to right); rasterize clips to p's
         // bounding box, and xa, xb lie on block edges or the part's, so the blocks are raster's.
         const int32_t ty0 = std::max(by, tile.y0), ty1 = std::min(by + kBlockSize, tile.y1);
-        rasterize(p, TileRect{tile.x0, ty0, xa, ty1}, sp, quads, raster);
-        if (xa < xb) blend_part(table, color, pitch, Part{xa, y0, xb, y1}, raster, stats);
-        if (xb < part.x1) rasterize(p, TileRect{xb, ty0, tile.x1, ty1}, sp, quads, raster);
+        rasterize_at(level, p, TileRect{tile.x0, ty0, xa, ty1}, sp, quads, raster);
+        if (xa < xb) blend_part(level, table, color, pitch, Part{xa, y0, xb, y1}, raster, stats);
+        if (xb < part.x1) rasterize_at(level, p, TileRect{xb, ty0, tile.x1, ty1}, sp, quads, raster);
     }
 }
 

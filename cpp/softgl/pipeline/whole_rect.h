@@ -6,7 +6,8 @@
 #include <cstdint>
 #include <vector>
 
-#include "softgl/pipeline/draw.h"
+#include "softgl/core/simd.h"
+#include "softgl/pipeline/draw_stats.h"
 #include "softgl/pipeline/fragment_ops.h"
 #include "softgl/pipeline/raster.h"
 
@@ -16,7 +17,9 @@ namespace softgl {
 // pixel's one sample of `sp` inside every edge) is blended at once; otherwise, per row of blocks,
 // the run of covered blocks is, and the rest is rasterized, appended to `quads` for the caller to
 // blend. `raster` and `stats` count what rasterizing and blending it all as quads would count.
-void blend_covered_part(const PrimitiveSetup& p, const TileRect& tile, const SamplePattern& sp, const BlendTable& table,
-                        uint8_t* color, size_t pitch, std::vector<Quad>& quads, RasterStats& raster, DrawStats& stats);
+// `level`: the SIMD level of the raster and the table lookups (the draw plan's).
+void blend_covered_part(SimdLevel level, const PrimitiveSetup& p, const TileRect& tile, const SamplePattern& sp,
+                        const BlendTable& table, uint8_t* color, size_t pitch, std::vector<Quad>& quads,
+                        RasterStats& raster, DrawStats& stats);
 
 }  // namespace softgl

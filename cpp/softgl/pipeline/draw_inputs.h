@@ -1,0 +1,40 @@
+// What a draw is given: the draw call (mode, vertices, instances) and the inputs it reads and
+// writes (state, vertex arrays, shaders, render target, thread pool, tuning, blend lab hooks).
+// Shared by the draw plan (pipeline/draw_plan), the tile pass (pipeline/tile_pass) and the draw
+// itself (pipeline/draw).
+#pragma once
+#include <array>
+#include <cstdint>
+
+#include "softgl/core/objects.h"
+#include "softgl/core/state.h"
+#include "softgl/core/tuning.h"
+#include "softgl/pipeline/shader_stage.h"
+#include "softgl/runtime/thread_pool.h"
+#include "softgl/surface/render_target.h"
+
+namespace softgl {
+
+struct DrawCall {
+    GLenum mode = gl::TRIANGLES;
+    uint32_t first = 0;               // drawArrays
+    uint32_t count = 0;
+    const uint32_t* indices = nullptr;   // drawElements: `count` indices, already range-checked
+    uint32_t instance_count = 1;
+};
+
+class FragmentSink;
+
+struct DrawInputs {
+    const State& state;
+    const VertexArray& vertex_array;
+    const std::array<CurrentAttrib, kMaxVertexAttribs>& current_attribs;
+    const VertexShader& vertex_shader;
+    const FragmentShader& fragment_shader;
+    RenderTarget& target;             // the drawing buffer or a framebuffer object's attachments
+    ThreadPool& pool;
+    const Tuning& tuning;             // the context's speed-path switches (core/tuning.h)
+    FragmentSink* sink = nullptr;   // blend lab hooks (pipeline/fragment_sink.h); null = off
+};
+
+}  // namespace softgl
