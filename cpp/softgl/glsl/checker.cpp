@@ -48,6 +48,18 @@ Scalar convert_scalar(Scalar v, BaseType from, BaseType to) {
 }
 
 constexpr int64_t kMaxArraySize = 65536;  // elements; larger arrays are rejected
+// WebGL 1.0, "Maximum Nesting of Structures in GLSL Shaders": 4 levels must work, more may be
+// rejected, and browsers (ANGLE) do. Types are walked recursively through their fields.
+constexpr int kMaxStructNesting = 4;
+// Scalars in one value of a type (a struct, or an array of them): lowering gives each its own
+// register, and there are at most 2^22 of those.
+constexpr int64_t kMaxTypeComponents = int64_t(1) << 22;
+
+// Scalars of large (over 16 scalars) const variables' values copied into their uses, per shader.
+constexpr size_t kMaxCopiedConstants = size_t(1) << 22;
+
+// Scalars in one value of t, in 64 bits (an array of a large struct overflows int).
+int64_t components64(const Type& t) { return int64_t(t.element_components()) * std::max(1, t.array_size); }
 
 struct Scope {
     std::unordered_map<std::string, Symbol*> variables;
@@ -87,6 +99,7 @@ private:
     // The static call graph: the user functions each definition calls (prototypes included).
     std::unordered_map<const FunctionDef*, std::vector<FunctionDef*>> calls_;
     int loop_depth_ = 0;
+    size_t copied_constants_ = 0;  // scalars of large const values copied into their uses
     int switch_depth_ = 0;
     int next_struct_id_ = 1;
     bool wrote_frag_color_ = false;
@@ -287,8 +300,17 @@ private:
                 return Type::error();
             }
             t.array_size = spec.array_size ? array_size(*spec.array_size) : -1;
+            if (!fits(t, spec.line, t.name())) return Type::error();
         }
         return t;
+    }
+
+    // Reports a type whose values have more than kMaxTypeComponents scalars (arrays of structs).
+    bool fits(const Type& t, int line, const std::string& what) {
+        if (components64(t) <= kMaxTypeComponents) return true;
+        error(line, "'" + what + "' : type too large (" + std::to_string(components64(t)) + " scalars; the limit is " +
+                        std::to_string(kMaxTypeComponents) + ")");
+        return false;
     }
 
     int array_size(Expr& e) {
@@ -340,6 +362,7 @@ private:
                     if (ft.is_array()) { error(v.line, "'" + v.name + "' : arrays of arrays are not allowed"); continue; }
                     if (!v.array_size) { error(v.line, "'" + v.name + "' : struct member arrays must have a size"); continue; }
                     ft.array_size = array_size(*v.array_size);
+                    if (!fits(ft, v.line, v.name)) continue;
                 }
                 if (ft.array_size < 0) { error(v.line, "'" + v.name + "' : struct member arrays must have a size"); continue; }
                 check_identifier_name(v.name, v.line);
@@ -349,6 +372,21 @@ private:
             }
         }
         if (st.fields.empty()) error(decl.line, "'" + decl.name + "' : a structure must have at least one member");
+        int64_t components = 0;
+        for (const StructField& f : st.fields) {
+            if (f.type.is_struct()) st.nesting = std::max(st.nesting, f.type.struct_type->nesting + 1);
+            components = std::min(components + components64(f.type), kMaxTypeComponents + 1);
+        }
+        const std::string what = decl.name.empty() ? std::string("struct") : decl.name;
+        if (st.nesting > kMaxStructNesting) {
+            error(decl.line, "'" + what + "' : structures nested " + std::to_string(st.nesting) + " levels deep (the limit is " +
+                                 std::to_string(kMaxStructNesting) + ")");
+            return nullptr;
+        }
+        if (components > kMaxTypeComponents) {
+            error(decl.line, "'" + what + "' : structure too large (the limit is " + std::to_string(kMaxTypeComponents) + " scalars)");
+            return nullptr;
+        }
         std::shared_ptr<const StructType> ptr(&st, [](const StructType*) {});
         decl.resolved = ptr;
         if (!decl.name.empty()) {
@@ -471,6 +509,7 @@ private:
             if (type.is_array()) { error(v.line, "'" + v.name + "' : arrays of arrays are not allowed"); return; }
             type.array_size = v.array_size ? array_size(*v.array_size) : -1;
             if (!v.array_size && !es3()) { error(v.line, "'" + v.name + "' : array size must be specified"); type.array_size = 1; }
+            if (!fits(type, v.line, v.name)) return;
         }
         if (type.is_void()) { error(v.line, "'" + v.name + "' : illegal use of type 'void'"); return; }
         const StorageQualifier q = spec.storage;
@@ -561,6 +600,7 @@ private:
             if (p.is_array) {
                 if (pt.is_array()) error(p.line, "arrays of arrays are not allowed");
                 else pt.array_size = p.array_size ? array_size(*p.array_size) : -1;
+                if (!fits(pt, p.line, p.name)) pt = Type::error();
             }
             if (pt.array_size < 0) { error(p.line, "'" + p.name + "' : array parameters must be sized"); pt.array_size = 1; }
             if (pt.is_void()) error(p.line, "'" + p.name + "' : illegal use of type 'void'");
@@ -844,10 +884,26 @@ private:
         e.precision = sym->precision;
         if (sym->storage == StorageQualifier::Const && sym->has_constant_value && !sym->is_parameter) {
             e.is_constant = true;
-            e.constant = sym->constant_value;
+            // Each use of a const variable gets a copy of its value, within a budget: 20,000
+            // uses of a 65536-element const array would copy 5 GB. Past it, a large value is
+            // left to run time, and constant indices and fields still fold (constant_value_of).
+            const size_t n = sym->constant_value.size();
+            if (n <= 16 || copied_constants_ + n <= kMaxCopiedConstants) {
+                if (n > 16) copied_constants_ += n;
+                e.constant = sym->constant_value;
+            }
         }
         if (sym->name == "gl_FragColor") { wrote_frag_color_ = true; frag_color_line_ = e.line; }
         if (sym->name == "gl_FragData") { wrote_frag_data_ = true; frag_color_line_ = e.line; }
+    }
+
+    // The value of a constant expression if known: its own, or for a const variable whose value
+    // was not copied into the use (see identifier), the variable's.
+    static const ConstantValue* constant_value_of(const Expr& e) {
+        if (!e.is_constant) return nullptr;
+        if (!e.constant.empty()) return &e.constant;
+        if (e.kind == ExprKind::Identifier && e.symbol && e.symbol->has_constant_value) return &e.symbol->constant_value;
+        return nullptr;
     }
 
     // Is e something that can be assigned to? Reports the reason if not.
@@ -1221,10 +1277,10 @@ private:
                 e.type = Type::error();
                 return;
             }
-            if (a.is_constant && !a.constant.empty()) {
+            if (const ConstantValue* value = constant_value_of(a); value && !value->empty()) {
                 int n = e.type.components();
                 e.is_constant = true;
-                e.constant.assign(a.constant.begin() + v * n, a.constant.begin() + (v + 1) * n);
+                e.constant.assign(value->begin() + v * n, value->begin() + (v + 1) * n);
             }
         } else if (!es3() && a.symbol && a.type.is_array() && a.symbol->storage != StorageQualifier::Uniform &&
                    s_.webgl_version == 1 && !a.symbol->is_builtin) {
@@ -1277,9 +1333,9 @@ private:
                                                                           : (fields[k].type.base == BaseType::Float ? Precision::High : Precision::None);
                     if (a.is_constant) {
                         e.is_constant = true;
-                        if (!a.constant.empty()) {
+                        if (const ConstantValue* value = constant_value_of(a); value && !value->empty()) {
                             int n = fields[k].type.components();
-                            e.constant.assign(a.constant.begin() + offset, a.constant.begin() + offset + n);
+                            e.constant.assign(value->begin() + offset, value->begin() + offset + n);
                         }
                     }
                     return;
