@@ -75,7 +75,8 @@ def test_long_operator_chains_compile_without_crashing():
 
 def test_long_chains_compute_what_they_say():
     # Lowered in a loop, bottom-up: the same instructions, in the same order, as recursion.
-    n = 30_000
+    # (In this process: short enough not to crash before the fix; the child test has long ones.)
+    n = 5_000
     src = HEAD + "void main() { o = vec4(" + chain("u", n) + ", " + chain("(u > 0.0)", n, " && ") + ", " \
         + chain("u", n, " - ") + ", (" + chain("u", n, ", ") + ")); }"
     out = run(src, "fragment", uniforms={"u": 1.0})["o"][0]
@@ -89,6 +90,20 @@ def test_nesting_is_still_limited():
     for body in ["(" * 300 + "u" + ")" * 300, "- " * 300 + "u", "u > 0.0 ? u : " * 300 + "u"]:
         log = compile_errors(HEAD + "void main() { o = vec4(" + body + "); }", "fragment")
         assert "nesting too deep" in log
+
+
+def test_nesting_through_inlined_calls_is_limited():
+    # Each function within the parser's nesting limit, 64 of them inlined into each other:
+    # 11,000 levels of lowering recursion, ~10 MB of stack (a SIGSEGV in a build whose frames
+    # are a little larger; a thread with a 2 MB stack crashes with any). Now a clear error.
+    fns = "float f0(float x) { return x; }\n" + "".join(
+        f"float f{i}(float x) {{ return {'- ' * 178}f{i - 1}(x); }}\n" for i in range(1, 64))
+    results, _ = compile_in_child([("unary", HEAD + fns + "void main() { o = vec4(f63(u)); }", "fragment")])
+    ok, log = results["unary"]
+    assert not ok and log.endswith(": shader too complex (expressions and statements nested more than 1024 levels "
+                                   "deep through inlined function calls)\n")
+    shallow = fns.replace("- " * 178, "- " * 10)
+    assert run(HEAD + shallow + "void main() { o = vec4(f63(u)); }", "fragment", uniforms={"u": 2.0})["o"][0][0] == 2.0
 
 
 # ----------------------------------------------------------------------------- finding 3

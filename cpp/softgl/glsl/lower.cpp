@@ -54,6 +54,11 @@ namespace {
 
 constexpr size_t kMaxInstructions = 1 << 20;  // after inlining; larger programs are rejected
 constexpr int kMaxInlineDepth = 64;
+// Lowering recurses through expressions and statements, and into each inlined call's body. The
+// parser bounds nesting within one function (and left-associative chains are loops), but 64
+// inlined levels of that could still overflow the stack (64 x 178 unary minuses take ~10 MB), so
+// the total is bounded as well: under 1 MB of stack (rvalue and unary take ~0.9 KB a level).
+constexpr int kMaxLoweringDepth = 1024;
 
 struct LoweringError {};
 
@@ -139,6 +144,17 @@ private:
     std::map<uint32_t, Reg> uniform_cache_;
     struct ReturnTarget { Ref ref; bool has_value; };
     std::vector<ReturnTarget> return_targets_;
+
+    int depth_ = 0;
+    struct DepthGuard {
+        Lowerer& l;
+        DepthGuard(Lowerer& lowerer, int line) : l(lowerer) {
+            if (++l.depth_ > kMaxLoweringDepth)
+                l.fail(line, "shader too complex (expressions and statements nested more than " + std::to_string(kMaxLoweringDepth) +
+                                 " levels deep through inlined function calls)");
+        }
+        ~DepthGuard() { --l.depth_; }
+    };
 
     [[noreturn]] void fail(int line, const std::string& message) {
         d_.error(line, message);
@@ -343,6 +359,7 @@ private:
 
     // ---------------------------------------------------------------- references
     Ref ref(const Expr& e) {
+        DepthGuard guard(*this, e.line);
         b_.current_line = e.line;
         switch (e.kind) {
         case ExprKind::Identifier: return variable_ref(e.symbol);
@@ -431,6 +448,7 @@ private:
     }
 
     Value rvalue(const Expr& e) {
+        DepthGuard guard(*this, e.line);
         b_.current_line = e.line;
         check_size();
         if (e.is_constant && !e.constant.empty() && e.kind != ExprKind::Assign) return constant_value(e.type, e.constant);
@@ -824,6 +842,7 @@ private:
 
     // ---------------------------------------------------------------- statements
     void statement(const Stmt& s) {
+        DepthGuard guard(*this, s.line);
         b_.current_line = s.line;
         check_size();
         switch (s.kind) {
