@@ -120,8 +120,8 @@ private:
     }
 
     // Macro expansion (C-like, without # and ##, which GLSL ES does not have).
-    // Tokens produced by a macro are rescanned with that macro's name disabled. Only tokens
-    // that come from macros count against the expansion limit: plain source passes through.
+    // Tokens produced by a macro are rescanned with that macro's name disabled. Only the work
+    // of macro invocations counts against the expansion limit: other source passes through.
     void expand(const TokenList& input, TokenList& out, int depth) {
         if (depth > kMaxExpansionDepth) {
             if (!expansion_error_)
