@@ -123,6 +123,20 @@ struct Expr {
     bool is_length_method = false; // a.length()
 
     Expr(ExprKind k, int l) : kind(k), line(l) {}
+    Expr(const Expr&) = delete;
+    Expr& operator=(const Expr&) = delete;
+    // Frees the subtree without recursion: `u + u + ... + u` is a left spine as long as the
+    // source, deeper than any stack.
+    ~Expr() {
+        std::vector<ExprPtr> pending;
+        for (ExprPtr& k : kids) pending.push_back(std::move(k));
+        while (!pending.empty()) {
+            ExprPtr e = std::move(pending.back());
+            pending.pop_back();
+            if (!e) continue;
+            for (ExprPtr& k : e->kids) pending.push_back(std::move(k));
+        }
+    }
 };
 
 enum class StmtKind : uint8_t {

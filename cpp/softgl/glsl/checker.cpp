@@ -6,6 +6,7 @@
 #include <set>
 #include <unordered_map>
 
+#include "softgl/glsl/builtin_math.h"
 #include "softgl/glsl/builtins.h"
 #include "softgl/glsl/parser.h"
 
@@ -36,22 +37,29 @@ Scalar convert_scalar(Scalar v, BaseType from, BaseType to) {
     case BaseType::Bool: return make_int(x != 0);
     case BaseType::Int:
         if (from == BaseType::Uint) return make_int(static_cast<int32_t>(v.u));
-        if (from == BaseType::Float) {
-            if (!(std::fabs(x) < 2147483648.0)) return make_int(x > 0 ? INT32_MAX : INT32_MIN);
-            return make_int(static_cast<int32_t>(x));
-        }
+        if (from == BaseType::Float) return make_int(f_to_i(v.f));
         return make_int(static_cast<int32_t>(x));
     case BaseType::Uint:
         if (from == BaseType::Int) return make_uint(static_cast<uint32_t>(v.i));
-        if (from == BaseType::Float) {
-            if (!(x > -1.0)) return make_uint(0);  // negative float -> uint is undefined; clamp
-            if (!(x < 4294967296.0)) return make_uint(UINT32_MAX);
-            return make_uint(static_cast<uint32_t>(x));
-        }
+        if (from == BaseType::Float) return make_uint(f_to_u(v.f));  // negative float -> uint is undefined; clamp
         return make_uint(static_cast<uint32_t>(x));
     default: return v;
     }
 }
+
+constexpr int64_t kMaxArraySize = 65536;  // elements; larger arrays are rejected
+// WebGL 1.0, "Maximum Nesting of Structures in GLSL Shaders": 4 levels must work, more may be
+// rejected, and browsers (ANGLE) do. Types are walked recursively through their fields.
+constexpr int kMaxStructNesting = 4;
+// Scalars in one value of a type (a struct, or an array of them): lowering gives each its own
+// register, and there are at most 2^22 of those.
+constexpr int64_t kMaxTypeComponents = int64_t(1) << 22;
+
+// Scalars of large (over 16 scalars) const variables' values copied into their uses, per shader.
+constexpr size_t kMaxCopiedConstants = size_t(1) << 22;
+
+// Scalars in one value of t, in 64 bits (an array of a large struct overflows int).
+int64_t components64(const Type& t) { return int64_t(t.element_components()) * std::max(1, t.array_size); }
 
 struct Scope {
     std::unordered_map<std::string, Symbol*> variables;
@@ -78,6 +86,7 @@ public:
             }
         }
         check_fragment_outputs();
+        check_recursion();
     }
 
 private:
@@ -87,7 +96,10 @@ private:
     std::vector<Scope> scopes_;
     std::unordered_map<std::string, std::vector<FunctionDef*>> functions_;
     FunctionDef* current_function_ = nullptr;
+    // The static call graph: the user functions each definition calls (prototypes included).
+    std::unordered_map<const FunctionDef*, std::vector<FunctionDef*>> calls_;
     int loop_depth_ = 0;
+    size_t copied_constants_ = 0;  // scalars of large const values copied into their uses
     int switch_depth_ = 0;
     int next_struct_id_ = 1;
     bool wrote_frag_color_ = false;
@@ -288,8 +300,17 @@ private:
                 return Type::error();
             }
             t.array_size = spec.array_size ? array_size(*spec.array_size) : -1;
+            if (!fits(t, spec.line, t.name())) return Type::error();
         }
         return t;
+    }
+
+    // Reports a type whose values have more than kMaxTypeComponents scalars (arrays of structs).
+    bool fits(const Type& t, int line, const std::string& what) {
+        if (components64(t) <= kMaxTypeComponents) return true;
+        error(line, "'" + what + "' : type too large (" + std::to_string(components64(t)) + " scalars; the limit is " +
+                        std::to_string(kMaxTypeComponents) + ")");
+        return false;
     }
 
     int array_size(Expr& e) {
@@ -299,13 +320,18 @@ private:
             error(e.line, "array size must be a constant integer expression");
             return 1;
         }
-        int64_t v = e.type.base == BaseType::Int ? e.constant[0].i : static_cast<int64_t>(e.constant[0].u);
-        if (v <= 0) {
-            error(e.line, "array size must be greater than zero");
+        // A decimal literal 2147483648 has the bit pattern of -2^31 as an int (ES 3.00 §4.1.3).
+        if (e.kind == ExprKind::IntLiteral && e.literal.u > 0x7fffffffu) {
+            error(e.line, "'" + std::to_string(e.literal.u) + "' : array size too large (out of the range of int)");
             return 1;
         }
-        if (v > 65536) {
-            error(e.line, "array size too large");
+        int64_t v = e.type.base == BaseType::Int ? e.constant[0].i : static_cast<int64_t>(e.constant[0].u);
+        if (v <= 0) {
+            error(e.line, "array size must be greater than zero (it is " + std::to_string(v) + ")");
+            return 1;
+        }
+        if (v > kMaxArraySize) {
+            error(e.line, "array size too large (" + std::to_string(v) + "; the limit is " + std::to_string(kMaxArraySize) + ")");
             return 1;
         }
         return static_cast<int>(v);
@@ -336,6 +362,7 @@ private:
                     if (ft.is_array()) { error(v.line, "'" + v.name + "' : arrays of arrays are not allowed"); continue; }
                     if (!v.array_size) { error(v.line, "'" + v.name + "' : struct member arrays must have a size"); continue; }
                     ft.array_size = array_size(*v.array_size);
+                    if (!fits(ft, v.line, v.name)) continue;
                 }
                 if (ft.array_size < 0) { error(v.line, "'" + v.name + "' : struct member arrays must have a size"); continue; }
                 check_identifier_name(v.name, v.line);
@@ -345,6 +372,21 @@ private:
             }
         }
         if (st.fields.empty()) error(decl.line, "'" + decl.name + "' : a structure must have at least one member");
+        int64_t components = 0;
+        for (const StructField& f : st.fields) {
+            if (f.type.is_struct()) st.nesting = std::max(st.nesting, f.type.struct_type->nesting + 1);
+            components = std::min(components + components64(f.type), kMaxTypeComponents + 1);
+        }
+        const std::string what = decl.name.empty() ? std::string("struct") : decl.name;
+        if (st.nesting > kMaxStructNesting) {
+            error(decl.line, "'" + what + "' : structures nested " + std::to_string(st.nesting) + " levels deep (the limit is " +
+                                 std::to_string(kMaxStructNesting) + ")");
+            return nullptr;
+        }
+        if (components > kMaxTypeComponents) {
+            error(decl.line, "'" + what + "' : structure too large (the limit is " + std::to_string(kMaxTypeComponents) + " scalars)");
+            return nullptr;
+        }
         std::shared_ptr<const StructType> ptr(&st, [](const StructType*) {});
         decl.resolved = ptr;
         if (!decl.name.empty()) {
@@ -467,6 +509,7 @@ private:
             if (type.is_array()) { error(v.line, "'" + v.name + "' : arrays of arrays are not allowed"); return; }
             type.array_size = v.array_size ? array_size(*v.array_size) : -1;
             if (!v.array_size && !es3()) { error(v.line, "'" + v.name + "' : array size must be specified"); type.array_size = 1; }
+            if (!fits(type, v.line, v.name)) return;
         }
         if (type.is_void()) { error(v.line, "'" + v.name + "' : illegal use of type 'void'"); return; }
         const StorageQualifier q = spec.storage;
@@ -557,6 +600,7 @@ private:
             if (p.is_array) {
                 if (pt.is_array()) error(p.line, "arrays of arrays are not allowed");
                 else pt.array_size = p.array_size ? array_size(*p.array_size) : -1;
+                if (!fits(pt, p.line, p.name)) pt = Type::error();
             }
             if (pt.array_size < 0) { error(p.line, "'" + p.name + "' : array parameters must be sized"); pt.array_size = 1; }
             if (pt.is_void()) error(p.line, "'" + p.name + "' : illegal use of type 'void'");
@@ -840,10 +884,26 @@ private:
         e.precision = sym->precision;
         if (sym->storage == StorageQualifier::Const && sym->has_constant_value && !sym->is_parameter) {
             e.is_constant = true;
-            e.constant = sym->constant_value;
+            // Each use of a const variable gets a copy of its value, within a budget: 20,000
+            // uses of a 65536-element const array would copy 5 GB. Past it, a large value is
+            // left to run time, and constant indices and fields still fold (constant_value_of).
+            const size_t n = sym->constant_value.size();
+            if (n <= 16 || copied_constants_ + n <= kMaxCopiedConstants) {
+                if (n > 16) copied_constants_ += n;
+                e.constant = sym->constant_value;
+            }
         }
         if (sym->name == "gl_FragColor") { wrote_frag_color_ = true; frag_color_line_ = e.line; }
         if (sym->name == "gl_FragData") { wrote_frag_data_ = true; frag_color_line_ = e.line; }
+    }
+
+    // The value of a constant expression if known: its own, or for a const variable whose value
+    // was not copied into the use (see identifier), the variable's.
+    static const ConstantValue* constant_value_of(const Expr& e) {
+        if (!e.is_constant) return nullptr;
+        if (!e.constant.empty()) return &e.constant;
+        if (e.kind == ExprKind::Identifier && e.symbol && e.symbol->has_constant_value) return &e.symbol->constant_value;
+        return nullptr;
     }
 
     // Is e something that can be assigned to? Reports the reason if not.
@@ -967,11 +1027,24 @@ private:
         return Type::error();
     }
 
-    void binary(Expr& e) {
+    // A left-associative chain (u + u + ... + u) is a left spine as long as the source: its
+    // nodes are checked bottom-up in a loop rather than by recursion. Every other way down the
+    // tree (right operands, parentheses, calls) costs the parser a nesting level, so recursion
+    // stays within the parser's nesting limit.
+    void binary(Expr& top) {
+        std::vector<Expr*> spine{&top};
+        while (spine.back()->kids[0]->kind == ExprKind::Binary) spine.push_back(spine.back()->kids[0].get());
+        expression(*spine.back()->kids[0]);
+        for (auto it = spine.rbegin(); it != spine.rend(); ++it) {
+            expression(*(*it)->kids[1]);
+            binary_node(**it);
+        }
+    }
+
+    // One binary operator whose operands are checked.
+    void binary_node(Expr& e) {
         Expr& a = *e.kids[0];
         Expr& b = *e.kids[1];
-        expression(a);
-        expression(b);
         if (a.type.is_error() || b.type.is_error()) return;
         const Type& ta = a.type;
         const Type& tb = b.type;
@@ -1050,8 +1123,8 @@ private:
                 e.constant.assign(size_t(tb.cols) * ta.rows, make_float(0));
                 for (int c = 0; c < tb.cols; ++c)
                     for (int r = 0; r < ta.rows; ++r) {
-                        float sum = 0;
-                        for (int k = 0; k < ta.cols; ++k) sum += a.constant[k * ta.rows + r].f * b.constant[c * tb.rows + k].f;
+                        float sum = a.constant[r].f * b.constant[c * tb.rows].f;
+                        for (int k = 1; k < ta.cols; ++k) sum += a.constant[k * ta.rows + r].f * b.constant[c * tb.rows + k].f;
                         e.constant[c * ta.rows + r].f = sum;
                     }
                 return;
@@ -1059,8 +1132,8 @@ private:
             if (ta.is_matrix() && tb.is_vector()) {
                 e.constant.assign(ta.rows, make_float(0));
                 for (int r = 0; r < ta.rows; ++r) {
-                    float sum = 0;
-                    for (int k = 0; k < ta.cols; ++k) sum += a.constant[k * ta.rows + r].f * b.constant[k].f;
+                    float sum = a.constant[r].f * b.constant[0].f;
+                    for (int k = 1; k < ta.cols; ++k) sum += a.constant[k * ta.rows + r].f * b.constant[k].f;
                     e.constant[r].f = sum;
                 }
                 return;
@@ -1068,8 +1141,8 @@ private:
             if (ta.is_vector() && tb.is_matrix()) {
                 e.constant.assign(tb.cols, make_float(0));
                 for (int c = 0; c < tb.cols; ++c) {
-                    float sum = 0;
-                    for (int k = 0; k < tb.rows; ++k) sum += a.constant[k].f * b.constant[c * tb.rows + k].f;
+                    float sum = a.constant[0].f * b.constant[c * tb.rows].f;
+                    for (int k = 1; k < tb.rows; ++k) sum += a.constant[k].f * b.constant[c * tb.rows + k].f;
                     e.constant[c].f = sum;
                 }
                 return;
@@ -1098,16 +1171,15 @@ private:
                         error(e.line, "'" + op + "' : division by zero in constant expression");
                         r.u = 0;
                     } else if (is_signed) {
-                        if (x.i == INT32_MIN && y.i == -1) r.i = op == "/" ? INT32_MIN : 0;
-                        else r.i = op == "/" ? x.i / y.i : x.i % y.i;
+                        r.i = op == "/" ? i_div(x.i, y.i) : i_mod(x.i, y.i);
                     } else {
-                        r.u = op == "/" ? x.u / y.u : x.u % y.u;
+                        r.u = op == "/" ? u_div(x.u, y.u) : u_mod(x.u, y.u);
                     }
                 } else if (op == "&") r.u = x.u & y.u;
                 else if (op == "|") r.u = x.u | y.u;
                 else if (op == "^") r.u = x.u ^ y.u;
-                else if (op == "<<") r.u = y.u >= 32 ? 0 : x.u << y.u;
-                else if (op == ">>") r.u = is_signed ? static_cast<uint32_t>(x.i >> (y.u & 31)) : (y.u >= 32 ? 0 : x.u >> y.u);
+                else if (op == "<<") r.u = shift_left(x.u, y.u);
+                else if (op == ">>") r.u = is_signed ? static_cast<uint32_t>(shift_right_arithmetic(x.i, y.u)) : shift_right_logical(x.u, y.u);
             }
             e.constant[i] = r;
         }
@@ -1205,10 +1277,10 @@ private:
                 e.type = Type::error();
                 return;
             }
-            if (a.is_constant && !a.constant.empty()) {
+            if (const ConstantValue* value = constant_value_of(a); value && !value->empty()) {
                 int n = e.type.components();
                 e.is_constant = true;
-                e.constant.assign(a.constant.begin() + v * n, a.constant.begin() + (v + 1) * n);
+                e.constant.assign(value->begin() + v * n, value->begin() + (v + 1) * n);
             }
         } else if (!es3() && a.symbol && a.type.is_array() && a.symbol->storage != StorageQualifier::Uniform &&
                    s_.webgl_version == 1 && !a.symbol->is_builtin) {
@@ -1225,22 +1297,25 @@ private:
         }
     }
 
-    bool is_constant_index_expression(const Expr& i) const {
-        if (i.is_constant) return true;
-        if (i.kind == ExprKind::Identifier) {
-            for (Symbol* s : loop_indices_) if (s == i.symbol) return true;
-            return false;
+    // Constants, loop indices, and operators and built-in calls of those (no recursion: the
+    // expression may be a long chain).
+    bool is_constant_index_expression(const Expr& root) const {
+        std::vector<const Expr*> pending{&root};
+        while (!pending.empty()) {
+            const Expr& i = *pending.back();
+            pending.pop_back();
+            if (i.is_constant) continue;
+            if (i.kind == ExprKind::Identifier) {
+                bool index = false;
+                for (Symbol* s : loop_indices_) if (s == i.symbol) index = true;
+                if (!index) return false;
+                continue;
+            }
+            bool operation = (i.kind == ExprKind::Binary || i.kind == ExprKind::Unary) && i.op != "++" && i.op != "--" && i.op != ",";
+            if (!operation && !(i.kind == ExprKind::Call && i.builtin_id >= 0)) return false;
+            for (const ExprPtr& k : i.kids) pending.push_back(k.get());
         }
-        if (i.kind == ExprKind::Binary || i.kind == ExprKind::Unary) {
-            if (i.op == "++" || i.op == "--" || i.op == ",") return false;
-            for (const ExprPtr& k : i.kids) if (!is_constant_index_expression(*k)) return false;
-            return true;
-        }
-        if (i.kind == ExprKind::Call && i.builtin_id >= 0) {
-            for (const ExprPtr& k : i.kids) if (!is_constant_index_expression(*k)) return false;
-            return true;
-        }
-        return false;
+        return true;
     }
 
     void field(Expr& e) {
@@ -1258,9 +1333,9 @@ private:
                                                                           : (fields[k].type.base == BaseType::Float ? Precision::High : Precision::None);
                     if (a.is_constant) {
                         e.is_constant = true;
-                        if (!a.constant.empty()) {
+                        if (const ConstantValue* value = constant_value_of(a); value && !value->empty()) {
                             int n = fields[k].type.components();
-                            e.constant.assign(a.constant.begin() + offset, a.constant.begin() + offset + n);
+                            e.constant.assign(value->begin() + offset, value->begin() + offset + n);
                         }
                     }
                     return;
@@ -1341,6 +1416,7 @@ private:
             for (FunctionDef* f : it->second) {
                 if (f->mangled != m) continue;
                 e.callee = f;
+                if (current_function_) calls_[current_function_].push_back(f);
                 e.type = f->resolved_return;
                 e.precision = f->return_precision;
                 for (size_t i = 0; i < f->parameters.size(); ++i) {
@@ -1416,20 +1492,27 @@ private:
             Scalar x = arg(0, i);
             switch (f.op) {
             case Builtin::Abs:
-                if (base == BaseType::Float) out[i].f = std::fabs(x.f); else out[i].i = x.i < 0 ? static_cast<int32_t>(0u - x.u) : x.i;
+                if (base == BaseType::Float) out[i].f = std::fabs(x.f); else out[i].i = i_abs(x.i);
                 break;
-            case Builtin::Min:
+            case Builtin::Min: {
+                Scalar y = arg(1, i);
+                if (base == BaseType::Float) out[i].f = f_min(x.f, y.f);
+                else if (base == BaseType::Int) out[i].i = i_min(x.i, y.i);
+                else out[i].u = u_min(x.u, y.u);
+                break;
+            }
             case Builtin::Max: {
                 Scalar y = arg(1, i);
-                bool less = base == BaseType::Float ? y.f < x.f : base == BaseType::Int ? y.i < x.i : y.u < x.u;
-                out[i] = (f.op == Builtin::Min) == less ? y : x;
+                if (base == BaseType::Float) out[i].f = f_max(x.f, y.f);
+                else if (base == BaseType::Int) out[i].i = i_max(x.i, y.i);
+                else out[i].u = u_max(x.u, y.u);
                 break;
             }
             case Builtin::Clamp: {
                 Scalar lo = arg(1, i), hi = arg(2, i);
-                if (base == BaseType::Float) out[i].f = std::fmin(std::fmax(x.f, lo.f), hi.f);
-                else if (base == BaseType::Int) out[i].i = std::min(std::max(x.i, lo.i), hi.i);
-                else out[i].u = std::min(std::max(x.u, lo.u), hi.u);
+                if (base == BaseType::Float) out[i].f = f_clamp(x.f, lo.f, hi.f);
+                else if (base == BaseType::Int) out[i].i = i_clamp(x.i, lo.i, hi.i);
+                else out[i].u = u_clamp(x.u, lo.u, hi.u);
                 break;
             }
             case Builtin::Floor: out[i].f = std::floor(x.f); break;
@@ -1535,6 +1618,50 @@ private:
                 if (k < out.size()) out[k++] = conv(v, a->type.base);
             }
         return out;
+    }
+
+    // ES 1.00 §6.1 and ES 3.00 §6.1: recursion is not allowed, not even statically: a cycle in
+    // the static call graph is an error whether or not main reaches it. Depth-first search
+    // with an explicit stack (a call chain can be as long as the source).
+    void check_recursion() {
+        enum State : uint8_t { Unvisited, Open, Done };
+        std::unordered_map<const FunctionDef*, State> state;
+        auto definition = [](FunctionDef* f) -> FunctionDef* { return f->definition ? f->definition : (f->body ? f : nullptr); };
+        static const std::vector<FunctionDef*> none;
+        auto callees = [&](const FunctionDef* f) -> const std::vector<FunctionDef*>& {
+            auto it = calls_.find(f);
+            return it == calls_.end() ? none : it->second;
+        };
+        struct Frame { FunctionDef* function; size_t next; };
+        for (FunctionDef* root : s_.functions) {
+            if (state[root] != Unvisited) continue;
+            std::vector<Frame> stack{{root, 0}};
+            state[root] = Open;
+            while (!stack.empty()) {
+                Frame& top = stack.back();
+                const std::vector<FunctionDef*>& out = callees(top.function);
+                if (top.next == out.size()) {
+                    state[top.function] = Done;
+                    stack.pop_back();
+                    continue;
+                }
+                FunctionDef* callee = definition(out[top.next++]);
+                if (!callee || state[callee] == Done) continue;
+                if (state[callee] == Open) {
+                    size_t first = 0;
+                    while (stack[first].function != callee) ++first;
+                    std::vector<std::string> chain;
+                    for (size_t k = first; k < stack.size(); ++k) chain.push_back(stack[k].function->name);
+                    if (chain.size() > 8) chain.erase(chain.begin() + 4, chain.end() - 3), chain.insert(chain.begin() + 4, "...");
+                    std::string text;
+                    for (const std::string& name : chain) text += name + " -> ";
+                    error(callee->line, "'" + callee->name + "' : recursive function calls are not allowed (" + text + callee->name + ")");
+                    continue;
+                }
+                state[callee] = Open;
+                stack.push_back({callee, 0});
+            }
+        }
     }
 
     void check_fragment_outputs() {

@@ -5,99 +5,10 @@
 #include <cstring>
 #include <limits>
 
+#include "softgl/glsl/builtin_math.h"
+
 namespace softgl::glsl {
 namespace {
-
-// ---- per-lane semantics shared by every lane loop (ES 3.00 §8 definitions) ----
-inline float f_sign(float x) { return x > 0.0f ? 1.0f : (x < 0.0f ? -1.0f : x); }
-inline float f_min(float x, float y) { return y < x ? y : x; }   // min(x, y) = y < x ? y : x
-inline float f_max(float x, float y) { return x < y ? y : x; }   // max(x, y) = x < y ? y : x
-inline float f_clamp(float x, float lo, float hi) { return f_min(f_max(x, lo), hi); }
-inline float f_mod(float x, float y) { return x - y * std::floor(x / y); }
-inline float f_mix(float x, float y, float a) { return x * (1.0f - a) + y * a; }
-inline float f_step(float edge, float x) { return x < edge ? 0.0f : 1.0f; }
-inline float f_smoothstep(float e0, float e1, float x) {
-    float t = f_clamp((x - e0) / (e1 - e0), 0.0f, 1.0f);
-    return t * t * (3.0f - 2.0f * t);
-}
-inline int32_t i_div(int32_t a, int32_t b) {
-    if (b == 0) return 0;  // undefined in GLSL; softgl returns 0
-    if (a == std::numeric_limits<int32_t>::min() && b == -1) return a;
-    return a / b;
-}
-inline int32_t i_mod(int32_t a, int32_t b) {
-    if (b == 0 || (a == std::numeric_limits<int32_t>::min() && b == -1)) return 0;
-    return a % b;
-}
-// Float -> integer conversions saturate (and NaN -> 0 or INT_MIN), matching the checker's folding.
-inline int32_t f_to_i(float x) {
-    if (!(std::fabs(x) < 2147483648.0f)) return x > 0 ? std::numeric_limits<int32_t>::max() : std::numeric_limits<int32_t>::min();
-    return static_cast<int32_t>(x);
-}
-inline uint32_t f_to_u(float x) {
-    if (!(x > -1.0f)) return 0;
-    if (!(x < 4294967296.0f)) return std::numeric_limits<uint32_t>::max();
-    return static_cast<uint32_t>(x);
-}
-inline uint32_t float_to_half(float value) {
-    uint32_t bits;
-    std::memcpy(&bits, &value, 4);
-    uint32_t sign = (bits >> 16) & 0x8000u;
-    uint32_t exponent = (bits >> 23) & 0xffu;
-    uint32_t mantissa = bits & 0x7fffffu;
-    if (exponent == 0xff) return sign | 0x7c00u | (mantissa ? 0x200u : 0u);
-    int e = static_cast<int>(exponent) - 127 + 15;
-    if (e >= 31) return sign | 0x7c00u;
-    if (e <= 0) {
-        if (e < -10) return sign;
-        mantissa |= 0x800000u;
-        int shift = 14 - e;
-        uint32_t half = mantissa >> shift;
-        uint32_t rest = mantissa & ((1u << shift) - 1);
-        uint32_t halfway = 1u << (shift - 1);
-        if (rest > halfway || (rest == halfway && (half & 1u))) ++half;
-        return sign | half;
-    }
-    uint32_t half = sign | (static_cast<uint32_t>(e) << 10) | (mantissa >> 13);
-    uint32_t rest = mantissa & 0x1fffu;
-    if (rest > 0x1000u || (rest == 0x1000u && (half & 1u))) ++half;  // round to nearest even
-    return half;
-}
-inline float half_to_float(uint32_t h) {
-    uint32_t sign = (h & 0x8000u) << 16;
-    uint32_t exponent = (h >> 10) & 0x1fu;
-    uint32_t mantissa = h & 0x3ffu;
-    uint32_t bits;
-    if (exponent == 0) {
-        if (mantissa == 0) bits = sign;
-        else {
-            int e = -1;
-            do { ++e; mantissa <<= 1; } while (!(mantissa & 0x400u));
-            bits = sign | (static_cast<uint32_t>(127 - 15 - e) << 23) | ((mantissa & 0x3ffu) << 13);
-        }
-    } else if (exponent == 31) {
-        bits = sign | 0x7f800000u | (mantissa << 13);
-    } else {
-        bits = sign | ((exponent + 127 - 15) << 23) | (mantissa << 13);
-    }
-    float f;
-    std::memcpy(&f, &bits, 4);
-    return f;
-}
-// NaN (undefined in ES 3.00 §8.4) packs to 0: casting it is undefined in C++, and the
-// vector conversions of each SIMD level give different bits for it.
-inline uint32_t pack_snorm16(float x) {
-    const float v = std::round(f_clamp(x, -1.0f, 1.0f) * 32767.0f);
-    return v == v ? static_cast<uint32_t>(static_cast<int32_t>(v)) & 0xffffu : 0u;
-}
-inline uint32_t pack_unorm16(float x) {
-    const float v = std::round(f_clamp(x, 0.0f, 1.0f) * 65535.0f);
-    return v == v ? static_cast<uint32_t>(v) : 0u;
-}
-inline float unpack_snorm16(uint32_t v) {
-    return f_clamp(static_cast<float>(static_cast<int16_t>(static_cast<uint16_t>(v))) / 32767.0f, -1.0f, 1.0f);
-}
-inline float unpack_unorm16(uint32_t v) { return static_cast<float>(v & 0xffffu) / 65535.0f; }
 
 bool any_set(const uint32_t* m, int n) {
     uint32_t acc = 0;
@@ -462,20 +373,20 @@ __attribute__((always_inline)) inline void Executor::execute(const int n, const 
         case Op::IDiv: I2(i_div(x, y))
         case Op::IMod: I2(i_mod(x, y))
         case Op::INeg: I1(static_cast<int32_t>(0u - ux))
-        case Op::IAbs: I1(x < 0 ? static_cast<int32_t>(0u - ux) : x)
+        case Op::IAbs: I1(i_abs(x))
         case Op::ISign: I1(x > 0 ? 1 : (x < 0 ? -1 : 0))
-        case Op::IMin: I2(y < x ? y : x)
-        case Op::IMax: I2(x < y ? y : x)
-        case Op::IClamp: I3(std::min(std::max(x, y), z))
+        case Op::IMin: I2(i_min(x, y))
+        case Op::IMax: I2(i_max(x, y))
+        case Op::IClamp: I3(i_clamp(x, y, z))
         case Op::ILess: I2(x < y)
         case Op::ILessEqual: I2(x <= y)
         case Op::IGreater: I2(x > y)
         case Op::IGreaterEqual: I2(x >= y)
-        case Op::UDiv: U2(y == 0 ? 0u : x / y)
-        case Op::UMod: U2(y == 0 ? 0u : x % y)
-        case Op::UMin: U2(y < x ? y : x)
-        case Op::UMax: U2(x < y ? y : x)
-        case Op::UClamp: U3(std::min(std::max(x, y), z))
+        case Op::UDiv: U2(u_div(x, y))
+        case Op::UMod: U2(u_mod(x, y))
+        case Op::UMin: U2(u_min(x, y))
+        case Op::UMax: U2(u_max(x, y))
+        case Op::UClamp: U3(u_clamp(x, y, z))
         case Op::ULess: I2(ux < uy)
         case Op::ULessEqual: I2(ux <= uy)
         case Op::UGreater: I2(ux > uy)
@@ -484,9 +395,9 @@ __attribute__((always_inline)) inline void Executor::execute(const int n, const 
         case Op::BitOr: U2(x | y)
         case Op::BitXor: U2(x ^ y)
         case Op::BitNot: I1(static_cast<int32_t>(~ux))
-        case Op::ShiftLeft: U2(x << (y & 31u))
-        case Op::ShiftRightArithmetic: I2(x >> (uy & 31u))
-        case Op::ShiftRightLogical: U2(x >> (y & 31u))
+        case Op::ShiftLeft: U2(shift_left(x, y))
+        case Op::ShiftRightArithmetic: I2(shift_right_arithmetic(x, uy))
+        case Op::ShiftRightLogical: U2(shift_right_logical(x, y))
         case Op::Equal: I2(ux == uy)
         case Op::NotEqual: I2(ux != uy)
         case Op::BoolNot: I1(x == 0)

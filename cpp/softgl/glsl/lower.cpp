@@ -12,6 +12,11 @@ namespace {
 
 constexpr size_t kMaxInstructions = 1 << 20;  // after inlining; larger programs are rejected
 constexpr int kMaxInlineDepth = 64;
+// Lowering recurses through expressions and statements, and into each inlined call's body. The
+// parser bounds nesting within one function (and left-associative chains are loops), but 64
+// inlined levels of that could still overflow the stack (64 x 178 unary minuses take ~10 MB), so
+// the total is bounded as well: under 1 MB of stack (rvalue and unary take ~0.9 KB a level).
+constexpr int kMaxLoweringDepth = 1024;
 
 struct LoweringError {};
 
@@ -97,6 +102,17 @@ private:
     std::map<uint32_t, Reg> uniform_cache_;
     struct ReturnTarget { Ref ref; bool has_value; };
     std::vector<ReturnTarget> return_targets_;
+
+    int depth_ = 0;
+    struct DepthGuard {
+        Lowerer& l;
+        DepthGuard(Lowerer& lowerer, int line) : l(lowerer) {
+            if (++l.depth_ > kMaxLoweringDepth)
+                l.fail(line, "shader too complex (expressions and statements nested more than " + std::to_string(kMaxLoweringDepth) +
+                                 " levels deep through inlined function calls)");
+        }
+        ~DepthGuard() { --l.depth_; }
+    };
 
     [[noreturn]] void fail(int line, const std::string& message) {
         d_.error(line, message);
@@ -301,6 +317,7 @@ private:
 
     // ---------------------------------------------------------------- references
     Ref ref(const Expr& e) {
+        DepthGuard guard(*this, e.line);
         b_.current_line = e.line;
         switch (e.kind) {
         case ExprKind::Identifier: return variable_ref(e.symbol);
@@ -374,15 +391,22 @@ private:
         return v;
     }
 
-    static bool has_side_effects(const Expr& e) {
-        if (e.kind == ExprKind::Assign || e.kind == ExprKind::Postfix) return true;
-        if (e.kind == ExprKind::Unary && (e.op == "++" || e.op == "--")) return true;
-        if (e.kind == ExprKind::Call && (e.callee || (e.builtin_id >= 0 && builtin_functions()[e.builtin_id].out_parameter >= 0))) return true;
-        for (const ExprPtr& k : e.kids) if (has_side_effects(*k)) return true;
+    // Does evaluating root write anything? (No recursion: root may be a long chain.)
+    static bool has_side_effects(const Expr& root) {
+        std::vector<const Expr*> pending{&root};
+        while (!pending.empty()) {
+            const Expr& e = *pending.back();
+            pending.pop_back();
+            if (e.kind == ExprKind::Assign || e.kind == ExprKind::Postfix) return true;
+            if (e.kind == ExprKind::Unary && (e.op == "++" || e.op == "--")) return true;
+            if (e.kind == ExprKind::Call && (e.callee || (e.builtin_id >= 0 && builtin_functions()[e.builtin_id].out_parameter >= 0))) return true;
+            for (const ExprPtr& k : e.kids) pending.push_back(k.get());
+        }
         return false;
     }
 
     Value rvalue(const Expr& e) {
+        DepthGuard guard(*this, e.line);
         b_.current_line = e.line;
         check_size();
         if (e.is_constant && !e.constant.empty() && e.kind != ExprKind::Assign) return constant_value(e.type, e.constant);
@@ -554,20 +578,33 @@ private:
         return v;
     }
 
-    Value binary(const Expr& e) {
-        const std::string& op = e.op;
-        if (op == ",") {
-            rvalue(*e.kids[0]);
-            return rvalue(*e.kids[1]);
+    // A left-associative chain (u + u + ... + u) is a left spine as long as the source: lower
+    // its leftmost operand, then each node's right operand and operator bottom-up, in a loop
+    // (the order recursion would give). Constant nodes end the spine: rvalue emits them whole.
+    Value binary(const Expr& top) {
+        std::vector<const Expr*> spine{&top};
+        for (;;) {
+            const Expr& left = *spine.back()->kids[0];
+            if (left.kind != ExprKind::Binary || (left.is_constant && !left.constant.empty())) break;
+            spine.push_back(&left);
+            b_.current_line = left.line;  // what rvalue(left) would do first
+            check_size();
         }
+        Value value = rvalue(*spine.back()->kids[0]);
+        for (auto it = spine.rbegin(); it != spine.rend(); ++it) value = binary_node(**it, std::move(value));
+        return value;
+    }
+
+    // One binary operator, its left operand `a` already lowered.
+    Value binary_node(const Expr& e, Value a) {
+        const std::string& op = e.op;
+        if (op == ",") return rvalue(*e.kids[1]);
         if (op == "&&" || op == "||") {
             if (!has_side_effects(*e.kids[1])) {
-                Value a = rvalue(*e.kids[0]);
                 Value b = rvalue(*e.kids[1]);
                 return scalar_value(BaseType::Bool, b_.op(op == "&&" ? Op::BitAnd : Op::BitOr, BaseType::Bool, a.regs[0], b.regs[0]));
             }
             // Short-circuit (ES 3.00 §5.9): evaluate the right side only where needed.
-            Value a = rvalue(*e.kids[0]);
             Reg result = b_.variable(BaseType::Bool);
             b_.mov(result, a.regs[0]);
             Reg cond = op == "&&" ? a.regs[0] : b_.op(Op::BoolNot, BaseType::Bool, a.regs[0]);
@@ -577,7 +614,6 @@ private:
             b_.emit(Op::IfEnd);
             return scalar_value(BaseType::Bool, result);
         }
-        Value a = rvalue(*e.kids[0]);
         Value b = rvalue(*e.kids[1]);
         if (op == "^^") return scalar_value(BaseType::Bool, b_.op(Op::NotEqual, BaseType::Bool, a.regs[0], b.regs[0]));
         if (op == "==" || op == "!=") {
@@ -764,6 +800,7 @@ private:
 
     // ---------------------------------------------------------------- statements
     void statement(const Stmt& s) {
+        DepthGuard guard(*this, s.line);
         b_.current_line = s.line;
         check_size();
         switch (s.kind) {

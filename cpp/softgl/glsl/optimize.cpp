@@ -140,26 +140,22 @@ int propagate_copies(IrProgram& p) {
     const std::vector<int32_t> region_end = region_ends(p);
     int removed = 0;
     std::vector<uint8_t> drop(p.code.size(), 0);
+    // Every read of a dropped Mov's target lies inside the Mov's region (checked below), so
+    // the reads are renamed once at the end rather than by scanning each region (which made
+    // 10^5 declarations quadratic). Sources are never renamed: they are not variables.
+    std::vector<Reg> renamed(R, kNoReg);
+    auto current = [&](Reg r) { return r != kNoReg && renamed[r] != kNoReg ? renamed[r] : r; };
     for (size_t k = 0; k < p.code.size(); ++k) {
         const Instruction& mov = p.code[k];
         if (mov.op != Op::Mov || drop[k]) continue;
-        const Reg v = mov.dst, t = mov.a;
+        const Reg v = mov.dst, t = current(mov.a);
         if (!p.is_variable[v] || pinned[v] || writes[v] != 1 || v == t) continue;
         const bool stable = (is_constant[t] && writes[t] == 0) || (is_input[t] && writes[t] == 0) ||
                             (!p.is_variable[t] && writes[t] == 1 && defined_at[t] < static_cast<int>(k));
         if (!stable) continue;
         const size_t end = static_cast<size_t>(region_end[k]);
         if (last_read[v] >= 0 && (first_read[v] <= static_cast<int>(k) || last_read[v] >= static_cast<int>(end))) continue;
-        for (size_t j = k + 1; j < end; ++j) {
-            Instruction& i = p.code[j];
-            for (Reg* r : {&i.a, &i.b, &i.c}) if (*r == v) *r = t;
-            if (i.op == Op::Texture) {
-                TextureOperands& to = p.textures[i.texture];
-                for (Reg* r : {&to.unit, &to.coord[0], &to.coord[1], &to.coord[2], &to.coord[3], &to.compare, &to.lod,
-                               &to.grad_x[0], &to.grad_x[1], &to.grad_x[2], &to.grad_y[0], &to.grad_y[1], &to.grad_y[2]})
-                    if (*r == v) *r = t;
-            }
-        }
+        renamed[v] = t;
         drop[k] = 1;
         writes[v] = 0;
         p.is_variable[v] = false;   // no longer written at all
@@ -167,7 +163,16 @@ int propagate_copies(IrProgram& p) {
     }
     std::vector<Instruction> kept;
     kept.reserve(p.code.size());
-    for (size_t k = 0; k < p.code.size(); ++k) if (!drop[k]) kept.push_back(p.code[k]);
+    for (size_t k = 0; k < p.code.size(); ++k) {
+        if (drop[k]) continue;
+        Instruction i = p.code[k];
+        for (Reg* r : {&i.a, &i.b, &i.c}) *r = current(*r);
+        kept.push_back(i);
+    }
+    for (TextureOperands& to : p.textures)
+        for (Reg* r : {&to.unit, &to.coord[0], &to.coord[1], &to.coord[2], &to.coord[3], &to.compare, &to.lod,
+                       &to.grad_x[0], &to.grad_x[1], &to.grad_x[2], &to.grad_y[0], &to.grad_y[1], &to.grad_y[2]})
+            *r = current(*r);
     p.code = std::move(kept);
     return removed;
 }

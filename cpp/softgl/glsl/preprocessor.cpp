@@ -11,7 +11,7 @@ namespace softgl::glsl {
 namespace {
 
 // Limits that keep hostile sources from exhausting time or memory.
-constexpr size_t kMaxOutputTokens = 1 << 20;
+constexpr size_t kMaxExpansionTokens = size_t(1) << 21;  // tokens of macro-expansion work per shader
 constexpr int kMaxExpansionDepth = 64;
 constexpr int kMaxConditionalDepth = 64;
 constexpr size_t kMaxMacroArguments = 256;
@@ -105,22 +105,40 @@ private:
         allow_pull_ = false;
     }
 
+    // Counts `n` tokens of macro-expansion work (tokens a macro produces, argument and
+    // continuation copies). Past kMaxExpansionTokens the expansion stops with an error: a few
+    // hundred bytes of nested macros can ask for 2^256 tokens (ES 3.00 §3.4 sets no limit).
+    bool spend(size_t n, int line) {
+        expansion_tokens_ += n;
+        if (expansion_tokens_ <= kMaxExpansionTokens) return true;
+        if (!aborted_)
+            diagnostics_.error(line, "'" + outer_macro_ + "' : macro expansion exceeds the limit of " +
+                                         std::to_string(kMaxExpansionTokens) + " tokens");
+        expansion_error_ = true;
+        aborted_ = true;
+        return false;
+    }
+
     // Macro expansion (C-like, without # and ##, which GLSL ES does not have).
-    // Tokens produced by a macro are rescanned with that macro's name disabled.
-    void expand(const TokenList& in, TokenList& out, int depth) {
+    // Tokens produced by a macro are rescanned with that macro's name disabled. Only the work
+    // of macro invocations counts against the expansion limit: other source passes through.
+    void expand(const TokenList& input, TokenList& out, int depth) {
         if (depth > kMaxExpansionDepth) {
-            if (!expansion_error_) diagnostics_.error(in.empty() ? 0 : in[0].line, "macro expansion too deep");
+            if (!expansion_error_)
+                diagnostics_.error(input.empty() ? 0 : input[0].line,
+                                   "macro expansion nested more than " + std::to_string(kMaxExpansionDepth) + " levels deep");
             expansion_error_ = true;
             return;
         }
-        for (size_t i = 0; i < in.size(); ++i) {
-            if (out.size() > kMaxOutputTokens) {
-                if (!expansion_error_) diagnostics_.error(in[i].line, "macro expansion produces too many tokens");
-                expansion_error_ = true;
-                aborted_ = true;
-                return;
-            }
+        // An invocation whose arguments continue on following lines continues this loop on
+        // the rest of the joined lines (a loop, not recursion: lines are unbounded).
+        TokenList continued;
+        const TokenList* current = &input;
+        for (size_t i = 0; i < current->size(); ++i) {
+            if (aborted_) return;
+            const TokenList& in = *current;
             const Token& t = in[i];
+            if (depth > 0 && !spend(1, t.line)) return;
             if (t.kind == TokenKind::Invalid) {
                 diagnostics_.error(t.line, "'" + t.text + "' : invalid character");
                 continue;
@@ -140,8 +158,10 @@ private:
                 out.push_back(n);
                 continue;
             }
+            if (depth == 0) outer_macro_ = t.text;
             const Macro& macro = macros_[t.text];
             if (!macro.function_like) {
+                if (!spend(macro.body.size(), t.line)) return;
                 TokenList body = macro.body;
                 for (Token& b : body) b.line = t.line;
                 if (!body.empty()) body[0].leading_space = t.leading_space;
@@ -152,7 +172,6 @@ private:
             }
             // Function-like: needs '(' next; arguments may continue on following lines.
             size_t j = i + 1;
-            TokenList* source = const_cast<TokenList*>(&in);
             bool from_input = false;
             if (j >= in.size() && depth == 0 && allow_pull_) {
                 // Look ahead into following lines of the raw input (skipping newlines).
@@ -179,13 +198,13 @@ private:
                     if (n.is("(")) { ++parens; started = true; }
                     if (n.is(")")) { if (--parens == 0) break; }
                 }
-                source = &pulled;
+                if (!spend(pulled.size(), t.line)) return;
             }
-            const TokenList& src = *source;
+            const TokenList& src = from_input ? pulled : in;
             std::vector<TokenList> args;
             size_t k = j + 1;
             int parens = 0;
-            TokenList current;
+            TokenList current_arg;
             bool closed = false;
             for (; k < src.size(); ++k) {
                 const Token& a = src[k];
@@ -195,53 +214,58 @@ private:
                     --parens;
                 }
                 if (a.is(",") && parens == 0) {
-                    args.push_back(current);
-                    current.clear();
+                    args.push_back(current_arg);
+                    current_arg.clear();
                     if (args.size() > kMaxMacroArguments) break;
                     continue;
                 }
-                current.push_back(a);
+                if (!spend(1, t.line)) return;
+                current_arg.push_back(a);
             }
             if (!closed) {
                 diagnostics_.error(t.line, "'" + t.text + "' : unterminated macro invocation");
                 return;
             }
-            if (!args.empty() || !current.empty() || !macro.parameters.empty()) args.push_back(current);
+            if (!args.empty() || !current_arg.empty() || !macro.parameters.empty()) args.push_back(current_arg);
             if (args.size() != macro.parameters.size()) {
                 diagnostics_.error(t.line, "'" + t.text + "' : wrong number of arguments to macro");
-                if (source == &pulled) return;
+                if (from_input) return;
                 i = k;
                 continue;
             }
             // Arguments are fully expanded before substitution (C semantics).
             std::vector<TokenList> expanded_args(args.size());
             for (size_t a = 0; a < args.size(); ++a) expand(args[a], expanded_args[a], depth + 1);
+            if (aborted_) return;
             TokenList body;
             for (const Token& b : macro.body) {
                 size_t p = 0;
                 for (; p < macro.parameters.size(); ++p)
                     if (b.kind == TokenKind::Identifier && b.text == macro.parameters[p]) break;
                 if (p < macro.parameters.size()) {
+                    if (!spend(expanded_args[p].size(), t.line)) return;
                     for (Token e : expanded_args[p]) { e.line = t.line; body.push_back(e); }
                 } else {
+                    if (!spend(1, t.line)) return;
                     Token c = b;
                     c.line = t.line;
                     body.push_back(c);
                 }
             }
             disabled_.insert(t.text);
-            TokenList rest;
             expand(body, out, depth + 1);
             disabled_.erase(t.text);
-            if (source == &pulled) {
-                // Whatever followed the ')' on the pulled line is expanded as well.
+            if (from_input) {
+                // Whatever followed the ')' on the pulled line, and the rest of the current
+                // physical line, are expanded next, at this depth.
                 TokenList tail(src.begin() + static_cast<long>(k) + 1, src.end());
-                TokenList tail_rest;
-                // Finish the rest of the current physical line too.
                 TokenList line_rest = rest_of_line();
                 tail.insert(tail.end(), line_rest.begin(), line_rest.end());
-                expand(tail, out, depth);
-                return;
+                if (!spend(tail.size(), t.line)) return;
+                continued = std::move(tail);
+                current = &continued;
+                i = static_cast<size_t>(-1);  // the loop's ++i makes it 0
+                continue;
             }
             i = k;
         }
@@ -328,19 +352,29 @@ private:
                 diagnostics_.error(line_number, "'#version' : expected a version number");
                 return;
             }
-            if (tokens[1].text == "100" && tokens.size() == 2) {
-                out_.version = 100;
-            } else if (tokens[1].text == "300" && tokens.size() == 3 && tokens[2].text == "es") {
+            // "#version 100" or "#version 300 es" (ES 3.00 §3.4), and nothing after it.
+            const std::string& number = tokens[1].text;
+            if (number != "100" && number != "300") {
+                diagnostics_.error(line_number, "'#version' : version number " + number + " not supported");
+                return;
+            }
+            if (number == "300" && (tokens.size() < 3 || tokens[2].text != "es")) {
+                diagnostics_.error(line_number, "'#version' : version 300 requires 'es'" +
+                                                    (tokens.size() < 3 ? std::string() : " (found '" + tokens[2].text + "')"));
+                return;
+            }
+            const size_t length = number == "300" ? 3 : 2;
+            if (tokens.size() > length) {
+                diagnostics_.error(line_number, "'#version' : unexpected token '" + tokens[length].text + "' after the version");
+                return;
+            }
+            if (number == "300") {
                 if (webgl_version_ < 2) {
                     diagnostics_.error(line_number, "'#version' : version number not supported (WebGL 1 accepts GLSL ES 1.00 only)");
                     return;
                 }
                 out_.version = 300;
                 define_predefined("__VERSION__", "300");
-            } else if (tokens[1].text == "300" && tokens.size() == 2) {
-                diagnostics_.error(line_number, "'#version' : version 300 requires 'es'");
-            } else {
-                diagnostics_.error(line_number, "'#version' : version number " + tokens[1].text + " not supported");
             }
             return;
         }
@@ -661,6 +695,8 @@ private:
     bool seen_version_ = false;
     bool seen_non_preprocessor_token_ = false;
     bool expansion_error_ = false;
+    size_t expansion_tokens_ = 0;
+    std::string outer_macro_;  // the macro whose expansion is in progress at depth 0
     bool aborted_ = false;
     bool allow_pull_ = false;  // only ordinary lines may take macro arguments from following lines
     const TokenList* expr_tokens_ = nullptr;

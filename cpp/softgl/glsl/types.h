@@ -71,6 +71,7 @@ struct StructType {
     std::string name;
     std::vector<StructField> fields;
     int id = 0;  // unique per declaration: two structs are equal only if the same declaration
+    int nesting = 1;  // 1, or 1 + the nesting of the deepest struct among the fields
 };
 
 // Parses a built-in type name ("vec3", "mat2x4", "usampler2D", ...). Returns false if not one.
