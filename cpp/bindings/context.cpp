@@ -131,14 +131,15 @@ py::object object_or_none(const std::shared_ptr<T>& p) {
     return p ? py::cast(p) : py::none();
 }
 
-}  // namespace
+using ContextClass = py::class_<Context>;
+using softgl::bindings::IdlInt32;
+using softgl::bindings::IdlUint32;
 
-void bind_context(py::module_& m) {
+// The WebGL object types and the small info structs they return.
+void bind_object_types(py::module_& m) {
     using softgl::Buffer;
     using softgl::Object;
     using softgl::VertexArray;
-    using softgl::bindings::IdlInt32;
-    using softgl::bindings::IdlUint32;
     py::class_<Object, std::shared_ptr<Object>>(m, "WebGLObject");
     py::class_<Buffer, Object, std::shared_ptr<Buffer>>(m, "WebGLBuffer");
     py::class_<VertexArray, Object, std::shared_ptr<VertexArray>>(m, "WebGLVertexArrayObject");
@@ -156,7 +157,9 @@ void bind_context(py::module_& m) {
         .def_readonly("rangeMin", &softgl::PrecisionFormat::range_min)
         .def_readonly("rangeMax", &softgl::PrecisionFormat::range_max)
         .def_readonly("precision", &softgl::PrecisionFormat::precision);
+}
 
+void bind_context_attributes(py::module_& m) {
     py::class_<ContextAttributes>(m, "ContextAttributes")
         .def(py::init<>())
         .def_readwrite("alpha", &ContextAttributes::alpha)
@@ -176,10 +179,11 @@ void bind_context(py::module_& m) {
     m.def("check_context", &Context::check, "Why a context of this size and attributes cannot be made ('' if it can)");
     m.def("error_name", &softgl::error_name);
     m.def("enum_name", &softgl::enum_name);
+}
 
-    py::class_<Context>(m, "Context")
-        .def(py::init<int32_t, int32_t, const ContextAttributes&>())
-        .def("_set_error_listener",
+// Errors, extensions, capabilities, the fixed-function state, getParameter, clear.
+void bind_state(ContextClass& cls) {
+    cls.def("_set_error_listener",
              [](Context& c, py::function f) {
                  c.errors().set_listener([f](GLenum code, const char* call, const std::string& why) {
                      // Draws and compiles run without the GIL; reporting needs it.
@@ -229,9 +233,12 @@ void bind_context(py::module_& m) {
         .def("getParameter", [](Context& c, softgl::bindings::IdlUint32 pname) { return to_python(c.get_parameter(pname.value)); })
         .def("clear", webidl(&Context::clear))
         .def("flush", [](Context&) {})    // drawing is synchronous: nothing is ever pending
-        .def("finish", [](Context&) {})
-        // Buffers
-        .def("createBuffer", &Context::create_buffer)
+        .def("finish", [](Context&) {});
+}
+
+// Buffer objects and their data (WebGL 2's srcOffset/length overloads included).
+void bind_buffers(ContextClass& cls) {
+    cls.def("createBuffer", &Context::create_buffer)
         .def("bindBuffer", webidl(&Context::bind_buffer))
         .def("deleteBuffer", &Context::delete_buffer)
         .def("isBuffer", &Context::is_buffer)
@@ -275,9 +282,12 @@ void bind_context(py::module_& m) {
              py::arg("length") = 0)
         .def("getBufferParameter", [](Context& c, IdlUint32 target, IdlUint32 pname) {
             return to_python(c.get_buffer_parameter(target.value, pname.value));
-        })
-        // Vertex attributes
-        .def("vertexAttribPointer", webidl(&Context::vertex_attrib_pointer))
+        });
+}
+
+// Vertex attributes (arrays and constant values) and vertex array objects.
+void bind_vertex_input(ContextClass& cls) {
+    cls.def("vertexAttribPointer", webidl(&Context::vertex_attrib_pointer))
         .def("vertexAttribIPointer", webidl(&Context::vertex_attrib_i_pointer))
         .def("enableVertexAttribArray", webidl(&Context::enable_vertex_attrib_array))
         .def("disableVertexAttribArray", webidl(&Context::disable_vertex_attrib_array))
@@ -308,9 +318,12 @@ void bind_context(py::module_& m) {
         .def("createVertexArray", &Context::create_vertex_array)
         .def("bindVertexArray", &Context::bind_vertex_array)
         .def("deleteVertexArray", &Context::delete_vertex_array)
-        .def("isVertexArray", &Context::is_vertex_array)
-        // Shaders and programs
-        .def("createShader", webidl(&Context::create_shader))
+        .def("isVertexArray", &Context::is_vertex_array);
+}
+
+// Shaders, programs, their reflection and precision formats.
+void bind_shaders_and_programs(ContextClass& cls) {
+    cls.def("createShader", webidl(&Context::create_shader))
         .def("shaderSource", &Context::shader_source)
         .def("getShaderSource", [](Context& c, const std::shared_ptr<softgl::Shader>& s) -> py::object {
             std::string src = c.get_shader_source(s);
@@ -360,8 +373,12 @@ void bind_context(py::module_& m) {
         .def("getUniformLocation", &Context::get_uniform_location)
         .def("getActiveAttrib", [](Context& c, const std::shared_ptr<softgl::Program>& p, IdlUint32 i) { return c.get_active_attrib(p, i.value); })
         .def("getActiveUniform", [](Context& c, const std::shared_ptr<softgl::Program>& p, IdlUint32 i) { return c.get_active_uniform(p, i.value); })
-        .def("getShaderPrecisionFormat", webidl(&Context::get_shader_precision_format))
-        .def("uniform1f", [](Context& c, const softgl::UniformLocation* l, float x) { float v[] = {x}; c.set_uniform("uniform1f", l, 'f', 1, 0, v, 1, false); })
+        .def("getShaderPrecisionFormat", webidl(&Context::get_shader_precision_format));
+}
+
+// The scalar uniform setters and getUniform (the array forms: bind_uniform_arrays).
+void bind_uniforms(ContextClass& cls) {
+    cls.def("uniform1f", [](Context& c, const softgl::UniformLocation* l, float x) { float v[] = {x}; c.set_uniform("uniform1f", l, 'f', 1, 0, v, 1, false); })
         .def("uniform2f", [](Context& c, const softgl::UniformLocation* l, float x, float y) { float v[] = {x, y}; c.set_uniform("uniform2f", l, 'f', 2, 0, v, 1, false); })
         .def("uniform3f", [](Context& c, const softgl::UniformLocation* l, float x, float y, float z) { float v[] = {x, y, z}; c.set_uniform("uniform3f", l, 'f', 3, 0, v, 1, false); })
         .def("uniform4f", [](Context& c, const softgl::UniformLocation* l, float x, float y, float z, float w) { float v[] = {x, y, z, w}; c.set_uniform("uniform4f", l, 'f', 4, 0, v, 1, false); })
@@ -375,9 +392,12 @@ void bind_context(py::module_& m) {
         .def("uniform4ui", [](Context& c, const softgl::UniformLocation* l, IdlUint32 x, IdlUint32 y, IdlUint32 z, IdlUint32 w) { uint32_t v[] = {x.value, y.value, z.value, w.value}; c.set_uniform("uniform4ui", l, 'u', 4, 0, v, 1, false); })
         .def("getUniform", [](Context& c, const std::shared_ptr<softgl::Program>& p, const softgl::UniformLocation* loc) {
             return to_python(c.get_uniform(p, loc));
-        })
-        // Drawing
-        .def("drawArrays", [](Context& c, IdlUint32 mode, IdlInt32 first, IdlInt32 count) {
+        });
+}
+
+// Draw calls, the fog extension, draw statistics and readPixels.
+void bind_drawing(ContextClass& cls) {
+    cls.def("drawArrays", [](Context& c, IdlUint32 mode, IdlInt32 first, IdlInt32 count) {
             softgl::bindings::ExclusiveWithoutGil release(c);
             c.draw_arrays(mode.value, first.value, count.value, 1, "drawArrays");
         })
@@ -425,7 +445,22 @@ void bind_context(py::module_& m) {
             return d;
         }, py::arg("reset") = false)
         .def("readPixels", &read_pixels, py::arg("x"), py::arg("y"), py::arg("width"),
-             py::arg("height"), py::arg("format"), py::arg("type"), py::arg("pixels") = py::none());
+             py::arg("height"), py::arg("format"), py::arg("type"), py::arg("pixels") = py::none());;
+}
+
+}  // namespace
+
+void bind_context(py::module_& m) {
+    bind_object_types(m);
+    bind_context_attributes(m);
+    ContextClass cls(m, "Context");
+    cls.def(py::init<int32_t, int32_t, const ContextAttributes&>());
+    bind_state(cls);
+    bind_buffers(cls);
+    bind_vertex_input(cls);
+    bind_shaders_and_programs(cls);
+    bind_uniforms(cls);
+    bind_drawing(cls);
 }
 
 // The array forms of the uniform setters: uniform{1234}{f,i,ui}v and uniformMatrix*fv, taking

@@ -323,6 +323,10 @@ private:
     void set_attrib_pointer(const char* call, uint32_t index, int32_t size, GLenum type, bool normalized,
                             bool integer, int32_t stride, int64_t offset);
     Value vertex_array_binding() const;
+    // getParameter's object bindings (WebGL 1 with the drawing buffer's format, WebGL 2);
+    // nullopt for other names (parameters.cpp).
+    std::optional<Value> binding_parameter(GLenum pname) const;
+    std::optional<Value> webgl2_binding_parameter(GLenum pname) const;
     Buffer* bound_buffer(const char* call, GLenum target);
     bool check_object(const char* call, const Object* object) const;
     void error(GLenum code, const char* call, const std::string& why) {

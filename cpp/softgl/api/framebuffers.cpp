@@ -829,6 +829,143 @@ void Context::clear_buffer(const char* call, GLenum buffer, int32_t drawbuffer, 
     }
 }
 
+namespace {
+
+// The colour half of a blit: where it reads and which images it writes (ES 3.0 §4.3.3).
+struct BlitColor {
+    ColorSource source;
+    DefaultFramebuffer* drawing_buffer = nullptr;          // written when it is the draw framebuffer
+    std::vector<std::pair<Image*, size_t>> images;         // attached images written, at their layer
+    bool writes() const { return drawing_buffer || !images.empty(); }
+    void write(int32_t x, int32_t y, const float rgba[4]) const {
+        const std::array<bool, 4> all_channels{true, true, true, true};
+        if (drawing_buffer) write_plain(drawing_buffer, nullptr, 0, x, y, rgba, all_channels);
+        for (const auto& d : images) write_plain(nullptr, d.first, d.second, x, y, rgba, all_channels);
+    }
+};
+
+// Picks the colour source (the read buffer) and destinations (the draw buffers) of a blit into
+// `out`; returns why the blit is an INVALID_OPERATION ("" if it is not). Without a source
+// image nothing is written.
+std::string blit_color_targets(const Framebuffer* read, const Framebuffer* draw, DefaultFramebuffer& drawing_buffer,
+                               GLenum filter, BlitColor& out) {
+    bool have_source = true;
+    if (read) {
+        const GLenum rb = read->read_buffer;
+        const Attachment* a = rb == gl::NONE ? nullptr : &read->color[rb - gl::COLOR_ATTACHMENT0];
+        Image* img = a ? a->image() : nullptr;
+        if (!img) have_source = false;
+        else out.source = ColorSource{nullptr, img, layer_offset(*img, a->layer), img->width, img->height};
+    } else {
+        out.source = ColorSource{&drawing_buffer, nullptr, 0, drawing_buffer.width(), drawing_buffer.height()};
+    }
+    if (!draw) {
+        out.drawing_buffer = &drawing_buffer;
+    } else {
+        for (GLenum b : draw->draw_buffers) {
+            if (b < gl::COLOR_ATTACHMENT0 || b >= gl::COLOR_ATTACHMENT0 + uint32_t(kMaxColorAttachments)) continue;
+            const Attachment& a = draw->color[b - gl::COLOR_ATTACHMENT0];
+            if (Image* img = a.image()) out.images.push_back({img, layer_offset(*img, a.layer)});
+            if (a.texture) ++a.texture->generation;   // the blit writes it
+        }
+    }
+    if (!have_source) {
+        out.images.clear();
+        out.drawing_buffer = nullptr;
+        return "";
+    }
+    const bool src_int = out.source.img && out.source.img->format->is_integer();
+    for (const auto& d : out.images) {
+        if (d.first->format->is_integer() != src_int) return "integer and non-integer colour buffers cannot be blitted together";
+        if (d.first == out.source.img) return "the source and destination images are the same";
+    }
+    if (out.drawing_buffer && src_int) return "integer buffers cannot be blitted to the drawing buffer";
+    if (src_int && filter == gl::LINEAR) return "integer buffers must be blitted with NEAREST";
+    return "";
+}
+
+// The colour a blit reads at (u, v) in source pixels into `rgba`; false when (u, v) lies outside
+// the source (nothing is written there).
+bool blit_read_color(const ColorSource& cs, double u, double v, GLenum filter, float rgba[4]) {
+    if (filter == gl::NEAREST) {
+        const int64_t ix = int64_t(std::floor(u)), iy = int64_t(std::floor(v));
+        const bool inside = ix >= 0 && iy >= 0 && ix < cs.width && iy < cs.height;
+        if (inside) cs.read(int32_t(ix), int32_t(iy), rgba);
+        return inside;
+    }
+    // Bilinear with the source clamped to its edges.
+    const double uu = u - 0.5, vv = v - 0.5;
+    const int64_t i0 = int64_t(std::floor(uu)), j0 = int64_t(std::floor(vv));
+    const float a = float(uu - std::floor(uu)), b = float(vv - std::floor(vv));
+    const bool inside = std::floor(u) >= 0 && std::floor(v) >= 0 && std::floor(u) < cs.width && std::floor(v) < cs.height;
+    float t[4][4];
+    for (int k = 0; k < 4; ++k) {
+        const int32_t ix = int32_t(std::clamp<int64_t>(i0 + (k & 1), 0, cs.width - 1));
+        const int32_t iy = int32_t(std::clamp<int64_t>(j0 + (k >> 1), 0, cs.height - 1));
+        cs.read(ix, iy, t[k]);
+    }
+    for (int c = 0; c < 4; ++c)
+        rgba[c] = (1 - a) * (1 - b) * t[0][c] + a * (1 - b) * t[1][c] + (1 - a) * b * t[2][c] + a * b * t[3][c];
+    return inside;
+}
+
+// One side of the depth / stencil half of a blit. The drawing buffer's depth is 24-bit unorm
+// and its stencil 8 bits, so it blits with DEPTH_COMPONENT24 / DEPTH24_STENCIL8 images.
+struct DepthStencilSide {
+    DefaultFramebuffer* fb = nullptr;   // the drawing buffer, or
+    Image* depth = nullptr;             // the attached images (null: none)
+    Image* stencil = nullptr;
+    size_t depth_offset = 0, stencil_offset = 0;
+    bool has_depth() const { return fb ? fb->config().depth : depth != nullptr; }
+    bool has_stencil() const { return fb ? fb->config().stencil : stencil != nullptr; }
+    Encoding depth_encoding() const { return fb ? Encoding::Depth24 : depth->format->encoding; }
+    int32_t width() const { return fb ? fb->width() : depth ? depth->width : stencil ? stencil->width : 0; }
+    int32_t height() const { return fb ? fb->height() : depth ? depth->height : stencil ? stencil->height : 0; }
+    // Sample 0 of a multisampled source (ES 3.0 §4.3.3: depth/stencil resolves pick one sample).
+    uint32_t depth_at(int64_t ix, int64_t iy) const {
+        if (fb) return fb->depth_sample(int32_t(ix), int32_t(iy), 0);
+        return depth->depth_words[depth_offset + (size_t(iy) * size_t(depth->width) + size_t(ix)) * size_t(depth->samples)];
+    }
+    uint8_t stencil_at(int64_t ix, int64_t iy) const {
+        if (fb) return fb->stencil_sample(int32_t(ix), int32_t(iy), 0);
+        return stencil->stencil[stencil_offset + (size_t(iy) * size_t(stencil->width) + size_t(ix)) * size_t(stencil->samples)];
+    }
+    // A destination is single-sampled (blit_framebuffer checks it) or the drawing buffer.
+    void write_depth(int32_t x, int32_t y, uint32_t word) const {
+        if (!fb) depth->depth_words[depth_offset + size_t(y) * size_t(depth->width) + size_t(x)] = word;
+        else if (uint32_t* d = fb->depth_samples(x, y)) std::fill_n(d, fb->config().samples, word);
+    }
+    void write_stencil(int32_t x, int32_t y, uint8_t value) const {
+        if (!fb) stencil->stencil[stencil_offset + size_t(y) * size_t(stencil->width) + size_t(x)] = value;
+        else if (uint8_t* d = fb->stencil_samples(x, y)) std::fill_n(d, fb->config().samples, value);
+    }
+};
+
+DepthStencilSide depth_stencil_side(const Framebuffer* f, DefaultFramebuffer& drawing_buffer) {
+    DepthStencilSide d;
+    if (!f) { d.fb = &drawing_buffer; return d; }
+    if ((d.depth = f->depth.image())) d.depth_offset = layer_offset(*d.depth, f->depth.layer);
+    if ((d.stencil = f->stencil.image())) d.stencil_offset = layer_offset(*d.stencil, f->stencil.layer);
+    return d;
+}
+
+// Depth / stencil formats must match (ES 3.0 §4.3.3): why they do not ("" if they do).
+std::string depth_stencil_mismatch(const DepthStencilSide& src, const DepthStencilSide& dst, bool depth, bool stencil) {
+    if (depth) {
+        const bool same = (src.fb || dst.fb) ? src.depth_encoding() == dst.depth_encoding()
+                                             : src.depth->format == dst.depth->format;
+        if (!same) return "the depth formats differ";
+        if (!src.fb && src.depth == dst.depth) return "the source and destination images are the same";
+    }
+    if (stencil) {
+        if (!src.fb && !dst.fb && src.stencil->format != dst.stencil->format) return "the stencil formats differ";
+        if (!src.fb && src.stencil == dst.stencil) return "the source and destination images are the same";
+    }
+    return "";
+}
+
+}  // namespace
+
 void Context::blit_framebuffer(int32_t sx0, int32_t sy0, int32_t sx1, int32_t sy1, int32_t dx0, int32_t dy0,
                                int32_t dx1, int32_t dy1, uint32_t mask, GLenum filter) {
     const char* call = "blitFramebuffer";
@@ -855,92 +992,18 @@ void Context::blit_framebuffer(int32_t sx0, int32_t sy0, int32_t sx1, int32_t sy
     if (read_samples > 1 && (scaled || sx0 != dx0 || sy0 != dy0 || sx1 != dx1 || sy1 != dy1))
         return error(gl::INVALID_OPERATION, call, "a multisample resolve needs identical rectangles");
 
-    // Colour sources and destinations.
-    ColorReadSource src{};
-    std::vector<std::pair<Image*, size_t>> dst_images;
-    bool dst_default = false;
+    BlitColor color;
     if (mask & gl::COLOR_BUFFER_BIT) {
-        bool have_source = true;
-        if (read_framebuffer_) {
-            const GLenum rb = read_framebuffer_->read_buffer;
-            const Attachment* a = rb == gl::NONE ? nullptr : &read_framebuffer_->color[rb - gl::COLOR_ATTACHMENT0];
-            Image* img = a ? a->image() : nullptr;
-            if (!img) have_source = false;
-            else src = ColorReadSource{nullptr, img, layer_offset(*img, a->layer), img->width, img->height};
-        } else {
-            src = ColorReadSource{&framebuffer_, nullptr, 0, framebuffer_.width(), framebuffer_.height()};
-        }
-        if (!draw_framebuffer_) {
-            dst_default = true;
-        } else {
-            for (GLenum b : draw_framebuffer_->draw_buffers) {
-                if (b < gl::COLOR_ATTACHMENT0 || b >= gl::COLOR_ATTACHMENT0 + uint32_t(kMaxColorAttachments)) continue;
-                const Attachment& a = draw_framebuffer_->color[b - gl::COLOR_ATTACHMENT0];
-                if (Image* img = a.image()) dst_images.push_back({img, layer_offset(*img, a.layer)});
-                if (a.texture) ++a.texture->generation;   // the blit writes it
-            }
-        }
-        if (have_source) {
-            const bool src_int = src.img && src.img->format->is_integer();
-            for (auto& d : dst_images) {
-                if (d.first->format->is_integer() != src_int)
-                    return error(gl::INVALID_OPERATION, call, "integer and non-integer colour buffers cannot be blitted together");
-                if (d.first == src.img) return error(gl::INVALID_OPERATION, call, "the source and destination images are the same");
-            }
-            if (dst_default && src_int) return error(gl::INVALID_OPERATION, call, "integer buffers cannot be blitted to the drawing buffer");
-            if (src_int && filter == gl::LINEAR) return error(gl::INVALID_OPERATION, call, "integer buffers must be blitted with NEAREST");
-        } else {
-            dst_images.clear();
-            dst_default = false;
-        }
+        why = blit_color_targets(read_framebuffer_.get(), draw_framebuffer_.get(), framebuffer_, filter, color);
+        if (!why.empty()) return error(gl::INVALID_OPERATION, call, why);
     }
-    // Depth / stencil: formats must match (ES 3.0 §4.3.3). The drawing buffer's depth is 24-bit
-    // unorm and its stencil 8 bits, so it blits with DEPTH_COMPONENT24 / DEPTH24_STENCIL8 images.
-    struct DepthStencilSide {
-        DefaultFramebuffer* fb = nullptr;   // the drawing buffer, or
-        Image* depth = nullptr;             // the attached images (null: none)
-        Image* stencil = nullptr;
-        size_t depth_offset = 0, stencil_offset = 0;
-        bool has_depth() const { return fb ? fb->config().depth : depth != nullptr; }
-        bool has_stencil() const { return fb ? fb->config().stencil : stencil != nullptr; }
-        Encoding depth_encoding() const { return fb ? Encoding::Depth24 : depth->format->encoding; }
-    };
-    auto side = [&](const std::shared_ptr<Framebuffer>& f) {
-        DepthStencilSide d;
-        if (!f) { d.fb = &framebuffer_; return d; }
-        if ((d.depth = f->depth.image())) d.depth_offset = layer_offset(*d.depth, f->depth.layer);
-        if ((d.stencil = f->stencil.image())) d.stencil_offset = layer_offset(*d.stencil, f->stencil.layer);
-        return d;
-    };
-    const DepthStencilSide ds_src = side(read_framebuffer_), ds_dst = side(draw_framebuffer_);
+    const DepthStencilSide ds_src = depth_stencil_side(read_framebuffer_.get(), framebuffer_);
+    const DepthStencilSide ds_dst = depth_stencil_side(draw_framebuffer_.get(), framebuffer_);
     const bool ds = (mask & (gl::DEPTH_BUFFER_BIT | gl::STENCIL_BUFFER_BIT)) != 0;
     const bool blit_depth = (mask & gl::DEPTH_BUFFER_BIT) && ds_src.has_depth() && ds_dst.has_depth();
     const bool blit_stencil = (mask & gl::STENCIL_BUFFER_BIT) && ds_src.has_stencil() && ds_dst.has_stencil();
-    if (blit_depth) {
-        const bool same = (ds_src.fb || ds_dst.fb) ? ds_src.depth_encoding() == ds_dst.depth_encoding()
-                                                   : ds_src.depth->format == ds_dst.depth->format;
-        if (!same) return error(gl::INVALID_OPERATION, call, "the depth formats differ");
-        if (!ds_src.fb && ds_src.depth == ds_dst.depth) return error(gl::INVALID_OPERATION, call, "the source and destination images are the same");
-    }
-    if (blit_stencil) {
-        if (!ds_src.fb && !ds_dst.fb && ds_src.stencil->format != ds_dst.stencil->format)
-            return error(gl::INVALID_OPERATION, call, "the stencil formats differ");
-        if (!ds_src.fb && ds_src.stencil == ds_dst.stencil) return error(gl::INVALID_OPERATION, call, "the source and destination images are the same");
-    }
-    // Sample 0 of a multisampled source (ES 3.0 §4.3.3: depth/stencil resolves pick one sample).
-    auto src_depth_at = [&](int64_t ix, int64_t iy) -> uint32_t {
-        if (ds_src.fb) return ds_src.fb->depth_sample(int32_t(ix), int32_t(iy), 0);
-        const Image& i = *ds_src.depth;
-        return i.depth_words[ds_src.depth_offset + (size_t(iy) * size_t(i.width) + size_t(ix)) * size_t(i.samples)];
-    };
-    auto src_stencil_at = [&](int64_t ix, int64_t iy) -> uint8_t {
-        if (ds_src.fb) return ds_src.fb->stencil_sample(int32_t(ix), int32_t(iy), 0);
-        const Image& i = *ds_src.stencil;
-        return i.stencil[ds_src.stencil_offset + (size_t(iy) * size_t(i.width) + size_t(ix)) * size_t(i.samples)];
-    };
-    const Image* ds_src_img = ds_src.depth ? ds_src.depth : ds_src.stencil;
-    const int32_t ds_src_w = ds_src.fb ? ds_src.fb->width() : ds_src_img ? ds_src_img->width : 0;
-    const int32_t ds_src_h = ds_src.fb ? ds_src.fb->height() : ds_src_img ? ds_src_img->height : 0;
+    why = depth_stencil_mismatch(ds_src, ds_dst, blit_depth, blit_stencil);
+    if (!why.empty()) return error(gl::INVALID_OPERATION, call, why);
 
     // ES 3.0 §4.3.3: each destination pixel centre maps linearly into the source rectangle.
     const int64_t x_lo = std::min(dx0, dx1), x_hi = std::max(dx0, dx1), y_lo = std::min(dy0, dy1), y_hi = std::max(dy0, dy1);
@@ -955,63 +1018,17 @@ void Context::blit_framebuffer(int32_t sx0, int32_t sy0, int32_t sx1, int32_t sy
         cx1 = std::min<int64_t>(cx1, int64_t(state_.scissor.x) + state_.scissor.width);
         cy1 = std::min<int64_t>(cy1, int64_t(state_.scissor.y) + state_.scissor.height);
     }
-    ColorSource cs{src.fb, src.img, src.offset, src.width, src.height};
-    const std::array<bool, 4> all_channels{true, true, true, true};
     for (int64_t y = cy0; y < cy1; ++y)
         for (int64_t x = cx0; x < cx1; ++x) {
             const double u = double(sx0) + (double(x) + 0.5 - double(dx0)) * scale_x;
             const double v = double(sy0) + (double(y) + 0.5 - double(dy0)) * scale_y;
-            if (!dst_images.empty() || dst_default) {
-                float rgba[4];
-                bool inside = true;
-                if (filter == gl::NEAREST) {
-                    const int64_t ix = int64_t(std::floor(u)), iy = int64_t(std::floor(v));
-                    inside = ix >= 0 && iy >= 0 && ix < src.width && iy < src.height;
-                    if (inside) cs.read(int32_t(ix), int32_t(iy), rgba);
-                } else {
-                    // Bilinear with the source clamped to its edges.
-                    const double uu = u - 0.5, vv = v - 0.5;
-                    const int64_t i0 = int64_t(std::floor(uu)), j0 = int64_t(std::floor(vv));
-                    const float a = float(uu - std::floor(uu)), b = float(vv - std::floor(vv));
-                    inside = std::floor(u) >= 0 && std::floor(v) >= 0 && std::floor(u) < src.width && std::floor(v) < src.height;
-                    float t[4][4];
-                    for (int k = 0; k < 4; ++k) {
-                        const int32_t ix = int32_t(std::clamp<int64_t>(i0 + (k & 1), 0, src.width - 1));
-                        const int32_t iy = int32_t(std::clamp<int64_t>(j0 + (k >> 1), 0, src.height - 1));
-                        cs.read(ix, iy, t[k]);
-                    }
-                    for (int c = 0; c < 4; ++c)
-                        rgba[c] = (1 - a) * (1 - b) * t[0][c] + a * (1 - b) * t[1][c] + (1 - a) * b * t[2][c] + a * b * t[3][c];
-                }
-                if (inside) {
-                    if (dst_default) write_plain(&framebuffer_, nullptr, 0, int32_t(x), int32_t(y), rgba, all_channels);
-                    for (auto& d : dst_images) write_plain(nullptr, d.first, d.second, int32_t(x), int32_t(y), rgba, all_channels);
-                }
-            }
-            if (ds) {
-                const int64_t ix = int64_t(std::floor(u)), iy = int64_t(std::floor(v));
-                if (ix < 0 || iy < 0 || ix >= ds_src_w || iy >= ds_src_h) continue;
-                const int32_t X = int32_t(x), Y = int32_t(y);
-                // The destination is single-sampled (checked above) or the drawing buffer.
-                if (blit_depth) {
-                    const uint32_t word = src_depth_at(ix, iy);
-                    if (ds_dst.fb) {
-                        if (uint32_t* d = ds_dst.fb->depth_samples(X, Y)) std::fill_n(d, ds_dst.fb->config().samples, word);
-                    } else {
-                        Image& i = *ds_dst.depth;
-                        i.depth_words[ds_dst.depth_offset + size_t(Y) * size_t(i.width) + size_t(X)] = word;
-                    }
-                }
-                if (blit_stencil) {
-                    const uint8_t st = src_stencil_at(ix, iy);
-                    if (ds_dst.fb) {
-                        if (uint8_t* d = ds_dst.fb->stencil_samples(X, Y)) std::fill_n(d, ds_dst.fb->config().samples, st);
-                    } else {
-                        Image& i = *ds_dst.stencil;
-                        i.stencil[ds_dst.stencil_offset + size_t(Y) * size_t(i.width) + size_t(X)] = st;
-                    }
-                }
-            }
+            float rgba[4];
+            if (color.writes() && blit_read_color(color.source, u, v, filter, rgba)) color.write(int32_t(x), int32_t(y), rgba);
+            if (!ds) continue;
+            const int64_t ix = int64_t(std::floor(u)), iy = int64_t(std::floor(v));
+            if (ix < 0 || iy < 0 || ix >= ds_src.width() || iy >= ds_src.height()) continue;
+            if (blit_depth) ds_dst.write_depth(int32_t(x), int32_t(y), ds_src.depth_at(ix, iy));
+            if (blit_stencil) ds_dst.write_stencil(int32_t(x), int32_t(y), ds_src.stencil_at(ix, iy));
         }
 }
 

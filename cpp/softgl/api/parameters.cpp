@@ -23,27 +23,9 @@ constexpr int32_t kMaxUniformBlockSize = 16384;
 constexpr int32_t kMaxVaryingComponents = limits::kMaxVaryingVectors * 4;
 constexpr int32_t kMaxDrawBuffers = 8;
 
-}  // namespace
-
-template <class T>
-static Value object(const std::shared_ptr<T>& p) {
-    if (!p) return Value(Null{});
-    return Value(std::shared_ptr<Object>(p));
-}
-
-Value Context::vertex_array_binding() const {
-    // The default vertex array reads as null (WebGL 2.0 §3.7.2).
-    return vertex_array_ == default_vertex_array_ ? Value(Null{}) : object(vertex_array_);
-}
-
-Value Context::get_parameter(GLenum pname) {
-    const State& s = state_;
-    const auto& fb = framebuffer_.config();
-    const bool v2 = version() >= 2;
-    // Texture, sampler, framebuffer and renderbuffer state (textures.cpp, framebuffers.cpp).
-    if (std::optional<Value> v = texture_framebuffer_parameter(pname)) return *std::move(v);
+// The fixed-function state of WebGL 1.
+std::optional<Value> state_parameter(const State& s, GLenum pname) {
     switch (pname) {
-        // Capabilities
         case gl::BLEND: return b(s.blend.enabled);
         case gl::CULL_FACE: return b(s.cull_face);
         case gl::DEPTH_TEST: return b(s.depth_test);
@@ -110,8 +92,146 @@ Value Context::get_parameter(GLenum pname) {
         case gl::UNPACK_FLIP_Y_WEBGL: return b(s.pixel_store.unpack_flip_y);
         case gl::UNPACK_PREMULTIPLY_ALPHA_WEBGL: return b(s.pixel_store.unpack_premultiply_alpha);
         case gl::UNPACK_COLORSPACE_CONVERSION_WEBGL: return i(s.pixel_store.unpack_colorspace_conversion);
+        default: return std::nullopt;
+    }
+}
 
-        // Object bindings
+// WebGL 1's implementation limits.
+std::optional<Value> limit_parameter(GLenum pname) {
+    switch (pname) {
+        case gl::ALIASED_LINE_WIDTH_RANGE: return floats({limits::kLineWidthRange[0], limits::kLineWidthRange[1]});
+        case gl::ALIASED_POINT_SIZE_RANGE: return floats({limits::kPointSizeRange[0], limits::kPointSizeRange[1]});
+        case gl::MAX_VIEWPORT_DIMS: return ints({limits::kMaxViewportDims, limits::kMaxViewportDims});
+        case gl::MAX_TEXTURE_SIZE: return i(limits::kMaxTextureSize);
+        case gl::MAX_CUBE_MAP_TEXTURE_SIZE: return i(limits::kMaxCubeMapTextureSize);
+        case gl::MAX_RENDERBUFFER_SIZE: return i(limits::kMaxRenderbufferSize);
+        case gl::MAX_VERTEX_ATTRIBS: return i(limits::kMaxVertexAttribs);
+        case gl::MAX_TEXTURE_IMAGE_UNITS: return i(limits::kMaxTextureImageUnits);
+        case gl::MAX_VERTEX_TEXTURE_IMAGE_UNITS: return i(limits::kMaxVertexTextureImageUnits);
+        case gl::MAX_COMBINED_TEXTURE_IMAGE_UNITS: return i(limits::kMaxCombinedTextureImageUnits);
+        case gl::MAX_VERTEX_UNIFORM_VECTORS: return i(limits::kMaxVertexUniformVectors);
+        case gl::MAX_FRAGMENT_UNIFORM_VECTORS: return i(limits::kMaxFragmentUniformVectors);
+        case gl::MAX_VARYING_VECTORS: return i(limits::kMaxVaryingVectors);
+        case gl::SUBPIXEL_BITS: return i(limits::kSubpixelBits);
+        case gl::COMPRESSED_TEXTURE_FORMATS: return Value(Uint32Array{});
+        default: return std::nullopt;
+    }
+}
+
+// The strings (WebGL 1.0 §5.14.3 prescribes the prefixes).
+std::optional<Value> string_parameter(GLenum pname, bool v2) {
+    switch (pname) {
+        case gl::VENDOR: return Value(std::string("softgl"));
+        case gl::RENDERER: return Value(std::string("softgl"));
+        case gl::VERSION: return Value(std::string(v2 ? "WebGL 2.0 (softgl)" : "WebGL 1.0 (softgl)"));
+        case gl::SHADING_LANGUAGE_VERSION:
+            return Value(std::string(v2 ? "WebGL GLSL ES 3.00 (softgl)" : "WebGL GLSL ES 1.0 (softgl)"));
+        default: return std::nullopt;
+    }
+}
+
+// WebGL 2's additions to the state.
+std::optional<Value> webgl2_state_parameter(const State& s, GLenum pname) {
+    switch (pname) {
+        case gl::RASTERIZER_DISCARD: return b(s.rasterizer_discard);
+        case gl::FRAGMENT_SHADER_DERIVATIVE_HINT: return i(s.fragment_shader_derivative_hint);
+        case gl::PACK_ROW_LENGTH: return i(s.pixel_store.pack_row_length);
+        case gl::PACK_SKIP_PIXELS: return i(s.pixel_store.pack_skip_pixels);
+        case gl::PACK_SKIP_ROWS: return i(s.pixel_store.pack_skip_rows);
+        case gl::UNPACK_ROW_LENGTH: return i(s.pixel_store.unpack_row_length);
+        case gl::UNPACK_IMAGE_HEIGHT: return i(s.pixel_store.unpack_image_height);
+        case gl::UNPACK_SKIP_PIXELS: return i(s.pixel_store.unpack_skip_pixels);
+        case gl::UNPACK_SKIP_ROWS: return i(s.pixel_store.unpack_skip_rows);
+        case gl::UNPACK_SKIP_IMAGES: return i(s.pixel_store.unpack_skip_images);
+        case gl::READ_BUFFER: return i(gl::BACK);
+        case gl::TRANSFORM_FEEDBACK_ACTIVE: case gl::TRANSFORM_FEEDBACK_PAUSED: return b(false);
+        default: return std::nullopt;
+    }
+}
+
+// WebGL 2's implementation limits (ES 3.0 §6.2, table 6.3x).
+std::optional<Value> webgl2_limit_parameter(GLenum pname) {
+    switch (pname) {
+        case gl::MAX_3D_TEXTURE_SIZE: return i(2048);
+        case gl::MAX_ARRAY_TEXTURE_LAYERS: return i(2048);
+        case gl::MAX_COLOR_ATTACHMENTS: return i(kMaxDrawBuffers);
+        case gl::MAX_DRAW_BUFFERS: return i(kMaxDrawBuffers);
+        case gl::MAX_ELEMENT_INDEX: return i(4294967295LL);
+        case gl::MAX_ELEMENTS_INDICES: return i(1 << 20);
+        case gl::MAX_ELEMENTS_VERTICES: return i(1 << 20);
+        case gl::MAX_SAMPLES: return i(limits::kMaxSamples);
+        case gl::MAX_TEXTURE_LOD_BIAS: return f(16.0f);
+        case gl::MAX_PROGRAM_TEXEL_OFFSET: return i(7);
+        case gl::MIN_PROGRAM_TEXEL_OFFSET: return i(-8);
+        case gl::MAX_VERTEX_UNIFORM_COMPONENTS: return i(kMaxVertexUniformComponents);
+        case gl::MAX_FRAGMENT_UNIFORM_COMPONENTS: return i(kMaxFragmentUniformComponents);
+        case gl::MAX_VARYING_COMPONENTS: return i(kMaxVaryingComponents);
+        case gl::MAX_VERTEX_OUTPUT_COMPONENTS: return i(kMaxVaryingComponents);
+        case gl::MAX_FRAGMENT_INPUT_COMPONENTS: return i(kMaxVaryingComponents);
+        case gl::MAX_VERTEX_UNIFORM_BLOCKS: return i(kMaxUniformBlocksPerStage);
+        case gl::MAX_FRAGMENT_UNIFORM_BLOCKS: return i(kMaxUniformBlocksPerStage);
+        case gl::MAX_COMBINED_UNIFORM_BLOCKS: return i(2 * kMaxUniformBlocksPerStage);
+        case gl::MAX_UNIFORM_BUFFER_BINDINGS: return i(2 * kMaxUniformBlocksPerStage);
+        case gl::MAX_UNIFORM_BLOCK_SIZE: return i(kMaxUniformBlockSize);
+        case gl::MAX_COMBINED_VERTEX_UNIFORM_COMPONENTS:
+            return i(int64_t(kMaxUniformBlocksPerStage) * kMaxUniformBlockSize / 4 + kMaxVertexUniformComponents);
+        case gl::MAX_COMBINED_FRAGMENT_UNIFORM_COMPONENTS:
+            return i(int64_t(kMaxUniformBlocksPerStage) * kMaxUniformBlockSize / 4 + kMaxFragmentUniformComponents);
+        case gl::UNIFORM_BUFFER_OFFSET_ALIGNMENT: return i(16);
+        case gl::MAX_TRANSFORM_FEEDBACK_INTERLEAVED_COMPONENTS: return i(64);
+        case gl::MAX_TRANSFORM_FEEDBACK_SEPARATE_ATTRIBS: return i(4);
+        case gl::MAX_TRANSFORM_FEEDBACK_SEPARATE_COMPONENTS: return i(4);
+        case gl::MAX_SERVER_WAIT_TIMEOUT: return i(0);
+        case gl::MAX_CLIENT_WAIT_TIMEOUT_WEBGL: return i(0);
+        default: return std::nullopt;
+    }
+}
+
+// SOFTGL_smooth's state.
+std::optional<Value> smooth_parameter(const State& s, GLenum pname) {
+    switch (pname) {
+        case gl::POLYGON_SMOOTH: return b(s.smooth.polygon);
+        case gl::LINE_SMOOTH: return b(s.smooth.line);
+        case gl::POINT_SMOOTH: return b(s.smooth.point);
+        case gl::POLYGON_SMOOTH_HINT: return i(s.smooth.polygon_hint);
+        case gl::LINE_SMOOTH_HINT: return i(s.smooth.line_hint);
+        case gl::POINT_SMOOTH_HINT: return i(s.smooth.point_hint);
+        default: return std::nullopt;
+    }
+}
+
+// The fog extension's state.
+std::optional<Value> fog_parameter(const State& s, GLenum pname) {
+    switch (pname) {
+        case gl::FOG: return b(s.fog.enabled);
+        case gl::FOG_BLEND_AWARE_SOFTGL: return b(s.fog.blend_aware);
+        case gl::FOG_MODE: return i(s.fog.mode);
+        case gl::FOG_DENSITY: return f(s.fog.density);
+        case gl::FOG_START: return f(s.fog.start);
+        case gl::FOG_END: return f(s.fog.end);
+        case gl::FOG_COLOR: return floats({s.fog.color.begin(), s.fog.color.end()});
+        case gl::FOG_COORDINATE_SOURCE: return i(s.fog.coordinate_source);
+        default: return std::nullopt;
+    }
+}
+
+}  // namespace
+
+template <class T>
+static Value object(const std::shared_ptr<T>& p) {
+    if (!p) return Value(Null{});
+    return Value(std::shared_ptr<Object>(p));
+}
+
+Value Context::vertex_array_binding() const {
+    // The default vertex array reads as null (WebGL 2.0 §3.7.2).
+    return vertex_array_ == default_vertex_array_ ? Value(Null{}) : object(vertex_array_);
+}
+
+// WebGL 1's object bindings and the drawing buffer's format.
+std::optional<Value> Context::binding_parameter(GLenum pname) const {
+    const auto& fb = framebuffer_.config();
+    switch (pname) {
         case gl::ARRAY_BUFFER_BINDING: return object(array_buffer_);
         case gl::ELEMENT_ARRAY_BUFFER_BINDING: return object(vertex_array_->element_buffer);
         case gl::CURRENT_PROGRAM: return object(current_program_);
@@ -129,117 +249,47 @@ Value Context::get_parameter(GLenum pname) {
         case gl::SAMPLES: return i(fb.samples > 1 ? fb.samples : 0);
         case gl::IMPLEMENTATION_COLOR_READ_FORMAT: return i(gl::RGBA);
         case gl::IMPLEMENTATION_COLOR_READ_TYPE: return i(drawing_buffer_read_type());
-
-        // Limits
-        case gl::ALIASED_LINE_WIDTH_RANGE: return floats({limits::kLineWidthRange[0], limits::kLineWidthRange[1]});
-        case gl::ALIASED_POINT_SIZE_RANGE: return floats({limits::kPointSizeRange[0], limits::kPointSizeRange[1]});
-        case gl::MAX_VIEWPORT_DIMS: return ints({limits::kMaxViewportDims, limits::kMaxViewportDims});
-        case gl::MAX_TEXTURE_SIZE: return i(limits::kMaxTextureSize);
-        case gl::MAX_CUBE_MAP_TEXTURE_SIZE: return i(limits::kMaxCubeMapTextureSize);
-        case gl::MAX_RENDERBUFFER_SIZE: return i(limits::kMaxRenderbufferSize);
-        case gl::MAX_VERTEX_ATTRIBS: return i(limits::kMaxVertexAttribs);
-        case gl::MAX_TEXTURE_IMAGE_UNITS: return i(limits::kMaxTextureImageUnits);
-        case gl::MAX_VERTEX_TEXTURE_IMAGE_UNITS: return i(limits::kMaxVertexTextureImageUnits);
-        case gl::MAX_COMBINED_TEXTURE_IMAGE_UNITS: return i(limits::kMaxCombinedTextureImageUnits);
-        case gl::MAX_VERTEX_UNIFORM_VECTORS: return i(limits::kMaxVertexUniformVectors);
-        case gl::MAX_FRAGMENT_UNIFORM_VECTORS: return i(limits::kMaxFragmentUniformVectors);
-        case gl::MAX_VARYING_VECTORS: return i(limits::kMaxVaryingVectors);
-        case gl::SUBPIXEL_BITS: return i(limits::kSubpixelBits);
-        case gl::COMPRESSED_TEXTURE_FORMATS: return Value(Uint32Array{});
-
-        // Strings (WebGL 1.0 §5.14.3 prescribes the prefixes)
-        case gl::VENDOR: return Value(std::string("softgl"));
-        case gl::RENDERER: return Value(std::string("softgl"));
-        case gl::VERSION: return Value(std::string(v2 ? "WebGL 2.0 (softgl)" : "WebGL 1.0 (softgl)"));
-        case gl::SHADING_LANGUAGE_VERSION:
-            return Value(std::string(v2 ? "WebGL GLSL ES 3.00 (softgl)" : "WebGL GLSL ES 1.0 (softgl)"));
-        default: break;
+        default: return std::nullopt;
     }
-    if (v2) {
-        switch (pname) {
-            case gl::RASTERIZER_DISCARD: return b(s.rasterizer_discard);
-            case gl::FRAGMENT_SHADER_DERIVATIVE_HINT: return i(s.fragment_shader_derivative_hint);
-            case gl::PACK_ROW_LENGTH: return i(s.pixel_store.pack_row_length);
-            case gl::PACK_SKIP_PIXELS: return i(s.pixel_store.pack_skip_pixels);
-            case gl::PACK_SKIP_ROWS: return i(s.pixel_store.pack_skip_rows);
-            case gl::UNPACK_ROW_LENGTH: return i(s.pixel_store.unpack_row_length);
-            case gl::UNPACK_IMAGE_HEIGHT: return i(s.pixel_store.unpack_image_height);
-            case gl::UNPACK_SKIP_PIXELS: return i(s.pixel_store.unpack_skip_pixels);
-            case gl::UNPACK_SKIP_ROWS: return i(s.pixel_store.unpack_skip_rows);
-            case gl::UNPACK_SKIP_IMAGES: return i(s.pixel_store.unpack_skip_images);
-            case gl::READ_BUFFER: return i(gl::BACK);
-            case gl::TRANSFORM_FEEDBACK_ACTIVE: case gl::TRANSFORM_FEEDBACK_PAUSED: return b(false);
+}
 
-            case gl::COPY_READ_BUFFER_BINDING: return object(copy_read_buffer_);
-            case gl::COPY_WRITE_BUFFER_BINDING: return object(copy_write_buffer_);
-            case gl::PIXEL_PACK_BUFFER_BINDING: return object(pixel_pack_buffer_);
-            case gl::PIXEL_UNPACK_BUFFER_BINDING: return object(pixel_unpack_buffer_);
-            case gl::UNIFORM_BUFFER_BINDING: return object(uniform_buffer_);
-            case gl::TRANSFORM_FEEDBACK_BUFFER_BINDING: return object(transform_feedback_buffer_);
-            case gl::VERTEX_ARRAY_BINDING: return vertex_array_binding();
-            case gl::READ_FRAMEBUFFER_BINDING: case gl::SAMPLER_BINDING:
-            case gl::TEXTURE_BINDING_2D_ARRAY: case gl::TEXTURE_BINDING_3D:
-            case gl::TRANSFORM_FEEDBACK_BINDING:
-                return Value(Null{});
+// WebGL 2's object bindings.
+std::optional<Value> Context::webgl2_binding_parameter(GLenum pname) const {
+    switch (pname) {
+        case gl::COPY_READ_BUFFER_BINDING: return object(copy_read_buffer_);
+        case gl::COPY_WRITE_BUFFER_BINDING: return object(copy_write_buffer_);
+        case gl::PIXEL_PACK_BUFFER_BINDING: return object(pixel_pack_buffer_);
+        case gl::PIXEL_UNPACK_BUFFER_BINDING: return object(pixel_unpack_buffer_);
+        case gl::UNIFORM_BUFFER_BINDING: return object(uniform_buffer_);
+        case gl::TRANSFORM_FEEDBACK_BUFFER_BINDING: return object(transform_feedback_buffer_);
+        case gl::VERTEX_ARRAY_BINDING: return vertex_array_binding();
+        case gl::READ_FRAMEBUFFER_BINDING: case gl::SAMPLER_BINDING:
+        case gl::TEXTURE_BINDING_2D_ARRAY: case gl::TEXTURE_BINDING_3D:
+        case gl::TRANSFORM_FEEDBACK_BINDING:
+            return Value(Null{});
+        default: return std::nullopt;
+    }
+}
 
-            case gl::MAX_3D_TEXTURE_SIZE: return i(2048);
-            case gl::MAX_ARRAY_TEXTURE_LAYERS: return i(2048);
-            case gl::MAX_COLOR_ATTACHMENTS: return i(kMaxDrawBuffers);
-            case gl::MAX_DRAW_BUFFERS: return i(kMaxDrawBuffers);
-            case gl::MAX_ELEMENT_INDEX: return i(4294967295LL);
-            case gl::MAX_ELEMENTS_INDICES: return i(1 << 20);
-            case gl::MAX_ELEMENTS_VERTICES: return i(1 << 20);
-            case gl::MAX_SAMPLES: return i(limits::kMaxSamples);
-            case gl::MAX_TEXTURE_LOD_BIAS: return f(16.0f);
-            case gl::MAX_PROGRAM_TEXEL_OFFSET: return i(7);
-            case gl::MIN_PROGRAM_TEXEL_OFFSET: return i(-8);
-            case gl::MAX_VERTEX_UNIFORM_COMPONENTS: return i(kMaxVertexUniformComponents);
-            case gl::MAX_FRAGMENT_UNIFORM_COMPONENTS: return i(kMaxFragmentUniformComponents);
-            case gl::MAX_VARYING_COMPONENTS: return i(kMaxVaryingComponents);
-            case gl::MAX_VERTEX_OUTPUT_COMPONENTS: return i(kMaxVaryingComponents);
-            case gl::MAX_FRAGMENT_INPUT_COMPONENTS: return i(kMaxVaryingComponents);
-            case gl::MAX_VERTEX_UNIFORM_BLOCKS: return i(kMaxUniformBlocksPerStage);
-            case gl::MAX_FRAGMENT_UNIFORM_BLOCKS: return i(kMaxUniformBlocksPerStage);
-            case gl::MAX_COMBINED_UNIFORM_BLOCKS: return i(2 * kMaxUniformBlocksPerStage);
-            case gl::MAX_UNIFORM_BUFFER_BINDINGS: return i(2 * kMaxUniformBlocksPerStage);
-            case gl::MAX_UNIFORM_BLOCK_SIZE: return i(kMaxUniformBlockSize);
-            case gl::MAX_COMBINED_VERTEX_UNIFORM_COMPONENTS:
-                return i(int64_t(kMaxUniformBlocksPerStage) * kMaxUniformBlockSize / 4 + kMaxVertexUniformComponents);
-            case gl::MAX_COMBINED_FRAGMENT_UNIFORM_COMPONENTS:
-                return i(int64_t(kMaxUniformBlocksPerStage) * kMaxUniformBlockSize / 4 + kMaxFragmentUniformComponents);
-            case gl::UNIFORM_BUFFER_OFFSET_ALIGNMENT: return i(16);
-            case gl::MAX_TRANSFORM_FEEDBACK_INTERLEAVED_COMPONENTS: return i(64);
-            case gl::MAX_TRANSFORM_FEEDBACK_SEPARATE_ATTRIBS: return i(4);
-            case gl::MAX_TRANSFORM_FEEDBACK_SEPARATE_COMPONENTS: return i(4);
-            case gl::MAX_SERVER_WAIT_TIMEOUT: return i(0);
-            case gl::MAX_CLIENT_WAIT_TIMEOUT_WEBGL: return i(0);
-            default: break;
-        }
+Value Context::get_parameter(GLenum pname) {
+    const State& s = state_;
+    // Texture, sampler, framebuffer and renderbuffer state (textures.cpp, framebuffers.cpp).
+    if (std::optional<Value> v = texture_framebuffer_parameter(pname)) return *std::move(v);
+    if (std::optional<Value> v = state_parameter(s, pname)) return *std::move(v);
+    if (std::optional<Value> v = binding_parameter(pname)) return *std::move(v);
+    if (std::optional<Value> v = limit_parameter(pname)) return *std::move(v);
+    if (std::optional<Value> v = string_parameter(pname, version() >= 2)) return *std::move(v);
+    if (version() >= 2) {
+        if (std::optional<Value> v = webgl2_state_parameter(s, pname)) return *std::move(v);
+        if (std::optional<Value> v = webgl2_binding_parameter(pname)) return *std::move(v);
+        if (std::optional<Value> v = webgl2_limit_parameter(pname)) return *std::move(v);
     }
     if (ext_vertex_array_object_ && pname == gl::VERTEX_ARRAY_BINDING) return vertex_array_binding();
     if (ext_smooth_) {
-        switch (pname) {
-            case gl::POLYGON_SMOOTH: return b(s.smooth.polygon);
-            case gl::LINE_SMOOTH: return b(s.smooth.line);
-            case gl::POINT_SMOOTH: return b(s.smooth.point);
-            case gl::POLYGON_SMOOTH_HINT: return i(s.smooth.polygon_hint);
-            case gl::LINE_SMOOTH_HINT: return i(s.smooth.line_hint);
-            case gl::POINT_SMOOTH_HINT: return i(s.smooth.point_hint);
-            default: break;
-        }
+        if (std::optional<Value> v = smooth_parameter(s, pname)) return *std::move(v);
     }
     if (ext_fog_) {
-        switch (pname) {
-            case gl::FOG: return b(s.fog.enabled);
-            case gl::FOG_BLEND_AWARE_SOFTGL: return b(s.fog.blend_aware);
-            case gl::FOG_MODE: return i(s.fog.mode);
-            case gl::FOG_DENSITY: return f(s.fog.density);
-            case gl::FOG_START: return f(s.fog.start);
-            case gl::FOG_END: return f(s.fog.end);
-            case gl::FOG_COLOR: return floats({s.fog.color.begin(), s.fog.color.end()});
-            case gl::FOG_COORDINATE_SOURCE: return i(s.fog.coordinate_source);
-            default: break;
-        }
+        if (std::optional<Value> v = fog_parameter(s, pname)) return *std::move(v);
     }
     error(gl::INVALID_ENUM, "getParameter", enum_name(pname) + " is not a parameter name of this context");
     return Value(Null{});

@@ -41,9 +41,8 @@ public:
     }
 };
 
-std::vector<BuiltinFunction> build_table() {
-    TableBuilder t;
-    // §8.1
+// §8.1 angle and trigonometry functions
+void add_angle_and_trigonometry(TableBuilder& t) {
     t.gen_float("radians", Builtin::Radians, 1);
     t.gen_float("degrees", Builtin::Degrees, 1);
     t.gen_float("sin", Builtin::Sin, 1);
@@ -59,7 +58,10 @@ std::vector<BuiltinFunction> build_table() {
     t.gen_float("asinh", Builtin::Asinh, 1, 300);
     t.gen_float("acosh", Builtin::Acosh, 1, 300);
     t.gen_float("atanh", Builtin::Atanh, 1, 300);
-    // §8.2
+}
+
+// §8.2 exponential functions
+void add_exponential(TableBuilder& t) {
     t.gen_float("pow", Builtin::Pow, 2);
     t.gen_float("exp", Builtin::Exp, 1);
     t.gen_float("log", Builtin::Log, 1);
@@ -67,7 +69,10 @@ std::vector<BuiltinFunction> build_table() {
     t.gen_float("log2", Builtin::Log2, 1);
     t.gen_float("sqrt", Builtin::Sqrt, 1);
     t.gen_float("inversesqrt", Builtin::InverseSqrt, 1);
-    // §8.3
+}
+
+// §8.3 common functions (with ES 3.00's integer and bit-cast forms)
+void add_common(TableBuilder& t) {
     t.gen_float("abs", Builtin::Abs, 1);
     t.gen_float("sign", Builtin::Sign, 1);
     t.gen_float("floor", Builtin::Floor, 1);
@@ -116,14 +121,20 @@ std::vector<BuiltinFunction> build_table() {
             }
         }
     }
-    // §8.4
+}
+
+// §8.4 floating-point pack and unpack functions
+void add_packing(TableBuilder& t) {
     t.add("packSnorm2x16", Builtin::PackSnorm2x16, U(), {F(2)}, 300);
     t.add("unpackSnorm2x16", Builtin::UnpackSnorm2x16, F(2), {U()}, 300);
     t.add("packUnorm2x16", Builtin::PackUnorm2x16, U(), {F(2)}, 300);
     t.add("unpackUnorm2x16", Builtin::UnpackUnorm2x16, F(2), {U()}, 300);
     t.add("packHalf2x16", Builtin::PackHalf2x16, U(), {F(2)}, 300);
     t.add("unpackHalf2x16", Builtin::UnpackHalf2x16, F(2), {U()}, 300);
-    // §8.5
+}
+
+// §8.5 geometric functions
+void add_geometric(TableBuilder& t) {
     for (int n = 1; n <= 4; ++n) {
         t.add("length", Builtin::Length, F(), {F(n)});
         t.add("distance", Builtin::Distance, F(), {F(n), F(n)});
@@ -134,7 +145,10 @@ std::vector<BuiltinFunction> build_table() {
         t.add("refract", Builtin::Refract, F(n), {F(n), F(n), F()});
     }
     t.add("cross", Builtin::Cross, F(3), {F(3), F(3)});
-    // §8.6
+}
+
+// §8.6 matrix functions
+void add_matrix(TableBuilder& t) {
     for (int c = 2; c <= 4; ++c) {
         for (int r = 2; r <= 4; ++r) {
             int v = c == r ? 100 : 300;
@@ -145,7 +159,10 @@ std::vector<BuiltinFunction> build_table() {
         t.add("determinant", Builtin::Determinant, F(), {Type::matrix(c, c)}, 300);
         t.add("inverse", Builtin::Inverse, Type::matrix(c, c), {Type::matrix(c, c)}, 300);
     }
-    // §8.7
+}
+
+// §8.7 vector relational functions
+void add_vector_relational(TableBuilder& t) {
     for (int n = 2; n <= 4; ++n) {
         for (BaseType b : {BaseType::Float, BaseType::Int, BaseType::Uint}) {
             int v = b == BaseType::Uint ? 300 : 100;
@@ -162,7 +179,10 @@ std::vector<BuiltinFunction> build_table() {
         t.add("all", Builtin::All, B(), {B(n)});
         t.add("not", Builtin::Not, B(n), {B(n)});
     }
-    // §8.9 derivatives: ES 3.00 core; ES 1.00 with OES_standard_derivatives.
+}
+
+// §8.9 derivatives: ES 3.00 core; ES 1.00 with OES_standard_derivatives.
+void add_derivatives(TableBuilder& t) {
     for (int n = 1; n <= 4; ++n) {
         for (auto [name, op] : {std::pair{"dFdx", Builtin::DFdx}, {"dFdy", Builtin::DFdy}, {"fwidth", Builtin::Fwidth}}) {
             BuiltinFunction& f = t.add(name, op, F(n), {F(n)});
@@ -170,8 +190,10 @@ std::vector<BuiltinFunction> build_table() {
             f.extension = "GL_OES_standard_derivatives";
         }
     }
+}
 
-    // §8.8 texture lookups, ES 1.00 names
+// §8.8 texture lookups, ES 1.00 names (and EXT_shader_texture_lod's)
+void add_es100_texture_lookups(TableBuilder& t) {
     auto tex = [&](const std::string& name, Type sampler, Type coord, Type result, bool projective, TextureLod lod,
                    int min_v, int max_v, const std::string& extension = "") {
         std::vector<Type> params = {sampler, coord};
@@ -212,17 +234,85 @@ std::vector<BuiltinFunction> build_table() {
         f.lod_mode = TextureLod::Gradient;
         f.extension = lod_ext;
     }
+}
 
-    // ES 3.00 §8.8: texture, textureProj, textureLod, textureOffset, texelFetch, ... per sampler.
-    struct SamplerInfo {
-        Type sampler;
-        int coord;      // coordinate components (incl. layer, excl. shadow reference)
-        int grad;       // gradient components
-        int offset;     // offset components (0: no offset variants)
-        bool projective_ok;
-        bool fetch_ok;
-        int size;       // textureSize result components
+// ES 3.00 §8.8: the lookups a sampler type has.
+struct SamplerInfo {
+    Type sampler;
+    int coord;      // coordinate components (incl. layer, excl. shadow reference)
+    int grad;       // gradient components
+    int offset;     // offset components (0: no offset variants)
+    bool projective_ok;
+    bool fetch_ok;
+    int size;       // textureSize result components
+};
+
+// texture, textureProj, textureLod, textureOffset, texelFetch, ... of one sampler type.
+void add_sampler_lookups(TableBuilder& t, const SamplerInfo& s) {
+    const bool shadow = s.sampler.sampler_shadow;
+    Type result = shadow ? F() : G(s.sampler.sampler_result, 4);
+    int coord = s.coord + (shadow ? 1 : 0);
+    Type P = F(coord);
+    auto variant = [&](const std::string& name, Type coord_type, bool proj, TextureLod lod, bool offset) {
+        std::vector<Type> params = {s.sampler, coord_type};
+        if (lod == TextureLod::Explicit) params.push_back(F());
+        if (lod == TextureLod::Gradient) { params.push_back(F(s.grad)); params.push_back(F(s.grad)); }
+        if (offset) params.push_back(I(s.offset));
+        std::vector<TextureLod> lods = {lod};
+        if (lod == TextureLod::Implicit) lods.push_back(TextureLod::Bias);
+        for (TextureLod l : lods) {
+            std::vector<Type> p = params;
+            if (l == TextureLod::Bias) p.push_back(F());
+            BuiltinFunction& f = t.add(name, Builtin::TextureLookup, result, p, 300);
+            f.projective = proj;
+            f.lod_mode = l;
+            f.has_offset = offset;
+            if (l == TextureLod::Bias) f.fragment_only = true;
+        }
     };
+    // samplerCubeShadow with bias and 2DArrayShadow have restrictions; ES 3.00 lists:
+    // texture(sampler2DArrayShadow, vec4) without bias.
+    bool is_array_shadow = shadow && s.sampler.sampler_dim == SamplerDim::Tex2DArray;
+    if (is_array_shadow) {
+        BuiltinFunction& f = t.add("texture", Builtin::TextureLookup, result, {s.sampler, P}, 300);
+        f.lod_mode = TextureLod::Implicit;
+    } else {
+        variant("texture", P, false, TextureLod::Implicit, false);
+    }
+    if (s.projective_ok) {
+        if (!shadow && s.sampler.sampler_dim == SamplerDim::Tex2D) {
+            variant("textureProj", F(3), true, TextureLod::Implicit, false);
+            variant("textureProjLod", F(3), true, TextureLod::Explicit, false);
+            variant("textureProjGrad", F(3), true, TextureLod::Gradient, false);
+            variant("textureProjOffset", F(3), true, TextureLod::Implicit, true);
+            variant("textureProjLodOffset", F(3), true, TextureLod::Explicit, true);
+            variant("textureProjGradOffset", F(3), true, TextureLod::Gradient, true);
+        }
+        variant("textureProj", F(4), true, TextureLod::Implicit, false);
+        variant("textureProjLod", F(4), true, TextureLod::Explicit, false);
+        variant("textureProjGrad", F(4), true, TextureLod::Gradient, false);
+        variant("textureProjOffset", F(4), true, TextureLod::Implicit, true);
+        variant("textureProjLodOffset", F(4), true, TextureLod::Explicit, true);
+        variant("textureProjGradOffset", F(4), true, TextureLod::Gradient, true);
+    }
+    if (!(shadow && s.sampler.sampler_dim != SamplerDim::Tex2D)) variant("textureLod", P, false, TextureLod::Explicit, false);
+    variant("textureGrad", P, false, TextureLod::Gradient, false);
+    if (s.offset) {
+        if (!is_array_shadow) variant("textureOffset", P, false, TextureLod::Implicit, true);
+        if (!shadow) variant("textureLodOffset", P, false, TextureLod::Explicit, true);
+        if (shadow && s.sampler.sampler_dim == SamplerDim::Tex2D) variant("textureLodOffset", P, false, TextureLod::Explicit, true);
+        variant("textureGradOffset", P, false, TextureLod::Gradient, true);
+    }
+    if (s.fetch_ok) {
+        t.add("texelFetch", Builtin::TexelFetch, result, {s.sampler, I(s.coord), I()}, 300);
+        BuiltinFunction& f = t.add("texelFetchOffset", Builtin::TexelFetch, result, {s.sampler, I(s.coord), I(), I(s.offset)}, 300);
+        f.has_offset = true;
+    }
+    t.add("textureSize", Builtin::TextureSize, I(s.size), {s.sampler, I()}, 300);
+}
+
+// ES 3.00 §8.8: texture, textureProj, textureLod, textureOffset, texelFetch, ... per sampler.
+void add_es300_texture_lookups(TableBuilder& t) {
     std::vector<SamplerInfo> samplers;
     for (BaseType r : {BaseType::Float, BaseType::Int, BaseType::Uint}) {
         samplers.push_back({S(SamplerDim::Tex2D, r), 2, 2, 2, true, true, 2});
@@ -233,68 +323,22 @@ std::vector<BuiltinFunction> build_table() {
     samplers.push_back({S(SamplerDim::Tex2D, BaseType::Float, true), 2, 2, 2, true, false, 2});
     samplers.push_back({S(SamplerDim::Cube, BaseType::Float, true), 3, 3, 0, false, false, 2});
     samplers.push_back({S(SamplerDim::Tex2DArray, BaseType::Float, true), 3, 2, 2, false, false, 3});
-    for (const SamplerInfo& s : samplers) {
-        const bool shadow = s.sampler.sampler_shadow;
-        Type result = shadow ? F() : G(s.sampler.sampler_result, 4);
-        int coord = s.coord + (shadow ? 1 : 0);
-        Type P = F(coord);
-        auto variant = [&](const std::string& name, Type coord_type, bool proj, TextureLod lod, bool offset) {
-            std::vector<Type> params = {s.sampler, coord_type};
-            if (lod == TextureLod::Explicit) params.push_back(F());
-            if (lod == TextureLod::Gradient) { params.push_back(F(s.grad)); params.push_back(F(s.grad)); }
-            if (offset) params.push_back(I(s.offset));
-            std::vector<TextureLod> lods = {lod};
-            if (lod == TextureLod::Implicit) lods.push_back(TextureLod::Bias);
-            for (TextureLod l : lods) {
-                std::vector<Type> p = params;
-                if (l == TextureLod::Bias) p.push_back(F());
-                BuiltinFunction& f = t.add(name, Builtin::TextureLookup, result, p, 300);
-                f.projective = proj;
-                f.lod_mode = l;
-                f.has_offset = offset;
-                if (l == TextureLod::Bias) f.fragment_only = true;
-            }
-        };
-        // samplerCubeShadow with bias and 2DArrayShadow have restrictions; ES 3.00 lists:
-        // texture(sampler2DArrayShadow, vec4) without bias.
-        bool is_array_shadow = shadow && s.sampler.sampler_dim == SamplerDim::Tex2DArray;
-        if (is_array_shadow) {
-            BuiltinFunction& f = t.add("texture", Builtin::TextureLookup, result, {s.sampler, P}, 300);
-            f.lod_mode = TextureLod::Implicit;
-        } else {
-            variant("texture", P, false, TextureLod::Implicit, false);
-        }
-        if (s.projective_ok) {
-            if (!shadow && s.sampler.sampler_dim == SamplerDim::Tex2D) {
-                variant("textureProj", F(3), true, TextureLod::Implicit, false);
-                variant("textureProjLod", F(3), true, TextureLod::Explicit, false);
-                variant("textureProjGrad", F(3), true, TextureLod::Gradient, false);
-                variant("textureProjOffset", F(3), true, TextureLod::Implicit, true);
-                variant("textureProjLodOffset", F(3), true, TextureLod::Explicit, true);
-                variant("textureProjGradOffset", F(3), true, TextureLod::Gradient, true);
-            }
-            variant("textureProj", F(4), true, TextureLod::Implicit, false);
-            variant("textureProjLod", F(4), true, TextureLod::Explicit, false);
-            variant("textureProjGrad", F(4), true, TextureLod::Gradient, false);
-            variant("textureProjOffset", F(4), true, TextureLod::Implicit, true);
-            variant("textureProjLodOffset", F(4), true, TextureLod::Explicit, true);
-            variant("textureProjGradOffset", F(4), true, TextureLod::Gradient, true);
-        }
-        if (!(shadow && s.sampler.sampler_dim != SamplerDim::Tex2D)) variant("textureLod", P, false, TextureLod::Explicit, false);
-        variant("textureGrad", P, false, TextureLod::Gradient, false);
-        if (s.offset) {
-            if (!is_array_shadow) variant("textureOffset", P, false, TextureLod::Implicit, true);
-            if (!shadow) variant("textureLodOffset", P, false, TextureLod::Explicit, true);
-            if (shadow && s.sampler.sampler_dim == SamplerDim::Tex2D) variant("textureLodOffset", P, false, TextureLod::Explicit, true);
-            variant("textureGradOffset", P, false, TextureLod::Gradient, true);
-        }
-        if (s.fetch_ok) {
-            t.add("texelFetch", Builtin::TexelFetch, result, {s.sampler, I(s.coord), I()}, 300);
-            BuiltinFunction& f = t.add("texelFetchOffset", Builtin::TexelFetch, result, {s.sampler, I(s.coord), I(), I(s.offset)}, 300);
-            f.has_offset = true;
-        }
-        t.add("textureSize", Builtin::TextureSize, I(s.size), {s.sampler, I()}, 300);
-    }
+    for (const SamplerInfo& s : samplers) add_sampler_lookups(t, s);
+}
+
+// In this order: a name's overloads are listed (and tried) in table order.
+std::vector<BuiltinFunction> build_table() {
+    TableBuilder t;
+    add_angle_and_trigonometry(t);
+    add_exponential(t);
+    add_common(t);
+    add_packing(t);
+    add_geometric(t);
+    add_matrix(t);
+    add_vector_relational(t);
+    add_derivatives(t);
+    add_es100_texture_lookups(t);
+    add_es300_texture_lookups(t);
     return t.table;
 }
 
