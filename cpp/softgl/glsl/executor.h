@@ -100,7 +100,7 @@ public:
 
     // Loops that run longer than this many iterations abort the draw (a GPU would hang or
     // lose the context; softgl reports it). Only fragments that are shaded can abort: those
-    // hidden by hidden-surface removal (pipeline/draw.cpp OwnerMap) are not run.
+    // hidden by hidden-surface removal (pipeline/tile_pass.cpp OwnerMap) are not run.
     uint64_t max_loop_iterations = 1u << 24;
 
     // The level the lane loops (and the sampler's, TextureQuery::simd) run at: best_simd_level()
