@@ -329,146 +329,16 @@ void Executor::run_batch(const StageRun& run, int first, int lanes) {
     }
 }
 
-// The execution mask of one batch and the constructs (if, loop, switch, function) it is inside:
-// lanes leave a construct, or the program (discard), by clearing their bit in `mask`. The frames,
-// the code and the mask storage are read through the executor, not copied here: values held
-// for the whole interpreter loop take registers from its lane loops.
-struct ExecutorLanes {
-    Executor& ex;              // its frames_, code_ and mask_storage_ (mask, two per depth, killed)
-    const int n;
-    uint32_t* const mask;      // lanes executing now
-    uint32_t* const killed;    // lanes that executed discard
-    bool all = true;           // every lane of `mask` is set
-
-    __attribute__((always_inline)) std::vector<Frame>& frames() const { return ex.frames_; }
-    __attribute__((always_inline)) const std::vector<Instruction>& code() const { return ex.code_; }
-
-    __attribute__((always_inline)) Frame& push(FrameKind kind, int begin) {
-        uint32_t* storage = ex.mask_storage_.data();
-        size_t d = frames().size();
-        Frame f{kind, storage + (2 * d + 1) * ex.batch_, storage + (2 * d + 2) * ex.batch_, begin};
-        std::memcpy(f.saved, mask, sizeof(uint32_t) * n);
-        frames().push_back(f);
-        return frames().back();
-    }
-    __attribute__((always_inline)) void set_mask(const uint32_t* m) {
-        std::memcpy(mask, m, sizeof(uint32_t) * n);
-        all = all_set(mask, n);
-    }
-    // Where execution continues when no lane of the innermost construct is active any more.
-    __attribute__((always_inline)) int skip_target() const {
-        const Frame& f = frames().back();
-        const Instruction& open = code()[f.begin];
-        switch (f.kind) {
-        case FrameKind::If: return f.in_else ? code()[open.target].target : open.target;  // IfEnd, or Else/IfEnd
-        case FrameKind::Loop: return open.imm[0];  // the continue point
-        default: return open.target;
-        }
-    }
-    // Lanes in `mask` leave every construct above frame index `target` (exclusive).
-    __attribute__((always_inline)) void leave(size_t target, bool clear_target_other) {
-        for (size_t k = target + 1; k < frames().size(); ++k) {
-            Frame& f = frames()[k];
-            for (int l = 0; l < n; ++l) {
-                f.saved[l] &= ~mask[l];
-                if (f.kind == FrameKind::If || f.kind == FrameKind::Loop) f.other[l] &= ~mask[l];
-            }
-        }
-        if (clear_target_other)
-            for (int l = 0; l < n; ++l) frames()[target].other[l] &= ~mask[l];
-        std::fill_n(mask, n, 0u);
-        all = false;
-    }
-    // The control-flow instructions at `pc`. Those returning an int return the instruction
-    // before the next one to run: `pc`, or further when no lane runs the code in between.
-    __attribute__((always_inline)) int if_begin(const Scalar* cond, int pc, int target) {
-        Frame& f = push(FrameKind::If, pc);
-        for (int l = 0; l < n; ++l) {
-            uint32_t take = cond[l].i ? ~0u : 0u;
-            f.other[l] = mask[l] & ~take;
-            mask[l] &= take;
-        }
-        all = all_set(mask, n);
-        return !all && !any_set(mask, n) ? target - 1 : pc;  // to Else or IfEnd
-    }
-    __attribute__((always_inline)) int enter_else(int pc, int target) {
-        Frame& f = frames().back();
-        f.in_else = true;
-        set_mask(f.other);
-        return !all && !any_set(mask, n) ? target - 1 : pc;  // to IfEnd
-    }
-    // IfEnd, SwitchEnd, FunctionEnd.
-    __attribute__((always_inline)) void end_construct() {
-        set_mask(frames().back().saved);
-        frames().pop_back();
-    }
-    __attribute__((always_inline)) void loop_begin(int pc) {
-        Frame& f = push(FrameKind::Loop, pc);
-        std::memcpy(f.other, mask, sizeof(uint32_t) * n);
-    }
-    __attribute__((always_inline)) int loop_break_unless(const Scalar* cond, int pc) {
-        Frame& f = frames().back();
-        for (int l = 0; l < n; ++l) {
-            uint32_t stay = cond[l].i ? ~0u : 0u;
-            mask[l] &= stay;
-            f.other[l] &= stay;
-        }
-        all = all_set(mask, n);
-        return !any_set(f.other, n) ? code()[f.begin].target - 1 : pc;  // to LoopEnd
-    }
-    __attribute__((always_inline)) int loop_continue_point(int pc) {
-        Frame& f = frames().back();
-        set_mask(f.other);
-        return !all && !any_set(mask, n) ? code()[f.begin].target - 1 : pc;
-    }
-    __attribute__((always_inline)) int loop_end(int pc, uint64_t max_iterations) {
-        Frame& f = frames().back();
-        if (any_set(f.other, n)) {
-            if (++f.iterations > max_iterations) throw ExecutionError("loop iteration limit exceeded");
-            set_mask(f.other);
-            return f.begin;  // continue after LoopBegin
-        }
-        set_mask(f.saved);
-        frames().pop_back();
-        return pc;
-    }
-    // Break, continue, return: the active lanes leave up to the construct the jump belongs to.
-    // Returns the instruction before the one to continue at.
-    __attribute__((always_inline)) int jump(Op op, int pc) {
-        size_t t = frames().size();
-        while (t > 0) {
-            FrameKind k = frames()[t - 1].kind;
-            if (op == Op::Break && (k == FrameKind::Loop || k == FrameKind::Switch)) break;
-            if (op == Op::Continue && k == FrameKind::Loop) break;
-            if (op == Op::Return && k == FrameKind::Function) break;
-            --t;
-        }
-        if (t == 0) return pc;  // cannot happen for checked programs
-        size_t target = t - 1;
-        bool clear_loop = op == Op::Break && frames()[target].kind == FrameKind::Loop;
-        leave(target, clear_loop);
-        return skip_target() - 1;
-    }
-    // The active lanes leave the program. False when every lane has discarded.
-    __attribute__((always_inline)) bool discard() {
-        for (int l = 0; l < n; ++l) killed[l] |= mask[l];
-        for (Frame& f : frames())
-            for (int l = 0; l < n; ++l) { f.saved[l] &= ~mask[l]; f.other[l] &= ~mask[l]; }
-        std::fill_n(mask, n, 0u);
-        all = false;
-        return !all_set(killed, n);
-    }
-};
-
+// ---- the longer value operations of execute(), always inlined into it ----
 namespace {
 
-// d = a in the active lanes.
-__attribute__((always_inline)) inline void copy_active(Scalar* d, const Scalar* a, const ExecutorLanes& m) {
-    if (m.all) { if (d != a) std::memcpy(d, a, sizeof(Scalar) * m.n); }
-    else masked_copy(d, a, m.mask, m.n);
+// d = a in the active lanes (all: every lane is).
+__attribute__((always_inline)) inline void copy_active(Scalar* d, const Scalar* a, const uint32_t* mask, bool all, int n) {
+    if (all) { if (d != a) std::memcpy(d, a, sizeof(Scalar) * n); }
+    else masked_copy(d, a, mask, n);
 }
 
-// dFdx, dFdy inside each 2x2 quad (lanes 4q..4q+3: (x, y), (x+1, y), (x, y+1), (x+1, y+1)).
+// dFdx (dx) or dFdy inside each 2x2 quad: lanes 4q..4q+3 are (x, y), (x+1, y), (x, y+1), (x+1, y+1).
 __attribute__((always_inline)) inline void quad_derivative(Scalar* d, const Scalar* a, int n, bool dx) {
     int quads = n / 4;
     for (int q = 0; q < quads; ++q) {
@@ -491,6 +361,8 @@ __attribute__((always_inline)) inline int32_t indexed(const Instruction& i, int3
     return i.imm[0] + std::min(std::max(i.imm[1] + index, 0), i.imm[2] - 1);
 }
 
+// Indexed accesses: when every lane uses the same index (constant-bound loops, uniform
+// indices) the access is one whole-register copy instead of a per-lane gather.
 __attribute__((always_inline)) inline void load_uniform_indexed(Scalar* d, const Scalar* idx, const Instruction& i, int n,
                                                                 const Scalar* uniforms) {
     if (!uniforms) return fill(d, n, Scalar{});
@@ -500,7 +372,22 @@ __attribute__((always_inline)) inline void load_uniform_indexed(Scalar* d, const
 
 }  // namespace
 
-// The chain's operations in its order: ((a0*b0 + a1*b1) + a2*b2) + a3*b3.
+__attribute__((always_inline)) inline void Executor::load_indexed(const Instruction& i, const int n) {
+    Scalar* d = reg(i.dst);
+    const Scalar* idx = reg(i.b);
+    if (same_in_all_lanes(idx, n)) std::memcpy(d, reg(static_cast<Reg>(indexed(i, idx[0].i))), sizeof(Scalar) * n);
+    else for (int l = 0; l < n; ++l) d[l] = reg(static_cast<Reg>(indexed(i, idx[l].i)))[l];
+}
+
+__attribute__((always_inline)) inline void Executor::store_indexed(const Instruction& i, const uint32_t* mask, bool all, int n) {
+    const Scalar* src = reg(i.a);
+    const Scalar* idx = reg(i.b);
+    if (same_in_all_lanes(idx, n)) return copy_active(reg(static_cast<Reg>(indexed(i, idx[0].i))), src, mask, all, n);
+    for (int l = 0; l < n; ++l)
+        if (mask[l]) reg(static_cast<Reg>(indexed(i, idx[l].i)))[l] = src[l];
+}
+
+// FDot: the fused chain's operations in its order, ((a0*b0 + a1*b1) + a2*b2) + a3*b3.
 __attribute__((always_inline)) inline void Executor::fused_dot(const Instruction& i, const int n) {
     const std::array<Reg, 8>& p = products_[static_cast<size_t>(i.imm[0])];
     Scalar* d = reg(i.dst);
@@ -512,22 +399,55 @@ __attribute__((always_inline)) inline void Executor::fused_dot(const Instruction
     for (int l = 0; l < n; ++l) d[l].f = ((a0[l].f * b0[l].f + a1[l].f * b1[l].f) + a2[l].f * b2[l].f) + a3[l].f * b3[l].f;
 }
 
-// Indexed accesses: when every lane uses the same index (constant-bound loops, uniform
-// indices) the access is one whole-register copy instead of a per-lane gather.
-__attribute__((always_inline)) inline void Executor::load_indexed(const Instruction& i, const int n) {
-    Scalar* d = reg(i.dst);
-    const Scalar* idx = reg(i.b);
-    if (same_in_all_lanes(idx, n)) std::memcpy(d, reg(static_cast<Reg>(indexed(i, idx[0].i))), sizeof(Scalar) * n);
-    else for (int l = 0; l < n; ++l) d[l] = reg(static_cast<Reg>(indexed(i, idx[l].i)))[l];
-}
-
-__attribute__((always_inline)) inline void Executor::store_indexed(const Instruction& i, const ExecutorLanes& m) {
-    const Scalar* src = reg(i.a);
-    const Scalar* idx = reg(i.b);
-    if (same_in_all_lanes(idx, m.n)) return copy_active(reg(static_cast<Reg>(indexed(i, idx[0].i))), src, m);
-    for (int l = 0; l < m.n; ++l)
-        if (m.mask[l]) reg(static_cast<Reg>(indexed(i, idx[l].i)))[l] = src[l];
-}
+// The interpreter. It is inlined into one function per SIMD level (below), so its lane loops
+// vectorise to that level's width. The control flow stays written out in this one switch: moving
+// it into helpers (a struct of the mask and frames, a second switch, or one step() per
+// instruction) gave fewer instructions but cost 4-17% time on control-heavy shaders (measured at
+// AVX2, issue 17), while the value operations above inline for free.
+__attribute__((always_inline)) inline void Executor::execute(const int n, const StageRun& run) {
+    const std::vector<Instruction>& code = code_;
+    uint32_t* mask = mask_storage_.data();
+    uint32_t* killed = mask_storage_.data() + static_cast<size_t>(2 * max_depth_ + 1) * batch_;
+    std::fill_n(mask, n, ~0u);
+    std::fill_n(killed, n, 0u);
+    bool all = true;
+    std::vector<Frame>& frames = frames_;
+    frames.clear();
+    auto push = [&](FrameKind kind, int begin) -> Frame& {
+        size_t d = frames.size();
+        Frame f{kind, mask_storage_.data() + (2 * d + 1) * batch_, mask_storage_.data() + (2 * d + 2) * batch_, begin};
+        std::memcpy(f.saved, mask, sizeof(uint32_t) * n);
+        frames.push_back(f);
+        return frames.back();
+    };
+    auto set_mask = [&](const uint32_t* m) {
+        std::memcpy(mask, m, sizeof(uint32_t) * n);
+        all = all_set(mask, n);
+    };
+    // Where execution continues when no lane of the innermost construct is active any more.
+    auto skip_target = [&]() -> int {
+        const Frame& f = frames.back();
+        const Instruction& open = code[f.begin];
+        switch (f.kind) {
+        case FrameKind::If: return f.in_else ? code[open.target].target : open.target;  // IfEnd, or Else/IfEnd
+        case FrameKind::Loop: return open.imm[0];  // the continue point
+        default: return open.target;
+        }
+    };
+    // Lanes in `mask` leave every construct above frame index `target` (exclusive).
+    auto leave = [&](size_t target, bool clear_target_other) {
+        for (size_t k = target + 1; k < frames.size(); ++k) {
+            Frame& f = frames[k];
+            for (int l = 0; l < n; ++l) {
+                f.saved[l] &= ~mask[l];
+                if (f.kind == FrameKind::If || f.kind == FrameKind::Loop) f.other[l] &= ~mask[l];
+            }
+        }
+        if (clear_target_other)
+            for (int l = 0; l < n; ++l) frames[target].other[l] &= ~mask[l];
+        std::fill_n(mask, n, 0u);
+        all = false;
+    };
 
 #define LANES for (int l = 0; l < n; ++l)
 #define D reg(i.dst)
@@ -538,8 +458,8 @@ __attribute__((always_inline)) inline void Executor::store_indexed(const Instruc
 #define F2(expr) { Scalar* d = D; const Scalar* a = A; const Scalar* b = B; LANES { float x = a[l].f, y = b[l].f; d[l].f = (expr); } break; }
 #define F3(expr) { Scalar* d = D; const Scalar* a = A; const Scalar* b = B; const Scalar* c = C; LANES { float x = a[l].f, y = b[l].f, z = c[l].f; d[l].f = (expr); } break; }
 // libm calls: only the active lanes when that is allowed (skip_inactive_lanes_).
-#define CALL1(expr) { if (!m.all && skip_inactive_lanes_) { Scalar* d = D; const Scalar* a = A; LANES if (m.mask[l]) { float x = a[l].f; d[l].f = (expr); } break; } F1(expr) }
-#define CALL2(expr) { if (!m.all && skip_inactive_lanes_) { Scalar* d = D; const Scalar* a = A; const Scalar* b = B; LANES if (m.mask[l]) { float x = a[l].f, y = b[l].f; d[l].f = (expr); } break; } F2(expr) }
+#define CALL1(expr) { if (!all && skip_inactive_lanes_) { Scalar* d = D; const Scalar* a = A; LANES if (mask[l]) { float x = a[l].f; d[l].f = (expr); } break; } F1(expr) }
+#define CALL2(expr) { if (!all && skip_inactive_lanes_) { Scalar* d = D; const Scalar* a = A; const Scalar* b = B; LANES if (mask[l]) { float x = a[l].f, y = b[l].f; d[l].f = (expr); } break; } F2(expr) }
 #define FB1(expr) { Scalar* d = D; const Scalar* a = A; LANES { float x = a[l].f; d[l].i = (expr) ? 1 : 0; } break; }
 #define FB2(expr) { Scalar* d = D; const Scalar* a = A; const Scalar* b = B; LANES { float x = a[l].f, y = b[l].f; d[l].i = (expr) ? 1 : 0; } break; }
 #define I1(expr) { Scalar* d = D; const Scalar* a = A; LANES { int32_t x = a[l].i; uint32_t ux = a[l].u; (void)ux; (void)x; d[l].i = (expr); } break; }
@@ -551,160 +471,220 @@ __attribute__((always_inline)) inline void Executor::store_indexed(const Instruc
 #define CONVERT(field, expr) { Scalar* d = D; const Scalar* a = A; LANES d[l].field = (expr); break; }
 #define PACK(pack) { Scalar* d = D; const Scalar* a = A; const Scalar* b = B; LANES d[l].u = pack(a[l].f) | (pack(b[l].f) << 16); break; }
 
-// One instruction at `pc`. A value is computed in every lane (libm calls and masked writes:
-// only in the active lanes); control flow updates the mask and frames, and `pc` to skip code no
-// lane runs. False when every lane has discarded (the batch is done). One switch for all, so
-// that each instruction costs one indirect jump.
-__attribute__((always_inline)) inline bool Executor::step(const Instruction& i, int& pc, ExecutorLanes& m, const StageRun& run) {
-    const int n = m.n;
-    switch (i.op) {
-    case Op::Mov: copy_active(D, A, m); break;
-    case Op::FAdd: F2(x + y)
-    case Op::FSub: F2(x - y)
-    case Op::FMul: F2(x * y)
-    case Op::FDiv: F2(x / y)
-    case Op::FNeg: F1(-x)
-    case Op::FAbs: F1(std::fabs(x))
-    case Op::FSign: F1(f_sign(x))
-    case Op::FFloor: F1(std::floor(x))
-    case Op::FCeil: F1(std::ceil(x))
-    case Op::FFract: F1(x - std::floor(x))
-    case Op::FTrunc: F1(std::trunc(x))
-    case Op::FRound: F1(std::round(x))
-    case Op::FRoundEven: F1(std::nearbyint(x))
-    case Op::FMin: F2(f_min(x, y))
-    case Op::FMax: F2(f_max(x, y))
-    case Op::FMod: F2(f_mod(x, y))
-    case Op::FStep: F2(f_step(x, y))
-    case Op::FSqrt: F1(std::sqrt(x))
-    case Op::FInverseSqrt: F1(1.0f / std::sqrt(x))
-    case Op::FSin: CALL1(std::sin(x))
-    case Op::FCos: CALL1(std::cos(x))
-    case Op::FTan: CALL1(std::tan(x))
-    case Op::FAsin: CALL1(std::asin(x))
-    case Op::FAcos: CALL1(std::acos(x))
-    case Op::FAtan: CALL1(std::atan(x))
-    case Op::FAtan2: CALL2(std::atan2(x, y))
-    case Op::FSinh: CALL1(std::sinh(x))
-    case Op::FCosh: CALL1(std::cosh(x))
-    case Op::FTanh: CALL1(std::tanh(x))
-    case Op::FAsinh: CALL1(std::asinh(x))
-    case Op::FAcosh: CALL1(std::acosh(x))
-    case Op::FAtanh: CALL1(std::atanh(x))
-    case Op::FExp: CALL1(std::exp(x))
-    case Op::FLog: CALL1(std::log(x))
-    case Op::FExp2: CALL1(std::exp2(x))
-    case Op::FLog2: CALL1(std::log2(x))
-    case Op::FPow: CALL2(std::pow(x, y))
-    case Op::FDot: fused_dot(i, n); break;
-    case Op::FClamp: F3(f_clamp(x, y, z))
-    case Op::FMix: F3(f_mix(x, y, z))
-    case Op::FSmoothstep: F3(f_smoothstep(x, y, z))
-    case Op::FIsNan: FB1(std::isnan(x))
-    case Op::FIsInf: FB1(std::isinf(x))
-    case Op::FLess: FB2(x < y)
-    case Op::FLessEqual: FB2(x <= y)
-    case Op::FGreater: FB2(x > y)
-    case Op::FGreaterEqual: FB2(x >= y)
-    case Op::FEqual: FB2(x == y)
-    case Op::FNotEqual: FB2(x != y)
-    case Op::IAdd: I2(static_cast<int32_t>(ux + uy))
-    case Op::ISub: I2(static_cast<int32_t>(ux - uy))
-    case Op::IMul: I2(static_cast<int32_t>(ux * uy))
-    case Op::IDiv: I2(i_div(x, y))
-    case Op::IMod: I2(i_mod(x, y))
-    case Op::INeg: I1(static_cast<int32_t>(0u - ux))
-    case Op::IAbs: I1(x < 0 ? static_cast<int32_t>(0u - ux) : x)
-    case Op::ISign: I1(x > 0 ? 1 : (x < 0 ? -1 : 0))
-    case Op::IMin: I2(y < x ? y : x)
-    case Op::IMax: I2(x < y ? y : x)
-    case Op::IClamp: I3(std::min(std::max(x, y), z))
-    case Op::ILess: I2(x < y)
-    case Op::ILessEqual: I2(x <= y)
-    case Op::IGreater: I2(x > y)
-    case Op::IGreaterEqual: I2(x >= y)
-    case Op::UDiv: U2(y == 0 ? 0u : x / y)
-    case Op::UMod: U2(y == 0 ? 0u : x % y)
-    case Op::UMin: U2(y < x ? y : x)
-    case Op::UMax: U2(x < y ? y : x)
-    case Op::UClamp: U3(std::min(std::max(x, y), z))
-    case Op::ULess: I2(ux < uy)
-    case Op::ULessEqual: I2(ux <= uy)
-    case Op::UGreater: I2(ux > uy)
-    case Op::UGreaterEqual: I2(ux >= uy)
-    case Op::BitAnd: U2(x & y)
-    case Op::BitOr: U2(x | y)
-    case Op::BitXor: U2(x ^ y)
-    case Op::BitNot: I1(static_cast<int32_t>(~ux))
-    case Op::ShiftLeft: U2(x << (y & 31u))
-    case Op::ShiftRightArithmetic: I2(x >> (uy & 31u))
-    case Op::ShiftRightLogical: U2(x >> (y & 31u))
-    case Op::Equal: I2(ux == uy)
-    case Op::NotEqual: I2(ux != uy)
-    case Op::BoolNot: I1(x == 0)
-    case Op::Select: U3(x ? y : z)
-    case Op::IntToFloat: CONVERT(f, static_cast<float>(a[l].i))
-    case Op::UintToFloat: CONVERT(f, static_cast<float>(a[l].u))
-    case Op::BoolToFloat: CONVERT(f, a[l].i ? 1.0f : 0.0f)
-    case Op::FloatToInt: CONVERT(i, f_to_i(a[l].f))
-    case Op::FloatToUint: CONVERT(u, f_to_u(a[l].f))
-    case Op::FloatToBool: FB1(x != 0.0f)
-    case Op::IntToBool: I1(x != 0)
-    case Op::PackSnorm2x16: PACK(pack_snorm16)
-    case Op::PackUnorm2x16: PACK(pack_unorm16)
-    case Op::PackHalf2x16: PACK(float_to_half)
-    case Op::UnpackSnorm2x16X: CONVERT(f, unpack_snorm16(a[l].u & 0xffffu))
-    case Op::UnpackSnorm2x16Y: CONVERT(f, unpack_snorm16(a[l].u >> 16))
-    case Op::UnpackUnorm2x16X: CONVERT(f, unpack_unorm16(a[l].u & 0xffffu))
-    case Op::UnpackUnorm2x16Y: CONVERT(f, unpack_unorm16(a[l].u >> 16))
-    case Op::UnpackHalf2x16X: CONVERT(f, half_to_float(a[l].u & 0xffffu))
-    case Op::UnpackHalf2x16Y: CONVERT(f, half_to_float(a[l].u >> 16))
-    case Op::DFdx:
-    case Op::DFdy: quad_derivative(D, A, n, i.op == Op::DFdx); break;   // one call: two cost the portable build its registers
-    case Op::LoadIndexed: load_indexed(i, n); break;
-    case Op::StoreIndexed: store_indexed(i, m); break;
-    case Op::LoadUniform: fill(D, n, run.uniforms ? run.uniforms[i.imm[0]] : Scalar{}); break;
-    case Op::LoadUniformIndexed: load_uniform_indexed(D, B, i, n, run.uniforms); break;
-    case Op::Texture: texture(i, n, run); break;
-    case Op::IfBegin: pc = m.if_begin(A, pc, i.target); break;
-    case Op::Else: pc = m.enter_else(pc, i.target); break;
-    case Op::IfEnd: case Op::SwitchEnd: case Op::FunctionEnd: m.end_construct(); break;
-    case Op::SwitchBegin: m.push(FrameKind::Switch, pc); break;
-    case Op::FunctionBegin: m.push(FrameKind::Function, pc); break;
-    case Op::LoopBegin: m.loop_begin(pc); break;
-    case Op::LoopBreakUnless: pc = m.loop_break_unless(A, pc); break;
-    case Op::LoopContinuePoint: pc = m.loop_continue_point(pc); break;
-    case Op::LoopEnd: pc = m.loop_end(pc, max_loop_iterations); break;
-    case Op::Break: case Op::Continue: case Op::Return: pc = m.jump(i.op, pc); break;
-    case Op::Discard:
-        if (!m.discard()) return false;  // every lane discarded
-        pc = m.skip_target() - 1;
-        break;
-    case Op::Count_: break;
+    const int count = static_cast<int>(code.size());
+    for (int pc = static_cast<int>(prologue_end_); pc < count; ++pc) {
+        const Instruction& i = code[pc];
+        switch (i.op) {
+        case Op::Mov: copy_active(D, A, mask, all, n); break;
+        case Op::FAdd: F2(x + y)
+        case Op::FSub: F2(x - y)
+        case Op::FMul: F2(x * y)
+        case Op::FDiv: F2(x / y)
+        case Op::FNeg: F1(-x)
+        case Op::FAbs: F1(std::fabs(x))
+        case Op::FSign: F1(f_sign(x))
+        case Op::FFloor: F1(std::floor(x))
+        case Op::FCeil: F1(std::ceil(x))
+        case Op::FFract: F1(x - std::floor(x))
+        case Op::FTrunc: F1(std::trunc(x))
+        case Op::FRound: F1(std::round(x))
+        case Op::FRoundEven: F1(std::nearbyint(x))
+        case Op::FMin: F2(f_min(x, y))
+        case Op::FMax: F2(f_max(x, y))
+        case Op::FMod: F2(f_mod(x, y))
+        case Op::FStep: F2(f_step(x, y))
+        case Op::FSqrt: F1(std::sqrt(x))
+        case Op::FInverseSqrt: F1(1.0f / std::sqrt(x))
+        case Op::FSin: CALL1(std::sin(x))
+        case Op::FCos: CALL1(std::cos(x))
+        case Op::FTan: CALL1(std::tan(x))
+        case Op::FAsin: CALL1(std::asin(x))
+        case Op::FAcos: CALL1(std::acos(x))
+        case Op::FAtan: CALL1(std::atan(x))
+        case Op::FAtan2: CALL2(std::atan2(x, y))
+        case Op::FSinh: CALL1(std::sinh(x))
+        case Op::FCosh: CALL1(std::cosh(x))
+        case Op::FTanh: CALL1(std::tanh(x))
+        case Op::FAsinh: CALL1(std::asinh(x))
+        case Op::FAcosh: CALL1(std::acosh(x))
+        case Op::FAtanh: CALL1(std::atanh(x))
+        case Op::FExp: CALL1(std::exp(x))
+        case Op::FLog: CALL1(std::log(x))
+        case Op::FExp2: CALL1(std::exp2(x))
+        case Op::FLog2: CALL1(std::log2(x))
+        case Op::FPow: CALL2(std::pow(x, y))
+        case Op::FDot: fused_dot(i, n); break;
+        case Op::FClamp: F3(f_clamp(x, y, z))
+        case Op::FMix: F3(f_mix(x, y, z))
+        case Op::FSmoothstep: F3(f_smoothstep(x, y, z))
+        case Op::FIsNan: FB1(std::isnan(x))
+        case Op::FIsInf: FB1(std::isinf(x))
+        case Op::FLess: FB2(x < y)
+        case Op::FLessEqual: FB2(x <= y)
+        case Op::FGreater: FB2(x > y)
+        case Op::FGreaterEqual: FB2(x >= y)
+        case Op::FEqual: FB2(x == y)
+        case Op::FNotEqual: FB2(x != y)
+        case Op::IAdd: I2(static_cast<int32_t>(ux + uy))
+        case Op::ISub: I2(static_cast<int32_t>(ux - uy))
+        case Op::IMul: I2(static_cast<int32_t>(ux * uy))
+        case Op::IDiv: I2(i_div(x, y))
+        case Op::IMod: I2(i_mod(x, y))
+        case Op::INeg: I1(static_cast<int32_t>(0u - ux))
+        case Op::IAbs: I1(x < 0 ? static_cast<int32_t>(0u - ux) : x)
+        case Op::ISign: I1(x > 0 ? 1 : (x < 0 ? -1 : 0))
+        case Op::IMin: I2(y < x ? y : x)
+        case Op::IMax: I2(x < y ? y : x)
+        case Op::IClamp: I3(std::min(std::max(x, y), z))
+        case Op::ILess: I2(x < y)
+        case Op::ILessEqual: I2(x <= y)
+        case Op::IGreater: I2(x > y)
+        case Op::IGreaterEqual: I2(x >= y)
+        case Op::UDiv: U2(y == 0 ? 0u : x / y)
+        case Op::UMod: U2(y == 0 ? 0u : x % y)
+        case Op::UMin: U2(y < x ? y : x)
+        case Op::UMax: U2(x < y ? y : x)
+        case Op::UClamp: U3(std::min(std::max(x, y), z))
+        case Op::ULess: I2(ux < uy)
+        case Op::ULessEqual: I2(ux <= uy)
+        case Op::UGreater: I2(ux > uy)
+        case Op::UGreaterEqual: I2(ux >= uy)
+        case Op::BitAnd: U2(x & y)
+        case Op::BitOr: U2(x | y)
+        case Op::BitXor: U2(x ^ y)
+        case Op::BitNot: I1(static_cast<int32_t>(~ux))
+        case Op::ShiftLeft: U2(x << (y & 31u))
+        case Op::ShiftRightArithmetic: I2(x >> (uy & 31u))
+        case Op::ShiftRightLogical: U2(x >> (y & 31u))
+        case Op::Equal: I2(ux == uy)
+        case Op::NotEqual: I2(ux != uy)
+        case Op::BoolNot: I1(x == 0)
+        case Op::Select: U3(x ? y : z)
+        case Op::IntToFloat: CONVERT(f, static_cast<float>(a[l].i))
+        case Op::UintToFloat: CONVERT(f, static_cast<float>(a[l].u))
+        case Op::BoolToFloat: CONVERT(f, a[l].i ? 1.0f : 0.0f)
+        case Op::FloatToInt: CONVERT(i, f_to_i(a[l].f))
+        case Op::FloatToUint: CONVERT(u, f_to_u(a[l].f))
+        case Op::FloatToBool: FB1(x != 0.0f)
+        case Op::IntToBool: I1(x != 0)
+        case Op::PackSnorm2x16: PACK(pack_snorm16)
+        case Op::PackUnorm2x16: PACK(pack_unorm16)
+        case Op::PackHalf2x16: PACK(float_to_half)
+        case Op::UnpackSnorm2x16X: CONVERT(f, unpack_snorm16(a[l].u & 0xffffu))
+        case Op::UnpackSnorm2x16Y: CONVERT(f, unpack_snorm16(a[l].u >> 16))
+        case Op::UnpackUnorm2x16X: CONVERT(f, unpack_unorm16(a[l].u & 0xffffu))
+        case Op::UnpackUnorm2x16Y: CONVERT(f, unpack_unorm16(a[l].u >> 16))
+        case Op::UnpackHalf2x16X: CONVERT(f, half_to_float(a[l].u & 0xffffu))
+        case Op::UnpackHalf2x16Y: CONVERT(f, half_to_float(a[l].u >> 16))
+        case Op::DFdx:
+        case Op::DFdy: quad_derivative(D, A, n, i.op == Op::DFdx); break;
+        case Op::LoadIndexed: load_indexed(i, n); break;
+        case Op::StoreIndexed: store_indexed(i, mask, all, n); break;
+        case Op::LoadUniform: fill(D, n, run.uniforms ? run.uniforms[i.imm[0]] : Scalar{}); break;
+        case Op::LoadUniformIndexed: load_uniform_indexed(D, B, i, n, run.uniforms); break;
+        case Op::Texture: texture(i, n, run); break;
+
+        // ---- control flow ----
+        case Op::IfBegin: {
+            Frame& f = push(FrameKind::If, pc);
+            const Scalar* c = A;
+            LANES {
+                uint32_t take = c[l].i ? ~0u : 0u;
+                f.other[l] = mask[l] & ~take;
+                mask[l] &= take;
+            }
+            all = all_set(mask, n);
+            if (!all && !any_set(mask, n)) pc = i.target - 1;  // to Else or IfEnd
+            break;
+        }
+        case Op::Else: {
+            Frame& f = frames.back();
+            f.in_else = true;
+            set_mask(f.other);
+            if (!all && !any_set(mask, n)) pc = i.target - 1;  // to IfEnd
+            break;
+        }
+        case Op::IfEnd:
+        case Op::SwitchEnd:
+        case Op::FunctionEnd:
+            set_mask(frames.back().saved);
+            frames.pop_back();
+            break;
+        case Op::SwitchBegin:
+        case Op::FunctionBegin:
+            push(i.op == Op::SwitchBegin ? FrameKind::Switch : FrameKind::Function, pc);
+            break;
+        case Op::LoopBegin: {
+            Frame& f = push(FrameKind::Loop, pc);
+            std::memcpy(f.other, mask, sizeof(uint32_t) * n);
+            break;
+        }
+        case Op::LoopBreakUnless: {
+            Frame& f = frames.back();
+            const Scalar* c = A;
+            LANES {
+                uint32_t stay = c[l].i ? ~0u : 0u;
+                mask[l] &= stay;
+                f.other[l] &= stay;
+            }
+            all = all_set(mask, n);
+            if (!any_set(f.other, n)) pc = code[f.begin].target - 1;  // to LoopEnd
+            break;
+        }
+        case Op::LoopContinuePoint: {
+            Frame& f = frames.back();
+            set_mask(f.other);
+            if (!all && !any_set(mask, n)) pc = code[f.begin].target - 1;
+            break;
+        }
+        case Op::LoopEnd: {
+            Frame& f = frames.back();
+            if (any_set(f.other, n)) {
+                if (++f.iterations > max_loop_iterations) throw ExecutionError("loop iteration limit exceeded");
+                set_mask(f.other);
+                pc = f.begin;  // continue after LoopBegin
+            } else {
+                set_mask(f.saved);
+                frames.pop_back();
+            }
+            break;
+        }
+        case Op::Break:
+        case Op::Continue:
+        case Op::Return: {
+            size_t t = frames.size();
+            while (t > 0) {
+                FrameKind k = frames[t - 1].kind;
+                if (i.op == Op::Break && (k == FrameKind::Loop || k == FrameKind::Switch)) break;
+                if (i.op == Op::Continue && k == FrameKind::Loop) break;
+                if (i.op == Op::Return && k == FrameKind::Function) break;
+                --t;
+            }
+            if (t == 0) break;  // cannot happen for checked programs
+            size_t target = t - 1;
+            bool clear_loop = i.op == Op::Break && frames[target].kind == FrameKind::Loop;
+            leave(target, clear_loop);
+            pc = skip_target() - 1;
+            break;
+        }
+        case Op::Discard: {
+            LANES killed[l] |= mask[l];
+            for (Frame& f : frames)
+                LANES { f.saved[l] &= ~mask[l]; f.other[l] &= ~mask[l]; }
+            std::fill_n(mask, n, 0u);
+            all = false;
+            if (all_set(killed, n)) return;  // every lane discarded
+            pc = skip_target() - 1;
+            break;
+        }
+        case Op::Count_: break;
+        }
     }
-    return true;
-}
-
-
 #undef LANES
 #undef D
 #undef A
 #undef B
 #undef C
-
-// The interpreter. It is inlined into one function per SIMD level (below), so its lane loops
-// vectorise to that level's width.
-__attribute__((always_inline)) inline void Executor::execute(const int n, const StageRun& run) {
-    uint32_t* storage = mask_storage_.data();
-    ExecutorLanes m{*this, n, storage, storage + static_cast<size_t>(2 * max_depth_ + 1) * batch_};
-    std::fill_n(m.mask, n, ~0u);
-    std::fill_n(m.killed, n, 0u);
-    frames_.clear();
-    const int count = static_cast<int>(code_.size());
-    for (int pc = static_cast<int>(prologue_end_); pc < count; ++pc) {
-        const Instruction& i = code_[pc];
-        if (!step(i, pc, m, run)) return;
-    }
 }
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))

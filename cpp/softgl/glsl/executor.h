@@ -69,7 +69,6 @@ struct StageRun {
 };
 
 struct ExecutorFrame;
-struct ExecutorLanes;
 
 // The lane loops are compiled three times: the portable baseline build (SSE2 on x86-64; it serves
 // SimdLevel::Scalar and SSE2), and again for 8- and 16-float vectors (AVX2, AVX512; no FMA),
@@ -100,18 +99,15 @@ public:
     void force_simd_level(SimdLevel level) { simd_ = level; }
 
 private:
-    friend struct ExecutorLanes;   // execute()'s mask and frames (executor.cpp)
     void run_batch(const StageRun& run, int first_lane, int lanes);
     void execute(int lanes, const StageRun& run);           // the body, inlined into:
     void execute_portable(int lanes, const StageRun& run);
     void execute_avx2(int lanes, const StageRun& run);
     void execute_avx512(int lanes, const StageRun& run);
-    // The steps of execute(), inlined into it: one instruction (false: every lane has
-    // discarded), and the longer value operations.
-    bool step(const Instruction& i, int& pc, ExecutorLanes& lanes, const StageRun& run);
+    // The longer value operations of execute(), inlined into it.
     void fused_dot(const Instruction& i, int lanes);
     void load_indexed(const Instruction& i, int lanes);
-    void store_indexed(const Instruction& i, const ExecutorLanes& lanes);
+    void store_indexed(const Instruction& i, const uint32_t* mask, bool all, int lanes);
     // Register r's lanes for the current batch: its own storage, or (inputs the program never
     // writes, outputs) the caller's arrays directly, so inputs and outputs are not copied.
     Scalar* reg(Reg r) { return reg_ptr_[r]; }
