@@ -230,8 +230,81 @@ void Executor::run_batch(const StageRun& run, int first, int lanes) {
     }
 }
 
+// ---- the longer value operations of execute(), always inlined into it ----
+namespace {
+
+// d = a in the active lanes (all: every lane is).
+__attribute__((always_inline)) inline void copy_active(Scalar* d, const Scalar* a, const uint32_t* mask, bool all, int n) {
+    if (all) { if (d != a) std::memcpy(d, a, sizeof(Scalar) * n); }
+    else masked_copy(d, a, mask, n);
+}
+
+// dFdx (dx) or dFdy inside each 2x2 quad: lanes 4q..4q+3 are (x, y), (x+1, y), (x, y+1), (x+1, y+1).
+__attribute__((always_inline)) inline void quad_derivative(Scalar* d, const Scalar* a, int n, bool dx) {
+    int quads = n / 4;
+    for (int q = 0; q < quads; ++q) {
+        const Scalar* v = a + 4 * q;
+        Scalar* o = d + 4 * q;
+        if (dx) {
+            float top = v[1].f - v[0].f, bottom = v[3].f - v[2].f;
+            o[0].f = top; o[1].f = top; o[2].f = bottom; o[3].f = bottom;
+        } else {
+            float left = v[2].f - v[0].f, right = v[3].f - v[1].f;
+            o[0].f = left; o[1].f = right; o[2].f = left; o[3].f = right;
+        }
+    }
+    for (int l = quads * 4; l < n; ++l) d[l].f = 0.0f;  // an incomplete quad has no derivative
+}
+
+// The register or uniform slot an indexed access reaches: start + clamp(offset + index, 0,
+// size - 1), with imm = start, offset, size.
+__attribute__((always_inline)) inline int32_t indexed(const Instruction& i, int32_t index) {
+    return i.imm[0] + std::min(std::max(i.imm[1] + index, 0), i.imm[2] - 1);
+}
+
+// Indexed accesses: when every lane uses the same index (constant-bound loops, uniform
+// indices) the access is one whole-register copy instead of a per-lane gather.
+__attribute__((always_inline)) inline void load_uniform_indexed(Scalar* d, const Scalar* idx, const Instruction& i, int n,
+                                                                const Scalar* uniforms) {
+    if (!uniforms) return fill(d, n, Scalar{});
+    if (same_in_all_lanes(idx, n)) return fill(d, n, uniforms[indexed(i, idx[0].i)]);
+    for (int l = 0; l < n; ++l) d[l] = uniforms[indexed(i, idx[l].i)];
+}
+
+}  // namespace
+
+__attribute__((always_inline)) inline void Executor::load_indexed(const Instruction& i, const int n) {
+    Scalar* d = reg(i.dst);
+    const Scalar* idx = reg(i.b);
+    if (same_in_all_lanes(idx, n)) std::memcpy(d, reg(static_cast<Reg>(indexed(i, idx[0].i))), sizeof(Scalar) * n);
+    else for (int l = 0; l < n; ++l) d[l] = reg(static_cast<Reg>(indexed(i, idx[l].i)))[l];
+}
+
+__attribute__((always_inline)) inline void Executor::store_indexed(const Instruction& i, const uint32_t* mask, bool all, int n) {
+    const Scalar* src = reg(i.a);
+    const Scalar* idx = reg(i.b);
+    if (same_in_all_lanes(idx, n)) return copy_active(reg(static_cast<Reg>(indexed(i, idx[0].i))), src, mask, all, n);
+    for (int l = 0; l < n; ++l)
+        if (mask[l]) reg(static_cast<Reg>(indexed(i, idx[l].i)))[l] = src[l];
+}
+
+// FDot: the fused chain's operations in its order, ((a0*b0 + a1*b1) + a2*b2) + a3*b3.
+__attribute__((always_inline)) inline void Executor::fused_dot(const Instruction& i, const int n) {
+    const std::array<Reg, 8>& p = products_[static_cast<size_t>(i.imm[0])];
+    Scalar* d = reg(i.dst);
+    const Scalar *a0 = reg(p[0]), *b0 = reg(p[1]), *a1 = reg(p[2]), *b1 = reg(p[3]);
+    if (i.imm[1] == 2) { for (int l = 0; l < n; ++l) d[l].f = a0[l].f * b0[l].f + a1[l].f * b1[l].f; return; }
+    const Scalar *a2 = reg(p[4]), *b2 = reg(p[5]);
+    if (i.imm[1] == 3) { for (int l = 0; l < n; ++l) d[l].f = (a0[l].f * b0[l].f + a1[l].f * b1[l].f) + a2[l].f * b2[l].f; return; }
+    const Scalar *a3 = reg(p[6]), *b3 = reg(p[7]);
+    for (int l = 0; l < n; ++l) d[l].f = ((a0[l].f * b0[l].f + a1[l].f * b1[l].f) + a2[l].f * b2[l].f) + a3[l].f * b3[l].f;
+}
+
 // The interpreter. It is inlined into one function per SIMD level (below), so its lane loops
-// vectorise to that level's width.
+// vectorise to that level's width. The control flow stays written out in this one switch: moving
+// it into helpers (a struct of the mask and frames, a second switch, or one step() per
+// instruction) gave fewer instructions but cost 4-17% time on control-heavy shaders (measured at
+// AVX2, issue 17), while the value operations above inline for free.
 __attribute__((always_inline)) inline void Executor::execute(const int n, const StageRun& run) {
     const std::vector<Instruction>& code = code_;
     uint32_t* mask = mask_storage_.data();
@@ -295,18 +368,15 @@ __attribute__((always_inline)) inline void Executor::execute(const int n, const 
 #define U2(expr) { Scalar* d = D; const Scalar* a = A; const Scalar* b = B; LANES { uint32_t x = a[l].u, y = b[l].u; d[l].u = (expr); } break; }
 #define I3(expr) { Scalar* d = D; const Scalar* a = A; const Scalar* b = B; const Scalar* c = C; LANES { int32_t x = a[l].i, y = b[l].i, z = c[l].i; d[l].i = (expr); } break; }
 #define U3(expr) { Scalar* d = D; const Scalar* a = A; const Scalar* b = B; const Scalar* c = C; LANES { uint32_t x = a[l].u, y = b[l].u, z = c[l].u; d[l].u = (expr); } break; }
+// Conversions and packing: d from a (and b), lane by lane.
+#define CONVERT(field, expr) { Scalar* d = D; const Scalar* a = A; LANES d[l].field = (expr); break; }
+#define PACK(pack) { Scalar* d = D; const Scalar* a = A; const Scalar* b = B; LANES d[l].u = pack(a[l].f) | (pack(b[l].f) << 16); break; }
 
     const int count = static_cast<int>(code.size());
     for (int pc = static_cast<int>(prologue_end_); pc < count; ++pc) {
         const Instruction& i = code[pc];
         switch (i.op) {
-        case Op::Mov: {
-            Scalar* d = D;
-            const Scalar* a = A;
-            if (all) { if (d != a) std::memcpy(d, a, sizeof(Scalar) * n); }
-            else masked_copy(d, a, mask, n);
-            break;
-        }
+        case Op::Mov: copy_active(D, A, mask, all, n); break;
         case Op::FAdd: F2(x + y)
         case Op::FSub: F2(x - y)
         case Op::FMul: F2(x * y)
@@ -344,18 +414,7 @@ __attribute__((always_inline)) inline void Executor::execute(const int n, const 
         case Op::FExp2: CALL1(std::exp2(x))
         case Op::FLog2: CALL1(std::log2(x))
         case Op::FPow: CALL2(std::pow(x, y))
-        case Op::FDot: {
-            // The chain's operations in its order: ((a0*b0 + a1*b1) + a2*b2) + a3*b3.
-            const std::array<Reg, 8>& p = products_[static_cast<size_t>(i.imm[0])];
-            Scalar* d = D;
-            const Scalar *a0 = reg(p[0]), *b0 = reg(p[1]), *a1 = reg(p[2]), *b1 = reg(p[3]);
-            if (i.imm[1] == 2) { LANES d[l].f = a0[l].f * b0[l].f + a1[l].f * b1[l].f; break; }
-            const Scalar *a2 = reg(p[4]), *b2 = reg(p[5]);
-            if (i.imm[1] == 3) { LANES d[l].f = (a0[l].f * b0[l].f + a1[l].f * b1[l].f) + a2[l].f * b2[l].f; break; }
-            const Scalar *a3 = reg(p[6]), *b3 = reg(p[7]);
-            LANES d[l].f = ((a0[l].f * b0[l].f + a1[l].f * b1[l].f) + a2[l].f * b2[l].f) + a3[l].f * b3[l].f;
-            break;
-        }
+        case Op::FDot: fused_dot(i, n); break;
         case Op::FClamp: F3(f_clamp(x, y, z))
         case Op::FMix: F3(f_mix(x, y, z))
         case Op::FSmoothstep: F3(f_smoothstep(x, y, z))
@@ -402,93 +461,28 @@ __attribute__((always_inline)) inline void Executor::execute(const int n, const 
         case Op::NotEqual: I2(ux != uy)
         case Op::BoolNot: I1(x == 0)
         case Op::Select: U3(x ? y : z)
-        case Op::IntToFloat: { Scalar* d = D; const Scalar* a = A; LANES d[l].f = static_cast<float>(a[l].i); break; }
-        case Op::UintToFloat: { Scalar* d = D; const Scalar* a = A; LANES d[l].f = static_cast<float>(a[l].u); break; }
-        case Op::BoolToFloat: { Scalar* d = D; const Scalar* a = A; LANES d[l].f = a[l].i ? 1.0f : 0.0f; break; }
-        case Op::FloatToInt: { Scalar* d = D; const Scalar* a = A; LANES d[l].i = f_to_i(a[l].f); break; }
-        case Op::FloatToUint: { Scalar* d = D; const Scalar* a = A; LANES d[l].u = f_to_u(a[l].f); break; }
+        case Op::IntToFloat: CONVERT(f, static_cast<float>(a[l].i))
+        case Op::UintToFloat: CONVERT(f, static_cast<float>(a[l].u))
+        case Op::BoolToFloat: CONVERT(f, a[l].i ? 1.0f : 0.0f)
+        case Op::FloatToInt: CONVERT(i, f_to_i(a[l].f))
+        case Op::FloatToUint: CONVERT(u, f_to_u(a[l].f))
         case Op::FloatToBool: FB1(x != 0.0f)
         case Op::IntToBool: I1(x != 0)
-        case Op::PackSnorm2x16: { Scalar* d = D; const Scalar* a = A; const Scalar* b = B; LANES d[l].u = pack_snorm16(a[l].f) | (pack_snorm16(b[l].f) << 16); break; }
-        case Op::PackUnorm2x16: { Scalar* d = D; const Scalar* a = A; const Scalar* b = B; LANES d[l].u = pack_unorm16(a[l].f) | (pack_unorm16(b[l].f) << 16); break; }
-        case Op::PackHalf2x16: { Scalar* d = D; const Scalar* a = A; const Scalar* b = B; LANES d[l].u = float_to_half(a[l].f) | (float_to_half(b[l].f) << 16); break; }
-        case Op::UnpackSnorm2x16X: { Scalar* d = D; const Scalar* a = A; LANES d[l].f = unpack_snorm16(a[l].u & 0xffffu); break; }
-        case Op::UnpackSnorm2x16Y: { Scalar* d = D; const Scalar* a = A; LANES d[l].f = unpack_snorm16(a[l].u >> 16); break; }
-        case Op::UnpackUnorm2x16X: { Scalar* d = D; const Scalar* a = A; LANES d[l].f = unpack_unorm16(a[l].u & 0xffffu); break; }
-        case Op::UnpackUnorm2x16Y: { Scalar* d = D; const Scalar* a = A; LANES d[l].f = unpack_unorm16(a[l].u >> 16); break; }
-        case Op::UnpackHalf2x16X: { Scalar* d = D; const Scalar* a = A; LANES d[l].f = half_to_float(a[l].u & 0xffffu); break; }
-        case Op::UnpackHalf2x16Y: { Scalar* d = D; const Scalar* a = A; LANES d[l].f = half_to_float(a[l].u >> 16); break; }
+        case Op::PackSnorm2x16: PACK(pack_snorm16)
+        case Op::PackUnorm2x16: PACK(pack_unorm16)
+        case Op::PackHalf2x16: PACK(float_to_half)
+        case Op::UnpackSnorm2x16X: CONVERT(f, unpack_snorm16(a[l].u & 0xffffu))
+        case Op::UnpackSnorm2x16Y: CONVERT(f, unpack_snorm16(a[l].u >> 16))
+        case Op::UnpackUnorm2x16X: CONVERT(f, unpack_unorm16(a[l].u & 0xffffu))
+        case Op::UnpackUnorm2x16Y: CONVERT(f, unpack_unorm16(a[l].u >> 16))
+        case Op::UnpackHalf2x16X: CONVERT(f, half_to_float(a[l].u & 0xffffu))
+        case Op::UnpackHalf2x16Y: CONVERT(f, half_to_float(a[l].u >> 16))
         case Op::DFdx:
-        case Op::DFdy: {
-            Scalar* d = D;
-            const Scalar* a = A;
-            const bool dx = i.op == Op::DFdx;
-            int quads = n / 4;
-            for (int q = 0; q < quads; ++q) {
-                const Scalar* v = a + 4 * q;
-                Scalar* o = d + 4 * q;
-                if (dx) {
-                    float top = v[1].f - v[0].f, bottom = v[3].f - v[2].f;
-                    o[0].f = top; o[1].f = top; o[2].f = bottom; o[3].f = bottom;
-                } else {
-                    float left = v[2].f - v[0].f, right = v[3].f - v[1].f;
-                    o[0].f = left; o[1].f = right; o[2].f = left; o[3].f = right;
-                }
-            }
-            for (int l = quads * 4; l < n; ++l) d[l].f = 0.0f;  // an incomplete quad has no derivative
-            break;
-        }
-        // Indexed accesses: when every lane uses the same index (constant-bound loops, uniform
-        // indices) the access is one whole-register copy instead of a per-lane gather.
-        case Op::LoadIndexed: {
-            Scalar* d = D;
-            const Scalar* idx = B;
-            const int32_t start = i.imm[0], offset = i.imm[1], size = i.imm[2];
-            if (same_in_all_lanes(idx, n)) {
-                const int32_t k = std::min(std::max(offset + idx[0].i, 0), size - 1);
-                std::memcpy(d, reg(static_cast<Reg>(start + k)), sizeof(Scalar) * n);
-                break;
-            }
-            LANES {
-                int32_t k = std::min(std::max(offset + idx[l].i, 0), size - 1);
-                d[l] = reg(static_cast<Reg>(start + k))[l];
-            }
-            break;
-        }
-        case Op::StoreIndexed: {
-            const Scalar* src = A;
-            const Scalar* idx = B;
-            const int32_t start = i.imm[0], offset = i.imm[1], size = i.imm[2];
-            if (same_in_all_lanes(idx, n)) {
-                const int32_t k = std::min(std::max(offset + idx[0].i, 0), size - 1);
-                Scalar* d = reg(static_cast<Reg>(start + k));
-                if (all) { if (d != src) std::memcpy(d, src, sizeof(Scalar) * n); }
-                else masked_copy(d, src, mask, n);
-                break;
-            }
-            LANES {
-                if (!mask[l]) continue;
-                int32_t k = std::min(std::max(offset + idx[l].i, 0), size - 1);
-                reg(static_cast<Reg>(start + k))[l] = src[l];
-            }
-            break;
-        }
+        case Op::DFdy: quad_derivative(D, A, n, i.op == Op::DFdx); break;
+        case Op::LoadIndexed: load_indexed(i, n); break;
+        case Op::StoreIndexed: store_indexed(i, mask, all, n); break;
         case Op::LoadUniform: fill(D, n, run.uniforms ? run.uniforms[i.imm[0]] : Scalar{}); break;
-        case Op::LoadUniformIndexed: {
-            Scalar* d = D;
-            const Scalar* idx = B;
-            const int32_t start = i.imm[0], offset = i.imm[1], size = i.imm[2];
-            if (!run.uniforms) { fill(d, n, Scalar{}); break; }
-            if (same_in_all_lanes(idx, n)) {
-                fill(d, n, run.uniforms[start + std::min(std::max(offset + idx[0].i, 0), size - 1)]);
-                break;
-            }
-            LANES {
-                int32_t k = std::min(std::max(offset + idx[l].i, 0), size - 1);
-                d[l] = run.uniforms[start + k];
-            }
-            break;
-        }
+        case Op::LoadUniformIndexed: load_uniform_indexed(D, B, i, n, run.uniforms); break;
         case Op::Texture: texture(i, n, run); break;
 
         // ---- control flow ----

@@ -114,6 +114,10 @@ private:
     void execute_portable(int lanes, const StageRun& run);
     void execute_avx2(int lanes, const StageRun& run);
     void execute_avx512(int lanes, const StageRun& run);
+    // The longer value operations of execute(), inlined into it.
+    void fused_dot(const Instruction& i, int lanes);
+    void load_indexed(const Instruction& i, int lanes);
+    void store_indexed(const Instruction& i, const uint32_t* mask, bool all, int lanes);
     // Register r's lanes for the current batch: its own storage, or (inputs the program never
     // writes, outputs) the caller's arrays directly, so inputs and outputs are not copied.
     Scalar* reg(Reg r) { return reg_ptr_[r]; }

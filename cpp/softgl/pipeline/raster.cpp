@@ -125,43 +125,42 @@ __attribute__((target("avx512f,avx512bw,avx512dq,avx512vl"))) uint64_t inside_ro
 // land in disjoint bit ranges [15j, 15j + 4), so nothing carries.
 inline uint64_t spread_quad_bits(uint64_t b) { return (b * 0x0000200040008001ull) & 0x0001000100010001ull; }
 
+// What raster_edges knows of a primitive before it walks the blocks (all exact integers). In a
+// local: the quads' uint64 stores could alias the edges if they were read from memory.
 template <int N>
-void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, int32_t y1,
-                  const SamplePattern& sp, InsideRowsFn<N> inside_rows, PutBlockFn put_block, std::vector<Quad>& out,
-                  RasterStats& stats) {
-    const int S = sp.count;
-    const uint64_t full_pixel = S == 16 ? 0xFFFFu : ((uint64_t(1) << S) - 1);
-    int64_t so[N][16];     // edge value offset of each sample from its pixel's corner
+struct EdgeWalk {
+    int S;                              // samples per pixel
+    uint64_t full_pixel, full_quad;     // the coverage of a whole pixel, of a whole quad
+    int64_t A[N], B[N], C[N];           // edge i at (X, Y) in fixed point: A[i] * X + B[i] * Y + C[i]
+    int64_t dx[N], dy[N];               // edge steps of one pixel in x and in y
+    int64_t so[N][16];                  // edge value offset of each sample from its pixel's corner
+    int32_t sx0, sx1, sy0, sy1;         // the extent of the samples within a pixel
+    bool whole_blocks;                  // whole blocks test their corner (to_max, to_min)
+    int64_t to_max[N], to_min[N];
+};
+
+// An 8x8 block at (bx, by), clipped to [cx0, cx1) x [cy0, cy1).
+struct Block {
+    int32_t bx, by, cx0, cy0, cx1, cy1;
+};
+
+template <int N>
+__attribute__((always_inline)) inline void set_up_walk(EdgeWalk<N>& w, const PrimitiveSetup& p, const SamplePattern& sp,
+                                                       int32_t x0, int32_t y0, int32_t x1, int32_t y1) {
+    const int S = w.S = sp.count;
+    w.full_pixel = S == 16 ? 0xFFFFu : ((uint64_t(1) << S) - 1);
+    w.full_quad = w.full_pixel | w.full_pixel << kQuadPixelBits | w.full_pixel << (2 * kQuadPixelBits) |
+                  w.full_pixel << (3 * kQuadPixelBits);
+    for (int i = 0; i < N; ++i) w.A[i] = p.a[i], w.B[i] = p.b[i], w.C[i] = p.c[i];
     for (int i = 0; i < N; ++i)
-        for (int s = 0; s < S; ++s) so[i][s] = p.a[i] * sp.x[s] + p.b[i] * sp.y[s];
-    int64_t dx[N], dy[N];  // edge steps of one pixel in x and in y
-    for (int i = 0; i < N; ++i) dx[i] = p.a[i] * kSubPixel, dy[i] = p.b[i] * kSubPixel;
-    BlockSteps<N> steps;
-    if (inside_rows)
-        for (int i = 0; i < N; ++i) {
-            for (int k = 0; k < 8; ++k) steps.col[i][k] = k * dx[i];
-            steps.dy[i] = dy[i];
-        }
+        for (int s = 0; s < S; ++s) w.so[i][s] = p.a[i] * sp.x[s] + p.b[i] * sp.y[s];
+    for (int i = 0; i < N; ++i) w.dx[i] = p.a[i] * kSubPixel, w.dy[i] = p.b[i] * kSubPixel;
     // The extent of the samples within a pixel: block tests cover exactly the samples' hull.
-    int32_t sx0 = sp.x[0], sx1 = sp.x[0], sy0 = sp.y[0], sy1 = sp.y[0];
+    w.sx0 = sp.x[0], w.sx1 = sp.x[0], w.sy0 = sp.y[0], w.sy1 = sp.y[0];
     for (int s = 1; s < S; ++s) {
-        sx0 = std::min(sx0, sp.x[s]); sx1 = std::max(sx1, sp.x[s]);
-        sy0 = std::min(sy0, sp.y[s]); sy1 = std::max(sy1, sp.y[s]);
+        w.sx0 = std::min(w.sx0, sp.x[s]); w.sx1 = std::max(w.sx1, sp.x[s]);
+        w.sy0 = std::min(w.sy0, sp.y[s]); w.sy1 = std::max(w.sy1, sp.y[s]);
     }
-
-    // The output grows once by an upper bound, every quad of the clipped rectangle, and quads are
-    // written in place (no capacity check per quad); it shrinks to the quads written at the end.
-    const size_t first = out.size();
-    out.resize(first + size_t((x1 - (x0 & ~1) + 1) / 2) * size_t((y1 - (y0 & ~1) + 1) / 2));
-    Quad* const begin = out.data() + first;
-    Quad* q = begin;
-    // Edges and counters in locals: the quads' uint64 stores could alias them in memory.
-    int64_t A[N], B[N], C[N];
-    for (int i = 0; i < N; ++i) A[i] = p.a[i], B[i] = p.b[i], C[i] = p.c[i];
-    uint64_t rejected = 0, accepted = 0, partial = 0;
-    const uint64_t full_quad = full_pixel | full_pixel << kQuadPixelBits | full_pixel << (2 * kQuadPixelBits) |
-                               full_pixel << (3 * kQuadPixelBits);
-
     // Edges are linear, so their extremes over a rectangle of samples are at its corners: the
     // larger and the smaller of a*X0, a*X1 plus those of b*Y0, b*Y1 (min/max: no branch on signs).
     // A whole (unclipped) block's sample rectangle is its corner (bx, by) plus constant offsets, so
@@ -169,155 +168,200 @@ void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, i
     // Set up only for triangles whose rectangle holds a whole block: small triangles do not pay for
     // it, and lines and points (4 edges) are mostly thin, so the extra branch costs them more than
     // it saves (measured).
-    const bool whole_blocks = N == 3 && ((x0 + kBlockSize - 1) & ~(kBlockSize - 1)) + kBlockSize <= x1 &&
-                              ((y0 + kBlockSize - 1) & ~(kBlockSize - 1)) + kBlockSize <= y1;
+    w.whole_blocks = N == 3 && ((x0 + kBlockSize - 1) & ~(kBlockSize - 1)) + kBlockSize <= x1 &&
+                     ((y0 + kBlockSize - 1) & ~(kBlockSize - 1)) + kBlockSize <= y1;
     constexpr int32_t kLast = (kBlockSize - 1) * kSubPixel;   // last pixel of a block, fixed point
-    int64_t to_max[N] = {}, to_min[N] = {};
-    if (whole_blocks)
+    for (int i = 0; i < N; ++i) w.to_max[i] = w.to_min[i] = 0;
+    if (w.whole_blocks)
         for (int i = 0; i < N; ++i) {
-            const int64_t ax0 = A[i] * sx0, ax1 = A[i] * (kLast + sx1), by0 = B[i] * sy0, by1 = B[i] * (kLast + sy1);
-            to_max[i] = std::max(ax0, ax1) + std::max(by0, by1);
-            to_min[i] = std::min(ax0, ax1) + std::min(by0, by1);
+            const int64_t ax0 = w.A[i] * w.sx0, ax1 = w.A[i] * (kLast + w.sx1);
+            const int64_t by0 = w.B[i] * w.sy0, by1 = w.B[i] * (kLast + w.sy1);
+            w.to_max[i] = std::max(ax0, ax1) + std::max(by0, by1);
+            w.to_min[i] = std::min(ax0, ax1) + std::min(by0, by1);
         }
+}
 
+// The OR of the edges' maxima over the block's samples (negative: the block is outside some
+// edge) and of their minima (not negative: inside every edge); branch-free. row: the edges at
+// (0, by) when the block's row is whole.
+template <int N>
+__attribute__((always_inline)) inline void block_extremes(const EdgeWalk<N>& w, const Block& blk, bool whole_rows,
+                                                          const int64_t (&row)[N], int64_t& max_or, int64_t& min_or) {
+    max_or = 0, min_or = 0;
+    if (whole_rows && blk.cx0 == blk.bx && blk.cx1 == blk.bx + kBlockSize) {
+        for (int i = 0; i < N; ++i) {
+            const int64_t corner = row[i] + w.A[i] * (int64_t(blk.bx) * kSubPixel);
+            max_or |= corner + w.to_max[i];
+            min_or |= corner + w.to_min[i];
+        }
+        return;
+    }
+    // The rectangle spanned by the clipped block's samples.
+    const int64_t X0 = int64_t(blk.cx0) * kSubPixel + w.sx0, X1 = int64_t(blk.cx1 - 1) * kSubPixel + w.sx1;
+    const int64_t Y0 = int64_t(blk.cy0) * kSubPixel + w.sy0, Y1 = int64_t(blk.cy1 - 1) * kSubPixel + w.sy1;
+    for (int i = 0; i < N; ++i) {
+        const int64_t ax0 = w.A[i] * X0, ax1 = w.A[i] * X1, by0 = w.B[i] * Y0, by1 = w.B[i] * Y1;
+        max_or |= std::max(ax0, ax1) + std::max(by0, by1) + w.C[i];
+        min_or |= std::min(ax0, ax1) + std::min(by0, by1) + w.C[i];
+    }
+}
+
+// Whole block inside every edge and its clipped rectangle made of whole quads: every quad is
+// fully covered, no per-pixel bounds to test.
+template <int N>
+__attribute__((always_inline)) inline Quad* put_covered_quads(Quad* q, const EdgeWalk<N>& w, const Block& blk,
+                                                              PutBlockFn put_block) {
+    if (blk.cx1 - blk.cx0 == kBlockSize && blk.cy1 - blk.cy0 == kBlockSize) return put_block(q, blk.bx, blk.by, w.full_quad);
+    for (int32_t qy = blk.cy0; qy < blk.cy1; qy += 2)
+        for (int32_t qx = blk.cx0; qx < blk.cx1; qx += 2) put(q++, qx, qy, w.full_quad);
+    return q;
+}
+
+// SIMD levels: pixel masks of the block (bit 8*r + k: pixel (bx + k, by + r)), one per sample,
+// limited to the clipped rectangle; then each quad's bits are gathered from them.
+template <int N>
+__attribute__((always_inline)) inline Quad* put_quads_from_masks(Quad* q, const EdgeWalk<N>& w, const Block& blk,
+                                                                 bool accept, const BlockSteps<N>& steps,
+                                                                 InsideRowsFn<N> inside_rows) {
+    const int S = w.S;
+    const int r0 = blk.cy0 - blk.by, r1 = blk.cy1 - blk.by, k0 = blk.cx0 - blk.bx, k1 = blk.cx1 - blk.bx;
+    const uint64_t row_bits = ((uint64_t(1) << k1) - (uint64_t(1) << k0)) * 0x0101010101010101ull;
+    const uint64_t present = row_bits & ((r1 == 8 ? ~uint64_t(0) : (uint64_t(1) << (8 * r1)) - 1) &
+                                         ~((uint64_t(1) << (8 * r0)) - 1));
+    uint64_t mask[16];   // partial blocks: the pixels covering sample s
+    uint64_t any = present;
+    if (!accept) {
+        const int64_t X = int64_t(blk.bx) * kSubPixel, Y = int64_t(blk.cy0) * kSubPixel;
+        int64_t e0[N], e[N];
+        for (int i = 0; i < N; ++i) e0[i] = w.A[i] * X + w.B[i] * Y + w.C[i];
+        any = 0;
+        for (int s = 0; s < S; ++s) {
+            for (int i = 0; i < N; ++i) e[i] = e0[i] + w.so[i][s];
+            mask[s] = inside_rows(steps, e, r0, r1) & present;
+            any |= mask[s];
+        }
+    }
+    // The non-empty quads: bit 16*p + 2*k for the quad of rows 2p, 2p + 1 and columns
+    // 2k, 2k + 1. Ascending bits are the scalar path's order (rows, then columns).
+    const uint64_t pairs = (any | any >> 8) & 0x00FF00FF00FF00FFull;
+    for (uint64_t quads = (pairs | pairs >> 1) & 0x0055005500550055ull; quads; quads &= quads - 1) {
+        const int sh = __builtin_ctzll(quads);
+        uint64_t cov;
+        if (S == 1 || accept) {   // one sample, or full pixels where present
+            cov = spread_quad_bits((any >> sh & 3) | (any >> (sh + 8) & 3) << 2) * w.full_pixel;
+        } else {
+            cov = 0;
+            for (int s = 0; s < S; ++s)
+                cov |= spread_quad_bits((mask[s] >> sh & 3) | (mask[s] >> (sh + 8) & 3) << 2) << s;
+        }
+        put(q++, blk.bx + (sh & 7), blk.by + (sh >> 3), cov);
+    }
+    return q;
+}
+
+// Scalar level, whole block inside every edge: full coverage, only the clip to [cx0, cx1) x
+// [cy0, cy1) decides which pixels of each quad are present.
+template <int N>
+__attribute__((always_inline)) inline Quad* put_clipped_quads(Quad* q, const EdgeWalk<N>& w, const Block& blk) {
+    for (int32_t qy = blk.cy0 & ~1; qy < blk.cy1; qy += 2) {
+        const bool row0 = qy >= blk.cy0, row1 = qy + 1 < blk.cy1;
+        for (int32_t qx = blk.cx0 & ~1; qx < blk.cx1; qx += 2) {
+            const bool col0 = qx >= blk.cx0, col1 = qx + 1 < blk.cx1;
+            uint64_t cov = 0;
+            if (row0 && col0) cov |= w.full_pixel;
+            if (row0 && col1) cov |= w.full_pixel << kQuadPixelBits;
+            if (row1 && col0) cov |= w.full_pixel << (2 * kQuadPixelBits);
+            if (row1 && col1) cov |= w.full_pixel << (3 * kQuadPixelBits);
+            put(q, qx, qy, cov);   // kept when not empty
+            q += cov != 0;
+        }
+    }
+    return q;
+}
+
+// Scalar level, partial block: edge values stepped across the block (exact integers, so the
+// same values as evaluating every pixel); one sample folds its offset into the start.
+template <int N>
+__attribute__((always_inline)) inline Quad* put_tested_quads(Quad* q, const EdgeWalk<N>& w, const Block& blk) {
+    const int S = w.S;
+    const int32_t qx0 = blk.cx0 & ~1;
+    for (int32_t qy = blk.cy0 & ~1; qy < blk.cy1; qy += 2) {
+        int64_t er[N];   // at pixel (qx, qy) of the current quad
+        {
+            const int64_t X = int64_t(qx0) * kSubPixel, Y = int64_t(qy) * kSubPixel;
+            for (int i = 0; i < N; ++i) er[i] = w.A[i] * X + w.B[i] * Y + w.C[i] + (S == 1 ? w.so[i][0] : 0);
+        }
+        const bool row0 = qy >= blk.cy0, row1 = qy + 1 < blk.cy1;
+        for (int32_t qx = qx0; qx < blk.cx1; qx += 2) {
+            const bool col0 = qx >= blk.cx0, col1 = qx + 1 < blk.cx1;
+            const bool present[4] = {row0 && col0, row0 && col1, row1 && col0, row1 && col1};
+            uint64_t cov = 0;
+            if (S == 1) {
+                // Branch-free: a pixel is inside when no edge value is negative, i.e. the
+                // OR of the values has no sign bit.
+                for (int j = 0; j < 4; ++j) {
+                    int64_t edge_or = 0;
+                    for (int i = 0; i < N; ++i)
+                        edge_or |= er[i] + ((j & 1) ? w.dx[i] : 0) + ((j >> 1) ? w.dy[i] : 0);
+                    cov |= uint64_t(edge_or >= 0 && present[j]) << (kQuadPixelBits * j);
+                }
+            } else for (int j = 0; j < 4; ++j) {
+                if (!present[j]) continue;
+                int64_t e[N];
+                for (int i = 0; i < N; ++i) e[i] = er[i] + ((j & 1) ? w.dx[i] : 0) + ((j >> 1) ? w.dy[i] : 0);
+                uint64_t m = 0;
+                for (int s = 0; s < S; ++s) {
+                    bool in = true;
+                    for (int i = 0; i < N; ++i) in &= e[i] + w.so[i][s] >= 0;
+                    m |= uint64_t(in) << s;
+                }
+                cov |= m << (kQuadPixelBits * j);
+            }
+            for (int i = 0; i < N; ++i) er[i] += 2 * w.dx[i];
+            put(q, qx, qy, cov);   // kept when not empty
+            q += cov != 0;
+        }
+    }
+    return q;
+}
+
+template <int N>
+void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, int32_t y1,
+                  const SamplePattern& sp, InsideRowsFn<N> inside_rows, PutBlockFn put_block, std::vector<Quad>& out,
+                  RasterStats& stats) {
+    EdgeWalk<N> w;
+    set_up_walk(w, p, sp, x0, y0, x1, y1);
+    BlockSteps<N> steps;
+    if (inside_rows)
+        for (int i = 0; i < N; ++i) {
+            for (int k = 0; k < 8; ++k) steps.col[i][k] = k * w.dx[i];
+            steps.dy[i] = w.dy[i];
+        }
+    // The output grows once by an upper bound, every quad of the clipped rectangle, and quads are
+    // written in place (no capacity check per quad); it shrinks to the quads written at the end.
+    const size_t first = out.size();
+    out.resize(first + size_t((x1 - (x0 & ~1) + 1) / 2) * size_t((y1 - (y0 & ~1) + 1) / 2));
+    Quad* const begin = out.data() + first;
+    Quad* q = begin;
+    uint64_t rejected = 0, accepted = 0, partial = 0;   // counters in locals, as the edges
     for (int32_t by = y0 & ~(kBlockSize - 1); by < y1; by += kBlockSize) {
         const int32_t cy0 = std::max(by, y0), cy1 = std::min(by + kBlockSize, y1);
-        const bool whole_rows = whole_blocks && cy0 == by && cy1 == by + kBlockSize;
+        const bool whole_rows = w.whole_blocks && cy0 == by && cy1 == by + kBlockSize;
         int64_t row[N] = {};   // the edges at (0, by)
         if (whole_rows)
-            for (int i = 0; i < N; ++i) row[i] = B[i] * (int64_t(by) * kSubPixel) + C[i];
+            for (int i = 0; i < N; ++i) row[i] = w.B[i] * (int64_t(by) * kSubPixel) + w.C[i];
         for (int32_t bx = x0 & ~(kBlockSize - 1); bx < x1; bx += kBlockSize) {
-            const int32_t cx0 = std::max(bx, x0), cx1 = std::min(bx + kBlockSize, x1);
-            // Rejected when some edge's maximum is negative, accepted when no edge's minimum is
-            // (branch-free: the OR of the values is negative when one of them is).
-            int64_t max_or = 0, min_or = 0;
-            if (whole_rows && cx0 == bx && cx1 == bx + kBlockSize) {
-                for (int i = 0; i < N; ++i) {
-                    const int64_t corner = row[i] + A[i] * (int64_t(bx) * kSubPixel);
-                    max_or |= corner + to_max[i];
-                    min_or |= corner + to_min[i];
-                }
-            } else {
-                // The rectangle spanned by the clipped block's samples.
-                const int64_t X0 = int64_t(cx0) * kSubPixel + sx0, X1 = int64_t(cx1 - 1) * kSubPixel + sx1;
-                const int64_t Y0 = int64_t(cy0) * kSubPixel + sy0, Y1 = int64_t(cy1 - 1) * kSubPixel + sy1;
-                for (int i = 0; i < N; ++i) {
-                    const int64_t ax0 = A[i] * X0, ax1 = A[i] * X1, by0 = B[i] * Y0, by1 = B[i] * Y1;
-                    max_or |= std::max(ax0, ax1) + std::max(by0, by1) + C[i];
-                    min_or |= std::min(ax0, ax1) + std::min(by0, by1) + C[i];
-                }
-            }
+            const Block blk{bx, by, std::max(bx, x0), cy0, std::min(bx + kBlockSize, x1), cy1};
+            int64_t max_or, min_or;
+            block_extremes(w, blk, whole_rows, row, max_or, min_or);
             const bool accept = min_or >= 0;
             if (max_or < 0) { ++rejected; continue; }
             accepted += accept;
             partial += !accept;
-
-            if (accept && ((cx0 | cx1 | cy0 | cy1) & 1) == 0) {
-                // Whole block inside every edge and its clipped rectangle made of whole quads:
-                // every quad is fully covered, no per-pixel bounds to test.
-                if (cx1 - cx0 == kBlockSize && cy1 - cy0 == kBlockSize) {
-                    q = put_block(q, bx, by, full_quad);
-                    continue;
-                }
-                for (int32_t qy = cy0; qy < cy1; qy += 2)
-                    for (int32_t qx = cx0; qx < cx1; qx += 2) put(q++, qx, qy, full_quad);
-                continue;
-            }
-            if (inside_rows) {
-                // Pixel masks of the block (bit 8*r + k: pixel (bx + k, by + r)), one per sample,
-                // limited to the clipped rectangle; then each quad's bits are gathered from them.
-                const int r0 = cy0 - by, r1 = cy1 - by, k0 = cx0 - bx, k1 = cx1 - bx;
-                const uint64_t row_bits = ((uint64_t(1) << k1) - (uint64_t(1) << k0)) * 0x0101010101010101ull;
-                const uint64_t present = row_bits & ((r1 == 8 ? ~uint64_t(0) : (uint64_t(1) << (8 * r1)) - 1) &
-                                                     ~((uint64_t(1) << (8 * r0)) - 1));
-                uint64_t mask[16];   // partial blocks: the pixels covering sample s
-                uint64_t any = present;
-                if (!accept) {
-                    const int64_t X = int64_t(bx) * kSubPixel, Y = int64_t(cy0) * kSubPixel;
-                    int64_t e0[N], e[N];
-                    for (int i = 0; i < N; ++i) e0[i] = A[i] * X + B[i] * Y + C[i];
-                    any = 0;
-                    for (int s = 0; s < S; ++s) {
-                        for (int i = 0; i < N; ++i) e[i] = e0[i] + so[i][s];
-                        mask[s] = inside_rows(steps, e, r0, r1) & present;
-                        any |= mask[s];
-                    }
-                }
-                // The non-empty quads: bit 16*p + 2*k for the quad of rows 2p, 2p + 1 and columns
-                // 2k, 2k + 1. Ascending bits are the scalar path's order (rows, then columns).
-                const uint64_t pairs = (any | any >> 8) & 0x00FF00FF00FF00FFull;
-                for (uint64_t quads = (pairs | pairs >> 1) & 0x0055005500550055ull; quads; quads &= quads - 1) {
-                    const int sh = __builtin_ctzll(quads);
-                    uint64_t cov;
-                    if (S == 1 || accept) {   // one sample, or full pixels where present
-                        cov = spread_quad_bits((any >> sh & 3) | (any >> (sh + 8) & 3) << 2) * full_pixel;
-                    } else {
-                        cov = 0;
-                        for (int s = 0; s < S; ++s)
-                            cov |= spread_quad_bits((mask[s] >> sh & 3) | (mask[s] >> (sh + 8) & 3) << 2) << s;
-                    }
-                    put(q++, bx + (sh & 7), by + (sh >> 3), cov);
-                }
-                continue;
-            }
-            if (accept) {
-                // Whole block inside every edge: full coverage, only the clip to [cx0, cx1) x
-                // [cy0, cy1) decides which pixels of each quad are present.
-                for (int32_t qy = cy0 & ~1; qy < cy1; qy += 2) {
-                    const bool row0 = qy >= cy0, row1 = qy + 1 < cy1;
-                    for (int32_t qx = cx0 & ~1; qx < cx1; qx += 2) {
-                        const bool col0 = qx >= cx0, col1 = qx + 1 < cx1;
-                        uint64_t cov = 0;
-                        if (row0 && col0) cov |= full_pixel;
-                        if (row0 && col1) cov |= full_pixel << kQuadPixelBits;
-                        if (row1 && col0) cov |= full_pixel << (2 * kQuadPixelBits);
-                        if (row1 && col1) cov |= full_pixel << (3 * kQuadPixelBits);
-                        put(q, qx, qy, cov);   // kept when not empty
-                        q += cov != 0;
-                    }
-                }
-                continue;
-            }
-            // Partial block: edge values stepped across the block (exact integers, so the same
-            // values as evaluating every pixel); one sample folds its offset into the start.
-            const int32_t qx0 = cx0 & ~1;
-            for (int32_t qy = cy0 & ~1; qy < cy1; qy += 2) {
-                int64_t er[N];   // at pixel (qx, qy) of the current quad
-                {
-                    const int64_t X = int64_t(qx0) * kSubPixel, Y = int64_t(qy) * kSubPixel;
-                    for (int i = 0; i < N; ++i) er[i] = A[i] * X + B[i] * Y + C[i] + (S == 1 ? so[i][0] : 0);
-                }
-                const bool row0 = qy >= cy0, row1 = qy + 1 < cy1;
-                for (int32_t qx = qx0; qx < cx1; qx += 2) {
-                    const bool col0 = qx >= cx0, col1 = qx + 1 < cx1;
-                    const bool present[4] = {row0 && col0, row0 && col1, row1 && col0, row1 && col1};
-                    uint64_t cov = 0;
-                    if (S == 1) {
-                        // Branch-free: a pixel is inside when no edge value is negative, i.e. the
-                        // OR of the values has no sign bit.
-                        for (int j = 0; j < 4; ++j) {
-                            int64_t edge_or = 0;
-                            for (int i = 0; i < N; ++i)
-                                edge_or |= er[i] + ((j & 1) ? dx[i] : 0) + ((j >> 1) ? dy[i] : 0);
-                            cov |= uint64_t(edge_or >= 0 && present[j]) << (kQuadPixelBits * j);
-                        }
-                    } else for (int j = 0; j < 4; ++j) {
-                        if (!present[j]) continue;
-                        int64_t e[N];
-                        for (int i = 0; i < N; ++i) e[i] = er[i] + ((j & 1) ? dx[i] : 0) + ((j >> 1) ? dy[i] : 0);
-                        uint64_t m = 0;
-                        for (int s = 0; s < S; ++s) {
-                            bool in = true;
-                            for (int i = 0; i < N; ++i) in &= e[i] + so[i][s] >= 0;
-                            m |= uint64_t(in) << s;
-                        }
-                        cov |= m << (kQuadPixelBits * j);
-                    }
-                    for (int i = 0; i < N; ++i) er[i] += 2 * dx[i];
-                    put(q, qx, qy, cov);   // kept when not empty
-                    q += cov != 0;
-                }
-            }
+            if (accept && ((blk.cx0 | blk.cx1 | blk.cy0 | blk.cy1) & 1) == 0) q = put_covered_quads(q, w, blk, put_block);
+            else if (inside_rows) q = put_quads_from_masks(q, w, blk, accept, steps, inside_rows);
+            else if (accept) q = put_clipped_quads(q, w, blk);
+            else q = put_tested_quads(q, w, blk);
         }
     }
     stats.blocks_rejected += rejected, stats.blocks_accepted += accepted, stats.blocks_partial += partial;
