@@ -2,6 +2,7 @@
 // overloads dispatched on the argument count; NumPy arrays as ArrayBufferViews and as image
 // sources). Added to the existing Context class.
 #include <cstring>
+#include <optional>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -28,12 +29,6 @@ using softgl::bindings::to_python;
 
 
 
-uint32_t as_u32(const py::handle& h, const char* call) {
-    uint64_t v;
-    if (!softgl::bindings::load_wrapped_u64(h, v)) throw py::type_error(std::string(call) + ": expected an integer");
-    return uint32_t(v);
-}
-int32_t as_i32(const py::handle& h, const char* call) { return int32_t(as_u32(h, call)); }
 
 // Holds the converted pixels of one call.
 struct Pixels {
@@ -138,45 +133,45 @@ void bind_textures(py::module_& m) {
         .def("getTexParameter", [](Context& c, IdlUint32 t, IdlUint32 p) { return to_python(c.get_tex_parameter(t.value, p.value)); })
         .def("generateMipmap", webidl(&Context::generate_mipmap))
         // WebGL's overloads: (..., width, height, border, format, type, pixels[, srcOffset]) and an
-        // image source (..., format, type, source); the integers convert in as_u32/as_i32.
-        .def("texImage2D", [](Context& c, IdlUint32 target, IdlInt32 level, IdlInt32 internal, py::object width,
-                              py::object height, py::object border, py::object format, py::object type,
-                              py::object pixels, py::object src_offset) {
+        // image source (..., format, type, source).
+        .def("texImage2D", [](Context& c, IdlUint32 target, IdlInt32 level, IdlInt32 internal, IdlInt32 width,
+                              IdlInt32 height, IdlInt32 border, IdlUint32 format, IdlUint32 type,
+                              py::object pixels, std::optional<int64_t> src_offset) {
             const char* call = "texImage2D";
-            if (!src_offset.is_none() && c.version() < 2) throw py::type_error("texImage2D: srcOffset needs WebGL 2");
+            if (src_offset && c.version() < 2) throw py::type_error("texImage2D: srcOffset needs WebGL 2");
             Pixels px;
             bool ok;
-            view_source(c, call, pixels, src_offset.is_none() ? 0 : src_offset.cast<int64_t>(), px, &ok);
+            view_source(c, call, pixels, src_offset.value_or(0), px, &ok);
             if (!ok) return;
-            c.tex_image(call, target.value, level.value, GLenum(internal.value), as_i32(width, call), as_i32(height, call), 1,
-                        as_i32(border, call), as_u32(format, call), as_u32(type, call), px.source);
+            c.tex_image(call, target.value, level.value, GLenum(internal.value), width.value, height.value, 1,
+                        border.value, format.value, type.value, px.source);
         })
-        .def("texImage2D", [](Context& c, IdlUint32 target, IdlInt32 level, IdlInt32 internal, py::object format,
-                              py::object type, py::object source) {
+        .def("texImage2D", [](Context& c, IdlUint32 target, IdlInt32 level, IdlInt32 internal, IdlUint32 format,
+                              IdlUint32 type, py::object source) {
             const char* call = "texImage2D";
             Pixels px;
             image_source(call, source, px);
             c.tex_image(call, target.value, level.value, GLenum(internal.value), 0, 0, 1, 0,
-                        as_u32(format, call), as_u32(type, call), px.source);
+                        format.value, type.value, px.source);
         })
-        .def("texSubImage2D", [](Context& c, IdlUint32 target, IdlInt32 level, IdlInt32 x, IdlInt32 y, py::object width,
-                                 py::object height, py::object format, py::object type, py::object pixels,
-                                 py::object src_offset) {
+        .def("texSubImage2D", [](Context& c, IdlUint32 target, IdlInt32 level, IdlInt32 x, IdlInt32 y, IdlInt32 width,
+                                 IdlInt32 height, IdlUint32 format, IdlUint32 type, py::object pixels,
+                                 std::optional<int64_t> src_offset) {
             const char* call = "texSubImage2D";
             Pixels px;
             bool ok;
-            view_source(c, call, pixels, src_offset.is_none() ? 0 : src_offset.cast<int64_t>(), px, &ok);
+            view_source(c, call, pixels, src_offset.value_or(0), px, &ok);
             if (!ok) return;
-            c.tex_sub_image(call, target.value, level.value, x.value, y.value, 0, as_i32(width, call), as_i32(height, call), 1,
-                            as_u32(format, call), as_u32(type, call), px.source);
+            c.tex_sub_image(call, target.value, level.value, x.value, y.value, 0, width.value, height.value, 1,
+                            format.value, type.value, px.source);
         })
-        .def("texSubImage2D", [](Context& c, IdlUint32 target, IdlInt32 level, IdlInt32 x, IdlInt32 y, py::object format,
-                                 py::object type, py::object source) {
+        .def("texSubImage2D", [](Context& c, IdlUint32 target, IdlInt32 level, IdlInt32 x, IdlInt32 y, IdlUint32 format,
+                                 IdlUint32 type, py::object source) {
             const char* call = "texSubImage2D";
             Pixels px;
             image_source(call, source, px);
             c.tex_sub_image(call, target.value, level.value, x.value, y.value, 0, 0, 0, 1,
-                            as_u32(format, call), as_u32(type, call), px.source);
+                            format.value, type.value, px.source);
         })
         .def("texImage3D", [](Context& c, IdlUint32 target, IdlInt32 level, IdlInt32 internal, IdlInt32 w, IdlInt32 h,
                               IdlInt32 d, IdlInt32 border, IdlUint32 format, IdlUint32 type, py::object pixels, int64_t src_offset) {
