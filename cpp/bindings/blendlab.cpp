@@ -7,6 +7,7 @@
 #include "softgl/api/blendlab.h"
 #include "softgl/api/context.h"
 #include "exclusive.h"
+#include "signatures.h"
 #include "webidl.h"
 
 namespace py = pybind11;
@@ -76,7 +77,7 @@ py::dict memory(uint64_t limit, uint64_t stored, uint64_t needed, bool overflowe
 
 void bind_blendlab(py::module_& m) {
     using softgl::bindings::IdlInt32;
-    auto cls = py::reinterpret_borrow<py::class_<Context>>(m.attr("Context"));
+    auto cls = softgl::bindings::context_class(m);
     cls.def("fragments",
             [](Context& c, IdlInt32 x, IdlInt32 y) -> py::object {
                 std::vector<softgl::FragmentReport> reports;
@@ -84,10 +85,7 @@ void bind_blendlab(py::module_& m) {
                 py::list out;
                 for (const auto& r : reports) out.append(report_dict(r, x.value, y.value));
                 return std::move(out);
-            },
-            py::arg("x"), py::arg("y"),
-            "SOFTGL_introspection: every fragment sample that reached pixel (x, y) since the last clear, "
-            "in submission order, as dicts (draw, primitive, sample, depth, shader_color, tests, blend, fate)");
+            });
     cls.def("_transparency_resolve", [](Context& c, uint32_t mode, int layers, int weight) -> py::object {
         const int32_t w = c.drawing_buffer_width(), h = c.drawing_buffer_height();
         py::array_t<double> image(std::vector<py::ssize_t>{h, w, 4});

@@ -6,6 +6,7 @@
 #include "softgl/api/context.h"
 #include "exclusive.h"
 #include "convert.h"
+#include "signatures.h"
 #include "webidl.h"
 
 namespace py = pybind11;
@@ -131,7 +132,7 @@ py::object object_or_none(const std::shared_ptr<T>& p) {
     return p ? py::cast(p) : py::none();
 }
 
-using ContextClass = py::class_<Context>;
+using softgl::bindings::ContextClass;
 using softgl::bindings::IdlInt32;
 using softgl::bindings::IdlUint32;
 
@@ -193,8 +194,6 @@ void bind_state(ContextClass& cls) {
              })
         .def("_attributes", [](const Context& c) { return c.attributes(); })
         .def("_present", &Context::present)
-        .def_property_readonly("drawingBufferWidth", &Context::drawing_buffer_width)
-        .def_property_readonly("drawingBufferHeight", &Context::drawing_buffer_height)
         .def("getError", webidl(&Context::get_error))
         .def("isContextLost", webidl(&Context::is_context_lost))
         .def("getSupportedExtensions", webidl(&Context::get_supported_extensions))
@@ -257,15 +256,12 @@ void bind_buffers(ContextClass& cls) {
                  if (data.is_none()) return c.buffer_data(target.value, nullptr, -1, usage.value);
                  ByteSpan span = byte_span(c, "bufferData", data.cast<py::buffer>(), src_offset, length);
                  if (span.ok) c.buffer_data(target.value, span.data ? span.data : reinterpret_cast<const uint8_t*>(""), span.size, usage.value);
-             },
-             py::arg("target"), py::arg("data"), py::arg("usage"), py::arg("srcOffset") = 0, py::arg("length") = 0)
+             })
         .def("bufferSubData",
              [](Context& c, IdlUint32 target, int64_t offset, py::buffer data, int64_t src_offset, int64_t length) {
                  ByteSpan span = byte_span(c, "bufferSubData", data, src_offset, length);
                  if (span.ok) c.buffer_sub_data(target.value, offset, span.data, span.size);
-             },
-             py::arg("target"), py::arg("dstByteOffset"), py::arg("srcData"), py::arg("srcOffset") = 0,
-             py::arg("length") = 0)
+             })
         .def("copyBufferSubData", webidl(&Context::copy_buffer_sub_data))
         .def("getBufferSubData",
              [](Context& c, IdlUint32 target, int64_t offset, py::array dst, int64_t dst_offset, int64_t length) {
@@ -277,9 +273,7 @@ void bind_buffers(ContextClass& cls) {
                  const int64_t n = length ? length : count - dst_offset;
                  c.get_buffer_sub_data(target.value, offset,
                                        static_cast<uint8_t*>(dst.mutable_data()) + dst_offset * item, n * item);
-             },
-             py::arg("target"), py::arg("srcByteOffset"), py::arg("dstBuffer"), py::arg("dstOffset") = 0,
-             py::arg("length") = 0)
+             })
         .def("getBufferParameter", [](Context& c, IdlUint32 target, IdlUint32 pname) {
             return to_python(c.get_buffer_parameter(target.value, pname.value));
         });
@@ -444,8 +438,7 @@ void bind_drawing(ContextClass& cls) {
             if (reset) c.stats() = softgl::DrawStats{};
             return d;
         }, py::arg("reset") = false)
-        .def("readPixels", &read_pixels, py::arg("x"), py::arg("y"), py::arg("width"),
-             py::arg("height"), py::arg("format"), py::arg("type"), py::arg("pixels") = py::none());;
+        .def("readPixels", &read_pixels);
 }
 
 }  // namespace
@@ -453,8 +446,16 @@ void bind_drawing(ContextClass& cls) {
 void bind_context(py::module_& m) {
     bind_object_types(m);
     bind_context_attributes(m);
-    ContextClass cls(m, "Context");
-    cls.def(py::init<int32_t, int32_t, const ContextAttributes&>());
+    ContextClass::Base base(m, "Context",
+                            "softgl's C++ rendering context, the base of softgl.Context (make contexts with "
+                            "softgl.Context(width, height, **attributes); see README.md and docs/).");
+    base.def(py::init<int32_t, int32_t, const ContextAttributes&>(), py::arg("width"), py::arg("height"),
+             py::arg("attributes"))
+        .def_property_readonly("drawingBufferWidth", &Context::drawing_buffer_width,
+                               "The drawing buffer's width in pixels.")
+        .def_property_readonly("drawingBufferHeight", &Context::drawing_buffer_height,
+                               "The drawing buffer's height in pixels.");
+    ContextClass cls(base);
     bind_state(cls);
     bind_buffers(cls);
     bind_vertex_input(cls);
@@ -485,7 +486,7 @@ void uniform_v(Context& c, const char* call, const softgl::UniformLocation* loca
 }  // namespace
 
 void bind_uniform_arrays(py::module_& m) {
-    auto cls = py::reinterpret_borrow<py::class_<Context>>(m.attr("Context"));
+    ContextClass cls = softgl::bindings::context_class(m);
     const char* kinds = "fiu";
     for (int k = 0; k < 3; ++k) {
         for (int n = 1; n <= 4; ++n) {
@@ -498,7 +499,7 @@ void bind_uniform_arrays(py::module_& m) {
                 else if (kind == 'i') uniform_v<int32_t>(c, call.c_str(), l, 'i', n, 0, data, false, off, len);
                 else uniform_v<uint32_t>(c, call.c_str(), l, 'u', n, 0, data, false, off, len);
             };
-            cls.def(name.c_str(), f, py::arg("location"), py::arg("data"), py::arg("srcOffset") = 0, py::arg("srcLength") = 0);
+            cls.def(name.c_str(), f);
         }
     }
     for (int cols = 2; cols <= 4; ++cols)
@@ -509,7 +510,6 @@ void bind_uniform_arrays(py::module_& m) {
                         static thread_local std::string call;
                         call = name;
                         uniform_v<float>(c, call.c_str(), l, 'm', cols, rows, data, transpose, off, len);
-                    },
-                    py::arg("location"), py::arg("transpose"), py::arg("data"), py::arg("srcOffset") = 0, py::arg("srcLength") = 0);
+                    });
         }
 }

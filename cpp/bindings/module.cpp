@@ -1,6 +1,8 @@
 // softgl._core: the pybind11 module. Conversions only; behaviour lives in cpp/softgl.
 #include <pybind11/pybind11.h>
 
+#include <string>
+
 namespace py = pybind11;
 
 void bind_enums(py::module_& m);
@@ -16,6 +18,10 @@ void bind_draw_plan(py::module_& m);
 
 PYBIND11_MODULE(_core, m) {
     m.doc() = "softgl's C++ core (use the softgl package, not this module)";
+    // The pybind11 that made the bindings: signatures (and so the stub, python/softgl/_core.pyi)
+    // are spelled by it (tools/gen_stubs.py).
+    m.attr("_pybind11_version") = std::to_string(PYBIND11_VERSION_MAJOR) + "." +
+                                  std::to_string(PYBIND11_VERSION_MINOR) + "." + std::to_string(PYBIND11_VERSION_PATCH);
     bind_enums(m);
     bind_context(m);
     bind_uniform_arrays(m);

@@ -2,6 +2,7 @@
 // overloads dispatched on the argument count; NumPy arrays as ArrayBufferViews and as image
 // sources). Added to the existing Context class.
 #include <cstring>
+#include <optional>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -9,6 +10,7 @@
 #include "convert.h"
 #include "softgl/api/context.h"
 #include "exclusive.h"
+#include "signatures.h"
 #include "webidl.h"
 
 namespace py = pybind11;
@@ -27,12 +29,6 @@ using softgl::bindings::to_python;
 
 
 
-uint32_t as_u32(const py::handle& h, const char* call) {
-    uint64_t v;
-    if (!softgl::bindings::load_wrapped_u64(h, v)) throw py::type_error(std::string(call) + ": expected an integer");
-    return uint32_t(v);
-}
-int32_t as_i32(const py::handle& h, const char* call) { return int32_t(as_u32(h, call)); }
 
 // Holds the converted pixels of one call.
 struct Pixels {
@@ -127,7 +123,7 @@ void bind_textures(py::module_& m) {
     py::class_<Framebuffer, Object, std::shared_ptr<Framebuffer>>(m, "WebGLFramebuffer");
     py::class_<Renderbuffer, Object, std::shared_ptr<Renderbuffer>>(m, "WebGLRenderbuffer");
 
-    auto cls = py::reinterpret_borrow<py::class_<Context>>(m.attr("Context"));
+    auto cls = softgl::bindings::context_class(m);
     cls.def("createTexture", &Context::create_texture)
         .def("bindTexture", webidl(&Context::bind_texture))
         .def("deleteTexture", &Context::delete_texture)
@@ -136,40 +132,46 @@ void bind_textures(py::module_& m) {
         .def("texParameterf", [](Context& c, IdlUint32 t, IdlUint32 p, float v) { c.tex_parameter("texParameterf", t.value, p.value, double(v)); })
         .def("getTexParameter", [](Context& c, IdlUint32 t, IdlUint32 p) { return to_python(c.get_tex_parameter(t.value, p.value)); })
         .def("generateMipmap", webidl(&Context::generate_mipmap))
-        .def("texImage2D", [](Context& c, IdlUint32 target, IdlInt32 level, IdlInt32 internal, py::args a) {
+        // WebGL's overloads: (..., width, height, border, format, type, pixels[, srcOffset]) and an
+        // image source (..., format, type, source).
+        .def("texImage2D", [](Context& c, IdlUint32 target, IdlInt32 level, IdlInt32 internal, IdlInt32 width,
+                              IdlInt32 height, IdlInt32 border, IdlUint32 format, IdlUint32 type,
+                              py::object pixels, std::optional<int64_t> src_offset) {
+            const char* call = "texImage2D";
+            if (src_offset && c.version() < 2) throw py::type_error("texImage2D: srcOffset needs WebGL 2");
+            Pixels px;
+            bool ok;
+            view_source(c, call, pixels, src_offset.value_or(0), px, &ok);
+            if (!ok) return;
+            c.tex_image(call, target.value, level.value, GLenum(internal.value), width.value, height.value, 1,
+                        border.value, format.value, type.value, px.source);
+        })
+        .def("texImage2D", [](Context& c, IdlUint32 target, IdlInt32 level, IdlInt32 internal, IdlUint32 format,
+                              IdlUint32 type, py::object source) {
             const char* call = "texImage2D";
             Pixels px;
-            if (a.size() == 3) {   // (format, type, source)
-                image_source(call, a[2], px);
-                return c.tex_image(call, target.value, level.value, GLenum(internal.value), 0, 0, 1, 0,
-                                   as_u32(a[0], call), as_u32(a[1], call), px.source);
-            }
-            if (a.size() != 6 && a.size() != 7)
-                throw py::type_error("texImage2D(target, level, internalformat, format, type, source) or "
-                                     "texImage2D(target, level, internalformat, width, height, border, format, type, pixels[, srcOffset])");
-            if (a.size() == 7 && c.version() < 2) throw py::type_error("texImage2D: srcOffset needs WebGL 2");
-            bool ok;
-            view_source(c, call, a[5], a.size() == 7 ? a[6].cast<int64_t>() : 0, px, &ok);
-            if (!ok) return;
-            c.tex_image(call, target.value, level.value, GLenum(internal.value), as_i32(a[0], call), as_i32(a[1], call), 1,
-                        as_i32(a[2], call), as_u32(a[3], call), as_u32(a[4], call), px.source);
+            image_source(call, source, px);
+            c.tex_image(call, target.value, level.value, GLenum(internal.value), 0, 0, 1, 0,
+                        format.value, type.value, px.source);
         })
-        .def("texSubImage2D", [](Context& c, IdlUint32 target, IdlInt32 level, IdlInt32 x, IdlInt32 y, py::args a) {
+        .def("texSubImage2D", [](Context& c, IdlUint32 target, IdlInt32 level, IdlInt32 x, IdlInt32 y, IdlInt32 width,
+                                 IdlInt32 height, IdlUint32 format, IdlUint32 type, py::object pixels,
+                                 std::optional<int64_t> src_offset) {
             const char* call = "texSubImage2D";
             Pixels px;
-            if (a.size() == 3) {   // (format, type, source)
-                image_source(call, a[2], px);
-                return c.tex_sub_image(call, target.value, level.value, x.value, y.value, 0, 0, 0, 1,
-                                       as_u32(a[0], call), as_u32(a[1], call), px.source);
-            }
-            if (a.size() != 5 && a.size() != 6)
-                throw py::type_error("texSubImage2D(target, level, x, y, format, type, source) or "
-                                     "texSubImage2D(target, level, x, y, width, height, format, type, pixels[, srcOffset])");
             bool ok;
-            view_source(c, call, a[4], a.size() == 6 ? a[5].cast<int64_t>() : 0, px, &ok);
+            view_source(c, call, pixels, src_offset.value_or(0), px, &ok);
             if (!ok) return;
-            c.tex_sub_image(call, target.value, level.value, x.value, y.value, 0, as_i32(a[0], call), as_i32(a[1], call), 1,
-                            as_u32(a[2], call), as_u32(a[3], call), px.source);
+            c.tex_sub_image(call, target.value, level.value, x.value, y.value, 0, width.value, height.value, 1,
+                            format.value, type.value, px.source);
+        })
+        .def("texSubImage2D", [](Context& c, IdlUint32 target, IdlInt32 level, IdlInt32 x, IdlInt32 y, IdlUint32 format,
+                                 IdlUint32 type, py::object source) {
+            const char* call = "texSubImage2D";
+            Pixels px;
+            image_source(call, source, px);
+            c.tex_sub_image(call, target.value, level.value, x.value, y.value, 0, 0, 0, 1,
+                            format.value, type.value, px.source);
         })
         .def("texImage3D", [](Context& c, IdlUint32 target, IdlInt32 level, IdlInt32 internal, IdlInt32 w, IdlInt32 h,
                               IdlInt32 d, IdlInt32 border, IdlUint32 format, IdlUint32 type, py::object pixels, int64_t src_offset) {
@@ -178,8 +180,7 @@ void bind_textures(py::module_& m) {
             view_source(c, "texImage3D", pixels, src_offset, px, &ok);
             if (ok) c.tex_image("texImage3D", target.value, level.value, GLenum(internal.value), w.value, h.value, d.value,
                                 border.value, format.value, type.value, px.source);
-        }, py::arg("target"), py::arg("level"), py::arg("internalformat"), py::arg("width"), py::arg("height"),
-           py::arg("depth"), py::arg("border"), py::arg("format"), py::arg("type"), py::arg("srcData"), py::arg("srcOffset") = 0)
+        })
         .def("texSubImage3D", [](Context& c, IdlUint32 target, IdlInt32 level, IdlInt32 x, IdlInt32 y, IdlInt32 z, IdlInt32 w,
                                  IdlInt32 h, IdlInt32 d, IdlUint32 format, IdlUint32 type, py::object pixels, int64_t src_offset) {
             Pixels px;
@@ -187,8 +188,7 @@ void bind_textures(py::module_& m) {
             view_source(c, "texSubImage3D", pixels, src_offset, px, &ok);
             if (ok) c.tex_sub_image("texSubImage3D", target.value, level.value, x.value, y.value, z.value, w.value, h.value,
                                     d.value, format.value, type.value, px.source);
-        }, py::arg("target"), py::arg("level"), py::arg("xoffset"), py::arg("yoffset"), py::arg("zoffset"), py::arg("width"),
-           py::arg("height"), py::arg("depth"), py::arg("format"), py::arg("type"), py::arg("srcData"), py::arg("srcOffset") = 0)
+        })
         .def("texStorage2D", [](Context& c, IdlUint32 target, IdlInt32 levels, IdlUint32 internal, IdlInt32 w, IdlInt32 h) {
             c.tex_storage("texStorage2D", target.value, levels.value, internal.value, w.value, h.value, 1);
         })
@@ -258,19 +258,19 @@ void bind_textures(py::module_& m) {
             if (!a) throw py::type_error("clearBufferfv: values must be a sequence of numbers");
             if (off < 0 || off > int64_t(a.size())) return c.record_error(gl::INVALID_VALUE, "clearBufferfv", "srcOffset exceeds the values");
             c.clear_buffer("clearBufferfv", buffer.value, drawbuffer.value, 'f', a.data() + off, size_t(a.size() - off), 0, 0);
-        }, py::arg("buffer"), py::arg("drawbuffer"), py::arg("values"), py::arg("srcOffset") = 0)
+        })
         .def("clearBufferiv", [](Context& c, IdlUint32 buffer, IdlInt32 drawbuffer, py::object values, int64_t off) {
             auto a = py::array_t<int32_t, py::array::c_style | py::array::forcecast>::ensure(values);
             if (!a) throw py::type_error("clearBufferiv: values must be a sequence of integers");
             if (off < 0 || off > int64_t(a.size())) return c.record_error(gl::INVALID_VALUE, "clearBufferiv", "srcOffset exceeds the values");
             c.clear_buffer("clearBufferiv", buffer.value, drawbuffer.value, 'i', a.data() + off, size_t(a.size() - off), 0, 0);
-        }, py::arg("buffer"), py::arg("drawbuffer"), py::arg("values"), py::arg("srcOffset") = 0)
+        })
         .def("clearBufferuiv", [](Context& c, IdlUint32 buffer, IdlInt32 drawbuffer, py::object values, int64_t off) {
             auto a = py::array_t<uint32_t, py::array::c_style | py::array::forcecast>::ensure(values);
             if (!a) throw py::type_error("clearBufferuiv: values must be a sequence of integers");
             if (off < 0 || off > int64_t(a.size())) return c.record_error(gl::INVALID_VALUE, "clearBufferuiv", "srcOffset exceeds the values");
             c.clear_buffer("clearBufferuiv", buffer.value, drawbuffer.value, 'u', a.data() + off, size_t(a.size() - off), 0, 0);
-        }, py::arg("buffer"), py::arg("drawbuffer"), py::arg("values"), py::arg("srcOffset") = 0)
+        })
         .def("clearBufferfi", [](Context& c, IdlUint32 buffer, IdlInt32 drawbuffer, float depth, IdlInt32 stencil) {
             c.clear_buffer("clearBufferfi", buffer.value, drawbuffer.value, 's', nullptr, 0, depth, stencil.value);
         })

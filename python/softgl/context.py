@@ -122,6 +122,9 @@ class Context(_core.Context):
     never depend on it), ``color_format`` (the drawing buffer's colour format: ``'rgba8'``, as
     WebGL, or ``'rgba16f'`` / ``'rgba32f'``: float blending without clamping, read with
     ``readPixels(..., RGBA, FLOAT)``) and ``strict`` (raise GLError instead of warning GLWarning).
+
+    The methods are WebGL's, with WebGL's parameter names (``help(gl.drawArrays)``); README.md
+    says what softgl chooses where WebGL leaves a choice, docs/ how it works.
     """
 
     _version = None   # fixed by the subclasses
@@ -167,6 +170,7 @@ class Context(_core.Context):
     # -- WebGL API implemented in Python (no per-pixel work) ---------------------------------
 
     def getContextAttributes(self) -> dict:
+        """The attributes the context was made with, as WebGL's dictionary."""
         a = self._attributes()
         attributes = {name: getattr(a, name) for name in _ATTRIBUTE_DEFAULTS} | {"xrCompatible": False}
         # softgl's float drawing buffers are reported; the default (rgba8) is not, so that pure
