@@ -40,11 +40,15 @@ def _float64_array(values) -> bool:
     return any(type(v) is np.ndarray and v.dtype.char == "d" for v in values)
 
 
-def _float64_met(gl, call: str):
+def _float64_met(gl, call: str, texture_type=None):
     # stacklevel 3: the user's line that called gl.<call>, so the warning shows once per call site.
-    message = (f"{call}: a float64 NumPy array is uploaded as its 8-byte doubles (WebGL takes "
-               f"the bytes as they are), but WebGL reads 32-bit floats: pass "
-               f"np.asarray(data, np.float32)")
+    if texture_type is None or texture_type == gl.FLOAT:
+        message = (f"{call}: a float64 NumPy array is taken as its 8-byte doubles (WebGL takes "
+                   f"the bytes as they are), but WebGL reads 32-bit floats: pass "
+                   f"np.asarray(data, np.float32)")
+    else:
+        message = (f"{call}: a float64 NumPy array is not a WebGL pixel array: pass the array "
+                   f"type of `type` (np.uint8 for UNSIGNED_BYTE, np.float32 for FLOAT)")
     if gl._strict:
         raise TypeError(message)
     warnings.warn(message, Float64Warning, stacklevel=3)
@@ -358,13 +362,13 @@ class Context(_core.Context):
         """WebGL's texImage2D overloads; a float64 pixel array (never a WebGL pixel type)
         warns with what to write instead (np.float32 for type FLOAT)."""
         if _float64_array(args):
-            _float64_met(self, "texImage2D")
+            _float64_met(self, "texImage2D", args[7] if len(args) >= 9 else None)
         return _core.Context.texImage2D(self, *args)
 
     def texSubImage2D(self, *args):
         """WebGL's texSubImage2D overloads; a float64 pixel array warns as in texImage2D."""
         if _float64_array(args):
-            _float64_met(self, "texSubImage2D")
+            _float64_met(self, "texSubImage2D", args[7] if len(args) >= 9 else None)
         return _core.Context.texSubImage2D(self, *args)
 
     # Matrices: 2-D arrays in math layout, flat sequences column-major (see _matrix_setter).

@@ -64,6 +64,7 @@ def test_float64_buffer_data_warns_once_per_call_site_and_keeps_webgl_bytes():
     assert red_pixels(gl).sum() > 20
 
 
+@pytest.mark.filterwarnings("ignore::softgl.errors.GLWarning")   # the GL error WebGL gives too
 def test_float64_texture_data_warns_and_strict_raises():
     gl = softgl.Context(4, 4, antialias=False)
     gl.bindTexture(gl.TEXTURE_2D, gl.createTexture())
@@ -74,6 +75,8 @@ def test_float64_texture_data_warns_and_strict_raises():
     gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA32F, 2, 2, 0, gl.RGBA, gl.FLOAT, pixels.astype(np.float32))
     with pytest.warns(softgl.Float64Warning, match="texSubImage2D"):
         gl.texSubImage2D(gl.TEXTURE_2D, 0, 0, 0, 2, 2, gl.RGBA, gl.FLOAT, pixels)
+    with pytest.warns(softgl.Float64Warning, match="np.uint8 for UNSIGNED_BYTE"):
+        gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA, 2, 2, 0, gl.RGBA, gl.UNSIGNED_BYTE, pixels)
     strict = softgl.Context(4, 4, strict=True)
     strict.bindBuffer(strict.ARRAY_BUFFER, strict.createBuffer())
     with pytest.raises(TypeError, match="np.float32"):
