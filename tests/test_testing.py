@@ -143,9 +143,12 @@ def test_grayscale_and_contexts_are_images(tmp_path):
 def test_default_folder_is_named_after_the_test(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     img = gradient()
+    with pytest.raises(AssertionError, match="no images written"):
+        assert_images_close(img, 255 - img)          # nothing written unless asked
+    assert list(tmp_path.iterdir()) == []
     with pytest.raises(AssertionError):
-        assert_images_close(img, 255 - img)
-    assert (tmp_path / "test-failures" / "test_default_folder_is_named_after_the_test" / "diff.png").exists()
+        assert_images_close(img, 255 - img, out_dir=tmp_path / "out")
+    assert (tmp_path / "out" / "test_default_folder_is_named_after_the_test" / "diff.png").exists()
 
 
 def test_bad_inputs_raise(tmp_path):
@@ -206,7 +209,10 @@ def test_golden_missing_then_written_then_compared(inner, pytester):
     result = inner(100)
     result.assert_outcomes(failed=2)
     result.stdout.fnmatch_lines(["*golden*pic.png does not exist*--update-goldens*"])
-    assert (pytester.path / "test-failures" / "golden-demo-pic" / "actual.png").exists()
+    assert not (pytester.path / "test-failures").exists()       # not in the working directory
+    result.stdout.fnmatch_lines(["*This test's image is *golden-demo-pic*actual.png*"])
+    inner(100, "--image-failures", "kept").assert_outcomes(failed=2)
+    assert (pytester.path / "kept" / "golden-demo-pic" / "actual.png").exists()
     assert not goldens.exists()
 
     result = inner(100, "--update-goldens")
@@ -224,8 +230,11 @@ def test_golden_catches_a_changed_image(inner, pytester):
 
     result = inner(103)             # three 8-bit steps: beyond the default atol, within 3/255
     result.assert_outcomes(failed=1, passed=1)
-    result.stdout.fnmatch_lines(["*test_exact*", "*images 'golden-demo-pic' differ*6 pixels beyond atol*"])
-    assert (pytester.path / "test-failures" / "golden-demo-pic" / "diff.png").exists()
+    result.stdout.fnmatch_lines(["*test_exact*", "*images 'golden-demo-pic' differ*6 pixels beyond atol*",
+                                 "*images written to *golden-demo-pic*"])
+    assert not (pytester.path / "test-failures").exists()
+    inner(103, "--image-failures", "kept").assert_outcomes(failed=1, passed=1)
+    assert (pytester.path / "kept" / "golden-demo-pic" / "diff.png").exists()
 
     # Updating rewrites only the golden that changed beyond its tolerance.
     result = inner(103, "--update-goldens")

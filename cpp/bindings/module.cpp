@@ -15,6 +15,7 @@ void bind_probes(py::module_& m);
 void bind_glsl(py::module_& m);
 void bind_blendlab(py::module_& m);
 void bind_draw_plan(py::module_& m);
+void bind_canvas(py::module_& m);
 
 PYBIND11_MODULE(_core, m) {
     m.doc() = "softgl's C++ core (use the softgl package, not this module)";
@@ -32,4 +33,5 @@ PYBIND11_MODULE(_core, m) {
     bind_glsl(m);
     bind_blendlab(m);
     bind_draw_plan(m);
+    bind_canvas(m);
 }

@@ -7,7 +7,7 @@
     img = gl.readPixels(0, 0, 640, 480, gl.RGBA, gl.UNSIGNED_BYTE)   # (480, 640, 4), row 0 = bottom
 """
 from . import _core
-from .errors import GLError, GLWarning
+from .errors import Float64Warning, GLError, GLWarning
 from .context import Context, WebGLRenderingContext, WebGL2RenderingContext
 from . import display, io
 from . import geometry, transforms, programs, scene, experiments, testing, transparency, widgets, animation
@@ -20,4 +20,4 @@ for _name, _value, _version in _core.ENUMS:
     globals()[_name] = _value
 del _name, _value, _version
 
-__all__ = ["program", "Program", "ShaderError", "Context", "WebGLRenderingContext", "WebGL2RenderingContext", "GLError", "GLWarning"]
+__all__ = ["program", "Program", "ShaderError", "Context", "WebGLRenderingContext", "WebGL2RenderingContext", "GLError", "GLWarning", "Float64Warning"]

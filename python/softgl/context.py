@@ -1,16 +1,28 @@
 """The rendering context: WebGLRenderingContext (version=1) and WebGL2RenderingContext (version=2)."""
 from __future__ import annotations
 
+import sys
 import warnings
 import weakref
 
+import numpy as np
+
 from . import _blendlab_ext, _core
-from .errors import GLError, GLWarning
+from .errors import Float64Warning, GLError, GLWarning
 
 _ATTRIBUTE_DEFAULTS = dict(alpha=True, depth=True, stencil=False, antialias=True,
                            premultipliedAlpha=True, preserveDrawingBuffer=False,
                            powerPreference="default", failIfMajorPerformanceCaveat=False,
                            desynchronized=False)
+
+
+def _caller_level() -> int:
+    # The warning points at the user's line: past the listener and this module's wrappers
+    # (bufferData, texImage2D, ... below), so it shows once per call site.
+    level, frame = 2, sys._getframe(2)
+    while frame is not None and frame.f_code.co_filename == __file__:
+        level, frame = level + 1, frame.f_back
+    return level
 
 
 def _error_listener(strict: bool):
@@ -20,8 +32,89 @@ def _error_listener(strict: bool):
             raise GLError(code, call, reason)
     else:
         def listener(code, call, reason):
-            warnings.warn(GLWarning(code, call, reason), stacklevel=2)
+            warnings.warn(GLWarning(code, call, reason), stacklevel=_caller_level())
     return listener
+
+
+def _float64_array(values) -> bool:
+    return any(type(v) is np.ndarray and v.dtype.char == "d" for v in values)
+
+
+def _float64_met(gl, call: str, texture_type=None):
+    # stacklevel 3: the user's line that called gl.<call>, so the warning shows once per call site.
+    if texture_type is None or texture_type == gl.FLOAT:
+        message = (f"{call}: a float64 NumPy array is taken as its 8-byte doubles (WebGL takes "
+                   f"the bytes as they are), but WebGL reads 32-bit floats: pass "
+                   f"np.asarray(data, np.float32)")
+    else:
+        message = (f"{call}: a float64 NumPy array is not a WebGL pixel array: pass the array "
+                   f"type of `type` (np.uint8 for UNSIGNED_BYTE, np.float32 for FLOAT)")
+    if gl._strict:
+        raise TypeError(message)
+    warnings.warn(message, Float64Warning, stacklevel=3)
+
+
+def _column_major(value):
+    """A matrix in math layout M[row, col] (2-D, or an array of them) -> WebGL's column-major
+    floats; anything else (flat sequences) is passed as it is."""
+    if type(value) is np.ndarray and value.ndim >= 2:
+        return np.ascontiguousarray(np.swapaxes(value, -1, -2), np.float32).reshape(-1)
+    return value
+
+
+def _matrix_setter(name: str):
+    core_setter = getattr(_core.Context, name)
+
+    def setter(self, location, transpose, value, *args):
+        return core_setter(self, location, transpose, _column_major(value), *args)
+
+    setter.__name__ = setter.__qualname__ = name
+    setter.__doc__ = (f"{name}(location, transpose, value[, srcOffset, srcLength]).\n\n"
+                      "A flat sequence of floats is column-major, as in WebGL. A 2-D NumPy array "
+                      "(or an array of matrices, shape (..., rows, columns)) is taken in math "
+                      "layout ``M[row, col]``, as softgl.transforms returns it: it is sent as "
+                      "``M.T.ravel()``. ``transpose`` (WebGL 2 only) then applies as in WebGL.")
+    return setter
+
+
+_core_bufferData = _core.Context.bufferData
+_core_bufferSubData = _core.Context.bufferSubData
+
+
+class Canvas:
+    """``gl.canvas``: the canvas's ``width`` and ``height``. Setting either one makes a new
+    drawing buffer of that size with its initial contents, as a browser does; the viewport and
+    scissor stay as they were (WebGL 1.0 §2.2)."""
+
+    def __init__(self, gl):
+        self._gl = weakref.ref(gl)   # no cycle: the context keeps its canvas
+
+    def _context(self):
+        gl = self._gl()
+        if gl is None:
+            raise ReferenceError("this canvas's context no longer exists")
+        return gl
+
+    @property
+    def width(self) -> int:
+        return self._context().drawingBufferWidth
+
+    @width.setter
+    def width(self, value: int):
+        gl = self._context()
+        gl._resize(int(value), gl.drawingBufferHeight)
+
+    @property
+    def height(self) -> int:
+        return self._context().drawingBufferHeight
+
+    @height.setter
+    def height(self, value: int):
+        gl = self._context()
+        gl._resize(gl.drawingBufferWidth, int(value))
+
+    def __repr__(self):
+        return f"<softgl canvas {self.width}x{self.height}>"
 
 
 class Extension:
@@ -253,9 +346,53 @@ class Context(_core.Context):
         (``print(gl.last_draw_plan()["text"])``)."""
         return self._last_draw_plan()
 
+    # -- float64 arrays: WebGL's byte semantics stay, with a warning (softgl.Float64Warning) ----
+
+    def bufferData(self, target, data, *args):
+        """bufferData(target, data or size, usage[, srcOffset, length]): the array's bytes as
+        they are; a float64 array warns (softgl.Float64Warning): write np.float32."""
+        if type(data) is np.ndarray and data.dtype.char == "d":   # float64, either byte order
+            _float64_met(self, "bufferData")
+        return _core_bufferData(self, target, data, *args)
+
+    def bufferSubData(self, target, offset, data, *args):
+        """bufferSubData(target, dstByteOffset, data[, srcOffset, length]): as bufferData, a
+        float64 array warns."""
+        if type(data) is np.ndarray and data.dtype.char == "d":
+            _float64_met(self, "bufferSubData")
+        return _core_bufferSubData(self, target, offset, data, *args)
+
+    def texImage2D(self, *args):
+        """WebGL's texImage2D overloads; a float64 pixel array (never a WebGL pixel type)
+        warns with what to write instead (np.float32 for type FLOAT)."""
+        if _float64_array(args):
+            _float64_met(self, "texImage2D", args[7] if len(args) >= 9 else None)
+        return _core.Context.texImage2D(self, *args)
+
+    def texSubImage2D(self, *args):
+        """WebGL's texSubImage2D overloads; a float64 pixel array warns as in texImage2D."""
+        if _float64_array(args):
+            _float64_met(self, "texSubImage2D", args[7] if len(args) >= 9 else None)
+        return _core.Context.texSubImage2D(self, *args)
+
+    # Matrices: 2-D arrays in math layout, flat sequences column-major (see _matrix_setter).
+    uniformMatrix2fv = _matrix_setter("uniformMatrix2fv")
+    uniformMatrix3fv = _matrix_setter("uniformMatrix3fv")
+    uniformMatrix4fv = _matrix_setter("uniformMatrix4fv")
+    uniformMatrix2x3fv = _matrix_setter("uniformMatrix2x3fv")
+    uniformMatrix2x4fv = _matrix_setter("uniformMatrix2x4fv")
+    uniformMatrix3x2fv = _matrix_setter("uniformMatrix3x2fv")
+    uniformMatrix3x4fv = _matrix_setter("uniformMatrix3x4fv")
+    uniformMatrix4x2fv = _matrix_setter("uniformMatrix4x2fv")
+    uniformMatrix4x3fv = _matrix_setter("uniformMatrix4x3fv")
+
     @property
-    def canvas(self):
-        return self
+    def canvas(self) -> Canvas:
+        """The canvas: set ``gl.canvas.width`` / ``height`` to resize the drawing buffer."""
+        canvas = self.__dict__.get("_canvas")
+        if canvas is None:
+            canvas = self._canvas = Canvas(self)
+        return canvas
 
     @property
     def version(self) -> int:
@@ -264,6 +401,7 @@ class Context(_core.Context):
     # -- display -------------------------------------------------------------------------------
 
     def _repr_png_(self):
+        # Showing the canvas never clears it (display.present(gl) does, as a browser frame).
         from .display import canvas_png
         return canvas_png(self)
 

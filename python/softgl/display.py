@@ -2,8 +2,12 @@
 
 WebGL 1.0 §2.2 and the HTML canvas rules: with ``premultipliedAlpha`` the buffer's colors are
 taken as premultiplied (shown = C + (1 - A) * page), without it as straight alpha
-(shown = A * C + (1 - A) * page); a context with ``alpha: false`` is opaque. After the canvas
-is shown, a drawing buffer without ``preserveDrawingBuffer`` is cleared, as in a browser.
+(shown = A * C + (1 - A) * page); a context with ``alpha: false`` is opaque.
+
+Showing a canvas (Jupyter's display of ``gl``, ``show``, ``canvas_image``) never clears it: you
+can show it twice, or read it after showing it. Only ``present(gl)``, the end of a browser
+frame, follows the browser's rule: a drawing buffer without ``preserveDrawingBuffer`` is then
+cleared (WebGL 1.0 §2.2).
 """
 from __future__ import annotations
 
@@ -30,8 +34,15 @@ def composite(rgba: np.ndarray, *, premultiplied: bool = True, alpha: bool = Tru
     return np.clip(np.floor(shown * 255.0 + 0.5), 0, 255).astype(np.uint8)
 
 
-def canvas_image(gl, background=WHITE, present: bool = True) -> np.ndarray:
-    """The canvas as a person sees it: (h, w, 3) uint8, top row first."""
+def present(gl) -> None:
+    """End a frame as a browser does after compositing the canvas: a drawing buffer without
+    ``preserveDrawingBuffer`` is cleared to its initial contents (WebGL 1.0 §2.2)."""
+    gl._present()
+
+
+def canvas_image(gl, background=WHITE, present: bool = False) -> np.ndarray:
+    """The canvas as a person sees it: (h, w, 3) uint8, top row first. The canvas is left as
+    it is, unless ``present=True``: then the frame ends as in ``present(gl)``."""
     w, h = gl.drawingBufferWidth, gl.drawingBufferHeight
     attrs = gl.getContextAttributes()
     # A float drawing buffer (color_format rgba16f/rgba32f) is shown the way browsers show a

@@ -17,3 +17,10 @@ class GLError(Exception):
         from . import _core
         self.code, self.call, self.reason = code, call, reason
         super().__init__(f"WebGL: {_core.error_name(code)}: {call}: {reason}")
+
+
+class Float64Warning(UserWarning):
+    """A float64 NumPy array met a WebGL call that reads 32-bit floats (bufferData,
+    bufferSubData, texImage2D, texSubImage2D). WebGL takes the array's bytes as they are, so the
+    data is almost surely meant as float32: write ``np.asarray(data, np.float32)``. Shown once
+    per call site; a Context(strict=True) raises TypeError instead."""

@@ -232,7 +232,7 @@ POINTS_COLUMNS = [
     ("1\n-\n-", False, False, None, True, True),
     ("2\ndepth\n-", True, False, None, True, True),
     ("3\n-\nblend", False, True, "combined", True, True),
-    ("4\ndepth\nblend", True, True, "combined", True, True),
+    ("4\ndepth\nseparate", True, True, "separate", True, True),   # the lesson's standard settings
     ("5\n-\nseparate", False, True, "separate", True, True),
     ("6\n-\nblend\nno A", False, True, "combined", False, True),
     ("7\ndepth\nblend\nno A", True, True, "combined", False, True),

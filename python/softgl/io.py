@@ -14,22 +14,19 @@ def _oiio():
 def save(image, path, *, background=None) -> Path:
     """Write a context's canvas or an image array to `path` (format from the extension).
 
-    A context is saved as its drawing buffer, top row first, RGBA (or composited over
-    `background` when one is given, as display.show does). Arrays are (h, w), (h, w, 3|4),
-    top row first; uint8/uint16 are written as is, float arrays as float (EXR, TIFF) or
-    converted by OpenImageIO for 8-bit formats.
+    Arrays are (h, w), (h, w, 3|4), top row first; the numbers are written exactly as given:
+    4-channel arrays are straight (unassociated) alpha, uint8/uint16 are written as they are,
+    float arrays as float (EXR, TIFF) or converted by OpenImageIO for 8-bit formats.
+
+    A context is saved as it displays (display.canvas_image): with `background`, composited
+    over it (RGB); without, as a straight-alpha RGBA image that a viewer composites over its
+    page the way a browser shows the canvas. A ``premultipliedAlpha: false`` canvas is its
+    drawing buffer's bytes; a premultiplied canvas is un-premultiplied (C / A, rounded); a
+    canvas with ``alpha: false`` is opaque.
     """
-    from .display import composite
     path = Path(path)
     if hasattr(image, "drawingBufferWidth"):
-        gl = image
-        pixels = gl.readPixels(0, 0, gl.drawingBufferWidth, gl.drawingBufferHeight,
-                               gl.RGBA, gl.UNSIGNED_BYTE)[::-1]
-        if background is not None:
-            attrs = gl.getContextAttributes()
-            pixels = composite(pixels, premultiplied=attrs["premultipliedAlpha"],
-                               alpha=attrs["alpha"], background=background)
-        image = pixels
+        image = _canvas_pixels(image, background)
     array = np.ascontiguousarray(image)
     if array.ndim == 2:
         array = array[..., None]
@@ -43,6 +40,9 @@ def save(image, path, *, background=None) -> Path:
         pixel_type = oiio.FLOAT
     h, w, channels = array.shape
     spec = oiio.ImageSpec(w, h, channels, pixel_type)
+    # The data is straight alpha: without this, OpenImageIO takes it as premultiplied and
+    # divides by alpha on writing formats that store straight alpha (PNG).
+    spec.attribute("oiio:UnassociatedAlpha", 1)
     path.parent.mkdir(parents=True, exist_ok=True)
     out = oiio.ImageOutput.create(str(path))
     if out is None:
@@ -55,11 +55,32 @@ def save(image, path, *, background=None) -> Path:
     return path
 
 
+def _canvas_pixels(gl, background) -> np.ndarray:
+    from .display import composite
+    attrs = gl.getContextAttributes()
+    pixels = gl.readPixels(0, 0, gl.drawingBufferWidth, gl.drawingBufferHeight,
+                           gl.RGBA, gl.UNSIGNED_BYTE)[::-1]
+    if background is not None:
+        return composite(pixels, premultiplied=attrs["premultipliedAlpha"], alpha=attrs["alpha"],
+                         background=background)
+    pixels = pixels.copy()
+    if not attrs["alpha"]:
+        pixels[..., 3] = 255
+    elif attrs["premultipliedAlpha"]:
+        a = pixels[..., 3:4].astype(np.float64)
+        straight = np.where(a > 0, pixels[..., :3] * 255.0 / np.maximum(a, 1), 0)
+        pixels[..., :3] = np.clip(np.floor(straight + 0.5), 0, 255)
+    return pixels
+
+
 def load_image(path, dtype=None) -> np.ndarray:
     """Read an image file into an (h, w, channels) array, top row first (its stored pixel type
-    unless `dtype` is given: np.uint8 or np.float32)."""
+    unless `dtype` is given: np.uint8 or np.float32). The numbers are the file's: straight
+    alpha stays straight (not multiplied by alpha)."""
     oiio = _oiio()
-    inp = oiio.ImageInput.open(str(path))
+    config = oiio.ImageSpec()
+    config.attribute("oiio:UnassociatedAlpha", 1)
+    inp = oiio.ImageInput.open(str(path), config)
     if inp is None:
         raise FileNotFoundError(f"load_image: cannot open {path}: {oiio.geterror()}")
     try:

@@ -33,7 +33,8 @@ the shader, as one does without softgl's SOFTGL_fog extension (see ``fog_factor`
 formulas in float64).
 
 Lighting is computed per fragment in eye space. The spot lights follow the course notes: the
-normal is bent away from the light's direction, ``N' = normalize(N - D)``, the Lambert term is
+normal is bent away from the light's direction, ``N' = normalize(N - D)`` with ``D`` as given
+(not normalised, as in the lesson: its length sets how far the normal bends), the Lambert term is
 ``lambert = dot(N', -L)`` with ``L`` the ray from the light to the fragment, and a light
 contributes ``color * diffuse * pow(lambert, 10 * cutoff)`` where ``lambert > cutoff``. A point
 light (``D = 0``) contributes ``color * diffuse * lambert`` where ``lambert > cutoff``.
@@ -296,7 +297,7 @@ void main() {
         vec3 lightPosition = (uView * vec4(uLightPositions[i], 1.0)).xyz;
         vec3 D = (uView * vec4(uLightDirections[i], 0.0)).xyz;
         bool spot = dot(D, D) > 0.0;
-        vec3 N = spot ? normalize(normal - normalize(D)) : normal;
+        vec3 N = spot ? normalize(normal - D) : normal;
         vec3 L = normalize(vEyePosition - lightPosition);
         float lambert = dot(N, -L);
         if (lambert > uLightCutoffs[i]) {

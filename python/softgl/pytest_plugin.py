@@ -19,8 +19,9 @@ row first) or flip a readPixels result (``[::-1]``) so that reviewers see the pi
 Float images are stored as 8-bit PNGs (within the default atol of one 8-bit step).
 
 The folder is ``tests/goldens`` under pytest's rootdir, or the ``golden_dir`` ini option.
-On a mismatch, ``assert_images_close`` writes actual/expected/diff images into
-``<rootdir>/test-failures/golden-<name>/``.
+On a mismatch, the actual/expected/diff images are written into the test's ``tmp_path``
+(``golden-<name>/``), or into ``<DIR>/golden-<name>/`` with ``--image-failures=DIR`` (e.g. a
+folder that CI keeps); the failure message names the folder. Nothing is written elsewhere.
 """
 from __future__ import annotations
 
@@ -42,6 +43,9 @@ def pytest_addoption(parser):
                          "review every written PNG)")
     parser.addini("golden_dir", "folder of golden PNGs, relative to the rootdir",
                   default="tests/goldens")
+    group.addoption("--image-failures", default=None, metavar="DIR",
+                    help="write the images of failed golden comparisons into DIR/golden-<name>/ "
+                         "(default: the test's tmp_path)")
 
 
 def pytest_configure(config):
@@ -63,7 +67,10 @@ def golden(request):
     config = request.config
     root = Path(config.rootpath) / config.getini("golden_dir")
     update = config.getoption("update_goldens")
-    failures = Path(config.rootpath) / "test-failures"
+    chosen = config.getoption("image_failures")
+
+    def failures() -> Path:   # asked for only on a failure, so passing tests make no folder
+        return Path(chosen) if chosen else request.getfixturevalue("tmp_path")
 
     def check(name: str, image, **tolerances):
         path = _golden_path(root, name)
@@ -80,11 +87,18 @@ def golden(request):
                     f"{'updated' if stored is not None else 'created'} {path}")
             return
         if not path.exists():
-            written = save(_for_png(actual), failures / label / "actual.png").resolve()
+            written = save(_for_png(actual), failures() / label / "actual.png").resolve()
             pytest.fail(f"golden {path} does not exist. This test's image is {written}: "
                         f"review it, then create the golden with pytest --update-goldens",
                         pytrace=False)
-        assert_images_close(actual, load_image(path), name=label, out_dir=failures, **tolerances)
+        expected = load_image(path)
+        # Compare without writing; on a failure compare again, writing the images.
+        try:
+            assert_images_close(actual, expected, name=label, **tolerances)
+            return
+        except AssertionError:
+            pass
+        assert_images_close(actual, expected, name=label, out_dir=failures(), **tolerances)
 
     return check
 

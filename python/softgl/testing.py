@@ -138,7 +138,7 @@ def write_failure_images(folder, actual, expected, atol: float = 1 / 255) -> Pat
 
 def assert_images_close(actual, expected, *, atol: float = 1 / 255, max_outliers: int = 0,
                         min_psnr: float | None = None, name: str | None = None,
-                        out_dir="test-failures") -> ImageComparison:
+                        out_dir=None) -> ImageComparison:
     """Assert that two images agree; return the statistics.
 
     Images are (h, w[, c]) arrays (uint8, uint16 or float; rows in whatever order both use) or
@@ -146,19 +146,25 @@ def assert_images_close(actual, expected, *, atol: float = 1 / 255, max_outliers
     `max_outliers` pixels have a channel off by more than `atol` (normalized units, default one
     8-bit step) and, if `min_psnr` is given, the PSNR in dB is at least that.
 
-    On failure, actual.png, expected.png and diff.png (gray = error, amplified; red = beyond
-    atol) are written into `out_dir/<name>/` (name defaults to the running pytest test) and
-    the AssertionError names the folder. The PNGs show row 0 at the top: flip readPixels
+    On failure, if `out_dir` is given (e.g. pytest's ``tmp_path``), actual.png, expected.png
+    and diff.png (gray = error, amplified; red = beyond atol) are written into
+    `out_dir/<name>/` (name defaults to the running pytest test) and the AssertionError names
+    the folder; without `out_dir` nothing is written (never into the current directory). The PNGs show row 0 at the top: flip readPixels
     results (``[::-1]``) or pass the context to see them upright; "row" in the message is the
     array's row, i.e. GL's y for readPixels results.
     """
     a, b = _image(actual, "actual"), _image(expected, "expected")
-    folder = Path(out_dir) / _folder_name(name or _default_name())
     label = f"images {name!r}" if name else "images"
+
+    def written(*atol_):
+        if out_dir is None:
+            return "no images written (pass out_dir=, e.g. pytest's tmp_path, to see them)"
+        folder = Path(out_dir) / _folder_name(name or _default_name())
+        return f"images written to {write_failure_images(folder, a, b, *atol_)}"
+
     if a.shape != b.shape:
-        path = write_failure_images(folder, a, b)
         raise AssertionError(f"{label} differ in shape: actual {a.shape} vs expected {b.shape}; "
-                             f"images written to {path}")
+                             f"{written()}")
     stats = compare_images(a, b, atol)
     problems = []
     if stats.outliers > max_outliers:
@@ -166,11 +172,10 @@ def assert_images_close(actual, expected, *, atol: float = 1 / 255, max_outliers
     if min_psnr is not None and not stats.psnr >= min_psnr:
         problems.append(f"PSNR {stats.psnr:.2f} dB below min_psnr={min_psnr} dB")
     if problems:
-        path = write_failure_images(folder, a, b, atol)
         at = stats.max_location
         raise AssertionError(f"{label} differ: {'; '.join(problems)}.\n  {stats.summary()} "
                              f"(actual {a[at].item()!r}, expected {b[at].item()!r})\n"
-                             f"  images written to {path}")
+                             f"  {written(atol)}")
     return stats
 
 

@@ -1,8 +1,9 @@
 """4x4 transforms for WebGL scenes, computed in float64 and returned as float32.
 
 Matrices are NumPy (4, 4) arrays in math layout (``m[row, col]``), so they compose with ``@``
-and act on column vectors: ``clip = P @ V @ M @ [x, y, z, 1]``. WebGL wants column-major
-order: pass ``column_major(m)`` (16 floats) to ``uniformMatrix4fv(loc, False, ...)``.
+and act on column vectors: ``clip = P @ V @ M @ [x, y, z, 1]``. softgl's
+``uniformMatrix4fv(loc, False, m)`` takes such a 2-D matrix as it is (math layout); a flat
+sequence is column-major, as in WebGL: ``column_major(m)`` gives those 16 floats.
 Conventions are OpenGL's (right-handed eye space looking down -z, clip depth in [-1, 1]),
 the same as GLM's defaults, which the C++ side uses; the tests compare with GLM.
 """

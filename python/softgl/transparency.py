@@ -19,9 +19,10 @@ Methods (``METHODS``):
   front faces (cullFace BACK).
 - ``peeling``: depth peeling with ``layers`` layers. This is the *arithmetic* of depth peeling,
   computed from the A-buffer's per-sample lists (composite only the ``layers`` nearest fragments
-  over the background), not a multi-pass implementation with depth textures: softgl has no
-  framebuffer objects yet. Real peeling with a strict depth comparison would also lose
-  co-planar fragments, which this does not.
+  over the background), not a multi-pass implementation with depth textures (softgl has the
+  framebuffer objects and depth textures that needs; the arithmetic is computed from the lists
+  so that it is compared with the exact image without a pass's own rounding). Real peeling
+  with a strict depth comparison would also lose co-planar fragments, which this does not.
 - ``wboit``: weighted blended order-independent transparency (McGuire & Bavoil, JCGT 2013),
   ``weight`` selecting their equation 7, 8, 9 (eye distance) or 10 (window depth), also computed
   from the A-buffer lists in float64 (the paper accumulates in 16-bit float targets).

@@ -83,4 +83,4 @@ def test_misc_entry_points():
     gl.flush()
     gl.finish()
     assert gl.getError() == gl.NO_ERROR
-    assert gl.canvas is gl
+    assert gl.canvas is gl.canvas and (gl.canvas.width, gl.canvas.height) == (gl.drawingBufferWidth, gl.drawingBufferHeight)

@@ -40,8 +40,10 @@ def test_presenting_clears_unless_preserved():
         gl = softgl.Context(1, 1, antialias=False, preserveDrawingBuffer=preserve)
         gl.clearColor(1, 0, 0, 1)
         gl.clear(gl.COLOR_BUFFER_BIT)
-        png = gl._repr_png_()
+        png = gl._repr_png_()                 # showing the canvas never clears it
         assert png.startswith(b"\x89PNG")
+        assert gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE)[0, 0].tolist() == [255, 0, 0, 255]
+        display.present(gl)                   # the end of a browser frame does
         after = gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE)[0, 0].tolist()
         assert after == ([255, 0, 0, 255] if preserve else [0, 0, 0, 0])
 

@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 import softgl
+from softgl import display
 from softgl.display import canvas_image, composite
 
 FORMATS = ["rgba8", "rgba16f", "rgba32f"]
@@ -410,9 +411,11 @@ def test_canvas_display_converts_like_a_browser(premultiplied):
     shown = canvas_image(gl)
     np.testing.assert_array_equal(shown, want)
     assert tuple(shown[0, 0]) == ((255, 102, 230) if premultiplied else (255, 102, 179))
-    # Shown without preserveDrawingBuffer: the buffer is cleared afterwards, as in a browser.
-    assert (gl.readPixels(0, 0, 2, 1, gl.RGBA, gl.FLOAT) == 0).all()
+    # Showing never clears; the end of a frame (present) clears, as in a browser.
+    np.testing.assert_array_equal(gl.readPixels(0, 0, 2, 1, gl.RGBA, gl.FLOAT), floats)
     assert gl._repr_png_().startswith(b"\x89PNG")
+    display.present(gl)
+    assert (gl.readPixels(0, 0, 2, 1, gl.RGBA, gl.FLOAT) == 0).all()
 
 
 def test_blit_and_copy_from_a_float_drawing_buffer():

@@ -534,6 +534,7 @@ class CommandFuzzer:
         result = None
         with warnings.catch_warnings():
             warnings.simplefilter("ignore", softgl.GLWarning)
+            warnings.simplefilter("ignore", softgl.Float64Warning)   # float64 bytes on purpose
             try:
                 result = getattr(gl, name)(*args)
             except softgl.GLError as e:

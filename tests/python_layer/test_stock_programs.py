@@ -112,7 +112,7 @@ def lights_reference(p, normal, lights, diffuse, ambient):
     for position, direction, color, cutoff in lights:
         d = np.asarray(direction, np.float64)
         spot = d @ d > 0
-        nn = normalize(n - normalize(d)) if spot else n
+        nn = normalize(n - d) if spot else n   # D as given, as in the lesson
         l = normalize(p - np.asarray(position))
         lam = -(l @ nn)
         f = np.where(lam > cutoff, (np.maximum(lam, 0) ** (10 * cutoff)) if spot else lam, 0.0)

@@ -601,4 +601,15 @@ void Context::present() {
     if (blendlab_) blendlab_->on_present(framebuffer_);
 }
 
+std::string Context::resize(int32_t width, int32_t height) {
+    FramebufferConfig config = framebuffer_.config();
+    config.width = width;
+    config.height = height;
+    std::string why = DefaultFramebuffer::check(config);
+    if (!why.empty()) return why;
+    framebuffer_ = DefaultFramebuffer(config);
+    if (blendlab_) blendlab_->on_present(framebuffer_);
+    return "";
+}
+
 }  // namespace softgl

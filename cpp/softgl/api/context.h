@@ -311,6 +311,10 @@ public:
     // The browser's compositing step: after the canvas is shown, a drawing buffer without
     // preserveDrawingBuffer is cleared to its initial contents (WebGL 1.0 §2.2).
     void present();
+    // The canvas's width or height was set: a new drawing buffer of that size, with its initial
+    // contents, as a browser makes one (WebGL 1.0 §2.2); the viewport and scissor are kept.
+    // Returns why the size is refused (and changes nothing), or "".
+    std::string resize(int32_t width, int32_t height);
 
 private:
     void set_capability(const char* call, GLenum cap, bool value);
