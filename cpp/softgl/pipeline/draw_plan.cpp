@@ -47,14 +47,14 @@ void plan_copies(DrawPlan& plan, const FragmentShader& fs, const VaryingLayout& 
         const int first = copies->word[0];
         bool computed = first >= 0 && first + 4 <= layout.words;
         for (int c = 0; c < 4 && computed; ++c) computed = copies->word[size_t(c)] == first + c && read(first + c);
-        if (computed) {
-            plan.copied_word = first;
-            // The smooth words in the order the tile pass interpolates them (TilePass::smooth_words).
-            std::vector<int> smooth;
-            for (int word = 0; word < layout.words; ++word)
-                if (read(word) && !layout.flat[size_t(word)]) smooth.push_back(word);
-            for (size_t i = 0; i + 4 <= smooth.size(); ++i)
-                if (smooth[i] == first && smooth[i + 3] == first + 3) plan.copied_index = int(i);
+        if (computed) plan.copied_word = first;
+        // The tile pass interpolates the smooth words the shader reads, in order: the four are
+        // there, side by side, when none is flat, after the smooth ones before them.
+        bool smooth = computed;
+        for (int c = 0; c < 4 && smooth; ++c) smooth = !layout.flat[size_t(first + c)];
+        if (smooth) {
+            plan.copied_index = 0;
+            for (int word = 0; word < first; ++word) plan.copied_index += read(word) && !layout.flat[size_t(word)];
         }
     }
     plan.fused_copy = first_reason({{plan.fragment_copies != Path::Taken, plan.fragment_copies},

@@ -17,6 +17,10 @@ namespace softgl {
 
 namespace {
 
+// The steps a chunk goes through on the common path are inlined into the primitive's loop, as
+// one function: each chunk pays no calls between them.
+#define SOFTGL_STEP __attribute__((always_inline)) inline
+
 constexpr size_t kChunkQuads = 32;   // 128 lanes: the executor's batch
 constexpr size_t kChunkLanes = 4 * kChunkQuads;
 static_assert(kChunkQuads <= 64, "a chunk's rows of four in one uint64_t (whole_rows_of_four)");
@@ -379,8 +383,8 @@ void TilePass::tile(size_t index, unsigned worker) {
 void TilePass::hidden_surface_first_pass(Tile& t) {
     Scratch& w = t.w;
     const std::vector<uint32_t>& list = t.list;
-    t.owners = OwnerMap{at_least(w.owners, OwnerMap::kQuads), t.rect};
-    const OwnerMap& owners = t.owners;
+    const OwnerMap owners{at_least(w.owners, OwnerMap::kQuads), t.rect};
+    t.owners = owners;
     std::fill_n(owners.quads, OwnerMap::kQuads, ~uint64_t(0));
     uint8_t* const owns = at_least(w.owns, list.size());
     std::fill_n(owns, list.size(), uint8_t(0));
@@ -425,7 +429,7 @@ void TilePass::hidden_surface_first_pass(Tile& t) {
 // A tile's primitives lie far apart in memory when there are many small ones: fetch the setup
 // four primitives ahead and, from it, the vertex values and pixels two ahead, so they arrive in
 // time (tiny_depth_triangles: ~10% faster than two and one ahead).
-void TilePass::prefetch_ahead(const Tile& t, size_t li) const {
+SOFTGL_STEP void TilePass::prefetch_ahead(const Tile& t, size_t li) const {
     constexpr int32_t kPrefetchRows = 16;
     const std::vector<uint32_t>& list = t.list;
     if (li + 4 < list.size()) {
@@ -471,7 +475,7 @@ void TilePass::raster(Tile& t, const PrimitiveSetup& p) {
 }
 
 template <bool WithSink>
-void TilePass::draw_primitive(Tile& t, const PrimitiveSetup& p, size_t entry) {
+SOFTGL_STEP void TilePass::draw_primitive(Tile& t, const PrimitiveSetup& p, size_t entry) {
     Scratch& w = t.w;
     Primitive prim{p, entry};
     prepare_varyings(t, prim);
@@ -517,13 +521,14 @@ void TilePass::prepare_varyings(Tile& t, Primitive& prim) {
 // (legal when the shader cannot discard or write depth); or, tested later or not at all, the
 // coverage as it is.
 template <bool WithSink>
-size_t TilePass::early_tests(Tile& t, const Primitive& prim, Chunk& c) {
+SOFTGL_STEP size_t TilePass::early_tests(Tile& t, const Primitive& prim, Chunk& c) {
     Quad* const cq = c.quads;
     uint16_t* const masks = c.masks;
     size_t kept = 0;
     if (t.hide) {   // the tests ran in the first pass
+        const OwnerMap owners = t.owners;
         for (size_t qi = 0; qi < c.count; ++qi) {
-            const uint64_t m4 = t.owners.owned(cq[qi], cq[qi].coverage, prim.entry);
+            const uint64_t m4 = owners.owned(cq[qi], cq[qi].coverage, prim.entry);
             if (!m4) continue;
             cq[kept] = cq[qi];
             std::memcpy(&masks[kept * 4], &m4, 8);
@@ -594,7 +599,7 @@ size_t TilePass::early_tests_per_sample(const Primitive& prim, Chunk& c) {
 
 // The shader only copies one smooth vec4 varying: its values go straight into pixels, no fragment
 // batch, and runs of four whole quads straight into the buffer's rows.
-void TilePass::write_copied_varying(Tile& t, const Primitive& prim, const Chunk& c) {
+SOFTGL_STEP void TilePass::write_copied_varying(Tile& t, const Primitive& prim, const Chunk& c) {
     uint32_t* const d = t.w.pixels.data();
     const uint64_t rows = whole_rows_of_four(buffer_pixels_, c.quads, c.masks, c.kept);
     if (plan_.kernel != ColorKernel::Plain || !plan_.all_channels)
@@ -608,7 +613,7 @@ void TilePass::write_copied_varying(Tile& t, const Primitive& prim, const Chunk&
 
 // The chunk's colours: the constant colour; or, from the fragment batch, the copied varying's
 // lanes, the shader's copies, or the shader's results.
-TilePass::Colors TilePass::shade(Tile& t, const Primitive& prim, const Chunk& c) {
+SOFTGL_STEP TilePass::Colors TilePass::shade(Tile& t, const Primitive& prim, const Chunk& c) {
     if (plan_.constant_color == Path::Taken) return Colors{constant_color_, kChunkLanes, 1, false};
     build_fragment_batch(t, prim, c);
     const size_t L = 4 * c.kept;
@@ -665,7 +670,7 @@ void TilePass::build_fragment_batch(Tile& t, const Primitive& prim, const Chunk&
 // The colour kernels on the chunk (the RGBA8 drawing buffer; tests done, nothing discarded):
 // by table lookup with rows of four in place; single-sampled, all lanes at once between gathered
 // and scattered pixels (ChunkPixels); else sample by sample.
-void TilePass::write(Tile& t, const Chunk& c, const Colors& col) {
+SOFTGL_STEP void TilePass::write(Tile& t, const Chunk& c, const Colors& col) {
     Scratch& w = t.w;
     const size_t L = 4 * c.kept;
     const uint64_t before = w.stats.samples_written;
