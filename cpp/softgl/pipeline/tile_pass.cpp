@@ -746,13 +746,7 @@ void TilePass::per_lane(Tile& t, const Primitive& prim, const Chunk& c, const Co
             const float shaded[4] = {col.col[lane], col.col[cs + lane], col.col[2 * cs + lane], col.col[3 * cs + lane]};
             sink_->shaded(p, x, y, mask, shaded);
         }
-        if (plan_.coverage_ops) {   // before the depth and stencil tests (ES 3.0 §4.1.3)
-            const uint16_t before = mask;
-            if (state_.sample_alpha_to_coverage) mask = uint16_t(mask & coverage_from_value(col.col[3 * cs + lane], samples_));
-            mask = uint16_t(mask & coverage_mask_);
-            if constexpr (WithSink) sink_->coverage_ops(p, x, y, before, mask);
-            if (!mask) continue;
-        }
+        if (plan_.coverage_ops && !(mask = coverage_ops<WithSink>(p, col, lane, x, y, mask))) continue;
         if (plan_.late_tests()) mask = late_tests<WithSink>(t, prim, lane, x, y, mask);
         if (!plan_.writes_color || !mask) continue;
         // Every colour output (MRT: framebuffer objects with drawBuffers) with the same changes.
@@ -765,6 +759,19 @@ void TilePass::per_lane(Tile& t, const Primitive& prim, const Chunk& c, const Co
         }
         blend<WithSink>(t, prim, col, lane, x, y, mask, colors);
     }
+}
+
+// Alpha-to-coverage and SAMPLE_COVERAGE (multisampled), before the depth and stencil tests
+// (ES 3.0 §4.1.3): the lane's samples that stay.
+template <bool WithSink>
+uint16_t TilePass::coverage_ops(const PrimitiveSetup& p, const Colors& col, size_t lane, int32_t x, int32_t y,
+                                uint16_t mask) const {
+    const uint16_t before = mask;
+    if (state_.sample_alpha_to_coverage)
+        mask = uint16_t(mask & coverage_from_value(col.col[3 * col.stride + lane], samples_));
+    mask = uint16_t(mask & coverage_mask_);
+    if constexpr (WithSink) sink_->coverage_ops(p, x, y, before, mask);
+    return mask;
 }
 
 // Depth/stencil after shading (the shader may discard or write gl_FragDepth, or coverage

@@ -84,6 +84,9 @@ private:
     void write(Tile& t, const Chunk& c, const Colors& col);
     template <bool WithSink> void per_lane(Tile& t, const Primitive& prim, const Chunk& c, const Colors& col);
     template <bool WithSink>
+    uint16_t coverage_ops(const PrimitiveSetup& p, const Colors& col, size_t lane, int32_t x, int32_t y,
+                          uint16_t mask) const;
+    template <bool WithSink>
     uint16_t late_tests(Tile& t, const Primitive& prim, size_t lane, int32_t x, int32_t y, uint16_t mask);
     template <bool WithSink>
     void blend(Tile& t, const Primitive& prim, const Colors& col, size_t lane, int32_t x, int32_t y, uint16_t mask,
