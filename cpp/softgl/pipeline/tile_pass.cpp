@@ -217,14 +217,12 @@ struct TilePass::Colors {
     bool any_killed;               // the shader discarded a lane (FragmentResults::killed)
 };
 
-TilePass::TilePass(const DrawInputs& in, DrawPlan& plan)
+TilePass::TilePass(const DrawInputs& in, const FragmentOps& ops, const TileGrid& grid, DrawPlan& plan)
     : in_(in), plan_(plan), state_(in.state), fb_(in.target), fs_(in.fragment_shader),
       drawing_buffer_(plan.target == DrawTarget::DrawingBuffer ? in.target.default_framebuffer() : nullptr),
       sink_(plan.blend_lab ? in.sink : nullptr),
-      blend_(BlendOp::from_state(in.state, in.target.config().alpha)),
-      ds_(DepthStencilOp::from_state(in.state, in.target.config().depth, in.target.config().stencil)),
-      fog_(FogOp::from_state(in.state)), pattern_(sample_pattern(in.target.config().samples)),
-      grid_(in.target.width(), in.target.height()), samples_(in.target.config().samples),
+      blend_(ops.blend), ds_(ops.depth_stencil), fog_(ops.fog), pattern_(sample_pattern(in.target.config().samples)),
+      grid_(grid), samples_(in.target.config().samples),
       words_(in.vertex_shader.varying_layout().words), builtins_(in.fragment_shader.builtins_read()),
       coverage_mask_(!in.state.sample_coverage ? 0xFFFFu
                      : coverage_from_value(in.state.sample_coverage_value, samples_) ^
@@ -255,7 +253,7 @@ void TilePass::prepare(DrawStats& stats) {
     scratch_ = s.workers.data();
     fs_.prepare(in_.pool.size());
     const bool uniform_only = fs_.run_constant(s.constant, 0);
-    plan_shading(plan_, uniform_only, blend_is_per_channel(blend_));
+    plan_shading(plan_, uniform_only, blend_);
     if (plan_.constant_color == Path::Taken) {
         float* const lanes = at_least(s.constant_color, 4 * kChunkLanes);
         for (size_t c = 0; c < 4; ++c) std::fill_n(lanes + c * kChunkLanes, kChunkLanes, s.constant.color[c]);
@@ -522,13 +520,17 @@ void TilePass::prepare_varyings(Tile& t, Primitive& prim) {
 // coverage as it is.
 template <bool WithSink>
 SOFTGL_STEP size_t TilePass::early_tests(Tile& t, const Primitive& prim, Chunk& c) {
+    // In locals: the mask stores below may alias anything, so fields would be read again each time.
     Quad* const cq = c.quads;
+    QuadArea* const ca = c.areas;
     uint16_t* const masks = c.masks;
+    const size_t count = c.count;
     size_t kept = 0;
     if (t.hide) {   // the tests ran in the first pass
         const OwnerMap owners = t.owners;
-        for (size_t qi = 0; qi < c.count; ++qi) {
-            const uint64_t m4 = owners.owned(cq[qi], cq[qi].coverage, prim.entry);
+        const size_t entry = prim.entry;
+        for (size_t qi = 0; qi < count; ++qi) {
+            const uint64_t m4 = owners.owned(cq[qi], cq[qi].coverage, entry);
             if (!m4) continue;
             cq[kept] = cq[qi];
             std::memcpy(&masks[kept * 4], &m4, 8);
@@ -538,24 +540,24 @@ SOFTGL_STEP size_t TilePass::early_tests(Tile& t, const Primitive& prim, Chunk& 
     }
     if (!plan_.early_tests()) {
         // A quad's coverage is its four pixel masks side by side (quad_pixel_mask).
-        for (size_t qi = 0; qi < c.count; ++qi) std::memcpy(&masks[qi * 4], &cq[qi].coverage, 8);
-        return c.count;
+        for (size_t qi = 0; qi < count; ++qi) std::memcpy(&masks[qi * 4], &cq[qi].coverage, 8);
+        return count;
     }
     uint64_t killed_early;
     if (plan_.quad_depth == Path::Taken) {
         EarlyDepth test = quad_depth_test_;
         test.prim = &prim.p;
-        killed_early = early_depth_test_at(plan_.simd, test, cq, c.count, masks);
+        killed_early = early_depth_test_at(plan_.simd, test, cq, count, masks);
     } else {
         killed_early = early_tests_per_sample<WithSink>(prim, c);
     }
     // The quads with a surviving sample move to the front (kept <= qi).
-    for (size_t qi = 0; qi < c.count; ++qi) {
+    for (size_t qi = 0; qi < count; ++qi) {
         uint64_t m4;
         std::memcpy(&m4, &masks[qi * 4], 8);
         if (!m4) continue;
         cq[kept] = cq[qi];
-        if (c.areas) c.areas[kept] = c.areas[qi];
+        if (ca) ca[kept] = ca[qi];
         std::memcpy(&masks[kept * 4], &m4, 8);
         ++kept;
     }
@@ -676,23 +678,29 @@ SOFTGL_STEP void TilePass::write(Tile& t, const Chunk& c, const Colors& col) {
     const uint64_t before = w.stats.samples_written;
     const LaneFloat* const src = col.col;
     const size_t cs = col.stride;
+    // In locals: the byte stores into pixels may alias anything, so fields would be read again.
+    const Quad* const cq = c.quads;
+    const uint16_t* const masks = c.masks;
+    const bool all_channels = plan_.all_channels;
+    const float* const table = unorm8_table_;
+    const int samples = samples_;
     auto write_all = [&](auto kernel_tag) {
         constexpr ColorKernel K = decltype(kernel_tag)::value;
         for (size_t lane = 0; lane < L; ++lane) {
-            const uint16_t mask = c.masks[lane];
+            const uint16_t mask = masks[lane];
             if (!mask) continue;
-            const Quad& quad = c.quads[lane / 4];
+            const Quad& quad = cq[lane / 4];
             const int j = int(lane % 4);
             const int32_t x = quad.x + (j & 1), y = quad.y + (j >> 1);
             const float color[4] = {src[lane], src[cs + lane], src[2 * cs + lane], src[3 * cs + lane]};
             uint8_t* px = drawing_buffer_->color_sample(x, y, 0);
-            if (samples_ == 1) {
-                write_color<K>(blend_, plan_.all_channels, unorm8_table_, color, px);
+            if (samples == 1) {
+                write_color<K>(blend_, all_channels, table, color, px);
                 w.stats.samples_written++;
             } else {
-                for (int s = 0; s < samples_; ++s) {
+                for (int s = 0; s < samples; ++s) {
                     if (!(mask & (1u << s))) continue;
-                    write_color<K>(blend_, plan_.all_channels, unorm8_table_, color, px + 4 * s);
+                    write_color<K>(blend_, all_channels, table, color, px + 4 * s);
                     w.stats.samples_written++;
                 }
             }

@@ -53,7 +53,7 @@ struct TileBatch {
 class TilePass {
 public:
     // Per draw. `plan` gets its second step (plan_shading) at the first batch.
-    TilePass(const DrawInputs& in, DrawPlan& plan);
+    TilePass(const DrawInputs& in, const FragmentOps& ops, const TileGrid& grid, DrawPlan& plan);
     // The batch's tiles, on the pool (or on the caller when they hold little work).
     void run(const TileBatch& batch, DrawStats& stats);
     // Once at the end of the draw: the workers' counters.
@@ -103,7 +103,7 @@ private:
     const DepthStencilOp ds_;
     const FogOp fog_;
     const SamplePattern& pattern_;
-    const TileGrid grid_;
+    const TileGrid& grid_;
     const int samples_;
     const int words_;                            // varying words per vertex
     const uint32_t builtins_;                    // FragmentShader::builtins_read
