@@ -41,9 +41,11 @@ inline constexpr uint64_t kWholeQuad = 0x0001000100010001u;   // four masks of 1
 inline uint64_t whole_rows_of_four(const ChunkPixels buffer, const Quad* q, const uint16_t* masks, size_t n) {
     uint64_t rows = 0;
     for (size_t i = 0; i + 4 <= n;) {
-        uint64_t m[4];
-        std::memcpy(m, masks + 4 * i, 32);
-        if ((m[0] & m[1] & m[2] & m[3]) == kWholeQuad && buffer.row_of_four(q + i)) {
+        // Four 8-byte loads (one 32-byte copy went through the stack: a store-forwarding stall).
+        uint64_t m0, m1, m2, m3;
+        std::memcpy(&m0, masks + 4 * i, 8), std::memcpy(&m1, masks + 4 * i + 4, 8);
+        std::memcpy(&m2, masks + 4 * i + 8, 8), std::memcpy(&m3, masks + 4 * i + 12, 8);
+        if ((m0 & m1 & m2 & m3) == kWholeQuad && buffer.row_of_four(q + i)) {
             rows |= uint64_t(1) << i;
             i += 4;
         } else {

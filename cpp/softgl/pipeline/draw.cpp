@@ -120,11 +120,11 @@ void for_chunks(ThreadPool& pool, size_t count, const Job& job) {
 // primitives fit (the draw's vertex list then serves every batch), else part of one instance.
 class Batches {
 public:
-    Batches(const DrawInputs& in, const DrawCall& call, DrawPlan& plan, DrawStats& st)
+    Batches(const DrawInputs& in, const DrawCall& call, const FragmentOps& ops, DrawPlan& plan, DrawStats& st)
         : in_(in), call_(call), plan_(plan), st_(st), s_(draw_scratch()), rs_(raster_state(in.state, in.target)),
           grid_(in.target.width(), in.target.height()), words_(in.vertex_shader.varying_layout().words),
           per_instance_(primitive_count(call.mode, call.count)),
-          whole_instances_(per_instance_ <= plan.batch_primitives), tile_pass_(in, plan) {}
+          whole_instances_(per_instance_ <= plan.batch_primitives), tile_pass_(in, ops, grid_, plan) {}
 
     void run_all() {
         const uint32_t limit = plan_.batch_primitives;
@@ -327,7 +327,8 @@ private:
 }  // namespace
 
 DrawPlan draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
-    DrawPlan plan = plan_draw(in, call);
+    const FragmentOps ops = FragmentOps::from(in);
+    DrawPlan plan = plan_draw(in, call, ops);
     DrawStats st;
     st.draws = 1;
     // The draw kinds known before shading (the others: TilePass::prepare).
@@ -340,7 +341,7 @@ DrawPlan draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
     }
     if (plan.blend_lab) in.sink->begin_draw(in.state, *in.target.default_framebuffer());
     in.vertex_shader.prepare(in.tuning);   // the executors' SIMD level and sampler path
-    Batches batches(in, call, plan, st);
+    Batches batches(in, call, ops, plan, st);
     batches.run_all();
     batches.add_counters();
     total.add(st);

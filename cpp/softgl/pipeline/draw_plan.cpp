@@ -1,11 +1,10 @@
 #include "softgl/pipeline/draw_plan.h"
 
 #include <algorithm>
+#include <initializer_list>
+#include <utility>
 
 #include "softgl/pipeline/assemble.h"
-#include "softgl/pipeline/depth_stencil.h"
-#include "softgl/pipeline/fog.h"
-#include "softgl/surface/blend.h"
 
 namespace softgl {
 
@@ -25,8 +24,9 @@ constexpr const char* kTargetNames[] = {"drawing_buffer", "float_drawing_buffer"
 constexpr const char* kKernelNames[] = {"plain", "alpha_over", "additive", "generic"};
 constexpr const char* kPrimitiveNames[] = {"", "points", "lines", "triangles"};
 
-// The first of `reasons` that holds, or Taken. Each is {holds, why}.
-Path first_reason(std::initializer_list<std::pair<bool, Path>> reasons) {
+// The first of `reasons` that holds, or Taken. Each is {holds, why}. Inlined: the lists are
+// constant, so each call becomes a few tests (a plan is made per draw).
+__attribute__((always_inline)) inline Path first_reason(std::initializer_list<std::pair<bool, Path>> reasons) {
     for (const auto& [holds, why] : reasons)
         if (holds) return why;
     return Path::Taken;
@@ -47,14 +47,14 @@ void plan_copies(DrawPlan& plan, const FragmentShader& fs, const VaryingLayout& 
         const int first = copies->word[0];
         bool computed = first >= 0 && first + 4 <= layout.words;
         for (int c = 0; c < 4 && computed; ++c) computed = copies->word[size_t(c)] == first + c && read(first + c);
-        if (computed) {
-            plan.copied_word = first;
-            // The smooth words in the order the tile pass interpolates them (TilePass::smooth_words).
-            std::vector<int> smooth;
-            for (int word = 0; word < layout.words; ++word)
-                if (read(word) && !layout.flat[size_t(word)]) smooth.push_back(word);
-            for (size_t i = 0; i + 4 <= smooth.size(); ++i)
-                if (smooth[i] == first && smooth[i + 3] == first + 3) plan.copied_index = int(i);
+        if (computed) plan.copied_word = first;
+        // The tile pass interpolates the smooth words the shader reads, in order: the four are
+        // there, side by side, when none is flat, after the smooth ones before them.
+        bool smooth = computed;
+        for (int c = 0; c < 4 && smooth; ++c) smooth = !layout.flat[size_t(first + c)];
+        if (smooth) {
+            plan.copied_index = 0;
+            for (int word = 0; word < first; ++word) plan.copied_index += read(word) && !layout.flat[size_t(word)];
         }
     }
     plan.fused_copy = first_reason({{plan.fragment_copies != Path::Taken, plan.fragment_copies},
@@ -69,14 +69,20 @@ void plan_copies(DrawPlan& plan, const FragmentShader& fs, const VaryingLayout& 
 
 const char* path_name(Path p) { return kPathNames[size_t(p)]; }
 
-DrawPlan plan_draw(const DrawInputs& in, const DrawCall& call) {
+FragmentOps FragmentOps::from(const DrawInputs& in) {
+    const FramebufferConfig& config = in.target.config();
+    return FragmentOps{BlendOp::from_state(in.state, config.alpha),
+                       DepthStencilOp::from_state(in.state, config.depth, config.stencil), FogOp::from_state(in.state)};
+}
+
+DrawPlan plan_draw(const DrawInputs& in, const DrawCall& call, const FragmentOps& ops) {
     DrawPlan plan;
     const State& state = in.state;
     const RenderTarget& fb = in.target;
     const FramebufferConfig& config = fb.config();
     const FragmentShader& fs = in.fragment_shader;
-    const BlendOp blend = BlendOp::from_state(state, config.alpha);
-    const DepthStencilOp ds = DepthStencilOp::from_state(state, config.depth, config.stencil);
+    const BlendOp& blend = ops.blend;
+    const DepthStencilOp& ds = ops.depth_stencil;
     const DefaultFramebuffer* const default_fb = fb.default_framebuffer();
 
     // ---- the draw ----
@@ -109,7 +115,7 @@ DrawPlan plan_draw(const DrawInputs& in, const DrawCall& call) {
                                                                                         : state.smooth.point);
     // Multisample coverage operations come before the depth and stencil tests (ES 3.0 §4.1.3).
     plan.coverage_ops = config.samples > 1 && (state.sample_alpha_to_coverage || state.sample_coverage);
-    plan.fog = FogOp::from_state(state).enabled;
+    plan.fog = ops.fog.enabled;
 
     // ---- tests ----
     plan.depth_test = ds.depth_test;
@@ -171,7 +177,7 @@ DrawPlan plan_draw(const DrawInputs& in, const DrawCall& call) {
     return plan;
 }
 
-void plan_shading(DrawPlan& plan, bool uniform_only, bool per_channel) {
+void plan_shading(DrawPlan& plan, bool uniform_only, const BlendOp& blend) {
     plan.shaded = true;
     plan.uniform_only = uniform_only;
     // A uniform-only shader runs once per draw and its colour goes straight to the colour kernels.
@@ -180,8 +186,8 @@ void plan_shading(DrawPlan& plan, bool uniform_only, bool per_channel) {
     // Single-sampled and blending per channel: the blend as a table (fragment_ops.h).
     plan.blend_table = first_reason({{plan.constant_color != Path::Taken, plan.constant_color},
                                      {plan.samples != 1, Path::Multisampled},
-                                     {plan.plain_write, Path::NoBlending},
-                                     {!per_channel, Path::NotPerChannel}});
+                                     {plan.plain_write, Path::NoBlending}});
+    if (plan.blend_table == Path::Taken && !blend_is_per_channel(blend)) plan.blend_table = Path::NotPerChannel;
     // Without tests, whole blocks of a primitive are blended in place (tiles where hidden-surface
     // removal runs take the quads).
     plan.whole_rect_blend = first_reason({{plan.blend_table != Path::Taken, plan.blend_table},

@@ -15,8 +15,11 @@
 
 #include "softgl/core/simd.h"
 #include "softgl/core/tuning.h"
+#include "softgl/pipeline/depth_stencil.h"
 #include "softgl/pipeline/draw_inputs.h"
+#include "softgl/pipeline/fog.h"
 #include "softgl/pipeline/fragment_ops.h"
+#include "softgl/surface/blend.h"
 
 namespace softgl {
 
@@ -118,11 +121,20 @@ struct DrawPlan {
     bool operator!=(const DrawPlan& o) const { return !(*this == o); }
 };
 
-// The plan's first step: everything the inputs decide.
-DrawPlan plan_draw(const DrawInputs& in, const DrawCall& call);
+// What the state asks of every fragment of a draw: blending, the depth and stencil tests, fog.
+// Worked out once per draw, for the plan and the tile pass.
+struct FragmentOps {
+    BlendOp blend;
+    DepthStencilOp depth_stencil;
+    FogOp fog;
+    static FragmentOps from(const DrawInputs& in);
+};
+
+// The plan's first step: everything the inputs decide (`ops`: FragmentOps::from(in)).
+DrawPlan plan_draw(const DrawInputs& in, const DrawCall& call, const FragmentOps& ops);
 
 // The second step, once the shader has run for its constant colour (FragmentShader::run_constant):
-// `uniform_only` says whether it gave one; `per_channel` is blend_is_per_channel of the draw's blend.
-void plan_shading(DrawPlan& plan, bool uniform_only, bool per_channel);
+// `uniform_only` says whether it gave one.
+void plan_shading(DrawPlan& plan, bool uniform_only, const BlendOp& blend);
 
 }  // namespace softgl

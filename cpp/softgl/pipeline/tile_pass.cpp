@@ -17,6 +17,10 @@ namespace softgl {
 
 namespace {
 
+// The steps a chunk goes through on the common path are inlined into the primitive's loop, as
+// one function: each chunk pays no calls between them.
+#define SOFTGL_STEP __attribute__((always_inline)) inline
+
 constexpr size_t kChunkQuads = 32;   // 128 lanes: the executor's batch
 constexpr size_t kChunkLanes = 4 * kChunkQuads;
 static_assert(kChunkQuads <= 64, "a chunk's rows of four in one uint64_t (whole_rows_of_four)");
@@ -213,14 +217,12 @@ struct TilePass::Colors {
     bool any_killed;               // the shader discarded a lane (FragmentResults::killed)
 };
 
-TilePass::TilePass(const DrawInputs& in, DrawPlan& plan)
+TilePass::TilePass(const DrawInputs& in, const FragmentOps& ops, const TileGrid& grid, DrawPlan& plan)
     : in_(in), plan_(plan), state_(in.state), fb_(in.target), fs_(in.fragment_shader),
       drawing_buffer_(plan.target == DrawTarget::DrawingBuffer ? in.target.default_framebuffer() : nullptr),
       sink_(plan.blend_lab ? in.sink : nullptr),
-      blend_(BlendOp::from_state(in.state, in.target.config().alpha)),
-      ds_(DepthStencilOp::from_state(in.state, in.target.config().depth, in.target.config().stencil)),
-      fog_(FogOp::from_state(in.state)), pattern_(sample_pattern(in.target.config().samples)),
-      grid_(in.target.width(), in.target.height()), samples_(in.target.config().samples),
+      blend_(ops.blend), ds_(ops.depth_stencil), fog_(ops.fog), pattern_(sample_pattern(in.target.config().samples)),
+      grid_(grid), samples_(in.target.config().samples),
       words_(in.vertex_shader.varying_layout().words), builtins_(in.fragment_shader.builtins_read()),
       coverage_mask_(!in.state.sample_coverage ? 0xFFFFu
                      : coverage_from_value(in.state.sample_coverage_value, samples_) ^
@@ -251,7 +253,7 @@ void TilePass::prepare(DrawStats& stats) {
     scratch_ = s.workers.data();
     fs_.prepare(in_.pool.size(), in_.tuning);
     const bool uniform_only = fs_.run_constant(s.constant, 0);
-    plan_shading(plan_, uniform_only, blend_is_per_channel(blend_));
+    plan_shading(plan_, uniform_only, blend_);
     if (plan_.constant_color == Path::Taken) {
         float* const lanes = at_least(s.constant_color, 4 * kChunkLanes);
         for (size_t c = 0; c < 4; ++c) std::fill_n(lanes + c * kChunkLanes, kChunkLanes, s.constant.color[c]);
@@ -379,8 +381,8 @@ void TilePass::tile(size_t index, unsigned worker) {
 void TilePass::hidden_surface_first_pass(Tile& t) {
     Scratch& w = t.w;
     const std::vector<uint32_t>& list = t.list;
-    t.owners = OwnerMap{at_least(w.owners, OwnerMap::kQuads), t.rect};
-    const OwnerMap& owners = t.owners;
+    const OwnerMap owners{at_least(w.owners, OwnerMap::kQuads), t.rect};
+    t.owners = owners;
     std::fill_n(owners.quads, OwnerMap::kQuads, ~uint64_t(0));
     uint8_t* const owns = at_least(w.owns, list.size());
     std::fill_n(owns, list.size(), uint8_t(0));
@@ -425,7 +427,7 @@ void TilePass::hidden_surface_first_pass(Tile& t) {
 // A tile's primitives lie far apart in memory when there are many small ones: fetch the setup
 // four primitives ahead and, from it, the vertex values and pixels two ahead, so they arrive in
 // time (tiny_depth_triangles: ~10% faster than two and one ahead).
-void TilePass::prefetch_ahead(const Tile& t, size_t li) const {
+SOFTGL_STEP void TilePass::prefetch_ahead(const Tile& t, size_t li) const {
     constexpr int32_t kPrefetchRows = 16;
     const std::vector<uint32_t>& list = t.list;
     if (li + 4 < list.size()) {
@@ -471,7 +473,7 @@ void TilePass::raster(Tile& t, const PrimitiveSetup& p) {
 }
 
 template <bool WithSink>
-void TilePass::draw_primitive(Tile& t, const PrimitiveSetup& p, size_t entry) {
+SOFTGL_STEP void TilePass::draw_primitive(Tile& t, const PrimitiveSetup& p, size_t entry) {
     Scratch& w = t.w;
     Primitive prim{p, entry};
     prepare_varyings(t, prim);
@@ -517,13 +519,18 @@ void TilePass::prepare_varyings(Tile& t, Primitive& prim) {
 // (legal when the shader cannot discard or write depth); or, tested later or not at all, the
 // coverage as it is.
 template <bool WithSink>
-size_t TilePass::early_tests(Tile& t, const Primitive& prim, Chunk& c) {
+SOFTGL_STEP size_t TilePass::early_tests(Tile& t, const Primitive& prim, Chunk& c) {
+    // In locals: the mask stores below may alias anything, so fields would be read again each time.
     Quad* const cq = c.quads;
+    QuadArea* const ca = c.areas;
     uint16_t* const masks = c.masks;
+    const size_t count = c.count;
     size_t kept = 0;
     if (t.hide) {   // the tests ran in the first pass
-        for (size_t qi = 0; qi < c.count; ++qi) {
-            const uint64_t m4 = t.owners.owned(cq[qi], cq[qi].coverage, prim.entry);
+        const OwnerMap owners = t.owners;
+        const size_t entry = prim.entry;
+        for (size_t qi = 0; qi < count; ++qi) {
+            const uint64_t m4 = owners.owned(cq[qi], cq[qi].coverage, entry);
             if (!m4) continue;
             cq[kept] = cq[qi];
             std::memcpy(&masks[kept * 4], &m4, 8);
@@ -533,24 +540,24 @@ size_t TilePass::early_tests(Tile& t, const Primitive& prim, Chunk& c) {
     }
     if (!plan_.early_tests()) {
         // A quad's coverage is its four pixel masks side by side (quad_pixel_mask).
-        for (size_t qi = 0; qi < c.count; ++qi) std::memcpy(&masks[qi * 4], &cq[qi].coverage, 8);
-        return c.count;
+        for (size_t qi = 0; qi < count; ++qi) std::memcpy(&masks[qi * 4], &cq[qi].coverage, 8);
+        return count;
     }
     uint64_t killed_early;
     if (plan_.quad_depth == Path::Taken) {
         EarlyDepth test = quad_depth_test_;
         test.prim = &prim.p;
-        killed_early = early_depth_test_at(plan_.simd, test, cq, c.count, masks);
+        killed_early = early_depth_test_at(plan_.simd, test, cq, count, masks);
     } else {
         killed_early = early_tests_per_sample<WithSink>(prim, c);
     }
     // The quads with a surviving sample move to the front (kept <= qi).
-    for (size_t qi = 0; qi < c.count; ++qi) {
+    for (size_t qi = 0; qi < count; ++qi) {
         uint64_t m4;
         std::memcpy(&m4, &masks[qi * 4], 8);
         if (!m4) continue;
         cq[kept] = cq[qi];
-        if (c.areas) c.areas[kept] = c.areas[qi];
+        if (ca) ca[kept] = ca[qi];
         std::memcpy(&masks[kept * 4], &m4, 8);
         ++kept;
     }
@@ -594,7 +601,7 @@ size_t TilePass::early_tests_per_sample(const Primitive& prim, Chunk& c) {
 
 // The shader only copies one smooth vec4 varying: its values go straight into pixels, no fragment
 // batch, and runs of four whole quads straight into the buffer's rows.
-void TilePass::write_copied_varying(Tile& t, const Primitive& prim, const Chunk& c) {
+SOFTGL_STEP void TilePass::write_copied_varying(Tile& t, const Primitive& prim, const Chunk& c) {
     uint32_t* const d = t.w.pixels.data();
     const uint64_t rows = whole_rows_of_four(buffer_pixels_, c.quads, c.masks, c.kept);
     if (plan_.kernel != ColorKernel::Plain || !plan_.all_channels)
@@ -608,7 +615,7 @@ void TilePass::write_copied_varying(Tile& t, const Primitive& prim, const Chunk&
 
 // The chunk's colours: the constant colour; or, from the fragment batch, the copied varying's
 // lanes, the shader's copies, or the shader's results.
-TilePass::Colors TilePass::shade(Tile& t, const Primitive& prim, const Chunk& c) {
+SOFTGL_STEP TilePass::Colors TilePass::shade(Tile& t, const Primitive& prim, const Chunk& c) {
     if (plan_.constant_color == Path::Taken) return Colors{constant_color_, kChunkLanes, 1, false};
     build_fragment_batch(t, prim, c);
     const size_t L = 4 * c.kept;
@@ -665,29 +672,35 @@ void TilePass::build_fragment_batch(Tile& t, const Primitive& prim, const Chunk&
 // The colour kernels on the chunk (the RGBA8 drawing buffer; tests done, nothing discarded):
 // by table lookup with rows of four in place; single-sampled, all lanes at once between gathered
 // and scattered pixels (ChunkPixels); else sample by sample.
-void TilePass::write(Tile& t, const Chunk& c, const Colors& col) {
+SOFTGL_STEP void TilePass::write(Tile& t, const Chunk& c, const Colors& col) {
     Scratch& w = t.w;
     const size_t L = 4 * c.kept;
     const uint64_t before = w.stats.samples_written;
     const LaneFloat* const src = col.col;
     const size_t cs = col.stride;
+    // In locals: the byte stores into pixels may alias anything, so fields would be read again.
+    const Quad* const cq = c.quads;
+    const uint16_t* const masks = c.masks;
+    const bool all_channels = plan_.all_channels;
+    const float* const table = unorm8_table_;
+    const int samples = samples_;
     auto write_all = [&](auto kernel_tag) {
         constexpr ColorKernel K = decltype(kernel_tag)::value;
         for (size_t lane = 0; lane < L; ++lane) {
-            const uint16_t mask = c.masks[lane];
+            const uint16_t mask = masks[lane];
             if (!mask) continue;
-            const Quad& quad = c.quads[lane / 4];
+            const Quad& quad = cq[lane / 4];
             const int j = int(lane % 4);
             const int32_t x = quad.x + (j & 1), y = quad.y + (j >> 1);
             const float color[4] = {src[lane], src[cs + lane], src[2 * cs + lane], src[3 * cs + lane]};
             uint8_t* px = drawing_buffer_->color_sample(x, y, 0);
-            if (samples_ == 1) {
-                write_color<K>(blend_, plan_.all_channels, unorm8_table_, color, px);
+            if (samples == 1) {
+                write_color<K>(blend_, all_channels, table, color, px);
                 w.stats.samples_written++;
             } else {
-                for (int s = 0; s < samples_; ++s) {
+                for (int s = 0; s < samples; ++s) {
                     if (!(mask & (1u << s))) continue;
-                    write_color<K>(blend_, plan_.all_channels, unorm8_table_, color, px + 4 * s);
+                    write_color<K>(blend_, all_channels, table, color, px + 4 * s);
                     w.stats.samples_written++;
                 }
             }
@@ -741,13 +754,7 @@ void TilePass::per_lane(Tile& t, const Primitive& prim, const Chunk& c, const Co
             const float shaded[4] = {col.col[lane], col.col[cs + lane], col.col[2 * cs + lane], col.col[3 * cs + lane]};
             sink_->shaded(p, x, y, mask, shaded);
         }
-        if (plan_.coverage_ops) {   // before the depth and stencil tests (ES 3.0 §4.1.3)
-            const uint16_t before = mask;
-            if (state_.sample_alpha_to_coverage) mask = uint16_t(mask & coverage_from_value(col.col[3 * cs + lane], samples_));
-            mask = uint16_t(mask & coverage_mask_);
-            if constexpr (WithSink) sink_->coverage_ops(p, x, y, before, mask);
-            if (!mask) continue;
-        }
+        if (plan_.coverage_ops && !(mask = coverage_ops<WithSink>(p, col, lane, x, y, mask))) continue;
         if (plan_.late_tests()) mask = late_tests<WithSink>(t, prim, lane, x, y, mask);
         if (!plan_.writes_color || !mask) continue;
         // Every colour output (MRT: framebuffer objects with drawBuffers) with the same changes.
@@ -760,6 +767,19 @@ void TilePass::per_lane(Tile& t, const Primitive& prim, const Chunk& c, const Co
         }
         blend<WithSink>(t, prim, col, lane, x, y, mask, colors);
     }
+}
+
+// Alpha-to-coverage and SAMPLE_COVERAGE (multisampled), before the depth and stencil tests
+// (ES 3.0 §4.1.3): the lane's samples that stay.
+template <bool WithSink>
+uint16_t TilePass::coverage_ops(const PrimitiveSetup& p, const Colors& col, size_t lane, int32_t x, int32_t y,
+                                uint16_t mask) const {
+    const uint16_t before = mask;
+    if (state_.sample_alpha_to_coverage)
+        mask = uint16_t(mask & coverage_from_value(col.col[3 * col.stride + lane], samples_));
+    mask = uint16_t(mask & coverage_mask_);
+    if constexpr (WithSink) sink_->coverage_ops(p, x, y, before, mask);
+    return mask;
 }
 
 // Depth/stencil after shading (the shader may discard or write gl_FragDepth, or coverage

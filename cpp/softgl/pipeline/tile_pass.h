@@ -53,7 +53,7 @@ struct TileBatch {
 class TilePass {
 public:
     // Per draw. `plan` gets its second step (plan_shading) at the first batch.
-    TilePass(const DrawInputs& in, DrawPlan& plan);
+    TilePass(const DrawInputs& in, const FragmentOps& ops, const TileGrid& grid, DrawPlan& plan);
     // The batch's tiles, on the pool (or on the caller when they hold little work).
     void run(const TileBatch& batch, DrawStats& stats);
     // Once at the end of the draw: the workers' counters.
@@ -84,6 +84,9 @@ private:
     void write(Tile& t, const Chunk& c, const Colors& col);
     template <bool WithSink> void per_lane(Tile& t, const Primitive& prim, const Chunk& c, const Colors& col);
     template <bool WithSink>
+    uint16_t coverage_ops(const PrimitiveSetup& p, const Colors& col, size_t lane, int32_t x, int32_t y,
+                          uint16_t mask) const;
+    template <bool WithSink>
     uint16_t late_tests(Tile& t, const Primitive& prim, size_t lane, int32_t x, int32_t y, uint16_t mask);
     template <bool WithSink>
     void blend(Tile& t, const Primitive& prim, const Colors& col, size_t lane, int32_t x, int32_t y, uint16_t mask,
@@ -100,7 +103,7 @@ private:
     const DepthStencilOp ds_;
     const FogOp fog_;
     const SamplePattern& pattern_;
-    const TileGrid grid_;
+    const TileGrid& grid_;
     const int samples_;
     const int words_;                            // varying words per vertex
     const uint32_t builtins_;                    // FragmentShader::builtins_read
