@@ -65,11 +65,11 @@ def _column_major(value):
 def _matrix_setter(name: str):
     core_setter = getattr(_core.Context, name)
 
-    def setter(self, location, transpose, value, *args):
-        return core_setter(self, location, transpose, _column_major(value), *args)
+    def setter(self, location, transpose, data, *args, **kwargs):
+        return core_setter(self, location, transpose, _column_major(data), *args, **kwargs)
 
     setter.__name__ = setter.__qualname__ = name
-    setter.__doc__ = (f"{name}(location, transpose, value[, srcOffset, srcLength]).\n\n"
+    setter.__doc__ = (core_setter.__doc__ + "\n"
                       "A flat sequence of floats is column-major, as in WebGL. A 2-D NumPy array "
                       "(or an array of matrices, shape (..., rows, columns)) is taken in math "
                       "layout ``M[row, col]``, as softgl.transforms returns it: it is sent as "
@@ -77,8 +77,22 @@ def _matrix_setter(name: str):
     return setter
 
 
-_core_bufferData = _core.Context.bufferData
-_core_bufferSubData = _core.Context.bufferSubData
+def _float64_checked(name: str):
+    """The C++ method `name` (positional or keyword arguments, its WebGL signatures in the
+    docstring), warning first when a float64 array is among its arguments (_float64_met)."""
+    core_method = getattr(_core.Context, name)
+    textures = name.startswith("tex")
+
+    def method(self, *args, **kwargs):
+        if _float64_array(args) or _float64_array(kwargs.values()):
+            texture_type = (args[7] if len(args) >= 9 else kwargs.get("type")) if textures else None
+            _float64_met(self, name, texture_type)
+        return core_method(self, *args, **kwargs)
+
+    method.__name__ = method.__qualname__ = name
+    method.__doc__ = (core_method.__doc__ + "\nA float64 NumPy array warns (softgl.Float64Warning; "
+                      "strict=True raises): WebGL takes its bytes as they are, so write np.float32.")
+    return method
 
 
 class Canvas:
@@ -348,32 +362,10 @@ class Context(_core.Context):
 
     # -- float64 arrays: WebGL's byte semantics stay, with a warning (softgl.Float64Warning) ----
 
-    def bufferData(self, target, data, *args):
-        """bufferData(target, data or size, usage[, srcOffset, length]): the array's bytes as
-        they are; a float64 array warns (softgl.Float64Warning): write np.float32."""
-        if type(data) is np.ndarray and data.dtype.char == "d":   # float64, either byte order
-            _float64_met(self, "bufferData")
-        return _core_bufferData(self, target, data, *args)
-
-    def bufferSubData(self, target, offset, data, *args):
-        """bufferSubData(target, dstByteOffset, data[, srcOffset, length]): as bufferData, a
-        float64 array warns."""
-        if type(data) is np.ndarray and data.dtype.char == "d":
-            _float64_met(self, "bufferSubData")
-        return _core_bufferSubData(self, target, offset, data, *args)
-
-    def texImage2D(self, *args):
-        """WebGL's texImage2D overloads; a float64 pixel array (never a WebGL pixel type)
-        warns with what to write instead (np.float32 for type FLOAT)."""
-        if _float64_array(args):
-            _float64_met(self, "texImage2D", args[7] if len(args) >= 9 else None)
-        return _core.Context.texImage2D(self, *args)
-
-    def texSubImage2D(self, *args):
-        """WebGL's texSubImage2D overloads; a float64 pixel array warns as in texImage2D."""
-        if _float64_array(args):
-            _float64_met(self, "texSubImage2D", args[7] if len(args) >= 9 else None)
-        return _core.Context.texSubImage2D(self, *args)
+    bufferData = _float64_checked("bufferData")
+    bufferSubData = _float64_checked("bufferSubData")
+    texImage2D = _float64_checked("texImage2D")
+    texSubImage2D = _float64_checked("texSubImage2D")
 
     # Matrices: 2-D arrays in math layout, flat sequences column-major (see _matrix_setter).
     uniformMatrix2fv = _matrix_setter("uniformMatrix2fv")
