@@ -12,7 +12,10 @@ by itself from now on.
 from __future__ import annotations
 
 import re
+import sys
 from pathlib import Path
+
+import pytest
 
 CPP = Path(__file__).resolve().parents[2] / "cpp"
 INCLUDE = re.compile(r'^\s*#\s*include\s+"([^"]+)"', re.M)
@@ -105,19 +108,14 @@ def test_modules_within_a_layer_form_no_cycle():
 
 def test_the_rule_catches_a_wrong_include(tmp_path, monkeypatch):
     # The checker itself: a surface file including the pipeline must be reported.
-    global CPP
     root = tmp_path / "cpp"
     (root / "softgl" / "surface").mkdir(parents=True)
     (root / "softgl" / "pipeline").mkdir(parents=True)
     (root / "softgl" / "pipeline" / "x.h").write_text("#pragma once\n")
     (root / "softgl" / "surface" / "y.h").write_text('#include "softgl/pipeline/x.h"\n')
-    monkeypatch.setattr(__import__(__name__), "CPP", root)
-    try:
+    monkeypatch.setattr(sys.modules[__name__], "CPP", root)
+    with pytest.raises(AssertionError, match=re.escape("surface/y.h (surface) includes softgl/pipeline/x.h (pipeline)")):
         test_includes_point_down()
-    except AssertionError as e:
-        assert "surface/y.h (surface) includes softgl/pipeline/x.h (pipeline)" in str(e)
-    else:
-        raise AssertionError("a surface -> pipeline include was not reported")
 
 
 def test_the_rule_catches_a_harness_include(tmp_path, monkeypatch):
@@ -127,10 +125,6 @@ def test_the_rule_catches_a_harness_include(tmp_path, monkeypatch):
     (root / "testing").mkdir(parents=True)
     (root / "testing" / "probe.h").write_text("#pragma once\n")
     (root / "softgl" / "pipeline" / "draw.cpp").write_text('#include "testing/probe.h"\n')
-    monkeypatch.setattr(__import__(__name__), "CPP", root)
-    try:
+    monkeypatch.setattr(sys.modules[__name__], "CPP", root)
+    with pytest.raises(AssertionError, match=re.escape("softgl/pipeline/draw.cpp includes testing/probe.h")):
         test_product_code_includes_no_harness()
-    except AssertionError as e:
-        assert "softgl/pipeline/draw.cpp includes testing/probe.h" in str(e)
-    else:
-        raise AssertionError("a pipeline -> testing include was not reported")
