@@ -11,8 +11,9 @@ CXX="${CXX:-clang++-14}"
 out=build/fuzz
 mkdir -p "$out"
 flags="-std=c++17 -O1 -g -fsanitize=fuzzer,address,undefined -fno-sanitize-recover=undefined -ffp-contract=off -Icpp"
-glsl_sources=$(ls cpp/softgl/glsl/*.cpp)
-if [ ! -x "$out/glsl_compile_fuzzer" ] || [ -n "$(find cpp/softgl/glsl cpp/fuzz -newer "$out/glsl_compile_fuzzer" -name '*.[ch]*' | head -1)" ]; then
+# The compiler and what it stands on: glsl uses only core (docs/architecture.md, "Layers").
+glsl_sources=$(ls cpp/softgl/glsl/*.cpp cpp/softgl/core/*.cpp)
+if [ ! -x "$out/glsl_compile_fuzzer" ] || [ -n "$(find cpp/softgl/glsl cpp/softgl/core cpp/fuzz -newer "$out/glsl_compile_fuzzer" -name '*.[ch]*' | head -1)" ]; then
     echo "building glsl_compile_fuzzer ..."
     $CXX $flags cpp/fuzz/glsl_compile_fuzzer.cpp $glsl_sources -o "$out/glsl_compile_fuzzer"
 fi
