@@ -6,6 +6,7 @@ or None, and triangle indices (M,) for ``drawElements(gl.TRIANGLES, mesh.count,
 mesh.index_type, 0)``.
 
 Conventions (WebGL's defaults, so nothing needs changing on the context):
+
 - right-handed, y up; solids are centred on the origin;
 - front faces are counter-clockwise seen from outside (``frontFace(CCW)``, ``cullFace(BACK)``
   culls the inside);

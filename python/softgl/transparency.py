@@ -1,4 +1,4 @@
-"""Transparency, exactly and approximately: one scene, every usual method, each with its error.
+"""Transparency, exactly and approximately: one scene, every usual method, each with its error::
 
     from softgl import transparency as tr
     scene = tr.Scene(objects=[tr.Object(geometry.sphere(), color=(1, 0, 0, 0.5)), ...],
