@@ -42,6 +42,32 @@ def _images(frames) -> list[np.ndarray]:
     return images
 
 
+def label_frames(images, labels, font_size: float = 9) -> list[np.ndarray]:
+    """Each image with its label written above it (matplotlib, the ``lab`` extra), (h', w, 3) uint8.
+
+    The labels are rendered at the images' own pixel scale, so a frame keeps its size and only
+    gains a strip of text on top."""
+    if len(labels) != len(images):
+        raise ValueError(f"label_frames: {len(labels)} labels for {len(images)} frames")
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    h, w, _ = images[0].shape
+    dpi = 100
+    strip = int(round(font_size * dpi / 72 * 1.8))
+    out = []
+    for image, label in zip(images, labels):
+        fig = Figure(figsize=(w / dpi, (h + strip) / dpi), dpi=dpi)
+        canvas = FigureCanvasAgg(fig)
+        fig.text(0.5, 1 - strip / 2 / (h + strip), str(label), ha="center", va="center", fontsize=font_size)
+        ax = fig.add_axes((0, 0, 1, h / (h + strip)))
+        ax.imshow(image, interpolation="nearest")
+        ax.set_axis_off()
+        canvas.draw()
+        out.append(np.asarray(canvas.buffer_rgba())[..., :3].copy())
+    return out
+
+
 def _gif_oiio(images, path: Path, fps: float, loop: int):
     import OpenImageIO as oiio
     h, w, _ = images[0].shape
@@ -127,10 +153,13 @@ def filmstrip(frames, columns: int | None = None, gap: int = 4) -> np.ndarray:
 
 class Animation:
     """Frames shown inline: the animated GIF (HTML) where HTML is rendered, a filmstrip PNG
-    elsewhere. ``.gif`` holds the GIF's bytes; ``.save(path)`` writes them."""
+    elsewhere. ``.gif`` holds the GIF's bytes; ``.save(path)`` writes them. With `labels`, each
+    frame shows its label above it."""
 
-    def __init__(self, frames, fps: float = 10, loop: int = 0, columns: int | None = None):
+    def __init__(self, frames, fps: float = 10, loop: int = 0, columns: int | None = None, labels=None):
         self.frames = _images(frames)
+        if labels is not None:
+            self.frames = label_frames(self.frames, list(labels))
         self.fps = fps
         self.gif = gif_bytes(self.frames, fps, loop)
         self.columns = columns
@@ -151,6 +180,8 @@ class Animation:
         return len(self.frames)
 
 
-def show(frames, fps: float = 10, loop: int = 0, columns: int | None = None) -> Animation:
-    """An Animation of `frames`, to display inline (the last expression of a cell)."""
-    return Animation(frames, fps, loop, columns)
+def show(frames, fps: float = 10, loop: int = 0, columns: int | None = None,
+         labels=None) -> Animation:
+    """An Animation of `frames`, to display inline (the last expression of a cell); `labels` (one
+    string per frame) are written above the frames, in the GIF and in the filmstrip."""
+    return Animation(frames, fps, loop, columns, labels)

@@ -173,8 +173,13 @@ class BlendExplorer:
         self.calls.value = f"<pre style='font-size:11px'>{html.escape(self.last.calls)}</pre>{note}"
 
     def _ipython_display_(self):
-        from IPython.display import display as show
-        show(self.widget)
+        # The live widget, with the current picture as the PNG a page without a kernel or widget
+        # state shows instead (a static HTML export, the docs site, GitHub's viewer).
+        import base64
+        from IPython.display import publish_display_data
+        bundle = dict(self.widget._repr_mimebundle_())
+        bundle["image/png"] = base64.b64encode(display.encode_png(self.last.image)).decode("ascii")
+        publish_display_data(bundle)
 
     def _repr_png_(self):   # for viewers without widgets (e.g. an HTML export)
         return display.encode_png(self.last.image)

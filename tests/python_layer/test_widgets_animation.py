@@ -53,6 +53,19 @@ def test_explorer_callback_updates_the_picture():
     assert "INVALID_OPERATION" in ex.calls.value or "blendFunc" in ex.calls.value
 
 
+def test_explorer_shows_the_live_widget_and_a_picture_for_pages_without_a_kernel(monkeypatch):
+    pytest.importorskip("ipywidgets")
+    import base64
+    import IPython.display
+    shown = []
+    monkeypatch.setattr(IPython.display, "publish_display_data", lambda data, **kw: shown.append(data))
+    ex = widgets.blend_explorer(96, 72, opacity=0.6)
+    ex._ipython_display_()
+    (bundle,) = shown
+    assert bundle["application/vnd.jupyter.widget-view+json"]["model_id"] == ex.widget.model_id
+    assert base64.b64decode(bundle["image/png"]) == ex.image.value
+
+
 def frames(n=5, size=(24, 32)):
     out = []
     for i in range(n):
@@ -90,3 +103,18 @@ def test_animation_displays_inline_and_checks_sizes():
     assert anim._repr_png_()[:4] == b"\x89PNG"
     with pytest.raises(ValueError, match="differ in size"):
         animation.frames_to_gif(frames(2) + frames(2, (8, 8)), "x.gif")
+
+
+def test_labelled_frames_keep_their_pixels_and_gain_their_label():
+    pytest.importorskip("matplotlib")
+    fs = frames(2)
+    images = [animation.frame_image(f) for f in fs]
+    anim = animation.show(fs, fps=4, labels=["light at 0°", "light at 180°"])
+    h = images[0].shape[0]
+    for got, image in zip(anim.frames, images):
+        assert got.shape[0] > h and got.shape[1:] == image.shape[1:]
+        assert np.array_equal(got[-h:], image)            # the frame itself, pixel for pixel
+        assert (got[:-h] < 128).any()                     # dark text on the white strip above
+    assert not np.array_equal(anim.frames[0][:-h], anim.frames[1][:-h])   # each its own label
+    with pytest.raises(ValueError, match="2 labels for 3 frames"):
+        animation.show(frames(3), labels=["a", "b"])
