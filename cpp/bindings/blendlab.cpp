@@ -23,6 +23,12 @@ py::object tristate(int v) { return v < 0 ? py::object(py::none()) : py::object(
 template <class T>
 py::tuple tuple4(const T* v) { return py::make_tuple(v[0], v[1], v[2], v[3]); }
 
+// Stored RGBA8 bytes as the blend equation reads them (ES 3.0 §2.1.6.1: b / 255), so every colour
+// of a report is one kind of number; the bytes themselves are `out_bytes`.
+py::tuple unorm4(const uint8_t* v) {
+    return py::make_tuple(v[0] / 255.0, v[1] / 255.0, v[2] / 255.0, v[3] / 255.0);
+}
+
 py::dict report_dict(const softgl::FragmentReport& r, int32_t x, int32_t y) {
     py::dict d;
     d["x"] = x;
@@ -48,13 +54,14 @@ py::dict report_dict(const softgl::FragmentReport& r, int32_t x, int32_t y) {
         py::dict b;
         b["enabled"] = !op.is_plain_write();
         b["src"] = tuple4(r.src);
-        b["dst"] = tuple4(r.dst);
+        b["dst"] = unorm4(r.dst);
         b["src_factor"] = tuple4(r.src_factor);
         b["dst_factor"] = tuple4(r.dst_factor);
         b["factors"] = py::make_tuple(factor_name(op.src_rgb), factor_name(op.dst_rgb),
                                       factor_name(op.src_alpha), factor_name(op.dst_alpha));
         b["equation"] = py::make_tuple(softgl::enum_name(op.eq_rgb), softgl::enum_name(op.eq_alpha));
-        b["out"] = tuple4(r.out);
+        b["out"] = unorm4(r.out);
+        b["out_bytes"] = tuple4(r.out);
         d["blend"] = b;
     } else {
         d["blend"] = py::none();

@@ -200,6 +200,9 @@ def _extension_functions(name: str, gl) -> dict:
     return {}
 
 
+# softgl's extensions that only an RGBA8 drawing buffer offers (lower case, as getExtension matches).
+_BLEND_LAB_EXTENSIONS = {n.lower() for n in _blendlab_ext.CONSTANTS}
+
 # Entry points that exist only on WebGL2RenderingContext.
 WEBGL2_ONLY = ["copyBufferSubData", "getBufferSubData", "vertexAttribIPointer", "vertexAttribI4i",
                "vertexAttribI4ui", "vertexAttribI4iv", "vertexAttribI4uiv", "vertexAttribDivisor",
@@ -292,6 +295,12 @@ class Context(_core.Context):
             return self._extensions[name]
         supported = {n.lower(): n for n in self.getSupportedExtensions()}
         canonical = supported.get(name.lower())   # extension names match case-insensitively
+        if canonical is None and name.lower() in _BLEND_LAB_EXTENSIONS:
+            # WebGL answers null; say why, since the name is one softgl offers elsewhere.
+            fmt = self._attributes().color_format
+            warnings.warn(f"getExtension({name!r}): None on a color_format={fmt!r} context: the blend "
+                          "lab records and resolves RGBA8 drawing-buffer colours; create the context "
+                          "with color_format='rgba8' (the default) to use it", UserWarning, stacklevel=2)
         if canonical is None or not self._enable_extension(canonical):
             return None
         ext = Extension(canonical, _EXTENSION_CONSTANTS.get(canonical, {}) |

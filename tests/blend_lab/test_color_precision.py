@@ -95,14 +95,6 @@ def test_bad_color_format():
         softgl.Context(4, 4, color_format=16)
 
 
-def test_blend_lab_extensions_need_rgba8():
-    gl = softgl.Context(4, 4, color_format="rgba32f")
-    names = gl.getSupportedExtensions()
-    assert "SOFTGL_exact_transparency" not in names and "SOFTGL_introspection" not in names
-    assert gl.getExtension("SOFTGL_exact_transparency") is None
-    assert "SOFTGL_smooth" in names and "SOFTGL_fog" in names
-
-
 # ---------------------------------------------------------------- clear, quantization
 
 def special_values(rng, n):

@@ -52,7 +52,8 @@ def test_two_overlapping_quads_one_failing_the_depth_test():
     assert [(r["draw"], r["fate"]) for r in f] == [(0, "written"), (1, "failed the depth test (early)")]
     red, green = f
     assert red["tests"]["depth"] is True and red["shader_color"] == (1.0, 0.0, 0.0, 1.0)
-    assert red["blend"]["out"] == (255, 0, 0, 255) and red["blend"]["enabled"] is False
+    assert red["blend"]["out"] == (1.0, 0.0, 0.0, 1.0) and red["blend"]["enabled"] is False
+    assert red["blend"]["out_bytes"] == (255, 0, 0, 255)
     assert green["tests"]["depth"] is False and green["shader_color"] is None and green["blend"] is None
     assert green["depth"] == pytest.approx(0.75, abs=1e-7) and red["depth"] == pytest.approx(0.5, abs=1e-7)
     assert green["early_tests"] and green["tests"]["stencil"] is None and green["tests"]["scissor"] is None
@@ -61,11 +62,14 @@ def test_two_overlapping_quads_one_failing_the_depth_test():
     assert [(r["draw"], r["fate"]) for r in f] == [(0, "written"), (1, "failed the depth test (early)"),
                                                     (2, "blended")]
     b = f[2]["blend"]
-    assert b["src"] == (0.0, 0.0, 1.0, 0.5) and b["dst"] == (255, 0, 0, 255)
+    assert b["src"] == (0.0, 0.0, 1.0, 0.5) and b["dst"] == (1.0, 0.0, 0.0, 1.0)
     assert b["factors"] == ("SRC_ALPHA", "ONE_MINUS_SRC_ALPHA", "SRC_ALPHA", "ONE_MINUS_SRC_ALPHA")
     assert b["src_factor"] == (0.5,) * 4 and b["dst_factor"] == (0.5,) * 4
-    assert b["out"][:3] == (128, 0, 128)
-    assert tuple(gl.readPixels(5, 5, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE)[0, 0]) == b["out"]
+    assert b["out_bytes"][:3] == (128, 0, 128) and b["out"][:3] == (128 / 255, 0.0, 128 / 255)
+    assert tuple(gl.readPixels(5, 5, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE)[0, 0]) == b["out_bytes"]
+    # Every colour of the report is one kind of number: floats as the blend equation sees them.
+    for key in ("src", "dst", "src_factor", "dst_factor", "out"):
+        assert all(type(v) is float for v in b[key]), key
     # Pixel (7, 5): green written (nothing in front), then blue over green.
     assert [(r["draw"], r["fate"]) for r in gl.fragments(7, 5)] == [(1, "written"), (2, "blended")]
     # One fragment per pixel per draw: each pixel lies in exactly one triangle of a strip.
@@ -144,3 +148,15 @@ def test_log_memory_limit(quiet):
     quad(gl, loc, 0, 8, 0.0, (1, 1, 1, 1))
     assert gl.getError() == gl.OUT_OF_MEMORY and ext.memory()["overflowed"]
     assert gl.fragments(1, 1) == [] and gl.getError() == gl.OUT_OF_MEMORY   # refuses, not partial
+
+
+@pytest.mark.parametrize("fmt", ["rgba16f", "rgba32f"])
+@pytest.mark.parametrize("name", ["SOFTGL_exact_transparency", "SOFTGL_introspection"])
+def test_float_contexts_refuse_the_blend_lab_with_a_reason(fmt, name):
+    gl = softgl.Context(8, 8, color_format=fmt)
+    names = gl.getSupportedExtensions()
+    assert name not in names and "SOFTGL_smooth" in names and "SOFTGL_fog" in names
+    with pytest.warns(UserWarning, match=rf"{name}.*color_format='{fmt}'.*color_format='rgba8'"):
+        assert gl.getExtension(name) is None
+    assert gl.getError() == gl.NO_ERROR
+    assert softgl.Context(8, 8).getExtension(name) is not None     # RGBA8: offered
