@@ -317,6 +317,10 @@ class WebGLOnGLES:
     def renderbufferStorage(self, target: int, internalformat: int, width: int, height: int) -> None:
         self._gl.glRenderbufferStorage(target, internalformat, width, height)
 
+    def renderbufferStorageMultisample(self, target: int, samples: int, internalformat: int,
+                                       width: int, height: int) -> None:
+        self._gl.glRenderbufferStorageMultisample(target, samples, internalformat, width, height)
+
     def framebufferRenderbuffer(self, target: int, attachment: int, rbtarget: int,
                                 renderbuffer: GLName | None) -> None:
         self._gl.glFramebufferRenderbuffer(target, attachment, rbtarget, _name(renderbuffer))
