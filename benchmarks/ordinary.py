@@ -701,9 +701,9 @@ void main() {
     gl.bindVertexArray(vao)
     attribute(gl, prog, "aPos", pos * np.float32(3.0))
     count, itype = indices(gl, idx)
-    eye = (0.0, 2.2, 3.2)
+    eye = (0.0, 1.5, 2.1)
     gl.useProgram(prog)
-    mvp = perspective(50, w / h, 0.1, 20) @ look_at(eye, (0, 0, -0.4))
+    mvp = perspective(50, w / h, 0.1, 20) @ look_at(eye, (0, 0, -0.6))
     gl.uniformMatrix4fv(gl.getUniformLocation(prog, "uMVP"), False, flat(mvp))
     gl.uniform3fv(gl.getUniformLocation(prog, "uLightPos"),
                   np.array([-1.5, 1.5, 0.5, 1.5, 1.8, -0.5, 0.0, 1.2, 1.2], np.float32))
@@ -1067,6 +1067,8 @@ void main() { fragColor = vec4(vColor, 1.0); }
 """
     prog = program(gl, vs, fs)
     pos, nrm = cube()
+    turn = rotate(0.6, (1, 1, 0))[:3, :3]   # three faces towards the camera
+    pos, nrm = (pos @ turn.T).astype(np.float32), (nrm @ turn.T).astype(np.float32)
     n, r = 10_000, np.random.default_rng(70)
     depth = r.uniform(6, 14, n)
     half_h = math.tan(math.radians(22.5)) * depth
@@ -1079,7 +1081,7 @@ void main() { fragColor = vec4(vColor, 1.0); }
     attribute(gl, prog, "aOffset", offsets.astype(np.float32), divisor=1)
     attribute(gl, prog, "aColor", colors.astype(np.float32), divisor=1)
     gl.useProgram(prog)
-    view_proj = perspective(45, w / h, 0.5, 30) @ rotate(0.3, (1, 1, 0))
+    view_proj = perspective(45, w / h, 0.5, 30)
     gl.uniformMatrix4fv(gl.getUniformLocation(prog, "uViewProj"), False, flat(view_proj))
     gl.enable(gl.DEPTH_TEST)
     gl.enable(gl.CULL_FACE)
@@ -1093,8 +1095,8 @@ void main() { fragColor = vec4(vColor, 1.0); }
 
 def cubemap_env(gl, w, h):
     """Environment mapping: a 6 x 256² RGBA8 cube map, a full-screen sky (one lookup along each
-    pixel's view ray) and a reflective sphere of 8,064 triangles over half the canvas
-    (`reflect`, a second lookup); LINEAR filtering."""
+    pixel's view ray) and a reflective sphere of 8,064 triangles over most of the canvas height
+    (`reflect`, a second lookup there); LINEAR filtering."""
     sky_vs = """#version 300 es
 uniform mat4 uInvViewProj;
 in vec2 aPos;
@@ -1158,14 +1160,14 @@ void main() {
     for pname, value in ((gl.TEXTURE_MIN_FILTER, gl.LINEAR), (gl.TEXTURE_MAG_FILTER, gl.LINEAR),
                          (gl.TEXTURE_WRAP_S, gl.CLAMP_TO_EDGE), (gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE)):
         gl.texParameteri(gl.TEXTURE_CUBE_MAP, pname, value)
-    eye = np.array([0.0, 0.6, 3.0])
+    eye = np.array([0.0, 0.5, 2.6])
     view_proj = perspective(60, w / h, 0.1, 20) @ look_at(eye, (0, 0, 0))
     gl.useProgram(sky)
     gl.uniformMatrix4fv(gl.getUniformLocation(sky, "uInvViewProj"), False, flat(np.linalg.inv(view_proj)))
     gl.uniform1i(gl.getUniformLocation(sky, "uEnv"), 0)
     gl.useProgram(obj)
     gl.uniformMatrix4fv(gl.getUniformLocation(obj, "uViewProj"), False, flat(view_proj))
-    gl.uniformMatrix4fv(gl.getUniformLocation(obj, "uModel"), False, flat(scale(1.1, 1.1, 1.1)))
+    gl.uniformMatrix4fv(gl.getUniformLocation(obj, "uModel"), False, flat(scale(1.25, 1.25, 1.25)))
     gl.uniform3f(gl.getUniformLocation(obj, "uEye"), *eye)
     gl.uniform1i(gl.getUniformLocation(obj, "uEnv"), 0)
     gl.enable(gl.CULL_FACE)
