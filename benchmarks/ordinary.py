@@ -25,6 +25,7 @@ from __future__ import annotations
 import argparse
 import math
 import os
+import shlex
 import statistics
 import sys
 import time
@@ -1456,7 +1457,7 @@ def main(argv=None):
                       f"  <=1 {r['within1'] * 100:5.1f}%  >16 {r['over16'] * 100:4.1f}%  n={r['n']}{flag}",
                       flush=True)
     load1 = os.getloadavg()
-    command = "python benchmarks/ordinary.py" + "".join(f" {a}" for a in (argv if argv is not None else sys.argv[1:]))
+    command = shlex.join(["python", "benchmarks/ordinary.py", *(argv if argv is not None else sys.argv[1:])])
     text = report(rows, load0, load1, started, info, command, args.note)
     print()
     print(text)
