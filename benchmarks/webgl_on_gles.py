@@ -38,10 +38,9 @@ ENUMS = {name: value for name, value in GL.items()} | {
     "NO_ERROR": 0, "NONE": 0,
     "DEPTH_BUFFER_BIT": 0x0100, "STENCIL_BUFFER_BIT": 0x0400, "COLOR_BUFFER_BIT": 0x4000,
     # capabilities
-    "BLEND": 0x0BE2, "DEPTH_TEST": 0x0B71, "CULL_FACE": 0x0B44, "POLYGON_OFFSET_FILL": 0x8037,
+    "BLEND": 0x0BE2, "DEPTH_TEST": 0x0B71, "CULL_FACE": 0x0B44,
     # buffers
     "ARRAY_BUFFER": 0x8892, "ELEMENT_ARRAY_BUFFER": 0x8893, "STATIC_DRAW": 0x88E4,
-    "DYNAMIC_DRAW": 0x88E8,
     # types
     "BYTE": 0x1400, "UNSIGNED_BYTE": 0x1401, "SHORT": 0x1402, "UNSIGNED_SHORT": 0x1403,
     "INT": 0x1404, "UNSIGNED_INT": 0x1405, "FLOAT": 0x1406,
@@ -57,7 +56,7 @@ ENUMS = {name: value for name, value in GL.items()} | {
     "TEXTURE_WRAP_T": 0x2803, "TEXTURE_WRAP_R": 0x8072,
     "TEXTURE_COMPARE_MODE": 0x884C, "TEXTURE_COMPARE_FUNC": 0x884D,
     "COMPARE_REF_TO_TEXTURE": 0x884E,
-    "UNPACK_ALIGNMENT": 0x0CF5, "PACK_ALIGNMENT": 0x0D05,
+    "PACK_ALIGNMENT": 0x0D05,
     # formats
     "RGB": 0x1907, "RGBA": 0x1908, "RGBA8": 0x8058, "DEPTH_COMPONENT": 0x1902,
     "DEPTH_COMPONENT16": 0x81A5, "DEPTH_COMPONENT24": 0x81A6, "DEPTH_COMPONENT32F": 0x8CAC,
@@ -156,10 +155,6 @@ class WebGLOnGLES:
         self._gl.glGetShaderInfoLog(shader.name, len(log), None, log)
         return log.value.decode(errors="replace")
 
-    def deleteShader(self, shader: GLName | None) -> None:
-        if shader is not None:
-            self._gl.glDeleteShader(shader.name)
-
     def createProgram(self) -> GLName:
         return GLName("WebGLProgram", self._gl.glCreateProgram())
 
@@ -215,14 +210,8 @@ class WebGLOnGLES:
             arr, ptr = _floats(data)
             fn(loc, arr.size // comps, ptr)
 
-    def uniform1fv(self, loc, data) -> None:
-        self._uniform_fv(self._gl.glUniform1fv, 1, loc, data)
-
     def uniform3fv(self, loc, data) -> None:
         self._uniform_fv(self._gl.glUniform3fv, 3, loc, data)
-
-    def uniform4fv(self, loc, data) -> None:
-        self._uniform_fv(self._gl.glUniform4fv, 4, loc, data)
 
     def uniformMatrix3fv(self, loc, transpose: bool, data) -> None:
         if loc is not None:
@@ -271,9 +260,6 @@ class WebGLOnGLES:
 
     def bindTexture(self, target: int, texture: GLName | None) -> None:
         self._gl.glBindTexture(target, _name(texture))
-
-    def pixelStorei(self, pname: int, param: int) -> None:
-        self._gl.glPixelStorei(pname, int(param))
 
     def texImage2D(self, target: int, level: int, internalformat: int, width: int, height: int,
                    border: int, format: int, type: int, pixels) -> None:
@@ -372,35 +358,11 @@ class WebGLOnGLES:
     def clearColor(self, r, g, b, a) -> None:
         self._gl.glClearColor(r, g, b, a)
 
-    def clearDepth(self, depth) -> None:
-        self._gl.glClearDepthf(depth)
-
     def clear(self, mask: int) -> None:
         self._gl.glClear(mask)
 
     def blendFunc(self, sfactor: int, dfactor: int) -> None:
         self._gl.glBlendFunc(sfactor, dfactor)
-
-    def depthFunc(self, func: int) -> None:
-        self._gl.glDepthFunc(func)
-
-    def depthMask(self, flag: bool) -> None:
-        self._gl.glDepthMask(bool(flag))
-
-    def colorMask(self, r: bool, g: bool, b: bool, a: bool) -> None:
-        self._gl.glColorMask(bool(r), bool(g), bool(b), bool(a))
-
-    def cullFace(self, mode: int) -> None:
-        self._gl.glCullFace(mode)
-
-    def frontFace(self, mode: int) -> None:
-        self._gl.glFrontFace(mode)
-
-    def polygonOffset(self, factor, units) -> None:
-        self._gl.glPolygonOffset(factor, units)
-
-    def lineWidth(self, width) -> None:
-        self._gl.glLineWidth(width)
 
     # -- drawing -----------------------------------------------------------------------------
     def drawArrays(self, mode: int, first: int, count: int) -> None:
@@ -412,9 +374,6 @@ class WebGLOnGLES:
     def drawArraysInstanced(self, mode: int, first: int, count: int, instanceCount: int) -> None:
         self._gl.glDrawArraysInstanced(mode, first, count, instanceCount)
 
-    def drawElementsInstanced(self, mode: int, count: int, type: int, offset: int,
-                              instanceCount: int) -> None:
-        self._gl.glDrawElementsInstanced(mode, count, type, _c.c_void_p(offset), instanceCount)
 
 
 # ---------------------------------------------------------------------------------------------
