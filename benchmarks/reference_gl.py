@@ -225,6 +225,16 @@ _GL_FUNCS = {
     "glFinish": (None, []),
     "glPixelStorei": (None, [_u, _i]),
     "glReadPixels": (None, [_i, _i, _i, _i, _u, _u, _vp]),
+    # Used by the WebGL adapter (webgl_on_gles.py) of the ordinary-content suite.
+    "glUniform1i": (None, [_i, _i]),
+    "glUniform1f": (None, [_i, _f]),
+    "glUniform2f": (None, [_i, _f, _f]),
+    "glUniform3f": (None, [_i, _f, _f, _f]),
+    "glUniform4f": (None, [_i, _f, _f, _f, _f]),
+    "glVertexAttribDivisor": (None, [_u, _u]),
+    "glDrawArraysInstanced": (None, [_u, _i, _i, _i]),
+    "glFramebufferTexture2D": (None, [_u, _u, _u, _u, _i]),
+    "glBlendFunc": (None, [_u, _u]),
 }
 # Uniform setters: glUniform{1,2,3,4}{f,i,ui}v(loc, count, ptr) and
 # glUniformMatrix*fv(loc, count, transpose, ptr).
