@@ -154,7 +154,7 @@ _EXTENSION_CONSTANTS = {
     # softgl's area-averaged antialiasing: OpenGL 1.x smoothing enums.
     "SOFTGL_smooth": {"POINT_SMOOTH": 0x0B10, "LINE_SMOOTH": 0x0B20, "POLYGON_SMOOTH": 0x0B41,
                       "POINT_SMOOTH_HINT": 0x0C51, "LINE_SMOOTH_HINT": 0x0C52,
-                      "POLYGON_SMOOTH_HINT": 0x0C53},
+                      "POLYGON_SMOOTH_HINT": 0x0C53, "SMOOTH_LINE_WIDTH_RANGE": 0x0B22},
     **_blendlab_ext.CONSTANTS,   # SOFTGL_exact_transparency, SOFTGL_introspection
     # Textures and framebuffers
     "OES_texture_half_float": {"HALF_FLOAT_OES": 0x8D61},

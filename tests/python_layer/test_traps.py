@@ -233,6 +233,47 @@ def test_setting_the_canvas_size_resizes_the_drawing_buffer():
     assert gl.drawingBufferWidth == 30
 
 
+# -- 7. line widths follow what Chromium reports ------------------------------------------------
+
+def _chromium_line_width_range():
+    import json
+    from pathlib import Path
+    ref = json.loads((Path(__file__).parents[1] / "webgl" / "reference" / "initial_parameters.json").read_text())
+    return {v: ref[f"v{v}"]["params"]["ALIASED_LINE_WIDTH_RANGE"]["v"] for v in (1, 2)}
+
+
+def _line_pixels(gl, width):
+    prog = triangle_program(gl)
+    prog.set(uModel=np.eye(4))
+    gl.bufferData(gl.ARRAY_BUFFER, np.array([-0.8, -0.3, 0.8, 0.4], np.float32), gl.STATIC_DRAW)
+    gl.clear(gl.COLOR_BUFFER_BIT)
+    gl.lineWidth(width)
+    gl.drawArrays(gl.LINES, 0, 2)
+    return red_pixels(gl)
+
+
+@pytest.mark.parametrize("version", [1, 2])
+def test_aliased_line_width_range_and_drawing_follow_chromium(version):
+    gl = softgl.Context(64, 64, version=version, antialias=False, preserveDrawingBuffer=True)
+    gl.bindBuffer(gl.ARRAY_BUFFER, gl.createBuffer())
+    assert list(gl.getParameter(gl.ALIASED_LINE_WIDTH_RANGE)) == _chromium_line_width_range()[version] == [1, 1]
+    thin = _line_pixels(gl, 1)
+    wide = _line_pixels(gl, 6)
+    assert gl.getParameter(gl.LINE_WIDTH) == 6                    # kept as set (WebGL)
+    # x-major from x = 6.4 to 57.6: the 51 pixel centres in between, one per column (hand count)
+    assert thin.sum() == 51 and np.array_equal(wide, thin)        # drawn 1 px wide, as Chromium does
+
+
+def test_smooth_lines_keep_their_own_wide_range():
+    gl = softgl.Context(64, 64, antialias=False, preserveDrawingBuffer=True)
+    ext = gl.getExtension("SOFTGL_smooth")
+    assert list(gl.getParameter(ext.SMOOTH_LINE_WIDTH_RANGE)) == [1, 256]
+    gl.bindBuffer(gl.ARRAY_BUFFER, gl.createBuffer())
+    gl.enable(ext.LINE_SMOOTH)
+    thin, wide = _line_pixels(gl, 1), _line_pixels(gl, 6)
+    assert wide.sum() > 2.5 * thin.sum()    # a 6-px band touches ~3x the pixels of a 1-px one
+
+
 # -- 8. image comparisons write files only where asked -----------------------------------------
 
 def test_assert_images_close_writes_nothing_unless_asked(tmp_path, monkeypatch):

@@ -56,7 +56,6 @@ inline constexpr int32_t kMaxVertexUniformVectors = 1024;
 inline constexpr int32_t kMaxFragmentUniformVectors = 1024;
 inline constexpr int32_t kMaxVaryingVectors = 16;
 inline constexpr float kPointSizeRange[2] = {1.0f, 1024.0f};
-inline constexpr float kLineWidthRange[2] = {1.0f, 256.0f};
 inline constexpr int32_t kSubpixelBits = 8;
 inline constexpr int32_t kMaxSamples = 16;
 }  // namespace limits

@@ -99,7 +99,7 @@ std::optional<Value> state_parameter(const State& s, GLenum pname) {
 // WebGL 1's implementation limits.
 std::optional<Value> limit_parameter(GLenum pname) {
     switch (pname) {
-        case gl::ALIASED_LINE_WIDTH_RANGE: return floats({limits::kLineWidthRange[0], limits::kLineWidthRange[1]});
+        case gl::ALIASED_LINE_WIDTH_RANGE: return floats({kAliasedLineWidthRange[0], kAliasedLineWidthRange[1]});
         case gl::ALIASED_POINT_SIZE_RANGE: return floats({limits::kPointSizeRange[0], limits::kPointSizeRange[1]});
         case gl::MAX_VIEWPORT_DIMS: return ints({limits::kMaxViewportDims, limits::kMaxViewportDims});
         case gl::MAX_TEXTURE_SIZE: return i(limits::kMaxTextureSize);
@@ -196,6 +196,7 @@ std::optional<Value> smooth_parameter(const State& s, GLenum pname) {
         case gl::POLYGON_SMOOTH_HINT: return i(s.smooth.polygon_hint);
         case gl::LINE_SMOOTH_HINT: return i(s.smooth.line_hint);
         case gl::POINT_SMOOTH_HINT: return i(s.smooth.point_hint);
+        case gl::SMOOTH_LINE_WIDTH_RANGE: return floats({kSmoothLineWidthRange[0], kSmoothLineWidthRange[1]});
         default: return std::nullopt;
     }
 }

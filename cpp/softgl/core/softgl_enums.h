@@ -27,6 +27,7 @@ inline constexpr uint32_t POLYGON_SMOOTH = 0x0B41;
 inline constexpr uint32_t POINT_SMOOTH_HINT = 0x0C51;
 inline constexpr uint32_t LINE_SMOOTH_HINT = 0x0C52;
 inline constexpr uint32_t POLYGON_SMOOTH_HINT = 0x0C53;
+inline constexpr uint32_t SMOOTH_LINE_WIDTH_RANGE = 0x0B22;   // GL 1.2 table 6.30
 
 }  // namespace softgl::gl
 

@@ -8,6 +8,13 @@
 
 namespace softgl {
 
+// Line widths a draw can give (ES 3.0 §3.5.2: the width is clamped to the implementation's range).
+// Aliased lines: [1, 1], what WebGL in Chromium reports for ALIASED_LINE_WIDTH_RANGE and draws
+// (tests/webgl/reference/initial_parameters.json). SOFTGL_smooth's area-antialiased lines: GL
+// 1.2's SMOOTH_LINE_WIDTH_RANGE (wide antialiased lines are what GL's line smoothing is for).
+inline constexpr float kAliasedLineWidthRange[2] = {1.0f, 1.0f};
+inline constexpr float kSmoothLineWidthRange[2] = {1.0f, 256.0f};
+
 using GLenum = uint32_t;
 
 struct StencilFace {
@@ -91,7 +98,7 @@ struct State {
     int32_t clear_stencil = 0;
     std::array<bool, 4> color_mask{true, true, true, true};
 
-    float line_width = 1;
+    float line_width = 1;   // as set; a draw clamps it to the range of its kind of line (below)
     GLenum generate_mipmap_hint = gl::DONT_CARE;
     GLenum fragment_shader_derivative_hint = gl::DONT_CARE;
     GLenum active_texture = gl::TEXTURE0;

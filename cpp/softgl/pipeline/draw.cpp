@@ -45,9 +45,10 @@ RasterState raster_state(const State& s, const RenderTarget& fb) {
     r.samples = fb.config().samples;
     r.point_size_min = 1.0;
     r.point_size_max = 1024.0;   // ALIASED_POINT_SIZE_RANGE (api/context.h limits)
-    r.line_width = std::clamp(double(s.line_width), 1.0, 256.0);
     // SOFTGL_smooth shapes (GL 1.5 §3.4-3.5); smoothing is ignored when multisampling (§3.2.1).
     r.line_smooth = s.smooth.line && r.samples == 1;
+    const float* range = r.line_smooth ? kSmoothLineWidthRange : kAliasedLineWidthRange;
+    r.line_width = std::clamp(double(s.line_width), double(range[0]), double(range[1]));
     r.point_smooth = s.smooth.point && r.samples == 1;
     r.sample_bounds = r.samples == 1 && !s.smooth.polygon;
     return r;
