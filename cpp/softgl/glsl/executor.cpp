@@ -5,6 +5,7 @@
 #include <cstring>
 #include <limits>
 
+#include "softgl/core/vector_math.h"
 #include "softgl/glsl/builtin_math.h"
 
 namespace softgl::glsl {
@@ -109,7 +110,7 @@ Executor::Executor(const IrProgram& program, int batch_lanes) : program_(program
         if (i.op != Op::LoadUniform || is_slot[i.dst] || program.is_variable[i.dst]) break;
         ++prologue_end_;
     }
-    // Lanes that are inactive compute values nobody reads: a libm call (pow, exp, sin...) can
+    // Lanes that are inactive compute values nobody reads: a libm call (tan, asin, sinh...) can
     // skip them when provably nothing does. Readers of inactive lanes would be quad neighbours
     // (derivatives, implicit LOD), or a temporary read where more lanes are active than where
     // it was defined: outside its straight-line region (region_ends). Masked Movs and stores
@@ -239,6 +240,11 @@ __attribute__((always_inline)) inline void copy_active(Scalar* d, const Scalar* 
     else masked_copy(d, a, mask, n);
 }
 
+// sin or cos of every lane (core/vector_math.h), through float pointers so the loop vectorises.
+__attribute__((always_inline)) inline void sin_cos(Scalar* d, const Scalar* a, int n, bool cosine) {
+    vmath::sin_cos_lanes(reinterpret_cast<float*>(d), reinterpret_cast<const float*>(a), n, cosine);
+}
+
 // dFdx (dx) or dFdy inside each 2x2 quad: lanes 4q..4q+3 are (x, y), (x+1, y), (x, y+1), (x+1, y+1).
 __attribute__((always_inline)) inline void quad_derivative(Scalar* d, const Scalar* a, int n, bool dx) {
     int quads = n / 4;
@@ -358,7 +364,8 @@ __attribute__((always_inline)) inline void Executor::execute(const int n, const 
 #define F1(expr) { Scalar* d = D; const Scalar* a = A; LANES { float x = a[l].f; d[l].f = (expr); } break; }
 #define F2(expr) { Scalar* d = D; const Scalar* a = A; const Scalar* b = B; LANES { float x = a[l].f, y = b[l].f; d[l].f = (expr); } break; }
 #define F3(expr) { Scalar* d = D; const Scalar* a = A; const Scalar* b = B; const Scalar* c = C; LANES { float x = a[l].f, y = b[l].f, z = c[l].f; d[l].f = (expr); } break; }
-// libm calls: only the active lanes when that is allowed (skip_inactive_lanes_).
+// softgl's vectorised functions (core/vector_math.h) run in every lane; the rarer ones are libm
+// calls: only the active lanes when that is allowed (skip_inactive_lanes_).
 #define CALL1(expr) { if (!all && skip_inactive_lanes_) { Scalar* d = D; const Scalar* a = A; LANES if (mask[l]) { float x = a[l].f; d[l].f = (expr); } break; } F1(expr) }
 #define CALL2(expr) { if (!all && skip_inactive_lanes_) { Scalar* d = D; const Scalar* a = A; const Scalar* b = B; LANES if (mask[l]) { float x = a[l].f, y = b[l].f; d[l].f = (expr); } break; } F2(expr) }
 #define FB1(expr) { Scalar* d = D; const Scalar* a = A; LANES { float x = a[l].f; d[l].i = (expr) ? 1 : 0; } break; }
@@ -396,8 +403,8 @@ __attribute__((always_inline)) inline void Executor::execute(const int n, const 
         case Op::FStep: F2(f_step(x, y))
         case Op::FSqrt: F1(std::sqrt(x))
         case Op::FInverseSqrt: F1(1.0f / std::sqrt(x))
-        case Op::FSin: CALL1(std::sin(x))
-        case Op::FCos: CALL1(std::cos(x))
+        case Op::FSin: sin_cos(D, A, n, false); break;
+        case Op::FCos: sin_cos(D, A, n, true); break;
         case Op::FTan: CALL1(std::tan(x))
         case Op::FAsin: CALL1(std::asin(x))
         case Op::FAcos: CALL1(std::acos(x))
@@ -409,11 +416,11 @@ __attribute__((always_inline)) inline void Executor::execute(const int n, const 
         case Op::FAsinh: CALL1(std::asinh(x))
         case Op::FAcosh: CALL1(std::acosh(x))
         case Op::FAtanh: CALL1(std::atanh(x))
-        case Op::FExp: CALL1(std::exp(x))
-        case Op::FLog: CALL1(std::log(x))
-        case Op::FExp2: CALL1(std::exp2(x))
-        case Op::FLog2: CALL1(std::log2(x))
-        case Op::FPow: CALL2(std::pow(x, y))
+        case Op::FExp: F1(vmath::exp(x))
+        case Op::FLog: F1(vmath::log(x))
+        case Op::FExp2: F1(vmath::exp2(x))
+        case Op::FLog2: F1(vmath::log2(x))
+        case Op::FPow: F2(vmath::pow(x, y))
         case Op::FDot: fused_dot(i, n); break;
         case Op::FClamp: F3(f_clamp(x, y, z))
         case Op::FMix: F3(f_mix(x, y, z))
