@@ -138,7 +138,8 @@ SOFTGL_VM_INLINE float sin_cos_fast(float x, uint64_t offset) {
     const double shifted = d * 0x1.45f306dc9c883p-1 + kRound;   // 2/π
     const double k = shifted - kRound;
     const double r = ((d - k * 0x1.921fb54000000p+0) - k * 0x1.10b4610000000p-30) - k * 0x1.a62633145c06ep-58;
-    return static_cast<float>(sin_quadrant(r, bits(shifted) + offset));
+    const float v = static_cast<float>(sin_quadrant(r, bits(shifted) + offset));
+    return std::fabs(x) < INFINITY ? v : x - x;   // NaN at ±inf; a NaN's own bits (see pow)
 }
 
 // The bits of 2/π after the binary point, 24 at a time.
@@ -175,7 +176,14 @@ SOFTGL_VM_INLINE float exp2(float x) { return detail::exp2_to_float(x); }
 SOFTGL_VM_INLINE float exp(float x) { return detail::exp2_to_float(static_cast<double>(x) * 0x1.71547652b82fep+0); }   // log2(e)
 SOFTGL_VM_INLINE float log2(float x) { return static_cast<float>(detail::log_of_float<true>(x)); }
 SOFTGL_VM_INLINE float log(float x) { return static_cast<float>(detail::log_of_float<false>(x)); }
-SOFTGL_VM_INLINE float pow(float x, float y) { return detail::exp2_to_float(static_cast<double>(y) * detail::log_of_float<true>(x)); }
+SOFTGL_VM_INLINE float pow(float x, float y) {
+    const double t = static_cast<double>(y) * detail::log_of_float<true>(x);
+    // A NaN result is x's NaN, else y's, else the default quiet NaN: when both operands of an
+    // IEEE operation are NaN the result's bits depend on their order, which the compiler may
+    // commute differently in each build (and constant folding must give run time's bits).
+    const float nan = x != x ? x : (y != y ? y : NAN);
+    return t != t ? nan : detail::exp2_to_float(t);
+}
 // sin and cos of one lane whose |x| < 2^25 or is not finite (see sin_lanes for any x).
 SOFTGL_VM_INLINE float sin_small(float x) { return detail::sin_cos_fast(x, 0); }
 SOFTGL_VM_INLINE float cos_small(float x) { return detail::sin_cos_fast(x, 1); }
