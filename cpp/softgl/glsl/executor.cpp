@@ -240,11 +240,6 @@ __attribute__((always_inline)) inline void copy_active(Scalar* d, const Scalar* 
     else masked_copy(d, a, mask, n);
 }
 
-// sin or cos of every lane (core/vector_math.h), through float pointers so the loop vectorises.
-__attribute__((always_inline)) inline void sin_cos(Scalar* d, const Scalar* a, int n, bool cosine) {
-    vmath::sin_cos_lanes(reinterpret_cast<float*>(d), reinterpret_cast<const float*>(a), n, cosine);
-}
-
 // dFdx (dx) or dFdy inside each 2x2 quad: lanes 4q..4q+3 are (x, y), (x+1, y), (x, y+1), (x+1, y+1).
 __attribute__((always_inline)) inline void quad_derivative(Scalar* d, const Scalar* a, int n, bool dx) {
     int quads = n / 4;
@@ -403,8 +398,8 @@ __attribute__((always_inline)) inline void Executor::execute(const int n, const 
         case Op::FStep: F2(f_step(x, y))
         case Op::FSqrt: F1(std::sqrt(x))
         case Op::FInverseSqrt: F1(1.0f / std::sqrt(x))
-        case Op::FSin: sin_cos(D, A, n, false); break;
-        case Op::FCos: sin_cos(D, A, n, true); break;
+        case Op::FSin: vmath::sin_cos_lanes(&D->f, &A->f, n, false); break;
+        case Op::FCos: vmath::sin_cos_lanes(&D->f, &A->f, n, true); break;
         case Op::FTan: CALL1(std::tan(x))
         case Op::FAsin: CALL1(std::asin(x))
         case Op::FAcos: CALL1(std::acos(x))
@@ -416,11 +411,11 @@ __attribute__((always_inline)) inline void Executor::execute(const int n, const 
         case Op::FAsinh: CALL1(std::asinh(x))
         case Op::FAcosh: CALL1(std::acosh(x))
         case Op::FAtanh: CALL1(std::atanh(x))
-        case Op::FExp: F1(vmath::exp(x))
-        case Op::FLog: F1(vmath::log(x))
-        case Op::FExp2: F1(vmath::exp2(x))
-        case Op::FLog2: F1(vmath::log2(x))
-        case Op::FPow: F2(vmath::pow(x, y))
+        case Op::FExp: vmath::exp_lanes(&D->f, &A->f, n); break;
+        case Op::FLog: vmath::log_lanes(&D->f, &A->f, n); break;
+        case Op::FExp2: vmath::exp2_lanes(&D->f, &A->f, n); break;
+        case Op::FLog2: vmath::log2_lanes(&D->f, &A->f, n); break;
+        case Op::FPow: vmath::pow_lanes(&D->f, &A->f, &B->f, n); break;
         case Op::FDot: fused_dot(i, n); break;
         case Op::FClamp: F3(f_clamp(x, y, z))
         case Op::FMix: F3(f_mix(x, y, z))
