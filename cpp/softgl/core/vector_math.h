@@ -23,6 +23,7 @@
 
 // Forced inline: the executor's loops are compiled once per SIMD level and must get their own copies.
 #define SOFTGL_VM_INLINE inline __attribute__((always_inline))
+#define SOFTGL_VM_LAMBDA __attribute__((always_inline))
 
 namespace softgl::vmath {
 namespace detail {
@@ -168,13 +169,13 @@ SOFTGL_VM_INLINE float exp(float x) { return static_cast<float>(detail::exp2_any
 SOFTGL_VM_INLINE float log2(float x) { return static_cast<float>(detail::log_of_float<true>(x)); }
 SOFTGL_VM_INLINE float log(float x) { return static_cast<float>(detail::log_of_float<false>(x)); }
 SOFTGL_VM_INLINE float pow(float x, float y) {
-    const double xd = x, yd = y;
-    const double t = yd * detail::log_of_float<true>(x);
+    const double t = static_cast<double>(y) * detail::log_of_float<true>(x);
     // A NaN result is x's NaN, else y's, else the default quiet NaN: when both operands of an
     // IEEE operation are NaN the result's bits depend on their order, which the compiler may
     // commute differently in each build (and constant folding must give run time's bits).
-    const double nan = xd != xd ? xd : (yd != yd ? yd : NAN);
-    return static_cast<float>(t != t ? nan : detail::exp2_any(t));
+    const float nan = x != x ? x : (y != y ? y : NAN);
+    const float r = static_cast<float>(detail::exp2_any(t));
+    return t != t ? nan : r;
 }
 // sin and cos of one lane whose |x| < 2^25 or is not finite (see sin_lanes for any x).
 SOFTGL_VM_INLINE float sin_small(float x) { return detail::sin_cos_fast(x, 0); }
@@ -186,38 +187,32 @@ SOFTGL_VM_INLINE float cos(float x) { return std::fabs(x) >= detail::kSinCosFast
 // d[l] = f(a[l]) (and b[l]) for l < n, in blocks of 16 lanes through local arrays: 16 is a
 // multiple of every vector width, so each block is whole vectors with no scalar tail loop (the
 // executor's batches of a few quads would otherwise spend most of their time in one), and
-// local arrays cannot alias. The last block's unused lanes compute from zeros and are dropped.
-constexpr int kBlock = 16;
-
-template <class F>
-SOFTGL_VM_INLINE void map_lanes(float* d, const float* a, int n, F f) {
-    for (int l = 0; l < n; l += kBlock) {
-        const int m = n - l < kBlock ? n - l : kBlock;
-        float x[kBlock] = {}, y[kBlock];
-        if (m == kBlock) std::memcpy(x, a + l, sizeof x); else std::memcpy(x, a + l, sizeof(float) * m);
-        for (int k = 0; k < kBlock; ++k) y[k] = f(x[k]);
-        if (m == kBlock) std::memcpy(d + l, y, sizeof y); else std::memcpy(d + l, y, sizeof(float) * m);
-    }
+// local arrays cannot alias. A last block of at most 8 lanes runs as a block of 8; unused
+// lanes compute from zeros and are dropped.
+template <int kBlock, class F>
+SOFTGL_VM_INLINE void map_block(float* d, const float* a, const float* b, int m, F f) {
+    float x[kBlock] = {}, y[kBlock] = {}, z[kBlock];
+    if (m == kBlock) { std::memcpy(x, a, sizeof x); if (b) std::memcpy(y, b, sizeof y); }
+    else { std::memcpy(x, a, sizeof(float) * m); if (b) std::memcpy(y, b, sizeof(float) * m); }
+    for (int k = 0; k < kBlock; ++k) z[k] = f(x[k], y[k]);
+    if (m == kBlock) std::memcpy(d, z, sizeof z); else std::memcpy(d, z, sizeof(float) * m);
 }
 
+// f(x, y); b may be null for functions of one argument (y is then 0).
 template <class F>
 SOFTGL_VM_INLINE void map_lanes(float* d, const float* a, const float* b, int n, F f) {
-    for (int l = 0; l < n; l += kBlock) {
-        const int m = n - l < kBlock ? n - l : kBlock;
-        float x[kBlock] = {}, y[kBlock] = {}, z[kBlock];
-        if (m == kBlock) { std::memcpy(x, a + l, sizeof x); std::memcpy(y, b + l, sizeof y); }
-        else { std::memcpy(x, a + l, sizeof(float) * m); std::memcpy(y, b + l, sizeof(float) * m); }
-        for (int k = 0; k < kBlock; ++k) z[k] = f(x[k], y[k]);
-        if (m == kBlock) std::memcpy(d + l, z, sizeof z); else std::memcpy(d + l, z, sizeof(float) * m);
-    }
+    int l = 0;
+    for (; l + 16 <= n; l += 16) map_block<16>(d + l, a + l, b ? b + l : nullptr, 16, f);
+    if (n - l > 8) map_block<16>(d + l, a + l, b ? b + l : nullptr, n - l, f);
+    else if (n > l) map_block<8>(d + l, a + l, b ? b + l : nullptr, n - l, f);
 }
 
-SOFTGL_VM_INLINE void exp2_lanes(float* d, const float* a, int n) { map_lanes(d, a, n, [](float x) { return exp2(x); }); }
-SOFTGL_VM_INLINE void exp_lanes(float* d, const float* a, int n) { map_lanes(d, a, n, [](float x) { return exp(x); }); }
-SOFTGL_VM_INLINE void log2_lanes(float* d, const float* a, int n) { map_lanes(d, a, n, [](float x) { return log2(x); }); }
-SOFTGL_VM_INLINE void log_lanes(float* d, const float* a, int n) { map_lanes(d, a, n, [](float x) { return log(x); }); }
+SOFTGL_VM_INLINE void exp2_lanes(float* d, const float* a, int n) { map_lanes(d, a, nullptr, n, [](float x, float) SOFTGL_VM_LAMBDA { return exp2(x); }); }
+SOFTGL_VM_INLINE void exp_lanes(float* d, const float* a, int n) { map_lanes(d, a, nullptr, n, [](float x, float) SOFTGL_VM_LAMBDA { return exp(x); }); }
+SOFTGL_VM_INLINE void log2_lanes(float* d, const float* a, int n) { map_lanes(d, a, nullptr, n, [](float x, float) SOFTGL_VM_LAMBDA { return log2(x); }); }
+SOFTGL_VM_INLINE void log_lanes(float* d, const float* a, int n) { map_lanes(d, a, nullptr, n, [](float x, float) SOFTGL_VM_LAMBDA { return log(x); }); }
 SOFTGL_VM_INLINE void pow_lanes(float* d, const float* a, const float* b, int n) {
-    map_lanes(d, a, b, n, [](float x, float y) { return pow(x, y); });
+    map_lanes(d, a, b, n, [](float x, float y) SOFTGL_VM_LAMBDA { return pow(x, y); });
 }
 
 // sin or cos of n lanes: whole blocks, or lane by lane when an argument is large (rare).
@@ -225,8 +220,8 @@ SOFTGL_VM_INLINE void sin_cos_lanes(float* d, const float* a, int n, bool cosine
     uint32_t large = 0;
     for (int l = 0; l < n; ++l) large |= (std::fabs(a[l]) >= detail::kSinCosFastLimit) & (std::fabs(a[l]) < INFINITY);
     if (large) { for (int l = 0; l < n; ++l) d[l] = cosine ? cos(a[l]) : sin(a[l]); return; }
-    if (cosine) map_lanes(d, a, n, [](float x) { return cos_small(x); });
-    else map_lanes(d, a, n, [](float x) { return sin_small(x); });
+    if (cosine) map_lanes(d, a, nullptr, n, [](float x, float) SOFTGL_VM_LAMBDA { return cos_small(x); });
+    else map_lanes(d, a, nullptr, n, [](float x, float) SOFTGL_VM_LAMBDA { return sin_small(x); });
 }
 
 }  // namespace softgl::vmath
