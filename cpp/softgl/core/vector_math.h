@@ -60,7 +60,8 @@ SOFTGL_VM_INLINE double exp2_any(double t) {
 }
 
 // log2(d) or ln(d) for d > 0 finite, from d = 2^e·m with m in [√½, √2): log(m) = s·P(s²) with
-// s = (m - 1)/(m + 1), |s| <= 0.172 and P fitted to 2·atanh(s)/s (relative error < 5e-12).
+// s = (m - 1)/(m + 1), |s| <= 0.172 and P fitted to 2·atanh(s)/s (relative error < 4e-13: pow's
+// y·log2(x) needs it for large y).
 // m - 1 and m + 1 are exact because d came from a float (24 significant bits). `base2` picks
 // P/ln2 or P.
 template <bool base2>
@@ -72,18 +73,20 @@ SOFTGL_VM_INLINE double log_kernel(double d) {
     const double s = (m - 1.0) / (m + 1.0);
     const double z = s * s;
     if (base2) {
-        double p = 0x1.5ce6167e99132p-2;
-        p = p * z + 0x1.a58daee3f8de6p-2;
-        p = p * z + 0x1.27777f7c97995p-1;
-        p = p * z + 0x1.ec709d13b1e34p-1;
-        p = p * z + 0x1.71547652bebf0p+1;
+        double p = 0x1.1cb907ef54159p-2;
+        p = p * z + 0x1.47f8c5921d83cp-2;
+        p = p * z + 0x1.a61766f668933p-2;
+        p = p * z + 0x1.2776c6c8ccfbfp-1;
+        p = p * z + 0x1.ec709dc079194p-1;
+        p = p * z + 0x1.71547652b8674p+1;
         return e + s * p;
     }
-    double p = 0x1.e3ad295bf05c3p-3;
-    p = p * z + 0x1.2432d67b507f2p-2;
-    p = p * z + 0x1.999a9c0b5a697p-2;
-    p = p * z + 0x1.555554db631ebp-1;
-    p = p * z + 0x1.00000000048bep+1;
+    double p = 0x1.8ab5a714829aap-3;
+    p = p * z + 0x1.c6aa582db217cp-3;
+    p = p * z + 0x1.24924c20eccc0p-2;
+    p = p * z + 0x1.99999bfe19857p-2;
+    p = p * z + 0x1.5555555325dbfp-1;
+    p = p * z + 0x1.0000000000266p+1;
     return e * 0x1.62e42fefa39efp-1 + s * p;   // e·ln2 + ln(m)
 }
 
@@ -131,7 +134,8 @@ SOFTGL_VM_INLINE float sin_cos_fast(float x, uint64_t offset) {
     const double k = shifted - kRound;
     const double r = ((d - k * 0x1.921fb54000000p+0) - k * 0x1.10b4610000000p-30) - k * 0x1.a62633145c06ep-58;
     const float v = static_cast<float>(sin_quadrant(r, bits(shifted) + offset));
-    return std::fabs(x) < INFINITY ? v : x - x;   // NaN at ±inf; a NaN's own bits (see pow)
+    const float signed_v = offset == 0 && x == 0.0f ? x : v;   // sin(-0) = -0
+    return std::fabs(x) < INFINITY ? signed_v : x - x;           // NaN at ±inf; a NaN's own bits (see pow)
 }
 
 // The bits of 2/π after the binary point, 24 at a time.
