@@ -4,12 +4,13 @@
 // and out, double inside. Every level runs the same IEEE double operations in the same order
 // (the build has no FMA contraction), so the bits are the same at every width and on every CPU.
 //
-// Why double inside: a float input is exact in double, the polynomials reach ~1e-13 relative,
-// and the one rounding to float at the end makes each result the float nearest the exact value
-// except when that value is within ~1e-13 of a half-way point: errors are ≤ 0.5 ulp plus a hair
-// (docs/architecture.md, "Numeric rules", has the measured maxima). pow(x, y) is
+// Why double inside: a float input is exact in double, the polynomials reach 5e-11 relative or
+// better, and the one rounding to float at the end makes each result the float nearest the
+// exact value except when that value is within ~5e-11 of a half-way point: errors are at most
+// 0.5012 ulp (docs/architecture.md, "Numeric rules", has the measured maxima). pow(x, y) is
 // exp2(y·log2(x)) with log2 kept in double, so it is as accurate as exp2 (GLSL ES 3.00 §8.2
-// allows far more) and pow(x, 1.0) == x.
+// allows far more) and pow(x, 1.0) == x. The one branch: sin and cos of an argument of 2^25 or
+// more (rare) reduce lane by lane (sin_cos_lanes).
 //
 // Special values follow the formulas: exp2/exp of ±inf give inf/0, log2/log give -inf at ±0,
 // NaN below 0, inf at inf; NaN in gives NaN out. pow is exp2(y·log2(x)) also where ES 3.00 §8.2
