@@ -169,3 +169,24 @@ def test_constant_folding_gives_run_time_bits():
         folded = run(source, "fragment", {"lane": np.arange(xs.size, dtype=np.float32)}, lanes=xs.size)["o"][:, 0]
         at_run_time = glsl(expr, xs, ys)
         np.testing.assert_array_equal(folded.view(np.uint32), at_run_time.view(np.uint32), err_msg=expr)
+
+
+def test_inside_a_branch_only_active_lanes_change():
+    # Under a condition the executor packs the active lanes together before computing (executor.cpp
+    # vector_math); each lane's value must be the one computed without the condition.
+    r = np.random.default_rng(9)
+    n = 4 * 301
+    a = r.uniform(-3, 3, n).astype(np.float32)
+    b = r.uniform(-3, 3, n).astype(np.float32)
+    c = r.uniform(-1, 1, n).astype(np.float32)
+    pad = lambda v: v.reshape(-1, 4)
+    body = "vec4(pow(abs(a.x), b.y), sin(a.y) + cos(b.z), exp2(a.z) * exp(b.w), log2(abs(a.w)) + log(abs(b.x)))"
+    source = FRAG_EXPR.replace("void main() {{ o = {expr}; }}",
+                               "void main() {{ o = vec4(-7.0); if (c.x > {t}) o = {expr}; }}")
+    inputs = {"a": pad(a), "b": pad(b), "c": pad(c)}
+    full = _core.glsl_run(FRAG_EXPR.format(expr=body), "fragment", 2, inputs, {}, n // 4)["o"]
+    for threshold in (-2.0, 0.0, 0.6, 0.95):
+        out = _core.glsl_run(source.format(expr=body, t=threshold), "fragment", 2, inputs, {}, n // 4)["o"]
+        taken = pad(c)[:, 0] > threshold
+        np.testing.assert_array_equal(out[taken].view(np.uint32), full[taken].view(np.uint32))
+        np.testing.assert_array_equal(out[~taken], -7.0)
