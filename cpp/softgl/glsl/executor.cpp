@@ -110,8 +110,8 @@ Executor::Executor(const IrProgram& program, int batch_lanes) : program_(program
         if (i.op != Op::LoadUniform || is_slot[i.dst] || program.is_variable[i.dst]) break;
         ++prologue_end_;
     }
-    // Lanes that are inactive compute values nobody reads: a libm call (tan, asin, sinh...) can
-    // skip them when provably nothing does. Readers of inactive lanes would be quad neighbours
+    // Lanes that are inactive compute values nobody reads: a libm call (tan, asin, sinh...) or
+    // a vector_math op (pow, exp2, sin...) can skip them when provably nothing does. Readers of inactive lanes would be quad neighbours
     // (derivatives, implicit LOD), or a temporary read where more lanes are active than where
     // it was defined: outside its straight-line region (region_ends). Masked Movs and stores
     // never copy inactive lanes into variables, and outputs are variables.
