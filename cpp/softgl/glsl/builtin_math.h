@@ -1,6 +1,8 @@
 // The scalar semantics of GLSL ES operators and built-in functions, one definition each: the
 // executor's lane loops call these per lane, and the checker folds constant expressions with
 // them, so a constant-folded value has the bits run time gives (NaN, ±Inf and ±0 included).
+// exp2, exp, log2, log, pow, sin and cos are core/vector_math.h's; the IR optimizer folds calls
+// of them (and of every other built-in the checker leaves) by running the executor itself.
 // ES 3.00 §8 defines min, max and clamp by comparisons, which fixes what NaN does:
 // min(x, y) = y < x ? y : x returns x when either is NaN; max likewise; clamp = min(max(x, lo), hi).
 //

@@ -5,6 +5,7 @@
 #include <cstring>
 #include <limits>
 
+#include "softgl/core/vector_math.h"
 #include "softgl/glsl/builtin_math.h"
 
 namespace softgl::glsl {
@@ -109,8 +110,8 @@ Executor::Executor(const IrProgram& program, int batch_lanes) : program_(program
         if (i.op != Op::LoadUniform || is_slot[i.dst] || program.is_variable[i.dst]) break;
         ++prologue_end_;
     }
-    // Lanes that are inactive compute values nobody reads: a libm call (pow, exp, sin...) can
-    // skip them when provably nothing does. Readers of inactive lanes would be quad neighbours
+    // Lanes that are inactive compute values nobody reads: a libm call (tan, asin, sinh...) or
+    // a vector_math op (pow, exp2, sin...) can skip them when provably nothing does. Readers of inactive lanes would be quad neighbours
     // (derivatives, implicit LOD), or a temporary read where more lanes are active than where
     // it was defined: outside its straight-line region (region_ends). Masked Movs and stores
     // never copy inactive lanes into variables, and outputs are variables.
@@ -239,6 +240,28 @@ __attribute__((always_inline)) inline void copy_active(Scalar* d, const Scalar* 
     else masked_copy(d, a, mask, n);
 }
 
+// A core/vector_math.h function f(d, a, b, count) of every lane, or, when inactive lanes may be
+// skipped (skip_inactive_lanes_), of the active ones packed together in `scratch` (4 lanes per
+// lane of the batch): fewer blocks of 8 or 16 to compute when a branch holds few lanes.
+template <class F>
+__attribute__((always_inline)) inline void vector_math(Scalar* d, const Scalar* a, const Scalar* b, const uint32_t* mask,
+                                                       bool only_active, int n, Scalar* scratch, F f) {
+    if (!only_active) return f(&d->f, &a->f, b ? &b->f : nullptr, n);
+    float* pa = &scratch[0].f;
+    float* pb = &scratch[n].f;
+    float* pd = &scratch[2 * n].f;
+    int32_t* lane = &scratch[3 * n].i;
+    int m = 0;
+    for (int l = 0; l < n; ++l) {
+        pa[m] = a[l].f;
+        pb[m] = b ? b[l].f : 0.0f;
+        lane[m] = l;
+        m += mask[l] ? 1 : 0;
+    }
+    f(pd, pa, pb, m);
+    for (int k = 0; k < m; ++k) d[lane[k]].f = pd[k];
+}
+
 // dFdx (dx) or dFdy inside each 2x2 quad: lanes 4q..4q+3 are (x, y), (x+1, y), (x, y+1), (x+1, y+1).
 __attribute__((always_inline)) inline void quad_derivative(Scalar* d, const Scalar* a, int n, bool dx) {
     int quads = n / 4;
@@ -358,7 +381,13 @@ __attribute__((always_inline)) inline void Executor::execute(const int n, const 
 #define F1(expr) { Scalar* d = D; const Scalar* a = A; LANES { float x = a[l].f; d[l].f = (expr); } break; }
 #define F2(expr) { Scalar* d = D; const Scalar* a = A; const Scalar* b = B; LANES { float x = a[l].f, y = b[l].f; d[l].f = (expr); } break; }
 #define F3(expr) { Scalar* d = D; const Scalar* a = A; const Scalar* b = B; const Scalar* c = C; LANES { float x = a[l].f, y = b[l].f, z = c[l].f; d[l].f = (expr); } break; }
-// libm calls: only the active lanes when that is allowed (skip_inactive_lanes_).
+// softgl's vectorised functions (core/vector_math.h), on the active lanes packed when only they
+// need computing (see vector_math above).
+#define VMATH1(call) { vector_math(D, A, nullptr, mask, !all && skip_inactive_lanes_, n, scratch_.data(), \
+                                   [](float* d, const float* a, const float*, int m) __attribute__((always_inline)) { call; }); break; }
+#define VMATH2(call) { vector_math(D, A, B, mask, !all && skip_inactive_lanes_, n, scratch_.data(), \
+                                   [](float* d, const float* a, const float* b, int m) __attribute__((always_inline)) { call; }); break; }
+// The rarer functions are libm calls: only the active lanes when that is allowed (skip_inactive_lanes_).
 #define CALL1(expr) { if (!all && skip_inactive_lanes_) { Scalar* d = D; const Scalar* a = A; LANES if (mask[l]) { float x = a[l].f; d[l].f = (expr); } break; } F1(expr) }
 #define CALL2(expr) { if (!all && skip_inactive_lanes_) { Scalar* d = D; const Scalar* a = A; const Scalar* b = B; LANES if (mask[l]) { float x = a[l].f, y = b[l].f; d[l].f = (expr); } break; } F2(expr) }
 #define FB1(expr) { Scalar* d = D; const Scalar* a = A; LANES { float x = a[l].f; d[l].i = (expr) ? 1 : 0; } break; }
@@ -396,8 +425,8 @@ __attribute__((always_inline)) inline void Executor::execute(const int n, const 
         case Op::FStep: F2(f_step(x, y))
         case Op::FSqrt: F1(std::sqrt(x))
         case Op::FInverseSqrt: F1(1.0f / std::sqrt(x))
-        case Op::FSin: CALL1(std::sin(x))
-        case Op::FCos: CALL1(std::cos(x))
+        case Op::FSin: VMATH1(vmath::sin_cos_lanes(d, a, m, false))
+        case Op::FCos: VMATH1(vmath::sin_cos_lanes(d, a, m, true))
         case Op::FTan: CALL1(std::tan(x))
         case Op::FAsin: CALL1(std::asin(x))
         case Op::FAcos: CALL1(std::acos(x))
@@ -409,11 +438,11 @@ __attribute__((always_inline)) inline void Executor::execute(const int n, const 
         case Op::FAsinh: CALL1(std::asinh(x))
         case Op::FAcosh: CALL1(std::acosh(x))
         case Op::FAtanh: CALL1(std::atanh(x))
-        case Op::FExp: CALL1(std::exp(x))
-        case Op::FLog: CALL1(std::log(x))
-        case Op::FExp2: CALL1(std::exp2(x))
-        case Op::FLog2: CALL1(std::log2(x))
-        case Op::FPow: CALL2(std::pow(x, y))
+        case Op::FExp: VMATH1(vmath::exp_lanes(d, a, m))
+        case Op::FLog: VMATH1(vmath::log_lanes(d, a, m))
+        case Op::FExp2: VMATH1(vmath::exp2_lanes(d, a, m))
+        case Op::FLog2: VMATH1(vmath::log2_lanes(d, a, m))
+        case Op::FPow: VMATH2(vmath::pow_lanes(d, a, b, m))
         case Op::FDot: fused_dot(i, n); break;
         case Op::FClamp: F3(f_clamp(x, y, z))
         case Op::FMix: F3(f_mix(x, y, z))
