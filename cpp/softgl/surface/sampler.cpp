@@ -58,6 +58,40 @@ void cube_direction(int face, float sc, float tc, float r[3]) {
     }
 }
 
+// ES 3.0 §3.8.10 eq. 3.18: the face a cube-map direction (s, t, r) selects, with s, t replaced
+// by the face coordinates in [0, 1] and the derivatives dx, dy by theirs (quotient rule; the
+// third component 0). Both paths call this, so that they agree to the bit.
+int cube_coords(float& s, float& t, float r, float dx[3], float dy[3]) {
+    float sc, tc, ma;
+    const int face = cube_face(s, t, r, sc, tc, ma);
+    const int major = face / 2;
+    const float sign = (face % 2) ? -1.0f : 1.0f;
+    float dsc[2], dtc[2], dma[2];
+    const float* d2[2] = {dx, dy};
+    for (int n = 0; n < 2; ++n) {
+        const float* d = d2[n];
+        switch (face) {
+            case 0: dsc[n] = -d[2]; dtc[n] = -d[1]; break;
+            case 1: dsc[n] = d[2]; dtc[n] = -d[1]; break;
+            case 2: dsc[n] = d[0]; dtc[n] = d[2]; break;
+            case 3: dsc[n] = d[0]; dtc[n] = -d[2]; break;
+            case 4: dsc[n] = d[0]; dtc[n] = -d[1]; break;
+            default: dsc[n] = -d[0]; dtc[n] = -d[1]; break;
+        }
+        dma[n] = sign * d[major];
+    }
+    const float inv = ma > 0 ? 1.0f / ma : 0.0f;
+    s = 0.5f * (sc * inv + 1.0f);
+    t = 0.5f * (tc * inv + 1.0f);
+    for (int n = 0; n < 2; ++n) {
+        float* d = n ? dy : dx;
+        d[0] = 0.5f * (dsc[n] * ma - sc * dma[n]) * inv * inv;
+        d[1] = 0.5f * (dtc[n] * ma - tc * dma[n]) * inv * inv;
+        d[2] = 0.0f;
+    }
+    return face;
+}
+
 // ES 3.0 table 3.19 applied to integer texel coordinates.
 int32_t wrap(GLenum mode, int32_t i, int32_t size) {
     switch (mode) {
@@ -229,14 +263,18 @@ void incomplete_result(const glsl::TextureQuery& q, int l) {
 }  // namespace
 
 void TextureUnitSampler::sample_lanes(const glsl::TextureQuery& q) const {
+    for (int l = 0; l < q.lane_count; ++l) sample_lane(q, l);
+}
+
+void TextureUnitSampler::sample_lane(const glsl::TextureQuery& q, int l) const {
     const int dim = dim_index(q.dim);
     const bool cube = q.dim == SamplerDim::Cube, is3d = q.dim == SamplerDim::Tex3D;
-    for (int l = 0; l < q.lane_count; ++l) {
+    {
         const int32_t unit = q.unit[l].i;
         const BoundTexture* bt = unit >= 0 && unit < kSamplerUnits ? &units[size_t(unit)][size_t(dim)] : nullptr;
         if (!bt || !bt->texture || (q.active && !q.active[l])) {
             incomplete_result(q, l);
-            continue;
+            return;
         }
         const Texture& tex = *bt->texture;
 
@@ -248,7 +286,7 @@ void TextureUnitSampler::sample_lanes(const glsl::TextureQuery& q) const {
             const int32_t size[3] = {ok ? img->width : 0, ok ? img->height : 0, ok ? img->depth : 0};
             for (int c = 0; c < 3; ++c)
                 if (q.out[c]) q.out[c][l].i = size[c];
-            continue;
+            return;
         }
 
         if (q.kind == TextureKind::Fetch) {
@@ -263,7 +301,7 @@ void TextureUnitSampler::sample_lanes(const glsl::TextureQuery& q) const {
                                 c3[0] < img->width && c3[1] < img->height && c3[2] < img->depth;
             if (!inside) {
                 for (int c = 0; c < 4; ++c) if (q.out[c]) q.out[c][l].u = 0;
-                continue;
+                return;
             }
             const size_t t = (size_t(c3[2]) * size_t(img->height) + size_t(c3[1])) * size_t(img->width) + size_t(c3[0]);
             if (q.result != BaseType::Float) {
@@ -275,7 +313,7 @@ void TextureUnitSampler::sample_lanes(const glsl::TextureQuery& q) const {
                 if (img->format->kind() == SampleKind::Depth && bt->depth_as_luminance) texel[1] = texel[2] = texel[0];
                 for (int c = 0; c < 4; ++c) if (q.out[c]) q.out[c][l].f = texel[c];
             }
-            continue;
+            return;
         }
 
         // ---- a filtered lookup ----
@@ -286,39 +324,9 @@ void TextureUnitSampler::sample_lanes(const glsl::TextureQuery& q) const {
             if (q.ddx[k]) dx[k] = q.ddx[k][l].f;
             if (q.ddy[k]) dy[k] = q.ddy[k][l].f;
         }
-        int face = 0;
-        if (cube) {
-            // ES 3.0 §3.8.10 eq. 3.18: s = (sc/|ma| + 1)/2; derivatives by the quotient rule.
-            float sc, tc, ma;
-            face = cube_face(s, t, r, sc, tc, ma);
-            const int major = face / 2;
-            const float sign = (face % 2) ? -1.0f : 1.0f;
-            float dsc[2], dtc[2], dma[2];
-            const float* d2[2] = {dx, dy};
-            for (int n = 0; n < 2; ++n) {
-                const float* d = d2[n];
-                switch (face) {
-                    case 0: dsc[n] = -d[2]; dtc[n] = -d[1]; break;
-                    case 1: dsc[n] = d[2]; dtc[n] = -d[1]; break;
-                    case 2: dsc[n] = d[0]; dtc[n] = d[2]; break;
-                    case 3: dsc[n] = d[0]; dtc[n] = -d[2]; break;
-                    case 4: dsc[n] = d[0]; dtc[n] = -d[1]; break;
-                    default: dsc[n] = -d[0]; dtc[n] = -d[1]; break;
-                }
-                dma[n] = sign * d[major];
-            }
-            const float inv = ma > 0 ? 1.0f / ma : 0.0f;
-            s = 0.5f * (sc * inv + 1.0f);
-            t = 0.5f * (tc * inv + 1.0f);
-            for (int n = 0; n < 2; ++n) {
-                float* d = n ? dy : dx;
-                d[0] = 0.5f * (dsc[n] * ma - sc * dma[n]) * inv * inv;
-                d[1] = 0.5f * (dtc[n] * ma - tc * dma[n]) * inv * inv;
-                d[2] = 0.0f;
-            }
-        }
+        const int face = cube ? cube_coords(s, t, r, dx, dy) : 0;
         const Image* base_img = tex.find(face, bt->base);
-        if (!base_img) { incomplete_result(q, l); continue; }
+        if (!base_img) { incomplete_result(q, l); return; }
 
         // ES 3.0 §3.8.10.1-2: the level of detail.
         float lambda;
@@ -401,13 +409,8 @@ void TextureUnitSampler::sample_lanes(const glsl::TextureQuery& q) const {
 
 namespace {
 
-// One level of a 2D / 2D array texture.
-struct Plane {
-    const float* texels;   // 4 floats per texel, layer-major then row-major
-    const uint32_t* rgba8; // the same texels as bytes (Texture::rgba8), or null
-    int32_t width, height, layers;
-    bool width_pot, height_pot;
-};
+// One level of a 2D / 2D array texture or of a cube-map face (texture.h).
+using Plane = SampledLevel;
 
 // wrap() of a texel coordinate and of its right/upper neighbour, as LINEAR uses them (REPEAT of
 // a power of two masks: the same as the modulo for any int in two's complement).
@@ -442,13 +445,17 @@ struct LevelChoice {
 };
 
 struct Fast2D {
-    std::array<Plane, 16> planes;
+    const Plane* planes;   // levels base .. top of face 0; face f's at planes + f * face_stride
+    int32_t face_stride;
     GLenum wrap_s, wrap_t;
     int off_s, off_t;
     int32_t base, top;
     GLenum min_filter;
     bool mag_linear, min_linear, mipmapped;
     float min_lod, max_lod;
+    // Depth textures: the comparison (ES 3.0 §3.8.16) and WEBGL_depth_texture's (d, d, d, 1).
+    bool compare = false, luminance = false;
+    GLenum compare_func = gl::LEQUAL;
 
     LevelChoice choose(float lambda) const {
         lambda = std::clamp(lambda, min_lod, max_lod);   // NaN stays NaN: magnification
@@ -468,16 +475,32 @@ struct Fast2D {
         return {d1 - base, d2 - base, min_linear, lambda - std::floor(lambda)};
     }
 
+    // Texel n of plane p as Level::fetch_image gives it (ref: the lane's depth reference).
+    void texel(const Plane& p, size_t n, float ref, float out[4]) const {
+        if (p.color) {
+            for (int c = 0; c < 4; ++c) out[c] = p.color[n * 4 + size_t(c)];
+            return;
+        }
+        float d = depth_value(p.depth_encoding, p.depth[n]);
+        if (compare) {
+            // ES 3.0 §3.8.16: fixed-point depth compares with the reference clamped to [0, 1].
+            const float r = p.depth_encoding == Encoding::Depth32F ? ref : std::clamp(ref, 0.0f, 1.0f);
+            d = compare_passes(compare_func, r, d) ? 1.0f : 0.0f;
+        }
+        out[0] = d;
+        out[1] = out[2] = compare || luminance ? d : 0.0f;
+        out[3] = 1.0f;
+    }
+
     // Level::filter of one plane.
-    void filter(const Plane& p, bool linear, float s, float t, float r, float out[4]) const {
+    void filter(const Plane& p, bool linear, float s, float t, float r, float ref, float out[4]) const {
         const float u = s * float(p.width) + float(off_s), v = t * float(p.height) + float(off_t);
         const int32_t layer = p.layers == 1 ? 0 : std::clamp(ifloor(r + 0.5f), 0, p.layers - 1);
-        const float* plane = p.texels + size_t(layer) * size_t(p.height) * size_t(p.width) * 4;
+        const size_t plane = size_t(layer) * size_t(p.height) * size_t(p.width);
         if (!linear) {
             const int32_t i = wrap_one(wrap_s, ifloor(u), p.width, p.width_pot);
             const int32_t j = wrap_one(wrap_t, ifloor(v), p.height, p.height_pot);
-            const float* texel = plane + (size_t(j) * size_t(p.width) + size_t(i)) * 4;
-            for (int c = 0; c < 4; ++c) out[c] = texel[c];
+            texel(p, plane + size_t(j) * size_t(p.width) + size_t(i), ref, out);
             return;
         }
         const float u0 = u - 0.5f, v0 = v - 0.5f;
@@ -485,22 +508,39 @@ struct Fast2D {
         wrap_pair(wrap_s, ifloor(u0), p.width, p.width_pot, i0, i1);
         wrap_pair(wrap_t, ifloor(v0), p.height, p.height_pot, j0, j1);
         const float a = u0 - std::floor(u0), b = v0 - std::floor(v0);
-        const float* row0 = plane + size_t(j0) * size_t(p.width) * 4;
-        const float* row1 = plane + size_t(j1) * size_t(p.width) * 4;
-        const float* t00 = row0 + size_t(i0) * 4;
-        const float* t10 = row0 + size_t(i1) * 4;
-        const float* t01 = row1 + size_t(i0) * 4;
-        const float* t11 = row1 + size_t(i1) * 4;
+        const size_t row0 = plane + size_t(j0) * size_t(p.width), row1 = plane + size_t(j1) * size_t(p.width);
+        float t00[4], t10[4], t01[4], t11[4];
+        texel(p, row0 + size_t(i0), ref, t00);
+        texel(p, row0 + size_t(i1), ref, t10);
+        texel(p, row1 + size_t(i0), ref, t01);
+        texel(p, row1 + size_t(i1), ref, t11);
         const float w00 = (1 - a) * (1 - b), w10 = a * (1 - b), w01 = (1 - a) * b, w11 = a * b;
         for (int c = 0; c < 4; ++c) out[c] = w00 * t00[c] + w10 * t10[c] + w01 * t01[c] + w11 * t11[c];
     }
 
-    void filter(const LevelChoice& ch, float s, float t, float r, float out[4]) const {
-        filter(planes[size_t(ch.first)], ch.linear, s, t, r, out);
+    void filter(const LevelChoice& ch, int face, float s, float t, float r, float ref, float out[4]) const {
+        const Plane* levels = planes + size_t(face) * size_t(face_stride);
+        filter(levels[ch.first], ch.linear, s, t, r, ref, out);
         if (ch.second < 0) return;
         float b[4];
-        filter(planes[size_t(ch.second)], ch.linear, s, t, r, b);
+        filter(levels[ch.second], ch.linear, s, t, r, ref, b);
         for (int c = 0; c < 4; ++c) out[c] = (1 - ch.frac) * out[c] + ch.frac * b[c];
+    }
+
+    // Whether the texels Level::filter reads for (s, t) on plane p all lie inside the face
+    // (cube maps: texels beyond an edge come from the adjacent face when filtering is seamless).
+    bool inside(const Plane& p, bool linear, float s, float t) const {
+        const float u = s * float(p.width), v = t * float(p.height);
+        if (!linear) {
+            const int32_t i = ifloor(u), j = ifloor(v);
+            return i >= 0 && i < p.width && j >= 0 && j < p.height;
+        }
+        const int32_t i0 = ifloor(u - 0.5f), j0 = ifloor(v - 0.5f);
+        return i0 >= 0 && i0 < p.width - 1 && j0 >= 0 && j0 < p.height - 1;
+    }
+    bool inside(const LevelChoice& ch, int face, float s, float t) const {
+        const Plane* levels = planes + size_t(face) * size_t(face_stride);
+        return inside(levels[ch.first], ch.linear, s, t) && (ch.second < 0 || inside(levels[ch.second], ch.linear, s, t));
     }
 };
 
@@ -572,7 +612,7 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bo
                                              const float* t, const float* r, float out[8][4]) {
     const float* layer[8];
     for (int l = 0; l < 8; ++l)
-        layer[l] = p.texels + (r ? size_t(std::clamp(ifloor(r[l] + 0.5f), 0, p.layers - 1)) * size_t(p.height) * size_t(p.width) * 4 : 0);
+        layer[l] = p.color + (r ? size_t(std::clamp(ifloor(r[l] + 0.5f), 0, p.layers - 1)) * size_t(p.height) * size_t(p.width) * 4 : 0);
     const __m256 u = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(s), _mm256_set1_ps(float(p.width))), _mm256_set1_ps(float(f.off_s)));
     const __m256 v = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(t), _mm256_set1_ps(float(p.height))), _mm256_set1_ps(float(f.off_t)));
     alignas(32) int32_t i0[8], i1[8], j0[8], j1[8];
@@ -829,10 +869,10 @@ template <bool kLayered>
 __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) void filter16(const Fast2D& f, const Plane& p, bool linear,
                                                              const float* s, const float* t, const float* r,
                                                              __m512 out[4]) {
-    Layers16<kLayered> layers{p.texels, {}};
+    Layers16<kLayered> layers{p.color, {}};
     if constexpr (kLayered)
         for (int l = 0; l < 16; ++l)
-            layers.lane[l] = p.texels + size_t(std::clamp(ifloor(r[l] + 0.5f), 0, p.layers - 1)) * size_t(p.height) * size_t(p.width) * 4;
+            layers.lane[l] = p.color + size_t(std::clamp(ifloor(r[l] + 0.5f), 0, p.layers - 1)) * size_t(p.height) * size_t(p.width) * 4;
     const __m512 u = _mm512_add_ps(_mm512_mul_ps(_mm512_loadu_ps(s), _mm512_set1_ps(float(p.width))), _mm512_set1_ps(float(f.off_s)));
     const __m512 v = _mm512_add_ps(_mm512_mul_ps(_mm512_loadu_ps(t), _mm512_set1_ps(float(p.height))), _mm512_set1_ps(float(f.off_t)));
     const __m512i width = _mm512_set1_epi32(p.width);
@@ -947,9 +987,8 @@ bool TextureUnitSampler::lod_matters(const glsl::TextureQuery& q) const {
 }
 
 bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd) const {
-    if (q.kind != TextureKind::Sample || q.shadow || q.result != BaseType::Float ||
-        (q.dim != SamplerDim::Tex2D && q.dim != SamplerDim::Tex2DArray))
-        return false;
+    const bool cube = q.dim == SamplerDim::Cube;
+    if (q.kind != TextureKind::Sample || q.result != BaseType::Float || q.dim == SamplerDim::Tex3D) return false;
     // One unit for every active lane (sampler uniforms are uniform; anything else goes per lane).
     int32_t unit;
     if (!one_unit(q, unit)) return false;
@@ -960,16 +999,26 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
     const SamplerParams& p = bt.params;
 
     Fast2D f;
-    // The levels [base, top] (all defined, of one float-sampled format, on a complete texture).
-    if (bt.q < bt.base || bt.q - bt.base >= int32_t(f.planes.size())) return false;
-    for (int32_t level = bt.base; level <= bt.q; ++level) {
-        const Image* img = tex.find(0, level);
-        if (!img || img->format->kind() != SampleKind::Float || img->color.size() != img->texel_count() * 4) return false;
-        f.planes[size_t(level - bt.base)] = {img->color.data(), tex.rgba8(*img), img->width, img->height, img->depth,
-                                             is_power_of_two(img->width), is_power_of_two(img->height)};
-    }
-    f.wrap_s = p.wrap_s, f.wrap_t = p.wrap_t;
-    f.off_s = q.offset[0], f.off_t = q.offset[1];
+    // The levels [base, top] of every face, from the table the draw built (all defined, of
+    // one format, on a complete texture).
+    const int faces = cube ? 6 : 1;
+    if (bt.q < bt.base || bt.q - bt.base >= 16 || tex.sampled_base != bt.base || tex.faces() != faces) return false;
+    f.planes = tex.sampled(0, bt.base);
+    f.face_stride = tex.sampled_count;
+    if (!f.planes || !tex.sampled(0, bt.q)) return false;
+    const bool depth = f.planes[0].depth != nullptr;
+    for (int face = 0; face < faces; ++face)
+        for (int32_t k = 0; k <= bt.q - bt.base; ++k) {
+            const Plane& level = f.planes[size_t(face) * size_t(f.face_stride) + size_t(k)];
+            if (level.width == 0 || (level.depth != nullptr) != depth) return false;
+        }
+    f.compare = q.shadow && p.compare_mode == gl::COMPARE_REF_TO_TEXTURE;
+    f.compare_func = p.compare_func;
+    f.luminance = bt.depth_as_luminance;
+    // Cube maps: CLAMP_TO_EDGE within the face (ES 3.0 §3.8.10; lanes that would cross an edge
+    // with seamless filtering go to sample_lane), no offsets.
+    f.wrap_s = cube ? gl::CLAMP_TO_EDGE : p.wrap_s, f.wrap_t = cube ? gl::CLAMP_TO_EDGE : p.wrap_t;
+    f.off_s = cube ? 0 : q.offset[0], f.off_t = cube ? 0 : q.offset[1];
     f.base = bt.base, f.top = bt.q;
     f.min_filter = p.min_filter;
     f.mag_linear = p.mag_filter == gl::LINEAR;
@@ -982,31 +1031,48 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
     const float w = float(f.planes[0].width), h = float(f.planes[0].height);
 
     LambdaMemo& lambda_of = LambdaMemo::of_this_thread();
-    const auto lambda_at = [&](int l) {
-        // ES 3.0 §3.8.10.1-2 as in sample_lanes; max(sqrt(x), sqrt(y)) = sqrt(max(x, y)) as sqrt
-        // is correctly rounded (monotonic), and std::max keeps the same NaN.
+    // ES 3.0 §3.8.10.1-2 as in sample_lanes; max(sqrt(x), sqrt(y)) = sqrt(max(x, y)) as sqrt is
+    // correctly rounded (monotonic), and std::max keeps the same NaN.
+    const auto lambda_of_derivatives = [&](const float dx[3], const float dy[3], bool third_x, bool third_y, int l) {
         if (q.lod_mode == TextureLod::Explicit) return q.lod ? q.lod[l].f : 0.0f;
-        float dx[3] = {0, 0, 0}, dy[3] = {0, 0, 0};
-        for (int k = 0; k < 3; ++k) {
-            if (q.ddx[k]) dx[k] = q.ddx[k][l].f;
-            if (q.ddy[k]) dy[k] = q.ddy[k][l].f;
-        }
         double lx2 = double(dx[0] * w) * (dx[0] * w) + double(dx[1] * h) * (dx[1] * h);
         double ly2 = double(dy[0] * w) * (dy[0] * w) + double(dy[1] * h) * (dy[1] * h);
         // The third term (d = 0 off 3D) is +0, which adds nothing, unless dx[2] is not finite.
-        if (q.ddx[2]) lx2 += double(dx[2] * 0.0f) * (dx[2] * 0.0f);
-        if (q.ddy[2]) ly2 += double(dy[2] * 0.0f) * (dy[2] * 0.0f);
+        if (third_x) lx2 += double(dx[2] * 0.0f) * (dx[2] * 0.0f);
+        if (third_y) ly2 += double(dy[2] * 0.0f) * (dy[2] * 0.0f);
         float lambda = lambda_of(std::max(lx2, ly2));
         if (q.lod_mode == TextureLod::Bias && q.lod) lambda += q.lod[l].f;
         return lambda;
+    };
+    const auto derivatives = [&](int l, float dx[3], float dy[3]) {
+        for (int k = 0; k < 3; ++k) {
+            dx[k] = q.ddx[k] ? q.ddx[k][l].f : 0.0f;
+            dy[k] = q.ddy[k] ? q.ddy[k][l].f : 0.0f;
+        }
+    };
+    const auto lambda_at = [&](int l) {
+        float dx[3] = {0, 0, 0}, dy[3] = {0, 0, 0};
+        if (q.lod_mode != TextureLod::Explicit) derivatives(l, dx, dy);
+        return lambda_of_derivatives(dx, dy, q.ddx[2] != nullptr, q.ddy[2] != nullptr, l);
     };
     const LevelChoice fixed{0, -1, f.mag_linear, 0.0f};
     const auto one_lane = [&](int l) {
         float result[4] = {0, 0, 0, 1};   // inactive lanes: as sample_lanes gives them
         if (!q.active || q.active[l]) {
-            const float s = q.coord[0] ? q.coord[0][l].f : 0.0f, t = q.coord[1] ? q.coord[1][l].f : 0.0f;
+            float s = q.coord[0] ? q.coord[0][l].f : 0.0f, t = q.coord[1] ? q.coord[1][l].f : 0.0f;
             const float r = q.coord[2] ? q.coord[2][l].f : 0.0f;
-            f.filter(needs_lambda ? f.choose(lambda_at(l)) : fixed, s, t, r, result);
+            const float ref = q.compare ? q.compare[l].f : 0.0f;
+            if (!cube) {
+                f.filter(needs_lambda ? f.choose(lambda_at(l)) : fixed, 0, s, t, r, ref, result);
+            } else {
+                float dx[3], dy[3];
+                derivatives(l, dx, dy);
+                const int face = cube_coords(s, t, r, dx, dy);
+                // The cube's third derivative term: always there, and +0 after cube_coords.
+                const LevelChoice ch = needs_lambda ? f.choose(lambda_of_derivatives(dx, dy, true, true, l)) : fixed;
+                if (bt.seamless_cube && !f.inside(ch, face, s, t)) return sample_lane(q, l);
+                f.filter(ch, face, s, t, 0.0f, ref, result);
+            }
         }
         for (int c = 0; c < 4; ++c) if (q.out[c]) q.out[c][l].f = result[c];
     };
@@ -1014,7 +1080,7 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
     int l = 0;
 #ifdef SOFTGL_SAMPLER_AVX2
     // Blocks of 16 (AVX-512) or 8 active lanes that share their levels; the other blocks lane by lane.
-    if (simd != SimdBlocks::None && q.coord[0] && q.coord[1]) {
+    if (simd != SimdBlocks::None && !cube && !depth && q.coord[0] && q.coord[1]) {
         const float* r = f.planes[0].layers > 1 && q.coord[2] ? &q.coord[2][0].f : nullptr;
         // The levels of lanes l .. l + n - 1 if they are all active and share them.
         LevelChoice ch[16];
