@@ -646,6 +646,17 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bo
     }
 }
 
+// result[k][c] of 8 lanes into out[c][l + k] (two 4x4 transposes).
+inline void store_lanes8(const float result[8][4], glsl::Scalar* const out[4], int l) {
+    for (int half = 0; half < 2; ++half) {
+        __m128 r[4];
+        for (int k = 0; k < 4; ++k) r[k] = _mm_loadu_ps(result[4 * half + k]);
+        _MM_TRANSPOSE4_PS(r[0], r[1], r[2], r[3]);
+        for (int c = 0; c < 4; ++c)
+            if (out[c]) _mm_storeu_ps(&out[c][l + 4 * half].f, r[c]);
+    }
+}
+
 __attribute__((target("avx2"))) inline __m256 load8(const glsl::Scalar* p, int l) {
     return p ? _mm256_loadu_ps(&p[l].f) : _mm256_setzero_ps();
 }
@@ -654,6 +665,44 @@ __attribute__((target("avx2"))) inline __m256 load8(const glsl::Scalar* p, int l
 __attribute__((target("avx2"))) inline __m256d square_wide(__m256 v, int half) {
     const __m256d d = _mm256_cvtps_pd(half ? _mm256_extractf128_ps(v, 1) : _mm256_castps256_ps128(v));
     return _mm256_mul_pd(d, d);
+}
+
+// log2(x) of 4 positive normal doubles, within 2^-49 |log2 x| (measured: below 2^-50.8 against
+// long double log2l over 8e7 values of rho² from 2^-298 to 2^256 and near 1): x = 2^e m with m in [sqrt(1/2), sqrt(2)), and
+// log2 m = (2 / ln 2) atanh(z), z = (m - 1) / (m + 1), |z| < 0.172, as z * sum z^2k / (2k + 1)
+// to k = 11 (the next term is below 2^-58).
+__attribute__((target("avx2"))) inline __m256d log2_approx4(__m256d x) {
+    const __m256i bits = _mm256_castpd_si256(x);
+    // The exponent field as a double: 2^52 + field, less 2^52 + 1023.
+    const __m256d field = _mm256_castsi256_pd(_mm256_or_si256(_mm256_srli_epi64(bits, 52), _mm256_set1_epi64x(0x4330000000000000LL)));
+    __m256d e = _mm256_sub_pd(field, _mm256_set1_pd(4503599627371519.0));
+    __m256d m = _mm256_castsi256_pd(_mm256_or_si256(_mm256_and_si256(bits, _mm256_set1_epi64x(0x000FFFFFFFFFFFFFLL)),
+                                                    _mm256_set1_epi64x(0x3FF0000000000000LL)));
+    const __m256d big = _mm256_cmp_pd(m, _mm256_set1_pd(1.4142135623730951), _CMP_GT_OQ);
+    m = _mm256_blendv_pd(m, _mm256_mul_pd(m, _mm256_set1_pd(0.5)), big);
+    e = _mm256_add_pd(e, _mm256_and_pd(big, _mm256_set1_pd(1.0)));
+    const __m256d one = _mm256_set1_pd(1.0);
+    const __m256d z = _mm256_div_pd(_mm256_sub_pd(m, one), _mm256_add_pd(m, one));
+    const __m256d z2 = _mm256_mul_pd(z, z);
+    __m256d p = _mm256_set1_pd(1.0 / 23.0);
+    for (int k = 10; k >= 0; --k) p = _mm256_add_pd(_mm256_mul_pd(p, z2), _mm256_set1_pd(1.0 / double(2 * k + 1)));
+    return _mm256_add_pd(e, _mm256_mul_pd(_mm256_mul_pd(z, p), _mm256_set1_pd(2.0 / 0.69314718055994530942)));
+}
+
+// LambdaMemo's float(log2(sqrt(rho2))) of 4 lanes, to the bit: bit k of the result is set when
+// lane k is sure. A lane is sure when rho2 is positive and finite and float() rounds the whole
+// interval L (1 ± 2^-45) around the approximation L to one float: the true log2, within
+// 2^-49 |L| of L, and libm's (within an ulp of the truth) both lie inside it, so rounding either
+// gives that float. The rest (about one lane in 2^20) are left to LambdaMemo.
+__attribute__((target("avx2"))) inline int lambda_exact4(__m256d rho2, __m128& lambda) {
+    const __m256d L = log2_approx4(_mm256_sqrt_pd(rho2));
+    const __m256d margin = _mm256_mul_pd(_mm256_andnot_pd(_mm256_set1_pd(-0.0), L), _mm256_set1_pd(0x1p-45));
+    lambda = _mm256_cvtpd_ps(L);
+    const __m128 lo = _mm256_cvtpd_ps(_mm256_sub_pd(L, margin)), hi = _mm256_cvtpd_ps(_mm256_add_pd(L, margin));
+    const __m256d finite = _mm256_and_pd(_mm256_cmp_pd(rho2, _mm256_setzero_pd(), _CMP_GT_OQ),
+                                         _mm256_cmp_pd(rho2, _mm256_set1_pd(INFINITY), _CMP_LT_OQ));
+    const int same = _mm_movemask_ps(_mm_and_ps(_mm_cmpeq_ps(lo, lambda), _mm_cmpeq_ps(hi, lambda)));
+    return same & _mm256_movemask_pd(finite);
 }
 
 // The lambdas of lanes l..l+7 (Implicit, Bias, Gradient), as lambda_at in sample_2d computes them:
@@ -672,12 +721,30 @@ __attribute__((target("avx2"))) void lambda8(const glsl::TextureQuery& q, int l,
         if (q.ddy[2]) ly2 = _mm256_add_pd(ly2, square_wide(y2, half));
         _mm256_store_pd(rho2 + 4 * half, _mm256_max_pd(ly2, lx2));   // = std::max(lx2, ly2), NaN included
     }
-    // Lanes of a quad often share rho² (affine coordinates): equal (non-NaN) doubles give the same lambda.
-    float lambda = 0.0f;
-    for (int k = 0; k < 8; ++k) {
-        if (k == 0 || !(rho2[k] == rho2[k - 1])) lambda = lambda_of(rho2[k]);
-        out[k] = lambda;
-        if (q.lod_mode == TextureLod::Bias && q.lod) out[k] += q.lod[l + k].f;
+    // Under affine coordinates all 8 lanes share rho²: one LambdaMemo lookup.
+    const __m256d first = _mm256_set1_pd(rho2[0]);
+    if ((_mm256_movemask_pd(_mm256_cmp_pd(_mm256_load_pd(rho2), first, _CMP_EQ_OQ)) &
+         _mm256_movemask_pd(_mm256_cmp_pd(_mm256_load_pd(rho2 + 4), first, _CMP_EQ_OQ))) == 0xF) {
+        const float lambda = lambda_of(rho2[0]);
+        for (int k = 0; k < 8; ++k) {
+            out[k] = lambda;
+            if (q.lod_mode == TextureLod::Bias && q.lod) out[k] += q.lod[l + k].f;
+        }
+        return;
+    }
+    // Otherwise lambda = float(log2(sqrt(rho²))) 4 lanes at a time (lambda_exact4); the lanes it
+    // cannot vouch for (and 0, infinite or NaN rho²) from LambdaMemo, as the scalar path.
+    for (int half = 0; half < 2; ++half) {
+        const __m256d r2 = _mm256_load_pd(rho2 + 4 * half);
+        __m128 lambda;
+        int sure = lambda_exact4(r2, lambda);
+        if (q.lod_mode == TextureLod::Bias && q.lod) lambda = _mm_add_ps(lambda, _mm_loadu_ps(&q.lod[l + 4 * half].f));
+        _mm_storeu_ps(out + 4 * half, lambda);
+        for (int k = 0; sure != 0xF && k < 4; ++k) {
+            if (sure & (1 << k)) continue;
+            out[4 * half + k] = lambda_of(rho2[4 * half + k]);
+            if (q.lod_mode == TextureLod::Bias && q.lod) out[4 * half + k] += q.lod[l + 4 * half + k].f;
+        }
     }
 }
 
@@ -717,6 +784,25 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const LevelChoice 
     for (int l = 0; l < 8; ++l) {
         const __m128 x = _mm_mul_ps(_mm_set1_ps(1 - ch[l].frac), _mm_loadu_ps(out[l]));
         _mm_storeu_ps(out[l], _mm_add_ps(x, _mm_mul_ps(_mm_set1_ps(ch[l].frac), _mm_loadu_ps(b[l]))));
+    }
+}
+
+// filter8(LevelChoice) of 8 lanes whose levels differ: each of the `count` distinct levels
+// filtered for all 8 lanes, each lane's result taken from (or blended between) its own.
+__attribute__((target("avx2"))) void filter8(const Fast2D& f, const LevelChoice ch[8], const int32_t levels[3], int count,
+                                             const float* s, const float* t, const float* r, float out[8][4]) {
+    float by_level[3][8][4];
+    for (int i = 0; i < count; ++i) filter8(f, f.planes[size_t(levels[i])], ch[0].linear, s, t, r, by_level[i]);
+    const auto at = [&](int32_t level) { return int(std::find(levels, levels + count, level) - levels); };
+    for (int l = 0; l < 8; ++l) {
+        const float* a = by_level[at(ch[l].first)][l];
+        if (ch[l].second < 0) {
+            _mm_storeu_ps(out[l], _mm_loadu_ps(a));
+            continue;
+        }
+        const float* b = by_level[at(ch[l].second)][l];
+        const __m128 x = _mm_mul_ps(_mm_set1_ps(1 - ch[l].frac), _mm_loadu_ps(a));
+        _mm_storeu_ps(out[l], _mm_add_ps(x, _mm_mul_ps(_mm_set1_ps(ch[l].frac), _mm_loadu_ps(b))));
     }
 }
 
@@ -946,6 +1032,33 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512))) void filter16(const Fast2D& f, co
     for (int c = 0; c < 4; ++c)
         if (out[c]) _mm512_storeu_ps(&out[c][l].f, a[c]);
 }
+// filter16(LevelChoice) of 16 lanes whose levels differ (as filter8 above).
+__attribute__((target(SOFTGL_SAMPLER_AVX512))) void filter16(const Fast2D& f, const LevelChoice ch[16], const int32_t levels[3],
+                                                             int count, const float* s, const float* t, const float* r,
+                                                             glsl::Scalar* const out[4], int l) {
+    __m512 by_level[3][4];
+    for (int i = 0; i < count; ++i) filter16(f, f.planes[size_t(levels[i])], ch[0].linear, s, t, r, by_level[i]);
+    alignas(64) float frac[16];
+    __mmask16 first[3] = {0, 0, 0}, second[3] = {0, 0, 0};
+    for (int k = 0; k < 16; ++k) {
+        frac[k] = ch[k].frac;
+        for (int i = 0; i < count; ++i) {
+            if (ch[k].first == levels[i]) first[i] |= __mmask16(1u << k);
+            if (ch[k].second == levels[i]) second[i] |= __mmask16(1u << k);
+        }
+    }
+    const __mmask16 blended = __mmask16(second[0] | second[1] | second[2]);
+    const __m512 g = _mm512_load_ps(frac), ng = _mm512_sub_ps(_mm512_set1_ps(1.0f), g);
+    for (int c = 0; c < 4; ++c) {
+        __m512 a = by_level[0][c], b = by_level[0][c];
+        for (int i = 1; i < count; ++i) {
+            a = _mm512_mask_mov_ps(a, first[i], by_level[i][c]);
+            b = _mm512_mask_mov_ps(b, second[i], by_level[i][c]);
+        }
+        a = _mm512_mask_mov_ps(a, blended, _mm512_add_ps(_mm512_mul_ps(ng, a), _mm512_mul_ps(g, b)));
+        if (out[c]) _mm512_storeu_ps(&out[c][l].f, a);
+    }
+}
 #pragma GCC diagnostic pop
 #endif
 
@@ -1082,12 +1195,21 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
     // Blocks of 16 (AVX-512) or 8 active lanes that share their levels; the other blocks lane by lane.
     if (simd != SimdBlocks::None && !cube && !depth && q.coord[0] && q.coord[1]) {
         const float* r = f.planes[0].layers > 1 && q.coord[2] ? &q.coord[2][0].f : nullptr;
-        // The levels of lanes l .. l + n - 1 if they are all active and share them.
         LevelChoice ch[16];
-        const auto shared_levels = [&](int n) {
-            for (int k = 0; k < n && q.active; ++k)
-                if (!q.active[l + k]) return false;
-            if (!needs_lambda) return std::fill(ch, ch + n, fixed), true;
+        if (!needs_lambda) std::fill(ch, ch + 16, fixed);
+        // Bit k: lane l + k is active.
+        const auto active_lanes = [&](int n) {
+            if (!q.active) return (1u << n) - 1;
+            uint32_t inactive = 0;
+            for (int k = 0; k < n; k += 4) {
+                const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(q.active + l + k));
+                inactive |= uint32_t(_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(a, _mm_setzero_si128())))) << k;
+            }
+            return ~inactive & ((1u << n) - 1);
+        };
+        // The levels of lanes l .. l + n - 1 in ch; inactive lanes take those of the first
+        // active lane, so that they add no level.
+        const auto choose_block = [&](int n, uint32_t active) {
             for (int part = 0; part < n; part += 8) {
                 float lambda[8];
                 if (q.lod_mode == TextureLod::Explicit) for (int k = 0; k < 8; ++k) lambda[k] = lambda_at(l + part + k);
@@ -1095,26 +1217,71 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
                 if (!choose8(f, lambda, ch + part))
                     for (int k = 0; k < 8; ++k) ch[part + k] = f.choose(lambda[k]);
             }
+            if (active != (1u << n) - 1)
+                for (int k = 0; k < n; ++k)
+                    if (!(active >> k & 1)) ch[k] = ch[__builtin_ctz(active)];
+        };
+        // The distinct levels of ch[0 .. n) (at most 3, all with one filter), or 0 if more.
+        int32_t levels[3];
+        const auto distinct_levels = [&](int n) {
+            int count = 0;
+            for (int k = 0; k < n; ++k) {
+                if (ch[k].linear != ch[0].linear) return 0;
+                for (const int32_t level : {ch[k].first, ch[k].second}) {
+                    if (level < 0 || std::find(levels, levels + count, level) != levels + count) continue;
+                    if (count == 3) return 0;
+                    levels[count++] = level;
+                }
+            }
+            return count;
+        };
+        const auto same_levels = [&](int n) {
             for (int k = 1; k < n; ++k)
                 if (!ch[k].same_levels(ch[0])) return false;
             return true;
         };
         glsl::Scalar* const out[4] = {q.out[0], q.out[1], q.out[2], q.out[3]};
         while (l + 8 <= q.lane_count) {
-            if (simd == SimdBlocks::Avx512 && l + 16 <= q.lane_count && shared_levels(16)) {
-                filter16(f, ch, &q.coord[0][l].f, &q.coord[1][l].f, r ? r + l : nullptr, out, l);
-                l += 16;
-                continue;
+            int n = simd == SimdBlocks::Avx512 && l + 16 <= q.lane_count ? 16 : 8;
+            const uint32_t active = active_lanes(n);
+            const float* s = &q.coord[0][l].f;
+            const float* t = &q.coord[1][l].f;
+            const float* rl = r ? r + l : nullptr;
+            int count = 0;
+            bool same = true;
+            if (active && needs_lambda) {
+                choose_block(n, active);
+                same = same_levels(n);
+                if (!same && n == 16) count = distinct_levels(16);
             }
-            if (shared_levels(8)) {
-                float result[8][4];
-                filter8(f, ch, &q.coord[0][l].f, &q.coord[1][l].f, r ? r + l : nullptr, result);
-                for (int c = 0; c < 4; ++c)
-                    if (q.out[c]) for (int k = 0; k < 8; ++k) q.out[c][l + k].f = result[k][c];
+            if (!active) {
+                // Nothing to compute: every lane gets (0, 0, 0, 1) below.
+            } else if (n == 16 && same) {
+                filter16(f, ch, s, t, rl, out, l);
+            } else if (n == 16 && count) {
+                filter16(f, ch, levels, count, s, t, rl, out, l);
             } else {
-                for (int k = 0; k < 8; ++k) one_lane(l + k);
+                // Blocks of 8 (lanes 8 .. 15 of a block of 16 are chosen again next time round).
+                n = 8;
+                float result[8][4];
+                if (same || same_levels(8)) {
+                    filter8(f, ch, s, t, rl, result);
+                } else if (const int count8 = distinct_levels(8)) {
+                    filter8(f, ch, levels, count8, s, t, rl, result);
+                } else {
+                    for (int k = 0; k < 8; ++k) one_lane(l + k);
+                    l += 8;
+                    continue;
+                }
+                store_lanes8(result, out, l);
             }
-            l += 8;
+            if (active != (1u << n) - 1) {
+                // Inactive lanes: (0, 0, 0, 1), as sample_lanes gives them.
+                for (int k = 0; k < n; ++k)
+                    if (!(active >> k & 1))
+                        for (int c = 0; c < 4; ++c) if (q.out[c]) q.out[c][l + k].f = c == 3 ? 1.0f : 0.0f;
+            }
+            l += n;
         }
     }
 #endif
