@@ -649,11 +649,13 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bo
 // result[k][c] of 8 lanes into out[c][l + k] (two 4x4 transposes).
 inline void store_lanes8(const float result[8][4], glsl::Scalar* const out[4], int l) {
     for (int half = 0; half < 2; ++half) {
-        __m128 r[4];
-        for (int k = 0; k < 4; ++k) r[k] = _mm_loadu_ps(result[4 * half + k]);
-        _MM_TRANSPOSE4_PS(r[0], r[1], r[2], r[3]);
-        for (int c = 0; c < 4; ++c)
-            if (out[c]) _mm_storeu_ps(&out[c][l + 4 * half].f, r[c]);
+        const float* row = result[4 * half];
+        __m128 r0 = _mm_loadu_ps(row), r1 = _mm_loadu_ps(row + 4), r2 = _mm_loadu_ps(row + 8), r3 = _mm_loadu_ps(row + 12);
+        _MM_TRANSPOSE4_PS(r0, r1, r2, r3);
+        if (out[0]) _mm_storeu_ps(&out[0][l + 4 * half].f, r0);
+        if (out[1]) _mm_storeu_ps(&out[1][l + 4 * half].f, r1);
+        if (out[2]) _mm_storeu_ps(&out[2][l + 4 * half].f, r2);
+        if (out[3]) _mm_storeu_ps(&out[3][l + 4 * half].f, r3);
     }
 }
 
