@@ -608,19 +608,26 @@ __attribute__((target("avx2"))) inline void wrap8(GLenum mode, __m256i i, int32_
 static_assert(sizeof(glsl::Scalar) == sizeof(float), "8 lanes of coordinates load as 8 floats");
 
 // Fast2D::filter of one plane for 8 lanes (r: the layers of a 2D array, else null).
+// Depth planes (ref: the lanes' references, or null) read their texels through Fast2D::texel.
 __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bool linear, const float* s,
-                                             const float* t, const float* r, float out[8][4]) {
+                                             const float* t, const float* r, float out[8][4], const float* ref = nullptr) {
+    size_t layer_at[8];   // the first texel of each lane's layer
     const float* layer[8];
-    for (int l = 0; l < 8; ++l)
-        layer[l] = p.color + (r ? size_t(std::clamp(ifloor(r[l] + 0.5f), 0, p.layers - 1)) * size_t(p.height) * size_t(p.width) * 4 : 0);
+    for (int l = 0; l < 8; ++l) {
+        layer_at[l] = r ? size_t(std::clamp(ifloor(r[l] + 0.5f), 0, p.layers - 1)) * size_t(p.height) * size_t(p.width) : 0;
+        layer[l] = p.color ? p.color + layer_at[l] * 4 : nullptr;
+    }
     const __m256 u = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(s), _mm256_set1_ps(float(p.width))), _mm256_set1_ps(float(f.off_s)));
     const __m256 v = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(t), _mm256_set1_ps(float(p.height))), _mm256_set1_ps(float(f.off_t)));
     alignas(32) int32_t i0[8], i1[8], j0[8], j1[8];
     if (!linear) {
         wrap8(f.wrap_s, ifloor_floored8(_mm256_floor_ps(u)), p.width, p.width_pot, false, i0, i1);
         wrap8(f.wrap_t, ifloor_floored8(_mm256_floor_ps(v)), p.height, p.height_pot, false, j0, j1);
-        for (int l = 0; l < 8; ++l)
-            _mm_storeu_ps(out[l], _mm_loadu_ps(layer[l] + (size_t(j0[l]) * size_t(p.width) + size_t(i0[l])) * 4));
+        for (int l = 0; l < 8; ++l) {
+            const size_t n = size_t(j0[l]) * size_t(p.width) + size_t(i0[l]);
+            if (p.depth) f.texel(p, layer_at[l] + n, ref ? ref[l] : 0.0f, out[l]);
+            else _mm_storeu_ps(out[l], _mm_loadu_ps(layer[l] + n * 4));
+        }
         return;
     }
     const __m256 half = _mm256_set1_ps(0.5f), one = _mm256_set1_ps(1.0f);
@@ -635,6 +642,23 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bo
     _mm256_store_ps(w10, _mm256_mul_ps(a, nb));
     _mm256_store_ps(w01, _mm256_mul_ps(na, b));
     _mm256_store_ps(w11, _mm256_mul_ps(a, b));
+    if (p.depth) {
+        for (int l = 0; l < 8; ++l) {
+            const size_t row0 = layer_at[l] + size_t(j0[l]) * size_t(p.width), row1 = layer_at[l] + size_t(j1[l]) * size_t(p.width);
+            const float lane_ref = ref ? ref[l] : 0.0f;
+            float t00[4], t10[4], t01[4], t11[4];
+            f.texel(p, row0 + size_t(i0[l]), lane_ref, t00);
+            f.texel(p, row0 + size_t(i1[l]), lane_ref, t10);
+            f.texel(p, row1 + size_t(i0[l]), lane_ref, t01);
+            f.texel(p, row1 + size_t(i1[l]), lane_ref, t11);
+            __m128 sum = _mm_mul_ps(_mm_set1_ps(w00[l]), _mm_loadu_ps(t00));
+            sum = _mm_add_ps(sum, _mm_mul_ps(_mm_set1_ps(w10[l]), _mm_loadu_ps(t10)));
+            sum = _mm_add_ps(sum, _mm_mul_ps(_mm_set1_ps(w01[l]), _mm_loadu_ps(t01)));
+            sum = _mm_add_ps(sum, _mm_mul_ps(_mm_set1_ps(w11[l]), _mm_loadu_ps(t11)));
+            _mm_storeu_ps(out[l], sum);
+        }
+        return;
+    }
     for (int l = 0; l < 8; ++l) {
         const float* row0 = layer[l] + size_t(j0[l]) * size_t(p.width) * 4;
         const float* row1 = layer[l] + size_t(j1[l]) * size_t(p.width) * 4;
@@ -778,11 +802,11 @@ __attribute__((target("avx2"))) bool choose8(const Fast2D& f, const float lambda
 
 // Fast2D::filter(LevelChoice) of 8 lanes that share the levels (frac per lane).
 __attribute__((target("avx2"))) void filter8(const Fast2D& f, const LevelChoice ch[8], const float* s, const float* t,
-                                             const float* r, float out[8][4]) {
-    filter8(f, f.planes[size_t(ch[0].first)], ch[0].linear, s, t, r, out);
+                                             const float* r, const float* ref, float out[8][4]) {
+    filter8(f, f.planes[size_t(ch[0].first)], ch[0].linear, s, t, r, out, ref);
     if (ch[0].second < 0) return;
     float b[8][4];
-    filter8(f, f.planes[size_t(ch[0].second)], ch[0].linear, s, t, r, b);
+    filter8(f, f.planes[size_t(ch[0].second)], ch[0].linear, s, t, r, b, ref);
     for (int l = 0; l < 8; ++l) {
         const __m128 x = _mm_mul_ps(_mm_set1_ps(1 - ch[l].frac), _mm_loadu_ps(out[l]));
         _mm_storeu_ps(out[l], _mm_add_ps(x, _mm_mul_ps(_mm_set1_ps(ch[l].frac), _mm_loadu_ps(b[l]))));
@@ -792,9 +816,9 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const LevelChoice 
 // filter8(LevelChoice) of 8 lanes whose levels differ: each of the `count` distinct levels
 // filtered for all 8 lanes, each lane's result taken from (or blended between) its own.
 __attribute__((target("avx2"))) void filter8(const Fast2D& f, const LevelChoice ch[8], const int32_t levels[3], int count,
-                                             const float* s, const float* t, const float* r, float out[8][4]) {
+                                             const float* s, const float* t, const float* r, const float* ref, float out[8][4]) {
     float by_level[3][8][4];
-    for (int i = 0; i < count; ++i) filter8(f, f.planes[size_t(levels[i])], ch[0].linear, s, t, r, by_level[i]);
+    for (int i = 0; i < count; ++i) filter8(f, f.planes[size_t(levels[i])], ch[0].linear, s, t, r, by_level[i], ref);
     const auto at = [&](int32_t level) { return int(std::find(levels, levels + count, level) - levels); };
     for (int l = 0; l < 8; ++l) {
         const float* a = by_level[at(ch[l].first)][l];
@@ -1195,7 +1219,7 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
     int l = 0;
 #ifdef SOFTGL_SAMPLER_AVX2
     // Blocks of 16 (AVX-512) or 8 active lanes that share their levels; the other blocks lane by lane.
-    if (simd != SimdBlocks::None && !cube && !depth && q.coord[0] && q.coord[1]) {
+    if (simd != SimdBlocks::None && !cube && q.coord[0] && q.coord[1]) {
         const float* r = f.planes[0].layers > 1 && q.coord[2] ? &q.coord[2][0].f : nullptr;
         LevelChoice ch[16];
         if (!needs_lambda) std::fill(ch, ch + 16, fixed);
@@ -1244,11 +1268,13 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
         };
         glsl::Scalar* const out[4] = {q.out[0], q.out[1], q.out[2], q.out[3]};
         while (l + 8 <= q.lane_count) {
-            int n = simd == SimdBlocks::Avx512 && l + 16 <= q.lane_count ? 16 : 8;
+            // (Depth textures: blocks of 8, texels compared lane by lane.)
+            int n = simd == SimdBlocks::Avx512 && !depth && l + 16 <= q.lane_count ? 16 : 8;
             const uint32_t active = active_lanes(n);
             const float* s = &q.coord[0][l].f;
             const float* t = &q.coord[1][l].f;
             const float* rl = r ? r + l : nullptr;
+            const float* ref = q.compare ? &q.compare[l].f : nullptr;
             int count = 0;
             bool same = true;
             if (active && needs_lambda) {
@@ -1267,9 +1293,9 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
                 n = 8;
                 float result[8][4];
                 if (same || same_levels(8)) {
-                    filter8(f, ch, s, t, rl, result);
+                    filter8(f, ch, s, t, rl, ref, result);
                 } else if (const int count8 = distinct_levels(8)) {
-                    filter8(f, ch, levels, count8, s, t, rl, result);
+                    filter8(f, ch, levels, count8, s, t, rl, ref, result);
                 } else {
                     for (int k = 0; k < 8; ++k) one_lane(l + k);
                     l += 8;
