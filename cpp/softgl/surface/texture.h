@@ -171,19 +171,20 @@ public:
     int faces() const { return target == gl::TEXTURE_CUBE_MAP ? 6 : 1; }
     Image& image(int face, int level);  // grows the arrays as needed
     const Image* find(int face, int level) const;
-    // Brings the byte copies (Image::rgba8) of levels [base, q] of a 2D or cube map texture of an 8-bit unorm
-    // format up to date with `generation`; levels whose floats are not all k / 255 get none.
+    // Brings the byte copies (Image::rgba8) of levels [base, q] of a 2D or cube-map texture of
+    // an 8-bit unorm format up to date with `generation`; levels whose floats are not all k / 255 get none.
     // Called when a draw binds the texture (single-threaded), so lookups only read them. A copy
     // costs a pass over the level, worth it for textures that stay as they are: a level is
     // copied at the second draw that binds it unchanged (not for a render target sampled once
     // after each change).
     void refresh_rgba8(int32_t base, int32_t q);
     // Brings the byte copies of levels [base, q] up to date (refresh_rgba8) and rebuilds
-    // `sampled_levels` for levels [base, max(q, max_sampled_level)] of every face. Called when a draw binds the texture (single-threaded),
-    // so lookups read a table that holds for the whole draw; rebuilt at every draw, as cheap as
-    // a few dozen pointers, so that no image change can leave it stale.
+    // `sampled_levels` for levels [base, max(q, max_sampled_level)] of every face. Called when
+    // a draw binds the texture (single-threaded), so lookups read a table that holds for the
+    // whole draw (no per-lookup find()); rebuilt at every draw, as cheap as a few dozen
+    // pointers, so that no image change can leave it stale.
     void refresh_sampling(int32_t base, int32_t q);
-    // levels [sampled_base, sampled_base + sampled_count) of face f at f * sampled_count + k;
+    // Levels [sampled_base, sampled_base + sampled_count) of face f at f * sampled_count + k;
     // a level without an image, or of a kind the fast path does not read (integer), has
     // width 0. Only valid during the draw that refreshed it.
     std::vector<SampledLevel> sampled_levels;
