@@ -399,13 +399,15 @@ void TextureUnitSampler::sample_lane(const glsl::TextureQuery& q, int l) const {
     }
 }
 
-// ---------------------------------------------------------------------------- the 2D fast path
+// ---------------------------------------------------------------------------- the fast path
 //
 // The same formulas as sample_lanes in the same order (so the same bits), with what does not
-// change across a query resolved once: the texture, its level images, the filters and wraps.
-// Texels are read straight from the float storage (Image::texel of a Float-kind format). With
-// AVX2, blocks of 8 lanes that use the same level(s) compute their texel addresses and weights
-// 8 at a time (the same float operations, lane by lane; no FMA).
+// change across a query resolved once: the texture, its levels (the draw's table,
+// Texture::sampled_levels), the filters and wraps. Texels are read straight from the float
+// storage, the byte copy of 8-bit unorm levels, or the depth words. With AVX2, blocks of 8
+// lanes compute their LOD, texel addresses and weights 8 at a time (the same float operations,
+// lane by lane; no FMA); with AVX-512, colour lookups go in blocks of 16. A block whose lanes
+// use up to 3 levels filters each once for all its lanes and takes each lane's from its own.
 
 namespace {
 
