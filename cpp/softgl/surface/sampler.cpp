@@ -613,23 +613,26 @@ static_assert(sizeof(glsl::Scalar) == sizeof(float), "8 lanes of coordinates loa
 // Depth planes (ref: the lanes' references, or null) read their texels through Fast2D::texel.
 __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bool linear, const float* s,
                                              const float* t, const float* r, float out[8][4], const float* ref = nullptr) {
-    size_t layer_at[8];   // the first texel of each lane's layer
-    const float* layer[8];
-    for (int l = 0; l < 8; ++l) {
-        layer_at[l] = r ? size_t(std::clamp(ifloor(r[l] + 0.5f), 0, p.layers - 1)) * size_t(p.height) * size_t(p.width) : 0;
-        layer[l] = p.color ? p.color + layer_at[l] * 4 : nullptr;
-    }
+    size_t layer_at[8] = {};   // the first texel of each lane's layer
+    if (r)
+        for (int l = 0; l < 8; ++l)
+            layer_at[l] = size_t(std::clamp(ifloor(r[l] + 0.5f), 0, p.layers - 1)) * size_t(p.height) * size_t(p.width);
+    const float* layer[8] = {};   // colour planes: where each lane's layer starts
+    if (p.color)
+        for (int l = 0; l < 8; ++l) layer[l] = p.color + layer_at[l] * 4;
     const __m256 u = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(s), _mm256_set1_ps(float(p.width))), _mm256_set1_ps(float(f.off_s)));
     const __m256 v = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(t), _mm256_set1_ps(float(p.height))), _mm256_set1_ps(float(f.off_t)));
     alignas(32) int32_t i0[8], i1[8], j0[8], j1[8];
     if (!linear) {
         wrap8(f.wrap_s, ifloor_floored8(_mm256_floor_ps(u)), p.width, p.width_pot, false, i0, i1);
         wrap8(f.wrap_t, ifloor_floored8(_mm256_floor_ps(v)), p.height, p.height_pot, false, j0, j1);
-        for (int l = 0; l < 8; ++l) {
-            const size_t n = size_t(j0[l]) * size_t(p.width) + size_t(i0[l]);
-            if (p.depth) f.texel(p, layer_at[l] + n, ref ? ref[l] : 0.0f, out[l]);
-            else _mm_storeu_ps(out[l], _mm_loadu_ps(layer[l] + n * 4));
+        if (p.depth) {
+            for (int l = 0; l < 8; ++l)
+                f.texel(p, layer_at[l] + size_t(j0[l]) * size_t(p.width) + size_t(i0[l]), ref ? ref[l] : 0.0f, out[l]);
+            return;
         }
+        for (int l = 0; l < 8; ++l)
+            _mm_storeu_ps(out[l], _mm_loadu_ps(layer[l] + (size_t(j0[l]) * size_t(p.width) + size_t(i0[l])) * 4));
         return;
     }
     const __m256 half = _mm256_set1_ps(0.5f), one = _mm256_set1_ps(1.0f);
