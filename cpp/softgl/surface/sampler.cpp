@@ -479,6 +479,12 @@ struct Fast2D {
 
     // Texel n of plane p as Level::fetch_image gives it (ref: the lane's depth reference).
     void texel(const Plane& p, size_t n, float ref, float out[4]) const {
+        if (p.rgba8) {
+            // The byte copy: 4x less memory; k / 255 is unorm(k, 8), what the floats hold.
+            const uint32_t v = p.rgba8[n];
+            for (int c = 0; c < 4; ++c) out[c] = float((v >> (8 * c)) & 255u) / 255.0f;
+            return;
+        }
         if (p.color) {
             for (int c = 0; c < 4; ++c) out[c] = p.color[n * 4 + size_t(c)];
             return;
