@@ -793,7 +793,7 @@ bool Context::prepare_textures_and_targets(const char* call) {
             bt.q = needs_mipmaps(params.min_filter) ? max_sampled_level(*tex) : bt.base;
             bt.seamless_cube = version() >= 2;
             bt.depth_as_luminance = version() == 1;
-            if (dim == 0) tex->refresh_rgba8(bt.base, bt.q);   // byte copies for the sampler
+            tex->refresh_sampling(bt.base, bt.q);   // the level table and byte copies for the sampler
         }
     }
     return check_draw_framebuffer(call, used_units);

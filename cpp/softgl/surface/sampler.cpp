@@ -58,6 +58,40 @@ void cube_direction(int face, float sc, float tc, float r[3]) {
     }
 }
 
+// ES 3.0 §3.8.10 eq. 3.18: the face a cube-map direction (s, t, r) selects, with s, t replaced
+// by the face coordinates in [0, 1] and the derivatives dx, dy by theirs (quotient rule; the
+// third component 0). Both paths call this, so that they agree to the bit.
+int cube_coords(float& s, float& t, float r, float dx[3], float dy[3]) {
+    float sc, tc, ma;
+    const int face = cube_face(s, t, r, sc, tc, ma);
+    const int major = face / 2;
+    const float sign = (face % 2) ? -1.0f : 1.0f;
+    float dsc[2], dtc[2], dma[2];
+    const float* d2[2] = {dx, dy};
+    for (int n = 0; n < 2; ++n) {
+        const float* d = d2[n];
+        switch (face) {
+            case 0: dsc[n] = -d[2]; dtc[n] = -d[1]; break;
+            case 1: dsc[n] = d[2]; dtc[n] = -d[1]; break;
+            case 2: dsc[n] = d[0]; dtc[n] = d[2]; break;
+            case 3: dsc[n] = d[0]; dtc[n] = -d[2]; break;
+            case 4: dsc[n] = d[0]; dtc[n] = -d[1]; break;
+            default: dsc[n] = -d[0]; dtc[n] = -d[1]; break;
+        }
+        dma[n] = sign * d[major];
+    }
+    const float inv = ma > 0 ? 1.0f / ma : 0.0f;
+    s = 0.5f * (sc * inv + 1.0f);
+    t = 0.5f * (tc * inv + 1.0f);
+    for (int n = 0; n < 2; ++n) {
+        float* d = n ? dy : dx;
+        d[0] = 0.5f * (dsc[n] * ma - sc * dma[n]) * inv * inv;
+        d[1] = 0.5f * (dtc[n] * ma - tc * dma[n]) * inv * inv;
+        d[2] = 0.0f;
+    }
+    return face;
+}
+
 // ES 3.0 table 3.19 applied to integer texel coordinates.
 int32_t wrap(GLenum mode, int32_t i, int32_t size) {
     switch (mode) {
@@ -229,14 +263,18 @@ void incomplete_result(const glsl::TextureQuery& q, int l) {
 }  // namespace
 
 void TextureUnitSampler::sample_lanes(const glsl::TextureQuery& q) const {
+    for (int l = 0; l < q.lane_count; ++l) sample_lane(q, l);
+}
+
+void TextureUnitSampler::sample_lane(const glsl::TextureQuery& q, int l) const {
     const int dim = dim_index(q.dim);
     const bool cube = q.dim == SamplerDim::Cube, is3d = q.dim == SamplerDim::Tex3D;
-    for (int l = 0; l < q.lane_count; ++l) {
+    {
         const int32_t unit = q.unit[l].i;
         const BoundTexture* bt = unit >= 0 && unit < kSamplerUnits ? &units[size_t(unit)][size_t(dim)] : nullptr;
         if (!bt || !bt->texture || (q.active && !q.active[l])) {
             incomplete_result(q, l);
-            continue;
+            return;
         }
         const Texture& tex = *bt->texture;
 
@@ -248,7 +286,7 @@ void TextureUnitSampler::sample_lanes(const glsl::TextureQuery& q) const {
             const int32_t size[3] = {ok ? img->width : 0, ok ? img->height : 0, ok ? img->depth : 0};
             for (int c = 0; c < 3; ++c)
                 if (q.out[c]) q.out[c][l].i = size[c];
-            continue;
+            return;
         }
 
         if (q.kind == TextureKind::Fetch) {
@@ -263,7 +301,7 @@ void TextureUnitSampler::sample_lanes(const glsl::TextureQuery& q) const {
                                 c3[0] < img->width && c3[1] < img->height && c3[2] < img->depth;
             if (!inside) {
                 for (int c = 0; c < 4; ++c) if (q.out[c]) q.out[c][l].u = 0;
-                continue;
+                return;
             }
             const size_t t = (size_t(c3[2]) * size_t(img->height) + size_t(c3[1])) * size_t(img->width) + size_t(c3[0]);
             if (q.result != BaseType::Float) {
@@ -275,7 +313,7 @@ void TextureUnitSampler::sample_lanes(const glsl::TextureQuery& q) const {
                 if (img->format->kind() == SampleKind::Depth && bt->depth_as_luminance) texel[1] = texel[2] = texel[0];
                 for (int c = 0; c < 4; ++c) if (q.out[c]) q.out[c][l].f = texel[c];
             }
-            continue;
+            return;
         }
 
         // ---- a filtered lookup ----
@@ -286,39 +324,9 @@ void TextureUnitSampler::sample_lanes(const glsl::TextureQuery& q) const {
             if (q.ddx[k]) dx[k] = q.ddx[k][l].f;
             if (q.ddy[k]) dy[k] = q.ddy[k][l].f;
         }
-        int face = 0;
-        if (cube) {
-            // ES 3.0 §3.8.10 eq. 3.18: s = (sc/|ma| + 1)/2; derivatives by the quotient rule.
-            float sc, tc, ma;
-            face = cube_face(s, t, r, sc, tc, ma);
-            const int major = face / 2;
-            const float sign = (face % 2) ? -1.0f : 1.0f;
-            float dsc[2], dtc[2], dma[2];
-            const float* d2[2] = {dx, dy};
-            for (int n = 0; n < 2; ++n) {
-                const float* d = d2[n];
-                switch (face) {
-                    case 0: dsc[n] = -d[2]; dtc[n] = -d[1]; break;
-                    case 1: dsc[n] = d[2]; dtc[n] = -d[1]; break;
-                    case 2: dsc[n] = d[0]; dtc[n] = d[2]; break;
-                    case 3: dsc[n] = d[0]; dtc[n] = -d[2]; break;
-                    case 4: dsc[n] = d[0]; dtc[n] = -d[1]; break;
-                    default: dsc[n] = -d[0]; dtc[n] = -d[1]; break;
-                }
-                dma[n] = sign * d[major];
-            }
-            const float inv = ma > 0 ? 1.0f / ma : 0.0f;
-            s = 0.5f * (sc * inv + 1.0f);
-            t = 0.5f * (tc * inv + 1.0f);
-            for (int n = 0; n < 2; ++n) {
-                float* d = n ? dy : dx;
-                d[0] = 0.5f * (dsc[n] * ma - sc * dma[n]) * inv * inv;
-                d[1] = 0.5f * (dtc[n] * ma - tc * dma[n]) * inv * inv;
-                d[2] = 0.0f;
-            }
-        }
+        const int face = cube ? cube_coords(s, t, r, dx, dy) : 0;
         const Image* base_img = tex.find(face, bt->base);
-        if (!base_img) { incomplete_result(q, l); continue; }
+        if (!base_img) { incomplete_result(q, l); return; }
 
         // ES 3.0 §3.8.10.1-2: the level of detail.
         float lambda;
@@ -391,23 +399,20 @@ void TextureUnitSampler::sample_lanes(const glsl::TextureQuery& q) const {
     }
 }
 
-// ---------------------------------------------------------------------------- the 2D fast path
+// ---------------------------------------------------------------------------- the fast path
 //
 // The same formulas as sample_lanes in the same order (so the same bits), with what does not
-// change across a query resolved once: the texture, its level images, the filters and wraps.
-// Texels are read straight from the float storage (Image::texel of a Float-kind format). With
-// AVX2, blocks of 8 lanes that use the same level(s) compute their texel addresses and weights
-// 8 at a time (the same float operations, lane by lane; no FMA).
+// change across a query resolved once: the texture, its levels (the draw's table,
+// Texture::sampled_levels), the filters and wraps. Texels are read straight from the float
+// storage, the byte copy of 8-bit unorm levels, or the depth words. With AVX2, blocks of 8
+// lanes compute their LOD, texel addresses and weights 8 at a time (the same float operations,
+// lane by lane; no FMA); with AVX-512, colour lookups go in blocks of 16. A block whose lanes
+// use up to 3 levels filters each once for all its lanes and takes each lane's from its own.
 
 namespace {
 
-// One level of a 2D / 2D array texture.
-struct Plane {
-    const float* texels;   // 4 floats per texel, layer-major then row-major
-    const uint32_t* rgba8; // the same texels as bytes (Texture::rgba8), or null
-    int32_t width, height, layers;
-    bool width_pot, height_pot;
-};
+// One level of a 2D / 2D array texture or of a cube-map face (texture.h).
+using Plane = SampledLevel;
 
 // wrap() of a texel coordinate and of its right/upper neighbour, as LINEAR uses them (REPEAT of
 // a power of two masks: the same as the modulo for any int in two's complement).
@@ -442,13 +447,17 @@ struct LevelChoice {
 };
 
 struct Fast2D {
-    std::array<Plane, 16> planes;
+    const Plane* planes;   // levels base .. top of face 0; face f's at planes + f * face_stride
+    int32_t face_stride;
     GLenum wrap_s, wrap_t;
     int off_s, off_t;
     int32_t base, top;
     GLenum min_filter;
     bool mag_linear, min_linear, mipmapped;
     float min_lod, max_lod;
+    // Depth textures: the comparison (ES 3.0 §3.8.16) and WEBGL_depth_texture's (d, d, d, 1).
+    bool compare = false, luminance = false;
+    GLenum compare_func = gl::LEQUAL;
 
     LevelChoice choose(float lambda) const {
         lambda = std::clamp(lambda, min_lod, max_lod);   // NaN stays NaN: magnification
@@ -468,16 +477,38 @@ struct Fast2D {
         return {d1 - base, d2 - base, min_linear, lambda - std::floor(lambda)};
     }
 
+    // Texel n of plane p as Level::fetch_image gives it (ref: the lane's depth reference).
+    void texel(const Plane& p, size_t n, float ref, float out[4]) const {
+        if (p.rgba8) {
+            // The byte copy: 4x less memory; k / 255 is unorm(k, 8), what the floats hold.
+            const uint32_t v = p.rgba8[n];
+            for (int c = 0; c < 4; ++c) out[c] = float((v >> (8 * c)) & 255u) / 255.0f;
+            return;
+        }
+        if (p.color) {
+            for (int c = 0; c < 4; ++c) out[c] = p.color[n * 4 + size_t(c)];
+            return;
+        }
+        float d = depth_value(p.depth_encoding, p.depth[n]);
+        if (compare) {
+            // ES 3.0 §3.8.16: fixed-point depth compares with the reference clamped to [0, 1].
+            const float r = p.depth_encoding == Encoding::Depth32F ? ref : std::clamp(ref, 0.0f, 1.0f);
+            d = compare_passes(compare_func, r, d) ? 1.0f : 0.0f;
+        }
+        out[0] = d;
+        out[1] = out[2] = compare || luminance ? d : 0.0f;
+        out[3] = 1.0f;
+    }
+
     // Level::filter of one plane.
-    void filter(const Plane& p, bool linear, float s, float t, float r, float out[4]) const {
+    void filter(const Plane& p, bool linear, float s, float t, float r, float ref, float out[4]) const {
         const float u = s * float(p.width) + float(off_s), v = t * float(p.height) + float(off_t);
         const int32_t layer = p.layers == 1 ? 0 : std::clamp(ifloor(r + 0.5f), 0, p.layers - 1);
-        const float* plane = p.texels + size_t(layer) * size_t(p.height) * size_t(p.width) * 4;
+        const size_t plane = size_t(layer) * size_t(p.height) * size_t(p.width);
         if (!linear) {
             const int32_t i = wrap_one(wrap_s, ifloor(u), p.width, p.width_pot);
             const int32_t j = wrap_one(wrap_t, ifloor(v), p.height, p.height_pot);
-            const float* texel = plane + (size_t(j) * size_t(p.width) + size_t(i)) * 4;
-            for (int c = 0; c < 4; ++c) out[c] = texel[c];
+            texel(p, plane + size_t(j) * size_t(p.width) + size_t(i), ref, out);
             return;
         }
         const float u0 = u - 0.5f, v0 = v - 0.5f;
@@ -485,22 +516,39 @@ struct Fast2D {
         wrap_pair(wrap_s, ifloor(u0), p.width, p.width_pot, i0, i1);
         wrap_pair(wrap_t, ifloor(v0), p.height, p.height_pot, j0, j1);
         const float a = u0 - std::floor(u0), b = v0 - std::floor(v0);
-        const float* row0 = plane + size_t(j0) * size_t(p.width) * 4;
-        const float* row1 = plane + size_t(j1) * size_t(p.width) * 4;
-        const float* t00 = row0 + size_t(i0) * 4;
-        const float* t10 = row0 + size_t(i1) * 4;
-        const float* t01 = row1 + size_t(i0) * 4;
-        const float* t11 = row1 + size_t(i1) * 4;
+        const size_t row0 = plane + size_t(j0) * size_t(p.width), row1 = plane + size_t(j1) * size_t(p.width);
+        float t00[4], t10[4], t01[4], t11[4];
+        texel(p, row0 + size_t(i0), ref, t00);
+        texel(p, row0 + size_t(i1), ref, t10);
+        texel(p, row1 + size_t(i0), ref, t01);
+        texel(p, row1 + size_t(i1), ref, t11);
         const float w00 = (1 - a) * (1 - b), w10 = a * (1 - b), w01 = (1 - a) * b, w11 = a * b;
         for (int c = 0; c < 4; ++c) out[c] = w00 * t00[c] + w10 * t10[c] + w01 * t01[c] + w11 * t11[c];
     }
 
-    void filter(const LevelChoice& ch, float s, float t, float r, float out[4]) const {
-        filter(planes[size_t(ch.first)], ch.linear, s, t, r, out);
+    void filter(const LevelChoice& ch, int face, float s, float t, float r, float ref, float out[4]) const {
+        const Plane* levels = planes + size_t(face) * size_t(face_stride);
+        filter(levels[ch.first], ch.linear, s, t, r, ref, out);
         if (ch.second < 0) return;
         float b[4];
-        filter(planes[size_t(ch.second)], ch.linear, s, t, r, b);
+        filter(levels[ch.second], ch.linear, s, t, r, ref, b);
         for (int c = 0; c < 4; ++c) out[c] = (1 - ch.frac) * out[c] + ch.frac * b[c];
+    }
+
+    // Whether the texels Level::filter reads for (s, t) on plane p all lie inside the face
+    // (cube maps: texels beyond an edge come from the adjacent face when filtering is seamless).
+    bool inside(const Plane& p, bool linear, float s, float t) const {
+        const float u = s * float(p.width), v = t * float(p.height);
+        if (!linear) {
+            const int32_t i = ifloor(u), j = ifloor(v);
+            return i >= 0 && i < p.width && j >= 0 && j < p.height;
+        }
+        const int32_t i0 = ifloor(u - 0.5f), j0 = ifloor(v - 0.5f);
+        return i0 >= 0 && i0 < p.width - 1 && j0 >= 0 && j0 < p.height - 1;
+    }
+    bool inside(const LevelChoice& ch, int face, float s, float t) const {
+        const Plane* levels = planes + size_t(face) * size_t(face_stride);
+        return inside(levels[ch.first], ch.linear, s, t) && (ch.second < 0 || inside(levels[ch.second], ch.linear, s, t));
     }
 };
 
@@ -568,17 +616,27 @@ __attribute__((target("avx2"))) inline void wrap8(GLenum mode, __m256i i, int32_
 static_assert(sizeof(glsl::Scalar) == sizeof(float), "8 lanes of coordinates load as 8 floats");
 
 // Fast2D::filter of one plane for 8 lanes (r: the layers of a 2D array, else null).
+// Depth planes (ref: the lanes' references, or null) read their texels through Fast2D::texel.
 __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bool linear, const float* s,
-                                             const float* t, const float* r, float out[8][4]) {
-    const float* layer[8];
-    for (int l = 0; l < 8; ++l)
-        layer[l] = p.texels + (r ? size_t(std::clamp(ifloor(r[l] + 0.5f), 0, p.layers - 1)) * size_t(p.height) * size_t(p.width) * 4 : 0);
+                                             const float* t, const float* r, float out[8][4], const float* ref = nullptr) {
+    size_t layer_at[8] = {};   // the first texel of each lane's layer
+    if (r)
+        for (int l = 0; l < 8; ++l)
+            layer_at[l] = size_t(std::clamp(ifloor(r[l] + 0.5f), 0, p.layers - 1)) * size_t(p.height) * size_t(p.width);
+    const float* layer[8] = {};   // colour planes: where each lane's layer starts
+    if (p.color)
+        for (int l = 0; l < 8; ++l) layer[l] = p.color + layer_at[l] * 4;
     const __m256 u = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(s), _mm256_set1_ps(float(p.width))), _mm256_set1_ps(float(f.off_s)));
     const __m256 v = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(t), _mm256_set1_ps(float(p.height))), _mm256_set1_ps(float(f.off_t)));
     alignas(32) int32_t i0[8], i1[8], j0[8], j1[8];
     if (!linear) {
         wrap8(f.wrap_s, ifloor_floored8(_mm256_floor_ps(u)), p.width, p.width_pot, false, i0, i1);
         wrap8(f.wrap_t, ifloor_floored8(_mm256_floor_ps(v)), p.height, p.height_pot, false, j0, j1);
+        if (p.depth) {
+            for (int l = 0; l < 8; ++l)
+                f.texel(p, layer_at[l] + size_t(j0[l]) * size_t(p.width) + size_t(i0[l]), ref ? ref[l] : 0.0f, out[l]);
+            return;
+        }
         for (int l = 0; l < 8; ++l)
             _mm_storeu_ps(out[l], _mm_loadu_ps(layer[l] + (size_t(j0[l]) * size_t(p.width) + size_t(i0[l])) * 4));
         return;
@@ -595,6 +653,23 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bo
     _mm256_store_ps(w10, _mm256_mul_ps(a, nb));
     _mm256_store_ps(w01, _mm256_mul_ps(na, b));
     _mm256_store_ps(w11, _mm256_mul_ps(a, b));
+    if (p.depth) {
+        for (int l = 0; l < 8; ++l) {
+            const size_t row0 = layer_at[l] + size_t(j0[l]) * size_t(p.width), row1 = layer_at[l] + size_t(j1[l]) * size_t(p.width);
+            const float lane_ref = ref ? ref[l] : 0.0f;
+            float t00[4], t10[4], t01[4], t11[4];
+            f.texel(p, row0 + size_t(i0[l]), lane_ref, t00);
+            f.texel(p, row0 + size_t(i1[l]), lane_ref, t10);
+            f.texel(p, row1 + size_t(i0[l]), lane_ref, t01);
+            f.texel(p, row1 + size_t(i1[l]), lane_ref, t11);
+            __m128 sum = _mm_mul_ps(_mm_set1_ps(w00[l]), _mm_loadu_ps(t00));
+            sum = _mm_add_ps(sum, _mm_mul_ps(_mm_set1_ps(w10[l]), _mm_loadu_ps(t10)));
+            sum = _mm_add_ps(sum, _mm_mul_ps(_mm_set1_ps(w01[l]), _mm_loadu_ps(t01)));
+            sum = _mm_add_ps(sum, _mm_mul_ps(_mm_set1_ps(w11[l]), _mm_loadu_ps(t11)));
+            _mm_storeu_ps(out[l], sum);
+        }
+        return;
+    }
     for (int l = 0; l < 8; ++l) {
         const float* row0 = layer[l] + size_t(j0[l]) * size_t(p.width) * 4;
         const float* row1 = layer[l] + size_t(j1[l]) * size_t(p.width) * 4;
@@ -606,6 +681,19 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bo
     }
 }
 
+// result[k][c] of 8 lanes into out[c][l + k] (two 4x4 transposes).
+inline void store_lanes8(const float result[8][4], glsl::Scalar* const out[4], int l) {
+    for (int half = 0; half < 2; ++half) {
+        const float* row = result[4 * half];
+        __m128 r0 = _mm_loadu_ps(row), r1 = _mm_loadu_ps(row + 4), r2 = _mm_loadu_ps(row + 8), r3 = _mm_loadu_ps(row + 12);
+        _MM_TRANSPOSE4_PS(r0, r1, r2, r3);
+        if (out[0]) _mm_storeu_ps(&out[0][l + 4 * half].f, r0);
+        if (out[1]) _mm_storeu_ps(&out[1][l + 4 * half].f, r1);
+        if (out[2]) _mm_storeu_ps(&out[2][l + 4 * half].f, r2);
+        if (out[3]) _mm_storeu_ps(&out[3][l + 4 * half].f, r3);
+    }
+}
+
 __attribute__((target("avx2"))) inline __m256 load8(const glsl::Scalar* p, int l) {
     return p ? _mm256_loadu_ps(&p[l].f) : _mm256_setzero_ps();
 }
@@ -614,6 +702,44 @@ __attribute__((target("avx2"))) inline __m256 load8(const glsl::Scalar* p, int l
 __attribute__((target("avx2"))) inline __m256d square_wide(__m256 v, int half) {
     const __m256d d = _mm256_cvtps_pd(half ? _mm256_extractf128_ps(v, 1) : _mm256_castps256_ps128(v));
     return _mm256_mul_pd(d, d);
+}
+
+// log2(x) of 4 positive normal doubles, within 2^-49 |log2 x| (measured: below 2^-50.8 against
+// long double log2l over 8e7 values of rho² from 2^-298 to 2^256 and near 1): x = 2^e m with m in [sqrt(1/2), sqrt(2)), and
+// log2 m = (2 / ln 2) atanh(z), z = (m - 1) / (m + 1), |z| < 0.172, as z * sum z^2k / (2k + 1)
+// to k = 11 (the next term is below 2^-58).
+__attribute__((target("avx2"))) inline __m256d log2_approx4(__m256d x) {
+    const __m256i bits = _mm256_castpd_si256(x);
+    // The exponent field as a double: 2^52 + field, less 2^52 + 1023.
+    const __m256d field = _mm256_castsi256_pd(_mm256_or_si256(_mm256_srli_epi64(bits, 52), _mm256_set1_epi64x(0x4330000000000000LL)));
+    __m256d e = _mm256_sub_pd(field, _mm256_set1_pd(4503599627371519.0));
+    __m256d m = _mm256_castsi256_pd(_mm256_or_si256(_mm256_and_si256(bits, _mm256_set1_epi64x(0x000FFFFFFFFFFFFFLL)),
+                                                    _mm256_set1_epi64x(0x3FF0000000000000LL)));
+    const __m256d big = _mm256_cmp_pd(m, _mm256_set1_pd(1.4142135623730951), _CMP_GT_OQ);
+    m = _mm256_blendv_pd(m, _mm256_mul_pd(m, _mm256_set1_pd(0.5)), big);
+    e = _mm256_add_pd(e, _mm256_and_pd(big, _mm256_set1_pd(1.0)));
+    const __m256d one = _mm256_set1_pd(1.0);
+    const __m256d z = _mm256_div_pd(_mm256_sub_pd(m, one), _mm256_add_pd(m, one));
+    const __m256d z2 = _mm256_mul_pd(z, z);
+    __m256d p = _mm256_set1_pd(1.0 / 23.0);
+    for (int k = 10; k >= 0; --k) p = _mm256_add_pd(_mm256_mul_pd(p, z2), _mm256_set1_pd(1.0 / double(2 * k + 1)));
+    return _mm256_add_pd(e, _mm256_mul_pd(_mm256_mul_pd(z, p), _mm256_set1_pd(2.0 / 0.69314718055994530942)));
+}
+
+// LambdaMemo's float(log2(sqrt(rho2))) of 4 lanes, to the bit: bit k of the result is set when
+// lane k is sure. A lane is sure when rho2 is positive and finite and float() rounds the whole
+// interval L (1 ± 2^-45) around the approximation L to one float: the true log2, within
+// 2^-49 |L| of L, and libm's (within an ulp of the truth) both lie inside it, so rounding either
+// gives that float. The rest (about one lane in 2^20) are left to LambdaMemo.
+__attribute__((target("avx2"))) inline int lambda_exact4(__m256d rho2, __m128& lambda) {
+    const __m256d L = log2_approx4(_mm256_sqrt_pd(rho2));
+    const __m256d margin = _mm256_mul_pd(_mm256_andnot_pd(_mm256_set1_pd(-0.0), L), _mm256_set1_pd(0x1p-45));
+    lambda = _mm256_cvtpd_ps(L);
+    const __m128 lo = _mm256_cvtpd_ps(_mm256_sub_pd(L, margin)), hi = _mm256_cvtpd_ps(_mm256_add_pd(L, margin));
+    const __m256d finite = _mm256_and_pd(_mm256_cmp_pd(rho2, _mm256_setzero_pd(), _CMP_GT_OQ),
+                                         _mm256_cmp_pd(rho2, _mm256_set1_pd(INFINITY), _CMP_LT_OQ));
+    const int same = _mm_movemask_ps(_mm_and_ps(_mm_cmpeq_ps(lo, lambda), _mm_cmpeq_ps(hi, lambda)));
+    return same & _mm256_movemask_pd(finite);
 }
 
 // The lambdas of lanes l..l+7 (Implicit, Bias, Gradient), as lambda_at in sample_2d computes them:
@@ -632,12 +758,30 @@ __attribute__((target("avx2"))) void lambda8(const glsl::TextureQuery& q, int l,
         if (q.ddy[2]) ly2 = _mm256_add_pd(ly2, square_wide(y2, half));
         _mm256_store_pd(rho2 + 4 * half, _mm256_max_pd(ly2, lx2));   // = std::max(lx2, ly2), NaN included
     }
-    // Lanes of a quad often share rho² (affine coordinates): equal (non-NaN) doubles give the same lambda.
-    float lambda = 0.0f;
-    for (int k = 0; k < 8; ++k) {
-        if (k == 0 || !(rho2[k] == rho2[k - 1])) lambda = lambda_of(rho2[k]);
-        out[k] = lambda;
-        if (q.lod_mode == TextureLod::Bias && q.lod) out[k] += q.lod[l + k].f;
+    // Under affine coordinates all 8 lanes share rho²: one LambdaMemo lookup.
+    const __m256d first = _mm256_set1_pd(rho2[0]);
+    if ((_mm256_movemask_pd(_mm256_cmp_pd(_mm256_load_pd(rho2), first, _CMP_EQ_OQ)) &
+         _mm256_movemask_pd(_mm256_cmp_pd(_mm256_load_pd(rho2 + 4), first, _CMP_EQ_OQ))) == 0xF) {
+        const float lambda = lambda_of(rho2[0]);
+        for (int k = 0; k < 8; ++k) {
+            out[k] = lambda;
+            if (q.lod_mode == TextureLod::Bias && q.lod) out[k] += q.lod[l + k].f;
+        }
+        return;
+    }
+    // Otherwise lambda = float(log2(sqrt(rho²))) 4 lanes at a time (lambda_exact4); the lanes it
+    // cannot vouch for (and 0, infinite or NaN rho²) from LambdaMemo, as the scalar path.
+    for (int half = 0; half < 2; ++half) {
+        const __m256d r2 = _mm256_load_pd(rho2 + 4 * half);
+        __m128 lambda;
+        int sure = lambda_exact4(r2, lambda);
+        if (q.lod_mode == TextureLod::Bias && q.lod) lambda = _mm_add_ps(lambda, _mm_loadu_ps(&q.lod[l + 4 * half].f));
+        _mm_storeu_ps(out + 4 * half, lambda);
+        for (int k = 0; sure != 0xF && k < 4; ++k) {
+            if (sure & (1 << k)) continue;
+            out[4 * half + k] = lambda_of(rho2[4 * half + k]);
+            if (q.lod_mode == TextureLod::Bias && q.lod) out[4 * half + k] += q.lod[l + 4 * half + k].f;
+        }
     }
 }
 
@@ -669,14 +813,33 @@ __attribute__((target("avx2"))) bool choose8(const Fast2D& f, const float lambda
 
 // Fast2D::filter(LevelChoice) of 8 lanes that share the levels (frac per lane).
 __attribute__((target("avx2"))) void filter8(const Fast2D& f, const LevelChoice ch[8], const float* s, const float* t,
-                                             const float* r, float out[8][4]) {
-    filter8(f, f.planes[size_t(ch[0].first)], ch[0].linear, s, t, r, out);
+                                             const float* r, const float* ref, float out[8][4]) {
+    filter8(f, f.planes[size_t(ch[0].first)], ch[0].linear, s, t, r, out, ref);
     if (ch[0].second < 0) return;
     float b[8][4];
-    filter8(f, f.planes[size_t(ch[0].second)], ch[0].linear, s, t, r, b);
+    filter8(f, f.planes[size_t(ch[0].second)], ch[0].linear, s, t, r, b, ref);
     for (int l = 0; l < 8; ++l) {
         const __m128 x = _mm_mul_ps(_mm_set1_ps(1 - ch[l].frac), _mm_loadu_ps(out[l]));
         _mm_storeu_ps(out[l], _mm_add_ps(x, _mm_mul_ps(_mm_set1_ps(ch[l].frac), _mm_loadu_ps(b[l]))));
+    }
+}
+
+// filter8(LevelChoice) of 8 lanes whose levels differ: each of the `count` distinct levels
+// filtered for all 8 lanes, each lane's result taken from (or blended between) its own.
+__attribute__((target("avx2"))) void filter8(const Fast2D& f, const LevelChoice ch[8], const int32_t levels[3], int count,
+                                             const float* s, const float* t, const float* r, const float* ref, float out[8][4]) {
+    float by_level[3][8][4];
+    for (int i = 0; i < count; ++i) filter8(f, f.planes[size_t(levels[i])], ch[0].linear, s, t, r, by_level[i], ref);
+    const auto at = [&](int32_t level) { return int(std::find(levels, levels + count, level) - levels); };
+    for (int l = 0; l < 8; ++l) {
+        const float* a = by_level[at(ch[l].first)][l];
+        if (ch[l].second < 0) {
+            _mm_storeu_ps(out[l], _mm_loadu_ps(a));
+            continue;
+        }
+        const float* b = by_level[at(ch[l].second)][l];
+        const __m128 x = _mm_mul_ps(_mm_set1_ps(1 - ch[l].frac), _mm_loadu_ps(a));
+        _mm_storeu_ps(out[l], _mm_add_ps(x, _mm_mul_ps(_mm_set1_ps(ch[l].frac), _mm_loadu_ps(b))));
     }
 }
 
@@ -829,10 +992,10 @@ template <bool kLayered>
 __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) void filter16(const Fast2D& f, const Plane& p, bool linear,
                                                              const float* s, const float* t, const float* r,
                                                              __m512 out[4]) {
-    Layers16<kLayered> layers{p.texels, {}};
+    Layers16<kLayered> layers{p.color, {}};
     if constexpr (kLayered)
         for (int l = 0; l < 16; ++l)
-            layers.lane[l] = p.texels + size_t(std::clamp(ifloor(r[l] + 0.5f), 0, p.layers - 1)) * size_t(p.height) * size_t(p.width) * 4;
+            layers.lane[l] = p.color + size_t(std::clamp(ifloor(r[l] + 0.5f), 0, p.layers - 1)) * size_t(p.height) * size_t(p.width) * 4;
     const __m512 u = _mm512_add_ps(_mm512_mul_ps(_mm512_loadu_ps(s), _mm512_set1_ps(float(p.width))), _mm512_set1_ps(float(f.off_s)));
     const __m512 v = _mm512_add_ps(_mm512_mul_ps(_mm512_loadu_ps(t), _mm512_set1_ps(float(p.height))), _mm512_set1_ps(float(f.off_t)));
     const __m512i width = _mm512_set1_epi32(p.width);
@@ -906,6 +1069,33 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512))) void filter16(const Fast2D& f, co
     for (int c = 0; c < 4; ++c)
         if (out[c]) _mm512_storeu_ps(&out[c][l].f, a[c]);
 }
+// filter16(LevelChoice) of 16 lanes whose levels differ (as filter8 above).
+__attribute__((target(SOFTGL_SAMPLER_AVX512))) void filter16(const Fast2D& f, const LevelChoice ch[16], const int32_t levels[3],
+                                                             int count, const float* s, const float* t, const float* r,
+                                                             glsl::Scalar* const out[4], int l) {
+    __m512 by_level[3][4];
+    for (int i = 0; i < count; ++i) filter16(f, f.planes[size_t(levels[i])], ch[0].linear, s, t, r, by_level[i]);
+    alignas(64) float frac[16];
+    __mmask16 first[3] = {0, 0, 0}, second[3] = {0, 0, 0};
+    for (int k = 0; k < 16; ++k) {
+        frac[k] = ch[k].frac;
+        for (int i = 0; i < count; ++i) {
+            if (ch[k].first == levels[i]) first[i] |= __mmask16(1u << k);
+            if (ch[k].second == levels[i]) second[i] |= __mmask16(1u << k);
+        }
+    }
+    const __mmask16 blended = __mmask16(second[0] | second[1] | second[2]);
+    const __m512 g = _mm512_load_ps(frac), ng = _mm512_sub_ps(_mm512_set1_ps(1.0f), g);
+    for (int c = 0; c < 4; ++c) {
+        __m512 a = by_level[0][c], b = by_level[0][c];
+        for (int i = 1; i < count; ++i) {
+            a = _mm512_mask_mov_ps(a, first[i], by_level[i][c]);
+            b = _mm512_mask_mov_ps(b, second[i], by_level[i][c]);
+        }
+        a = _mm512_mask_mov_ps(a, blended, _mm512_add_ps(_mm512_mul_ps(ng, a), _mm512_mul_ps(g, b)));
+        if (out[c]) _mm512_storeu_ps(&out[c][l].f, a);
+    }
+}
 #pragma GCC diagnostic pop
 #endif
 
@@ -947,9 +1137,8 @@ bool TextureUnitSampler::lod_matters(const glsl::TextureQuery& q) const {
 }
 
 bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd) const {
-    if (q.kind != TextureKind::Sample || q.shadow || q.result != BaseType::Float ||
-        (q.dim != SamplerDim::Tex2D && q.dim != SamplerDim::Tex2DArray))
-        return false;
+    const bool cube = q.dim == SamplerDim::Cube;
+    if (q.kind != TextureKind::Sample || q.result != BaseType::Float || q.dim == SamplerDim::Tex3D) return false;
     // One unit for every active lane (sampler uniforms are uniform; anything else goes per lane).
     int32_t unit;
     if (!one_unit(q, unit)) return false;
@@ -960,16 +1149,26 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
     const SamplerParams& p = bt.params;
 
     Fast2D f;
-    // The levels [base, top] (all defined, of one float-sampled format, on a complete texture).
-    if (bt.q < bt.base || bt.q - bt.base >= int32_t(f.planes.size())) return false;
-    for (int32_t level = bt.base; level <= bt.q; ++level) {
-        const Image* img = tex.find(0, level);
-        if (!img || img->format->kind() != SampleKind::Float || img->color.size() != img->texel_count() * 4) return false;
-        f.planes[size_t(level - bt.base)] = {img->color.data(), tex.rgba8(*img), img->width, img->height, img->depth,
-                                             is_power_of_two(img->width), is_power_of_two(img->height)};
-    }
-    f.wrap_s = p.wrap_s, f.wrap_t = p.wrap_t;
-    f.off_s = q.offset[0], f.off_t = q.offset[1];
+    // The levels [base, top] of every face, from the table the draw built (all defined, of
+    // one format, on a complete texture).
+    const int faces = cube ? 6 : 1;
+    if (bt.q < bt.base || bt.q - bt.base >= 16 || tex.sampled_base != bt.base || tex.faces() != faces) return false;
+    f.planes = tex.sampled(0, bt.base);
+    f.face_stride = tex.sampled_count;
+    if (!f.planes || !tex.sampled(0, bt.q)) return false;
+    const bool depth = f.planes[0].depth != nullptr;
+    for (int face = 0; face < faces; ++face)
+        for (int32_t k = 0; k <= bt.q - bt.base; ++k) {
+            const Plane& level = f.planes[size_t(face) * size_t(f.face_stride) + size_t(k)];
+            if (level.width == 0 || (level.depth != nullptr) != depth) return false;
+        }
+    f.compare = q.shadow && p.compare_mode == gl::COMPARE_REF_TO_TEXTURE;
+    f.compare_func = p.compare_func;
+    f.luminance = bt.depth_as_luminance;
+    // Cube maps: CLAMP_TO_EDGE within the face (ES 3.0 §3.8.10; lanes that would cross an edge
+    // with seamless filtering go to sample_lane), no offsets.
+    f.wrap_s = cube ? gl::CLAMP_TO_EDGE : p.wrap_s, f.wrap_t = cube ? gl::CLAMP_TO_EDGE : p.wrap_t;
+    f.off_s = cube ? 0 : q.offset[0], f.off_t = cube ? 0 : q.offset[1];
     f.base = bt.base, f.top = bt.q;
     f.min_filter = p.min_filter;
     f.mag_linear = p.mag_filter == gl::LINEAR;
@@ -982,31 +1181,48 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
     const float w = float(f.planes[0].width), h = float(f.planes[0].height);
 
     LambdaMemo& lambda_of = LambdaMemo::of_this_thread();
-    const auto lambda_at = [&](int l) {
-        // ES 3.0 §3.8.10.1-2 as in sample_lanes; max(sqrt(x), sqrt(y)) = sqrt(max(x, y)) as sqrt
-        // is correctly rounded (monotonic), and std::max keeps the same NaN.
+    // ES 3.0 §3.8.10.1-2 as in sample_lanes; max(sqrt(x), sqrt(y)) = sqrt(max(x, y)) as sqrt is
+    // correctly rounded (monotonic), and std::max keeps the same NaN.
+    const auto lambda_of_derivatives = [&](const float dx[3], const float dy[3], bool third_x, bool third_y, int l) {
         if (q.lod_mode == TextureLod::Explicit) return q.lod ? q.lod[l].f : 0.0f;
-        float dx[3] = {0, 0, 0}, dy[3] = {0, 0, 0};
-        for (int k = 0; k < 3; ++k) {
-            if (q.ddx[k]) dx[k] = q.ddx[k][l].f;
-            if (q.ddy[k]) dy[k] = q.ddy[k][l].f;
-        }
         double lx2 = double(dx[0] * w) * (dx[0] * w) + double(dx[1] * h) * (dx[1] * h);
         double ly2 = double(dy[0] * w) * (dy[0] * w) + double(dy[1] * h) * (dy[1] * h);
         // The third term (d = 0 off 3D) is +0, which adds nothing, unless dx[2] is not finite.
-        if (q.ddx[2]) lx2 += double(dx[2] * 0.0f) * (dx[2] * 0.0f);
-        if (q.ddy[2]) ly2 += double(dy[2] * 0.0f) * (dy[2] * 0.0f);
+        if (third_x) lx2 += double(dx[2] * 0.0f) * (dx[2] * 0.0f);
+        if (third_y) ly2 += double(dy[2] * 0.0f) * (dy[2] * 0.0f);
         float lambda = lambda_of(std::max(lx2, ly2));
         if (q.lod_mode == TextureLod::Bias && q.lod) lambda += q.lod[l].f;
         return lambda;
+    };
+    const auto derivatives = [&](int l, float dx[3], float dy[3]) {
+        for (int k = 0; k < 3; ++k) {
+            dx[k] = q.ddx[k] ? q.ddx[k][l].f : 0.0f;
+            dy[k] = q.ddy[k] ? q.ddy[k][l].f : 0.0f;
+        }
+    };
+    const auto lambda_at = [&](int l) {
+        float dx[3] = {0, 0, 0}, dy[3] = {0, 0, 0};
+        if (q.lod_mode != TextureLod::Explicit) derivatives(l, dx, dy);
+        return lambda_of_derivatives(dx, dy, q.ddx[2] != nullptr, q.ddy[2] != nullptr, l);
     };
     const LevelChoice fixed{0, -1, f.mag_linear, 0.0f};
     const auto one_lane = [&](int l) {
         float result[4] = {0, 0, 0, 1};   // inactive lanes: as sample_lanes gives them
         if (!q.active || q.active[l]) {
-            const float s = q.coord[0] ? q.coord[0][l].f : 0.0f, t = q.coord[1] ? q.coord[1][l].f : 0.0f;
+            float s = q.coord[0] ? q.coord[0][l].f : 0.0f, t = q.coord[1] ? q.coord[1][l].f : 0.0f;
             const float r = q.coord[2] ? q.coord[2][l].f : 0.0f;
-            f.filter(needs_lambda ? f.choose(lambda_at(l)) : fixed, s, t, r, result);
+            const float ref = q.compare ? q.compare[l].f : 0.0f;
+            if (!cube) {
+                f.filter(needs_lambda ? f.choose(lambda_at(l)) : fixed, 0, s, t, r, ref, result);
+            } else {
+                float dx[3], dy[3];
+                derivatives(l, dx, dy);
+                const int face = cube_coords(s, t, r, dx, dy);
+                // The cube's third derivative term: always there, and +0 after cube_coords.
+                const LevelChoice ch = needs_lambda ? f.choose(lambda_of_derivatives(dx, dy, true, true, l)) : fixed;
+                if (bt.seamless_cube && !f.inside(ch, face, s, t)) return sample_lane(q, l);
+                f.filter(ch, face, s, t, 0.0f, ref, result);
+            }
         }
         for (int c = 0; c < 4; ++c) if (q.out[c]) q.out[c][l].f = result[c];
     };
@@ -1014,14 +1230,23 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
     int l = 0;
 #ifdef SOFTGL_SAMPLER_AVX2
     // Blocks of 16 (AVX-512) or 8 active lanes that share their levels; the other blocks lane by lane.
-    if (simd != SimdBlocks::None && q.coord[0] && q.coord[1]) {
+    if (simd != SimdBlocks::None && !cube && q.coord[0] && q.coord[1]) {
         const float* r = f.planes[0].layers > 1 && q.coord[2] ? &q.coord[2][0].f : nullptr;
-        // The levels of lanes l .. l + n - 1 if they are all active and share them.
         LevelChoice ch[16];
-        const auto shared_levels = [&](int n) {
-            for (int k = 0; k < n && q.active; ++k)
-                if (!q.active[l + k]) return false;
-            if (!needs_lambda) return std::fill(ch, ch + n, fixed), true;
+        if (!needs_lambda) std::fill(ch, ch + 16, fixed);
+        // Bit k: lane l + k is active.
+        const auto active_lanes = [&](int n) {
+            if (!q.active) return (1u << n) - 1;
+            uint32_t inactive = 0;
+            for (int k = 0; k < n; k += 4) {
+                const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(q.active + l + k));
+                inactive |= uint32_t(_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(a, _mm_setzero_si128())))) << k;
+            }
+            return ~inactive & ((1u << n) - 1);
+        };
+        // The levels of lanes l .. l + n - 1 in ch; inactive lanes take those of the first
+        // active lane, so that they add no level.
+        const auto choose_block = [&](int n, uint32_t active) {
             for (int part = 0; part < n; part += 8) {
                 float lambda[8];
                 if (q.lod_mode == TextureLod::Explicit) for (int k = 0; k < 8; ++k) lambda[k] = lambda_at(l + part + k);
@@ -1029,26 +1254,73 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
                 if (!choose8(f, lambda, ch + part))
                     for (int k = 0; k < 8; ++k) ch[part + k] = f.choose(lambda[k]);
             }
+            if (active != (1u << n) - 1)
+                for (int k = 0; k < n; ++k)
+                    if (!(active >> k & 1)) ch[k] = ch[__builtin_ctz(active)];
+        };
+        // The distinct levels of ch[0 .. n) (at most 3, all with one filter), or 0 if more.
+        int32_t levels[3];
+        const auto distinct_levels = [&](int n) {
+            int count = 0;
+            for (int k = 0; k < n; ++k) {
+                if (ch[k].linear != ch[0].linear) return 0;
+                for (const int32_t level : {ch[k].first, ch[k].second}) {
+                    if (level < 0 || std::find(levels, levels + count, level) != levels + count) continue;
+                    if (count == 3) return 0;
+                    levels[count++] = level;
+                }
+            }
+            return count;
+        };
+        const auto same_levels = [&](int n) {
             for (int k = 1; k < n; ++k)
                 if (!ch[k].same_levels(ch[0])) return false;
             return true;
         };
         glsl::Scalar* const out[4] = {q.out[0], q.out[1], q.out[2], q.out[3]};
         while (l + 8 <= q.lane_count) {
-            if (simd == SimdBlocks::Avx512 && l + 16 <= q.lane_count && shared_levels(16)) {
-                filter16(f, ch, &q.coord[0][l].f, &q.coord[1][l].f, r ? r + l : nullptr, out, l);
-                l += 16;
-                continue;
+            // (Depth textures: blocks of 8, texels compared lane by lane.)
+            int n = simd == SimdBlocks::Avx512 && !depth && l + 16 <= q.lane_count ? 16 : 8;
+            const uint32_t active = active_lanes(n);
+            const float* s = &q.coord[0][l].f;
+            const float* t = &q.coord[1][l].f;
+            const float* rl = r ? r + l : nullptr;
+            const float* ref = q.compare ? &q.compare[l].f : nullptr;
+            int count = 0;
+            bool same = true;
+            if (active && needs_lambda) {
+                choose_block(n, active);
+                same = same_levels(n);
+                if (!same && n == 16) count = distinct_levels(16);
             }
-            if (shared_levels(8)) {
-                float result[8][4];
-                filter8(f, ch, &q.coord[0][l].f, &q.coord[1][l].f, r ? r + l : nullptr, result);
-                for (int c = 0; c < 4; ++c)
-                    if (q.out[c]) for (int k = 0; k < 8; ++k) q.out[c][l + k].f = result[k][c];
+            if (!active) {
+                // Nothing to compute: every lane gets (0, 0, 0, 1) below.
+            } else if (n == 16 && same) {
+                filter16(f, ch, s, t, rl, out, l);
+            } else if (n == 16 && count) {
+                filter16(f, ch, levels, count, s, t, rl, out, l);
             } else {
-                for (int k = 0; k < 8; ++k) one_lane(l + k);
+                // Blocks of 8 (lanes 8 .. 15 of a block of 16 are chosen again next time round).
+                n = 8;
+                float result[8][4];
+                if (same || same_levels(8)) {
+                    filter8(f, ch, s, t, rl, ref, result);
+                } else if (const int count8 = distinct_levels(8)) {
+                    filter8(f, ch, levels, count8, s, t, rl, ref, result);
+                } else {
+                    for (int k = 0; k < 8; ++k) one_lane(l + k);
+                    l += 8;
+                    continue;
+                }
+                store_lanes8(result, out, l);
             }
-            l += 8;
+            if (active != (1u << n) - 1) {
+                // Inactive lanes: (0, 0, 0, 1), as sample_lanes gives them.
+                for (int k = 0; k < n; ++k)
+                    if (!(active >> k & 1))
+                        for (int c = 0; c < 4; ++c) if (q.out[c]) q.out[c][l + k].f = c == 3 ? 1.0f : 0.0f;
+            }
+            l += n;
         }
     }
 #endif

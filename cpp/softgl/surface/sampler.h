@@ -39,9 +39,13 @@ public:
 private:
     // The general path: every lane on its own, any texture kind and dimension.
     void sample_lanes(const glsl::TextureQuery& query) const;
-    // The common case, resolved once per query: filtered lookups of one 2D / 2D array texture of
-    // a colour format that samples as float (in blocks of 8 lanes with AVX2, of 16 and 8 with
-    // AVX-512). False (nothing written) when the query is not that.
+    void sample_lane(const glsl::TextureQuery& query, int lane) const;
+    // The common case, resolved once per query from the texture's level table
+    // (Texture::sampled_levels): filtered lookups of one 2D / 2D array / cube map texture of a
+    // colour format that samples as float or of a depth format (with or without the depth
+    // comparison), colour 2D / 2D array lookups in blocks of 8 lanes with AVX2, of 16 and 8 with
+    // AVX-512. Cube-map lanes whose footprint crosses a face edge (seamless filtering) go to
+    // sample_lane. False (nothing written) when the query is not that.
     enum class SimdBlocks { None, Avx2, Avx512 };
     bool sample_2d(const glsl::TextureQuery& query, SimdBlocks simd) const;
 };

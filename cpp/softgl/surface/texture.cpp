@@ -517,11 +517,12 @@ bool pack_unorm8(const Image& img, std::vector<uint32_t>& bytes) {
 }  // namespace
 
 void Texture::refresh_rgba8(int32_t base, int32_t q) {
-    if (target != gl::TEXTURE_2D) return;
+    if (target != gl::TEXTURE_2D && target != gl::TEXTURE_CUBE_MAP) return;
+    for (int face = 0; face < faces(); ++face)
     for (int32_t level = base; level <= q; ++level) {
-        const Image* found = find(0, level);
+        const Image* found = find(face, level);
         if (!found || found->rgba8_generation == generation) continue;
-        Image& img = image(0, level);
+        Image& img = image(face, level);
         if (img.rgba8_seen_generation != generation) {
             img.rgba8_seen_generation = generation;
             continue;
@@ -534,6 +535,32 @@ void Texture::refresh_rgba8(int32_t base, int32_t q) {
         if (unorm8 && img.samples == 1 && img.color.size() == img.texel_count() * 4 && !pack_unorm8(img, img.rgba8))
             img.rgba8.clear();
     }
+}
+
+void Texture::refresh_sampling(int32_t base, int32_t q) {
+    refresh_rgba8(base, q);
+    // Every level a sampler could use, so that units that bind this texture with other filters
+    // (another q) in the same draw find theirs too.
+    sampled_base = base;
+    sampled_count = std::max(0, std::max(q, max_sampled_level(*this)) - base + 1);
+    sampled_levels.assign(size_t(faces()) * size_t(sampled_count), SampledLevel{});
+    for (int face = 0; face < faces(); ++face)
+        for (int32_t k = 0; k < sampled_count; ++k) {
+            const Image* img = find(face, base + k);
+            if (!img || img->samples != 1) continue;
+            SampledLevel& s = sampled_levels[size_t(face) * size_t(sampled_count) + size_t(k)];
+            if (img->format->kind() == SampleKind::Float && img->color.size() == img->texel_count() * 4) {
+                s.color = img->color.data();
+                s.rgba8 = rgba8(*img);
+            } else if (img->format->is_depth() && img->depth_words.size() == img->texel_count()) {
+                s.depth = img->depth_words.data();
+                s.depth_encoding = img->format->encoding;
+            } else {
+                continue;
+            }
+            s.width = img->width, s.height = img->height, s.layers = img->depth;
+            s.width_pot = is_power_of_two(img->width), s.height_pot = is_power_of_two(img->height);
+        }
 }
 
 bool needs_mipmaps(GLenum min_filter) { return min_filter != gl::NEAREST && min_filter != gl::LINEAR; }

@@ -144,6 +144,18 @@ struct SamplerParams {
     GLenum compare_mode = gl::NONE, compare_func = gl::LEQUAL;
 };
 
+// One level of one face as the sampler's fast path reads it (surface/sampler.cpp): its storage
+// and sizes resolved once per draw instead of per lookup. Exactly one of `color` (Float kind)
+// and `depth` (Depth kind) is set; `rgba8` too when the level has a current byte copy.
+struct SampledLevel {
+    const float* color = nullptr;      // 4 floats per texel, layer-major then row-major
+    const uint32_t* rgba8 = nullptr;   // the same texels as bytes (Texture::rgba8), or null
+    const uint32_t* depth = nullptr;   // depth words, one per texel
+    Encoding depth_encoding = Encoding::Depth16;
+    int32_t width = 0, height = 0, layers = 0;   // layers: of a 2D array (1 otherwise)
+    bool width_pot = false, height_pot = false;
+};
+
 class Texture : public Object {
 public:
     GLenum target = 0;                  // fixed by the first bindTexture (ES 3.0 §3.8.1)
@@ -159,13 +171,28 @@ public:
     int faces() const { return target == gl::TEXTURE_CUBE_MAP ? 6 : 1; }
     Image& image(int face, int level);  // grows the arrays as needed
     const Image* find(int face, int level) const;
-    // Brings the byte copies (Image::rgba8) of levels [base, q] of a 2D texture of an 8-bit unorm
-    // format up to date with `generation`; levels whose floats are not all k / 255 get none.
+    // Brings the byte copies (Image::rgba8) of levels [base, q] of a 2D or cube-map texture of
+    // an 8-bit unorm format up to date with `generation`; levels whose floats are not all k / 255 get none.
     // Called when a draw binds the texture (single-threaded), so lookups only read them. A copy
     // costs a pass over the level, worth it for textures that stay as they are: a level is
     // copied at the second draw that binds it unchanged (not for a render target sampled once
     // after each change).
     void refresh_rgba8(int32_t base, int32_t q);
+    // Brings the byte copies of levels [base, q] up to date (refresh_rgba8) and rebuilds
+    // `sampled_levels` for levels [base, max(q, max_sampled_level)] of every face. Called when
+    // a draw binds the texture (single-threaded), so lookups read a table that holds for the
+    // whole draw (no per-lookup find()); rebuilt at every draw, as cheap as a few dozen
+    // pointers, so that no image change can leave it stale.
+    void refresh_sampling(int32_t base, int32_t q);
+    // Levels [sampled_base, sampled_base + sampled_count) of face f at f * sampled_count + k;
+    // a level without an image, or of a kind the fast path does not read (integer), has
+    // width 0. Only valid during the draw that refreshed it.
+    std::vector<SampledLevel> sampled_levels;
+    int32_t sampled_base = 0, sampled_count = 0;
+    const SampledLevel* sampled(int face, int32_t level) const {
+        const int32_t k = level - sampled_base;
+        return k >= 0 && k < sampled_count ? &sampled_levels[size_t(face) * size_t(sampled_count) + size_t(k)] : nullptr;
+    }
     // The current byte copy of a level, or null.
     const uint32_t* rgba8(const Image& img) const {
         return img.rgba8_generation == generation && !img.rgba8.empty() ? img.rgba8.data() : nullptr;
