@@ -78,12 +78,14 @@ STATES = {"none": None, "blend": alpha_blend, "depth": depth_less, "blend_depth"
           "additive_mask": additive_mask, "stencil": stencil, "fog": fog}
 
 
-def geometry(mode, n=500, pixels=7.0, seed=3):
-    """n small primitives, overlapping, with perspective (w from 1 to 3) and both facings."""
+def geometry(mode, n=500, pixels=7.0, seed=3, mixed=False):
+    """n small primitives, overlapping, with perspective (w from 1 to 3) and both facings; `mixed`:
+    every seventh one large (its chunks are shaded on their own, between gathered batches)."""
     r = np.random.default_rng(seed)
     per = {"TRIANGLES": 3, "LINES": 2, "POINTS": 1}[mode]
     centre = r.uniform(-1, 1, (n, 1, 2))
-    xy = (centre + r.uniform(-1, 1, (n, per, 2)) * (pixels / W)).reshape(-1, 2)
+    scale = np.where(np.arange(n) % 7 == 3, 8.0, 1.0)[:, None, None] if mixed else 1.0
+    xy = (centre + r.uniform(-1, 1, (n, per, 2)) * scale * (pixels / W)).reshape(-1, 2)
     z = np.repeat(r.uniform(-0.9, 0.9, (n, 1)), per, axis=1).reshape(-1, 1) + r.uniform(-0.05, 0.05, (n * per, 1))
     w = r.uniform(1, 3, (n * per, 1))
     pos = np.concatenate([xy * w, z * w, w], axis=1).astype(np.float32)
@@ -91,7 +93,7 @@ def geometry(mode, n=500, pixels=7.0, seed=3):
     return pos, color
 
 
-def render(shader, state, mode="TRIANGLES", samples=0, threads=1, **tuning):
+def render(shader, state, mode="TRIANGLES", samples=0, threads=1, mixed=False, **tuning):
     kw = dict(antialias=samples > 0, threads=threads, preserveDrawingBuffer=True, stencil=True)
     if samples:
         kw["samples"] = samples
@@ -99,7 +101,7 @@ def render(shader, state, mode="TRIANGLES", samples=0, threads=1, **tuning):
     with tuned(gl, **tuning):
         prog = softgl.program(gl, VS, HEAD + SHADERS[shader])
         gl.useProgram(prog)
-        pos, color = geometry(mode)
+        pos, color = geometry(mode, mixed=mixed)
         for name, data in (("aPos", pos), ("aColor", color)):
             loc = gl.getAttribLocation(prog, name)
             gl.bindBuffer(gl.ARRAY_BUFFER, gl.createBuffer())
@@ -120,10 +122,10 @@ def render(shader, state, mode="TRIANGLES", samples=0, threads=1, **tuning):
         return np.asarray(image), stats, gl.last_draw_plan()
 
 
-def check_same_bytes(shader, state, mode="TRIANGLES", samples=0, threads=1):
-    ref, ref_stats, ref_plan = render(shader, state, mode, samples, threads, fragment_batches=False)
-    quads, quad_stats, quad_plan = render(shader, state, mode, samples, threads, skip_helper_lanes=False)
-    pixels, pixel_stats, plan = render(shader, state, mode, samples, threads)
+def check_same_bytes(shader, state, mode="TRIANGLES", samples=0, threads=1, mixed=False):
+    ref, ref_stats, ref_plan = render(shader, state, mode, samples, threads, mixed, fragment_batches=False)
+    quads, quad_stats, quad_plan = render(shader, state, mode, samples, threads, mixed, skip_helper_lanes=False)
+    pixels, pixel_stats, plan = render(shader, state, mode, samples, threads, mixed)
     assert ref_plan["fragment_batches"] is False and ref_plan["fragment_batches_why_not"] == "tuning_off"
     assert quad_plan["fragment_batches"] and plan["fragment_batches"], plan["text"]
     assert ref.any() and (ref != ref[0, 0]).any()
@@ -151,6 +153,12 @@ def test_triangles_batched_equal_per_primitive(shader, state):
     if state in ("depth", "blend_depth"):
         assert stats["fragments_killed_early" if shader in ("plain", "builtins", "derivatives")
                      else "fragments_killed_late"] > 0
+
+
+@pytest.mark.parametrize("state", ["blend", "blend_depth", "additive_mask", "fog"])
+@pytest.mark.parametrize("shader", ["plain", "derivatives", "discard"])
+def test_large_and_small_triangles_mixed(shader, state):
+    check_same_bytes(shader, state, mixed=True)
 
 
 @pytest.mark.parametrize("samples", [0, 4])

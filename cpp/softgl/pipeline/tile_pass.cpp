@@ -5,6 +5,10 @@
 #include <cstring>
 #include <type_traits>
 
+#if defined(__x86_64__)
+#include <immintrin.h>
+#endif
+
 #include "softgl/pipeline/coverage.h"
 #include "softgl/pipeline/fragment_sink.h"
 #include "softgl/pipeline/interpolate.h"
@@ -23,6 +27,9 @@ namespace {
 
 constexpr size_t kChunkQuads = 32;   // 128 lanes: the executor's batch
 constexpr size_t kChunkLanes = 4 * kChunkQuads;
+// A chunk of at least this many kept quads (a large primitive's) is shaded as it is: gathering
+// would only move its lanes (exec_spot, full-screen quads: 27% more instructions when gathered).
+constexpr size_t kOwnBatchQuads = kChunkQuads / 2;
 constexpr uint32_t kPositionBuiltins = kFragCoordX | kFragCoordY | kFragCoordZ | kFragCoordW | kPointCoordS | kPointCoordT;
 static_assert(kChunkQuads <= 64, "a chunk's rows of four in one uint64_t (whole_rows_of_four)");
 
@@ -541,9 +548,12 @@ SOFTGL_STEP void TilePass::draw_primitive(Tile& t, const PrimitiveSetup& p, size
         w.stats.quads += c.kept;
         if constexpr (!WithSink) {   // the blend lab's draws are never gathered (plan_fragment_batches)
             if (gather_) {
-                if (single_pixels_) gather_pixels(t, prim, c);
-                else gather_quads(t, prim, c);
-                continue;
+                if (c.kept < kOwnBatchQuads) {
+                    if (single_pixels_) gather_pixels(t, prim, c);
+                    else gather_quads(t, prim, c);
+                    continue;
+                }
+                flush(t);   // a big chunk is a batch of its own, after the fragments gathered before it
             }
         }
         w.stats.fragments_shaded += 4 * c.kept;
@@ -559,6 +569,39 @@ SOFTGL_STEP void TilePass::draw_primitive(Tile& t, const PrimitiveSetup& p, size
 }
 
 namespace {
+
+// dst[k] = src[from[k]] for k < n, for each of `words` rows of kChunkLanes lanes (the covered
+// pixels of a chunk moved to a gathered batch's lanes). A copy: every level gives the same bits.
+void move_lanes_scalar(const int* words, size_t count, const uint32_t* src, uint32_t* dst, const uint32_t* from,
+                       size_t n) {
+    for (size_t i = 0; i < count; ++i) {
+        const size_t row = size_t(words[i]) * kChunkLanes;
+        for (size_t k = 0; k < n; ++k) dst[row + k] = src[row + from[k]];
+    }
+}
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+// Eight lanes per gather; the last part under a mask (the row after a full one is another word's).
+__attribute__((target("avx2"))) void move_lanes_avx2(const int* words, size_t count, const uint32_t* src,
+                                                     uint32_t* dst, const uint32_t* from, size_t n) {
+    const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    for (size_t i = 0; i < count; ++i) {
+        const size_t row = size_t(words[i]) * kChunkLanes;
+        const int* const s = reinterpret_cast<const int*>(src + row);
+        int* const d = reinterpret_cast<int*>(dst + row);
+        size_t k = 0;
+        for (; k + 8 <= n; k += 8) {
+            const __m256i at = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(from + k));
+            _mm256_storeu_si256(reinterpret_cast<__m256i*>(d + k), _mm256_i32gather_epi32(s, at, 4));
+        }
+        if (k < n) {
+            const __m256i keep = _mm256_cmpgt_epi32(_mm256_set1_epi32(int(n - k)), lane);
+            const __m256i at = _mm256_maskload_epi32(reinterpret_cast<const int*>(from + k), keep);
+            const __m256i v = _mm256_mask_i32gather_epi32(_mm256_setzero_si256(), s, at, keep, 4);
+            _mm256_maskstore_epi32(d + k, keep, v);
+        }
+    }
+}
+#endif
 
 // Whether the covered pixels of a gathered batch's quad are free (no fragment of the batch yet);
 // if so, marks them. Only where the write step gathers pixels (exclusive_pixels_).
@@ -631,7 +674,7 @@ void TilePass::gather_pixels(Tile& t, const Primitive& prim, const Chunk& c) {
     if (prim.interpolate) interpolate_varyings_at(plan_.simd, prim.vi, c.quads, c.kept, w.chunk_varyings.data(), kChunkLanes);
     const size_t total = 4 * c.kept;
     size_t from = 0;
-    uint8_t source[kChunkLanes];   // per lane taken: its lane in the chunk
+    uint32_t source[kChunkLanes];   // per lane taken: its lane in the chunk
     while (from < total) {
         const size_t L0 = g.lanes;
         size_t n = 0;
@@ -650,18 +693,19 @@ void TilePass::gather_pixels(Tile& t, const Primitive& prim, const Chunk& c) {
             const size_t lane = L0 + n;
             g.masks[lane] = mask;
             g.xy[2 * lane] = x, g.xy[2 * lane + 1] = y;
-            source[n++] = uint8_t(from);
+            source[n++] = uint32_t(from);
         }
         if (n) {
             uint32_t* const v = b.varyings.data() + L0;
-            for (int word : *smooth_words_) {
-                uint32_t* const dst = v + size_t(word) * kChunkLanes;
-                if (prim.interpolate) {
-                    const uint32_t* const src = chunk + size_t(word) * kChunkLanes;
-                    for (size_t k = 0; k < n; ++k) dst[k] = src[source[k]];
-                } else {
-                    std::fill_n(dst, n, provoking[word]);
-                }
+            const std::vector<int>& smooth = *smooth_words_;
+            if (!prim.interpolate) {
+                for (int word : smooth) std::fill_n(v + size_t(word) * kChunkLanes, n, provoking[word]);
+            } else {
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+                if (plan_.simd >= SimdLevel::AVX2) move_lanes_avx2(smooth.data(), smooth.size(), chunk, v, source, n);
+                else
+#endif
+                    move_lanes_scalar(smooth.data(), smooth.size(), chunk, v, source, n);
             }
             for (int word : *flat_words_) std::fill_n(v + size_t(word) * kChunkLanes, n, provoking[word]);
             if (builtins_ & kFrontFacing) std::fill_n(b.front_facing.data() + L0, n, uint8_t(p.front_facing ? 1 : 0));
