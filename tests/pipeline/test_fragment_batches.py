@@ -207,3 +207,17 @@ def test_plan_says_why_a_draw_is_not_batched():
     ext = gl.getExtension("SOFTGL_smooth")
     gl.enable(ext.POLYGON_SMOOTH)
     assert draw(HEAD + SHADERS["plain"])["fragment_batches_why_not"] == "smoothing"
+
+
+SIMD = ["scalar", "sse2", "avx2", "avx512"][:softgl._core.testing.simd_level() + 1]
+
+
+@pytest.mark.parametrize("simd", SIMD)
+@pytest.mark.parametrize("shader", ["builtins", "discard"])
+def test_every_simd_level_gives_the_reference_bytes(shader, simd):
+    # The covered lanes move into a batch by AVX2 gathers or a scalar loop; interpolation and the
+    # colour kernels at each level: the per-primitive reference at the best level either way.
+    ref, _, _ = render(shader, "blend_depth", fragment_batches=False)
+    image, _, plan = render(shader, "blend_depth", mixed=False, simd=simd)
+    assert plan["simd"] == simd and plan["no_helper_lanes"]
+    assert image.tobytes() == ref.tobytes()
