@@ -27,8 +27,9 @@ namespace {
 
 constexpr size_t kChunkQuads = 32;   // 128 lanes: the executor's batch
 constexpr size_t kChunkLanes = 4 * kChunkQuads;
-// A chunk of at least this many kept quads (a large primitive's) is shaded as it is: gathering
-// would only move its lanes (exec_spot, full-screen quads: 27% more instructions when gathered).
+// A chunk of at least this many kept quads (a large primitive's) is shaded as it is, unless more
+// than an eighth of its lanes are helpers that single pixels would leave out: gathering would only
+// move its lanes (exec_spot, full-screen quads: 27% more instructions when gathered).
 constexpr size_t kOwnBatchQuads = kChunkQuads / 2;
 constexpr uint32_t kPositionBuiltins = kFragCoordX | kFragCoordY | kFragCoordZ | kFragCoordW | kPointCoordS | kPointCoordT;
 static_assert(kChunkQuads <= 64, "a chunk's rows of four in one uint64_t (whole_rows_of_four)");
@@ -148,6 +149,19 @@ inline void coverage(float rgba[4], double fraction) { rgba[3] = float(double(rg
 inline void fog(const FogOp& op, const PrimitiveSetup& p, int32_t x, int32_t y, float rgba[4]) {
     const int64_t X = int64_t(x) * kSubPixel + kSubPixel / 2, Y = int64_t(y) * kSubPixel + kSubPixel / 2;
     apply_fog(op, fog_coordinate(op, float(p.depth_at(X, Y)), float(p.eval(p.inv_w, X, Y))), rgba);
+}
+
+// The lanes of n quads' masks that no sample covers (helper lanes), a quad's four at a time (a
+// 16-bit lane v sets its bit 15 in (v & 0x7FFF) + 0x7FFF | v only when v != 0, as OwnerMap::owned).
+size_t helper_lanes(const uint16_t* masks, size_t n) {
+    constexpr uint64_t low = 0x7FFF7FFF7FFF7FFFu;
+    size_t helpers = 0;
+    for (size_t i = 0; i < n; ++i) {
+        uint64_t m4;
+        std::memcpy(&m4, masks + 4 * i, 8);
+        helpers += size_t(__builtin_popcountll(~(((m4 & low) + low) | m4 | low)));
+    }
+    return helpers;
 }
 
 // Per draw, kept between draws on the calling thread (no per-draw allocations; buffers only grow,
@@ -548,7 +562,7 @@ SOFTGL_STEP void TilePass::draw_primitive(Tile& t, const PrimitiveSetup& p, size
         w.stats.quads += c.kept;
         if constexpr (!WithSink) {   // the blend lab's draws are never gathered (plan_fragment_batches)
             if (gather_) {
-                if (c.kept < kOwnBatchQuads) {
+                if (c.kept < kOwnBatchQuads || (single_pixels_ && helper_lanes(c.masks, c.kept) * 8 > 4 * c.kept)) {
                     if (single_pixels_) gather_pixels(t, prim, c);
                     else gather_quads(t, prim, c);
                     continue;
