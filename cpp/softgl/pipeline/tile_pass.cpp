@@ -27,9 +27,10 @@ namespace {
 
 constexpr size_t kChunkQuads = 32;   // 128 lanes: the executor's batch
 constexpr size_t kChunkLanes = 4 * kChunkQuads;
-// A chunk of at least this many kept quads (a large primitive's) is shaded as it is, unless more
-// than an eighth of its lanes are helpers that single pixels would leave out: gathering would only
-// move its lanes (exec_spot, full-screen quads: 27% more instructions when gathered).
+// A chunk of at least this many kept quads (a large primitive's) is shaded as it is, unless it is
+// not full and more than an eighth of its lanes are helpers that single pixels would leave out:
+// gathering would only move its lanes (exec_spot, full-screen quads: 27% more instructions when
+// gathered; counting the helpers of full chunks 0.5%).
 constexpr size_t kOwnBatchQuads = kChunkQuads / 2;
 constexpr uint32_t kPositionBuiltins = kFragCoordX | kFragCoordY | kFragCoordZ | kFragCoordW | kPointCoordS | kPointCoordT;
 static_assert(kChunkQuads <= 64, "a chunk's rows of four in one uint64_t (whole_rows_of_four)");
@@ -563,7 +564,8 @@ SOFTGL_STEP void TilePass::draw_primitive(Tile& t, const PrimitiveSetup& p, size
         w.stats.quads += c.kept;
         if constexpr (!WithSink) {   // the blend lab's draws are never gathered (plan_fragment_batches)
             if (gather_) {
-                if (c.kept < kOwnBatchQuads || (single_pixels_ && helper_lanes(c.masks, c.kept) * 8 > 4 * c.kept)) {
+                if (c.kept < kOwnBatchQuads ||
+                    (single_pixels_ && c.kept < kChunkQuads && helper_lanes(c.masks, c.kept) * 8 > 4 * c.kept)) {
                     if (single_pixels_) gather_pixels(t, prim, c);
                     else gather_quads(t, prim, c);
                     continue;
