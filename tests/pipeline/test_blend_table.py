@@ -139,6 +139,8 @@ def render(fs, size, threads, funcs, eqs, mask, colours, alpha=True, scissor=Non
     random background (inside `scissor`, x, y, w, h, if given). Returns (RGBA bytes, gl.stats())."""
     w, h = size
     gl = softgl.Context(w, h, threads=threads, alpha=alpha, antialias=False, preserveDrawingBuffer=True)
+    # Whole quads through the shader, as the blend table counts them (fragments_shaded).
+    _core.testing.set_tuning(gl, skip_helper_lanes=False)
     prog = softgl.program(gl, VS, fs)
     gl.useProgram(prog)
     gl.bindVertexArray(gl.createVertexArray())

@@ -193,8 +193,9 @@ def test_webgl1_frag_color_and_blending_on_the_drawing_buffer(mode, blend, sprea
     for copies in (True, False):
         gl = softgl.Context(64, 64, antialias=False)
         # Every fragment through the kernels: hidden-surface removal picks its tiles by shader
-        # cost, so it would shade different fragments in the two runs (its own tests).
-        core.testing.set_tuning(gl, fragment_copies=copies, hidden_surface_removal="off")
+        # cost, so it would shade different fragments in the two runs (its own tests). Whole
+        # quads when the shader runs, as the fused kernel counts them (fragments_shaded).
+        core.testing.set_tuning(gl, fragment_copies=copies, hidden_surface_removal="off", skip_helper_lanes=False)
         prog = softgl.program(gl, vs, fs1)
         gl.useProgram(prog)
         for name, data in (("pos", pos), ("color", color)):

@@ -61,6 +61,9 @@ def render(fs, threads=1, samples=0, setup=None, z=(0.0, 0.0, 0.0), mode="TRIANG
     if samples:
         kw["samples"] = samples
     gl = softgl.Context(SIZE, SIZE, **kw)
+    # Whole quads through the shader (helper lanes too), as the constant colour counts them in
+    # fragments_shaded: the two paths' counters compare.
+    softgl._core.testing.set_tuning(gl, skip_helper_lanes=False)
     prog = softgl.program(gl, VS, fs)
     gl.useProgram(prog)
     gl.bindVertexArray(gl.createVertexArray())

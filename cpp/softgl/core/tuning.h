@@ -39,11 +39,18 @@ struct Tuning {
     // kernels read the interpolated varying (pipeline/glsl_stages FragmentShader::copies).
     bool fragment_copies = true;
     SamplerPath sampler_path = SamplerPath::Best;
+    // The fragments of many primitives of a tile gathered into full shader batches (pipeline/
+    // tile_pass); off: the shader runs per primitive chunk (the reference).
+    bool fragment_batches = true;
+    // ... and, for a shader that does not read its quad neighbours, only covered pixels shaded
+    // (no helper lanes); off: whole quads.
+    bool skip_helper_lanes = true;
 
     bool operator==(const Tuning& o) const {
         return simd == o.simd && batch_primitives == o.batch_primitives &&
                hidden_surface_removal == o.hidden_surface_removal && depth_bounds == o.depth_bounds &&
-               fragment_copies == o.fragment_copies && sampler_path == o.sampler_path;
+               fragment_copies == o.fragment_copies && sampler_path == o.sampler_path &&
+               fragment_batches == o.fragment_batches && skip_helper_lanes == o.skip_helper_lanes;
     }
     bool operator!=(const Tuning& o) const { return !(*this == o); }
 

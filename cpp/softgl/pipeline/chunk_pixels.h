@@ -62,4 +62,14 @@ void load_chunk_pixels(const ChunkPixels buffer, const Quad* q, const uint16_t* 
 uint64_t store_chunk_pixels(const ChunkPixels buffer, const Quad* q, const uint16_t* masks, size_t n,
                             const uint32_t* lanes, uint64_t skip = 0);
 
+// The same for lanes that are single covered pixels: lane l is pixel (xy[2l], xy[2l + 1]).
+inline void load_lane_pixels(const ChunkPixels buffer, const int32_t* xy, size_t n, uint32_t* lanes) {
+    for (size_t l = 0; l < n; ++l)
+        std::memcpy(&lanes[l], buffer.color + 4 * (size_t(xy[2 * l + 1]) * buffer.pitch + size_t(xy[2 * l])), 4);
+}
+inline void store_lane_pixels(const ChunkPixels buffer, const int32_t* xy, size_t n, const uint32_t* lanes) {
+    for (size_t l = 0; l < n; ++l)
+        std::memcpy(buffer.color + 4 * (size_t(xy[2 * l + 1]) * buffer.pitch + size_t(xy[2 * l])), &lanes[l], 4);
+}
+
 }  // namespace softgl

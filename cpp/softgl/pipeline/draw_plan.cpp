@@ -15,9 +15,9 @@ constexpr const char* kPathNames[] = {
     "no_depth_test", "stencil_test", "late_tests", "depth_stencil_tests", "depth_not_per_quad", "depth_func",
     "blend_lab", "framebuffer_object", "float_drawing_buffer", "smoothing", "multisampled", "no_color_write",
     "reads_destination", "fog", "not_uniform_only", "not_copy", "not_one_varying_vec4", "not_interpolated",
-    "generic_kernel", "no_blending", "not_per_channel",
+    "generic_kernel", "no_blending", "not_per_channel", "fused_copy", "constant_color", "quad_neighbours",
 };
-static_assert(sizeof(kPathNames) / sizeof(kPathNames[0]) == size_t(Path::NotPerChannel) + 1, "a name per Path");
+static_assert(sizeof(kPathNames) / sizeof(kPathNames[0]) == size_t(Path::QuadNeighbours) + 1, "a name per Path");
 
 constexpr const char* kSkipNames[] = {"no", "rasterizer_discard", "no_output"};
 constexpr const char* kTargetNames[] = {"drawing_buffer", "float_drawing_buffer", "framebuffer_object"};
@@ -63,6 +63,21 @@ void plan_copies(DrawPlan& plan, const FragmentShader& fs, const VaryingLayout& 
                                     {plan.samples != 1, Path::Multisampled},
                                     {plan.kernel == ColorKernel::Generic, Path::GenericKernel},
                                     {plan.color_kernels != Path::Taken, plan.color_kernels}});
+}
+
+// Shade full batches (tile_pass, "gather"): not where no shader batch is built (a fused copy, a
+// constant colour), nor for the blend lab (its hooks see each primitive's fragments in turn) or
+// area coverage (fractions per quad); no helper lanes when nothing reads a quad neighbour.
+void plan_fragment_batches(DrawPlan& plan, const FragmentShader& fs, const Tuning& tuning) {
+    plan.fragment_batches = first_reason({{!plan.rasterizes(), Path::NotRasterized},
+                                          {!tuning.fragment_batches, Path::TuningOff},
+                                          {plan.blend_lab, Path::BlendLab},
+                                          {plan.area_coverage, Path::Smoothing},
+                                          {plan.fused_copy == Path::Taken, Path::FusedCopy},
+                                          {plan.constant_color == Path::Taken, Path::ConstantColor}});
+    plan.no_helper_lanes = first_reason({{plan.fragment_batches != Path::Taken, plan.fragment_batches},
+                                         {!tuning.skip_helper_lanes, Path::TuningOff},
+                                         {fs.reads_quad_neighbours(), Path::QuadNeighbours}});
 }
 
 }  // namespace
@@ -174,6 +189,7 @@ DrawPlan plan_draw(const DrawInputs& in, const DrawCall& call, const FragmentOps
     plan_copies(plan, fs, in.vertex_shader.varying_layout(), in.tuning);
     const Path not_yet = skipped ? Path::NotRasterized : Path::NotShaded;
     plan.constant_color = plan.blend_table = plan.whole_rect_blend = not_yet;
+    plan_fragment_batches(plan, fs, in.tuning);
     return plan;
 }
 
@@ -192,6 +208,9 @@ void plan_shading(DrawPlan& plan, bool uniform_only, const BlendOp& blend) {
     // removal runs take the quads).
     plan.whole_rect_blend = first_reason({{plan.blend_table != Path::Taken, plan.blend_table},
                                           {plan.depth_test || plan.stencil_test, Path::DepthStencilTests}});
+    // A constant colour needs no shader batch.
+    if (plan.constant_color == Path::Taken && plan.fragment_batches == Path::Taken)
+        plan.fragment_batches = plan.no_helper_lanes = Path::ConstantColor;
 }
 
 std::vector<DrawPlanField> DrawPlan::fields() const {
@@ -226,6 +245,8 @@ std::vector<DrawPlanField> DrawPlan::fields() const {
         path("shading", "constant_color", constant_color),
         path("shading", "blend_table", blend_table),
         path("shading", "whole_rect_blend", whole_rect_blend),
+        path("shading", "fragment_batches", fragment_batches),
+        path("shading", "no_helper_lanes", no_helper_lanes),
         yes("color", "writes_color", writes_color),
         named("color", "kernel", int(kernel), kKernelNames[int(kernel)]),
         yes("color", "plain_write", plain_write),

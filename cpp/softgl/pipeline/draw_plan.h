@@ -53,6 +53,9 @@ enum class Path : uint8_t {
     GenericKernel,          // the blend has no colour kernel of its own (ColorKernel::Generic)
     NoBlending,             // nothing to look up: the colour is written as it is
     NotPerChannel,          // the blend mixes channels (blend_is_per_channel)
+    FusedCopy,              // the varying goes straight into pixels: no shader batch (fused_copy)
+    ConstantColor,          // the shader's colour is computed once: no shader batch (constant_color)
+    QuadNeighbours,         // the shader takes derivatives or implicit-LOD lookups
 };
 const char* path_name(Path p);
 
@@ -99,6 +102,11 @@ struct DrawPlan {
     Path constant_color = Path::NotShaded;   // that colour goes straight to the colour kernels
     Path blend_table = Path::NotShaded;      // ... blended by table lookup (fragment_ops.h)
     Path whole_rect_blend = Path::NotShaded; // ... whole blocks blended in place (whole_rect.h)
+    // Fragments of many primitives of a tile gathered into full shader batches (tile_pass), and
+    // in those batches only covered pixels, no helper lanes (the shader reads no quad neighbour).
+    // Decided in the first step, and again in the second (a constant colour needs no batch).
+    Path fragment_batches = Path::Taken;
+    Path no_helper_lanes = Path::Taken;
     // ---- colour ----
     bool writes_color = false;
     ColorKernel kernel = ColorKernel::Plain;

@@ -142,6 +142,9 @@ GlslFragmentShader::GlslFragmentShader(std::shared_ptr<const glsl::LinkedProgram
     // quad is shaded and its values are copied to the others.
     uniform_only_ = program_->reflection.fragment_depends_only_on_uniforms &&
                     !program_->reflection.fragment_usage.may_discard;
+    // Derivatives and implicit-LOD lookups, as the optimised IR has them (the executor's test):
+    // without them a lane's values are its own, and no helper pixel needs shading.
+    quad_neighbours_ = glsl::reads_quad_neighbours(ir);
     // Colour output o: whichever of gl_FragColor (o = 0), gl_FragData[o] or the `out` at location
     // o (arrays take consecutive locations, ES 3.00 §4.3.8.2) the shader really writes (the IR
     // declares both ES 1.00 outputs; reflection lists the active one).
@@ -229,7 +232,7 @@ uint64_t GlslFragmentShader::take_fast_texture_queries() const {
 void GlslFragmentShader::run(const FragmentBatch& b, FragmentResults& out, unsigned worker) const {
     Worker& w = workers_[worker];
     const glsl::IrProgram& ir = program_->fragment;
-    const size_t L = b.lanes;
+    const size_t L = b.lanes, S = b.stride();
     const size_t O = size_t(outputs_);
     out.outputs = outputs_;
     if (out.color.size() < 4 * O * L) out.color.resize(4 * O * L);   // grows only: no zero fill per batch
@@ -241,10 +244,10 @@ void GlslFragmentShader::run(const FragmentBatch& b, FragmentResults& out, unsig
     w.input_ptrs.assign(ir.inputs.size(), nullptr);
     for (size_t i = 0; i < ir.inputs.size(); ++i) {
         const int builtin = input_builtin_[i];
-        if (input_word_[i] >= 0) w.input_ptrs[i] = reinterpret_cast<const Scalar*>(&b.varyings[size_t(input_word_[i]) * L]);
-        else if (builtin >= 0 && builtin < 4) w.input_ptrs[i] = reinterpret_cast<const Scalar*>(&b.frag_coord[size_t(builtin) * L]);
+        if (input_word_[i] >= 0) w.input_ptrs[i] = reinterpret_cast<const Scalar*>(&b.varyings[size_t(input_word_[i]) * S]);
+        else if (builtin >= 0 && builtin < 4) w.input_ptrs[i] = reinterpret_cast<const Scalar*>(&b.frag_coord[size_t(builtin) * S]);
         else if (builtin == 4) w.input_ptrs[i] = w.builtins.data();
-        else if (builtin >= 5) w.input_ptrs[i] = reinterpret_cast<const Scalar*>(&b.point_coord[size_t(builtin - 5) * L]);
+        else if (builtin >= 5) w.input_ptrs[i] = reinterpret_cast<const Scalar*>(&b.point_coord[size_t(builtin - 5) * S]);
     }
     // Outputs go straight to the results; outputs nobody reads are not copied out.
     w.output_ptrs.assign(ir.outputs.size(), nullptr);

@@ -68,6 +68,7 @@ public:
     GlslFragmentShader(std::shared_ptr<const glsl::LinkedProgram> program, const VaryingLayout& layout);
     bool may_discard() const override { return program_->reflection.fragment_usage.may_discard; }
     bool writes_depth() const override { return program_->reflection.fragment_usage.writes_frag_depth; }
+    bool reads_quad_neighbours() const override { return quad_neighbours_; }
     uint32_t builtins_read() const override { return builtins_read_; }
     void prepare(unsigned workers, const Tuning& tuning) const override;
     void run(const FragmentBatch& batch, FragmentResults& out, unsigned worker) const override;
@@ -92,6 +93,7 @@ private:
     bool broadcast_ = false;             // gl_FragColor with GL_EXT_draw_buffers: output 0 copied to all
     int depth_slot_ = -1;
     uint32_t builtins_read_ = 0;         // FragmentBuiltin bits
+    bool quad_neighbours_ = true;        // glsl::reads_quad_neighbours of the fragment IR
     bool uniform_only_ = false;          // outputs depend only on uniforms: run one quad, broadcast
     bool copies_only_ = false;           // the program only copies varyings or constants to colours
     FragmentCopies copies_;              // ... which ones (when copies_only_)

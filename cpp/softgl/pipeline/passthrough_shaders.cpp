@@ -32,10 +32,10 @@ void PassthroughVertexShader::run(const std::array<AttributeStream, kMaxVertexAt
 }
 
 void ColorFragmentShader::run(const FragmentBatch& b, FragmentResults& out, unsigned) const {
-    const size_t L = b.lanes;
+    const size_t L = b.lanes, S = b.stride();
     out.color.resize(4 * L);
     out.outputs = 1;
-    for (size_t i = 0; i < 4 * L; ++i) std::memcpy(&out.color[i], &b.varyings[i], 4);
+    for (size_t c = 0; c < 4; ++c) std::memcpy(&out.color[c * L], &b.varyings[c * S], 4 * L);
     out.killed.assign(may_discard() ? L : 0, 0);
     if (may_discard())
         for (size_t lane = 0; lane < L; ++lane) out.killed[lane] = out.color[3 * L + lane] < discard_below_;

@@ -27,6 +27,7 @@ public:
     ColorFragmentShader(float discard_below = -1.0f, bool depth_from_red = false)
         : discard_below_(discard_below), depth_from_red_(depth_from_red) {}
     bool may_discard() const override { return discard_below_ >= 0.0f; }
+    bool reads_quad_neighbours() const override { return false; }
     bool writes_depth() const override { return depth_from_red_; }
     void run(const FragmentBatch& batch, FragmentResults& out, unsigned worker) const override;
 

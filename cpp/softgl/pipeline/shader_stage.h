@@ -42,13 +42,17 @@ public:
 };
 
 // Fragments of whole 2x2 quads: lane 4*q + j is pixel j (dx = j & 1, dy = j >> 1) of quad q, so
-// that derivatives are differences within a quad. Arrays are [component][lane].
+// that derivatives are differences within a quad. Arrays are [component][lane], a component's
+// lanes `stride()` apart. A shader that does not read its quad neighbours
+// (FragmentShader::reads_quad_neighbours) may be given lanes that are single pixels, in any order.
 struct FragmentBatch {
     size_t lanes = 0;
-    std::vector<uint32_t> varyings;    // [word * lanes + lane]
-    std::vector<float> frag_coord;     // [c * lanes + lane], c = x, y, z, w
+    size_t lane_stride = 0;            // 0: `lanes` (the arrays hold exactly the batch)
+    std::vector<uint32_t> varyings;    // [word * stride() + lane]
+    std::vector<float> frag_coord;     // [c * stride() + lane], c = x, y, z, w
     std::vector<uint8_t> front_facing; // [lane]
-    std::vector<float> point_coord;    // [c * lanes + lane], c = s, t
+    std::vector<float> point_coord;    // [c * stride() + lane], c = s, t
+    size_t stride() const { return lane_stride ? lane_stride : lanes; }
 };
 
 // Colour outputs of a fragment shader: gl_FragColor, gl_FragData[n] (ES 1.00, WEBGL_draw_buffers)
@@ -84,6 +88,9 @@ public:
     virtual ~FragmentShader() = default;
     virtual bool may_discard() const = 0;
     virtual bool writes_depth() const = 0;
+    // Whether a lane reads values of the other lanes of its quad (dFdx, dFdy, fwidth, the implicit
+    // LOD of a texture lookup): only then must helper pixels be shaded, and lanes come as quads.
+    virtual bool reads_quad_neighbours() const { return true; }
     // The built-ins run() reads (FragmentBuiltin bits): the pipeline fills only these arrays of
     // the batch (docs/architecture.md, "Fast paths": what the shader does not read is not computed). Varyings: the vertex
     // stage's VaryingLayout::read_by_fragment says which words are filled.

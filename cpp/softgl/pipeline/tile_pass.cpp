@@ -5,6 +5,10 @@
 #include <cstring>
 #include <type_traits>
 
+#if defined(__x86_64__)
+#include <immintrin.h>
+#endif
+
 #include "softgl/pipeline/coverage.h"
 #include "softgl/pipeline/fragment_sink.h"
 #include "softgl/pipeline/interpolate.h"
@@ -23,6 +27,12 @@ namespace {
 
 constexpr size_t kChunkQuads = 32;   // 128 lanes: the executor's batch
 constexpr size_t kChunkLanes = 4 * kChunkQuads;
+// A chunk of at least this many kept quads (a large primitive's) is shaded as it is, unless it is
+// not full and more than an eighth of its lanes are helpers that single pixels would leave out:
+// gathering would only move its lanes (exec_spot, full-screen quads: 27% more instructions when
+// gathered; counting the helpers of full chunks 0.5%).
+constexpr size_t kOwnBatchQuads = kChunkQuads / 2;
+constexpr uint32_t kPositionBuiltins = kFragCoordX | kFragCoordY | kFragCoordZ | kFragCoordW | kPointCoordS | kPointCoordT;
 static_assert(kChunkQuads <= 64, "a chunk's rows of four in one uint64_t (whole_rows_of_four)");
 
 // A lane's colour may be read from the batch's varying words (uint32_t): through a may_alias type,
@@ -118,13 +128,13 @@ bool piles_up(const std::vector<uint32_t>& list, const PrimitiveTable& prims, co
 // The shade step for a shader that only copies varyings or constants (FragmentShader::copies):
 // its colour outputs, bit for bit what run() gives, without the executor.
 void copy_outputs(const FragmentCopies& copies, const FragmentBatch& b, FragmentResults& out) {
-    const size_t L = b.lanes, O = size_t(copies.outputs);
+    const size_t L = b.lanes, S = b.stride(), O = size_t(copies.outputs);
     out.outputs = copies.outputs;
     if (out.color.size() < 4 * O * L) out.color.resize(4 * O * L);   // grows only: no zero fill per batch
     out.killed.clear();
     for (size_t k = 0; k < 4 * O; ++k) {
         if (copies.word[k] >= 0) {
-            std::memcpy(&out.color[k * L], &b.varyings[size_t(copies.word[k]) * L], 4 * L);
+            std::memcpy(&out.color[k * L], &b.varyings[size_t(copies.word[k]) * S], 4 * L);
         } else {
             float value;
             std::memcpy(&value, &copies.bits[k], 4);
@@ -142,6 +152,20 @@ inline void fog(const FogOp& op, const PrimitiveSetup& p, int32_t x, int32_t y, 
     apply_fog(op, fog_coordinate(op, float(p.depth_at(X, Y)), float(p.eval(p.inv_w, X, Y))), rgba);
 }
 
+// The lanes of n quads' masks that no sample covers (helper lanes), a quad's four at a time (a
+// 16-bit lane v sets its bit 15 in (v & 0x7FFF) + 0x7FFF | v only when v != 0, as OwnerMap::owned).
+size_t helper_lanes(const uint16_t* masks, size_t n) {
+    constexpr uint64_t low = 0x7FFF7FFF7FFF7FFFu;
+    size_t helpers = 0;
+    for (size_t i = 0; i < n; ++i) {
+        uint64_t m4;
+        std::memcpy(&m4, masks + 4 * i, 8);
+        const uint64_t zero = ~(((m4 & low) + low) | m4 | low) >> 15;   // 1 in each lane that is zero
+        helpers += size_t((zero * 0x0001000100010001u) >> 48);          // their sum, in the top lane
+    }
+    return helpers;
+}
+
 // Per draw, kept between draws on the calling thread (no per-draw allocations; buffers only grow,
 // so a repeated draw touches no fresh pages).
 struct TilePassScratch {
@@ -152,6 +176,28 @@ struct TilePassScratch {
     std::vector<int> smooth_words, flat_words;
     BlendTable table;
 };
+
+// Shade full batches (docs/architecture.md, "Fast paths"): the fragments of a tile's primitives,
+// after their early tests, gathered for one shader run of up to kChunkLanes lanes. Lanes are
+// whole quads (lane 4*i + j pixel j of quad[i]), or with no helper lanes single pixels (lane l
+// pixel (xy[2l], xy[2l + 1])); masks[lane] its surviving samples. Runs say which primitive each
+// lane belongs to, in draw order, for the steps lane by lane. A pixel is in a batch at most once
+// when the write step gathers and scatters pixels (`occupied`), so every pixel still sees its
+// fragments blended in draw order.
+struct Gathered {
+    struct Run {
+        const PrimitiveSetup* p;
+        size_t end;                        // lanes [previous run's end, end)
+    };
+    size_t quads = 0, lanes = 0;
+    std::vector<Quad> quad;                // [kChunkQuads]
+    std::vector<uint16_t> masks;           // [kChunkLanes]
+    std::vector<int32_t> xy;               // [2 * kChunkLanes] (single pixels)
+    std::vector<Run> runs;
+    uint64_t occupied[kTileSize];          // row y - y0 of the tile, bit x - x0
+    bool any_occupied = false;
+};
+static_assert(kTileSize <= 64, "a tile's row of pixels in one uint64_t (Gathered::occupied)");
 
 }  // namespace
 
@@ -168,6 +214,8 @@ struct alignas(64) TilePass::Scratch {
     DepthBounds depth_bounds;         // the tile's stored depth bounds (early depth, skips hidden primitives)
     FragmentBatch batch;
     FragmentResults results;
+    Gathered gathered;                // fragment_batches: the tile's batch being filled
+    std::vector<uint32_t> chunk_varyings;   // no helper lanes: a chunk's interpolated words, whole quads
     RasterStats raster;
     DrawStats stats;
 };
@@ -207,6 +255,18 @@ struct TilePass::Chunk {
     size_t count;
     uint16_t* masks;
     size_t kept = 0;
+    // A gathered batch of single pixels: lane l is pixel (xy[2l], xy[2l + 1]), `pixels` lanes.
+    const int32_t* xy = nullptr;
+    size_t pixels = 0;
+    size_t lanes() const { return xy ? pixels : 4 * kept; }
+    SOFTGL_STEP void pixel(size_t lane, int32_t& x, int32_t& y) const {
+        if (xy) {
+            x = xy[2 * lane], y = xy[2 * lane + 1];
+        } else {
+            const Quad& quad = quads[lane / 4];
+            x = quad.x + int32_t(lane & 1), y = quad.y + int32_t((lane >> 1) & 1);
+        }
+    }
 };
 
 // The shade step's colours: lane l, channel c of output o at col[(4 * o + c) * stride + l].
@@ -266,6 +326,12 @@ void TilePass::prepare(DrawStats& stats) {
         stats.draws_blend_table = 1;
     }
     if (plan_.fragment_copies == Path::Taken) stats.draws_copied_varying = 1;
+    gather_ = plan_.fragment_batches == Path::Taken;
+    single_pixels_ = gather_ && plan_.no_helper_lanes == Path::Taken;
+    // Two fragments of a pixel in one batch would both read its old colour where the colour
+    // kernels gather pixels and read them; a plain write of all channels stores in lane order.
+    exclusive_pixels_ = gather_ && samples_ == 1 && plan_.color_kernels == Path::Taken &&
+                        plan_.kernel != ColorKernel::Generic && (plan_.kernel != ColorKernel::Plain || !plan_.all_channels);
     // What the fragment shader reads: only these varying words are computed per lane.
     const VaryingLayout& layout = in_.vertex_shader.varying_layout();
     s.smooth_words.clear();
@@ -360,6 +426,17 @@ void TilePass::tile(size_t index, unsigned worker) {
     at_least(b.frag_coord, 4 * kChunkLanes);
     at_least(b.front_facing, kChunkLanes);
     at_least(b.point_coord, 2 * kChunkLanes);
+    if (gather_) {
+        Gathered& g = w.gathered;
+        at_least(g.quad, kChunkQuads);
+        at_least(g.masks, kChunkLanes);
+        at_least(g.xy, 2 * kChunkLanes);
+        if (single_pixels_) at_least(w.chunk_varyings, size_t(words_) * kChunkLanes);
+        g.quads = g.lanes = 0;
+        g.runs.clear();
+        std::fill_n(g.occupied, kTileSize, uint64_t(0));
+        g.any_occupied = false;
+    }
     t.hide = hides(t);
     if (t.hide) hidden_surface_first_pass(t);
     const std::vector<uint32_t>& list = t.list;
@@ -375,6 +452,8 @@ void TilePass::tile(size_t index, unsigned worker) {
         if (w.quads.empty()) continue;
         draw_primitive<WithSink>(t, p, li);
     }
+    if constexpr (!WithSink)
+        if (gather_) flush(t);   // the rest of the tile's fragments
 }
 
 // Every primitive's raster and early tests; per pixel, the list entry of the last survivor.
@@ -483,6 +562,17 @@ SOFTGL_STEP void TilePass::draw_primitive(Tile& t, const PrimitiveSetup& p, size
         c.kept = early_tests<WithSink>(t, prim, c);
         if (c.kept == 0) continue;
         w.stats.quads += c.kept;
+        if constexpr (!WithSink) {   // the blend lab's draws are never gathered (plan_fragment_batches)
+            if (gather_) {
+                if (c.kept < kOwnBatchQuads ||
+                    (single_pixels_ && c.kept < kChunkQuads && helper_lanes(c.masks, c.kept) * 8 > 4 * c.kept)) {
+                    if (single_pixels_) gather_pixels(t, prim, c);
+                    else gather_quads(t, prim, c);
+                    continue;
+                }
+                flush(t);   // a big chunk is a batch of its own, after the fragments gathered before it
+            }
+        }
         w.stats.fragments_shaded += 4 * c.kept;
         if (plan_.fused_copy == Path::Taken) {
             write_copied_varying(t, prim, c);
@@ -491,8 +581,186 @@ SOFTGL_STEP void TilePass::draw_primitive(Tile& t, const PrimitiveSetup& p, size
         const Colors col = shade(t, prim, c);
         // The common case: tests (if any) already done, nothing discarded, nothing per lane.
         if (!col.any_killed && plan_.color_kernels == Path::Taken) write(t, c, col);
-        else per_lane<WithSink>(t, prim, c, col);
+        else per_lane<WithSink>(t, prim, c, col, 0, c.lanes());
     }
+}
+
+namespace {
+
+// dst[k] = src[from[k]] for k < n, for each of `words` rows of kChunkLanes lanes (the covered
+// pixels of a chunk moved to a gathered batch's lanes). A copy: every level gives the same bits.
+void move_lanes_scalar(const int* words, size_t count, const uint32_t* src, uint32_t* dst, const uint32_t* from,
+                       size_t n) {
+    for (size_t i = 0; i < count; ++i) {
+        const size_t row = size_t(words[i]) * kChunkLanes;
+        for (size_t k = 0; k < n; ++k) dst[row + k] = src[row + from[k]];
+    }
+}
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+// Eight lanes per gather; the last part under a mask (the row after a full one is another word's).
+__attribute__((target("avx2"))) void move_lanes_avx2(const int* words, size_t count, const uint32_t* src,
+                                                     uint32_t* dst, const uint32_t* from, size_t n) {
+    const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    for (size_t i = 0; i < count; ++i) {
+        const size_t row = size_t(words[i]) * kChunkLanes;
+        const int* const s = reinterpret_cast<const int*>(src + row);
+        int* const d = reinterpret_cast<int*>(dst + row);
+        size_t k = 0;
+        for (; k + 8 <= n; k += 8) {
+            const __m256i at = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(from + k));
+            _mm256_storeu_si256(reinterpret_cast<__m256i*>(d + k), _mm256_i32gather_epi32(s, at, 4));
+        }
+        if (k < n) {
+            const __m256i keep = _mm256_cmpgt_epi32(_mm256_set1_epi32(int(n - k)), lane);
+            const __m256i at = _mm256_maskload_epi32(reinterpret_cast<const int*>(from + k), keep);
+            const __m256i v = _mm256_mask_i32gather_epi32(_mm256_setzero_si256(), s, at, keep, 4);
+            _mm256_maskstore_epi32(d + k, keep, v);
+        }
+    }
+}
+#endif
+
+// Whether the covered pixels of a gathered batch's quad are free (no fragment of the batch yet);
+// if so, marks them. Only where the write step gathers pixels (exclusive_pixels_).
+SOFTGL_STEP bool take_pixels(Gathered& g, const TileRect& rect, const Quad& q, const uint16_t* masks) {
+    const int32_t x = q.x - rect.x0, y = q.y - rect.y0;   // even, inside the tile
+    const uint64_t row0 = uint64_t((masks[0] != 0) | (masks[1] != 0) << 1) << x;
+    const uint64_t row1 = uint64_t((masks[2] != 0) | (masks[3] != 0) << 1) << x;
+    if ((g.occupied[y] & row0) | (g.occupied[y + 1] & row1)) return false;
+    g.occupied[y] |= row0, g.occupied[y + 1] |= row1;
+    g.any_occupied = true;
+    return true;
+}
+
+// Lanes [first, end) of the gathered batch are primitive p's.
+SOFTGL_STEP void add_run(Gathered& g, const PrimitiveSetup& p, size_t end) {
+    if (!g.runs.empty() && g.runs.back().p == &p) g.runs.back().end = end;
+    else g.runs.push_back({&p, end});
+}
+
+}  // namespace
+
+// The chunk's kept quads into the tile's batch, flushing it when it is full or already holds one
+// of their pixels; their varyings interpolated with this primitive's planes, in place.
+void TilePass::gather_quads(Tile& t, const Primitive& prim, const Chunk& c) {
+    Scratch& w = t.w;
+    Gathered& g = w.gathered;
+    FragmentBatch& b = w.batch;
+    const PrimitiveSetup& p = prim.p;
+    const uint32_t* const provoking = &vertices_->varyings[size_t(prim.provoking) * size_t(words_)];
+    size_t i = 0;
+    while (i < c.kept) {
+        size_t n = 0;
+        while (i + n < c.kept && g.quads + n < kChunkQuads &&
+               (!exclusive_pixels_ || take_pixels(g, t.rect, c.quads[i + n], c.masks + 4 * (i + n))))
+            ++n;
+        if (n) {
+            const size_t L0 = g.lanes, lanes = 4 * n;
+            std::copy_n(c.quads + i, n, g.quad.data() + g.quads);
+            std::copy_n(c.masks + 4 * i, lanes, g.masks.data() + L0);
+            uint32_t* const v = b.varyings.data() + L0;
+            if (prim.interpolate) {
+                interpolate_varyings_at(plan_.simd, prim.vi, c.quads + i, n, v, kChunkLanes);
+            } else {
+                for (int word : *smooth_words_) std::fill_n(v + size_t(word) * kChunkLanes, lanes, provoking[word]);
+            }
+            for (int word : *flat_words_) std::fill_n(v + size_t(word) * kChunkLanes, lanes, provoking[word]);
+            if (builtins_ & kFrontFacing) std::fill_n(b.front_facing.data() + L0, lanes, uint8_t(p.front_facing ? 1 : 0));
+            if (builtins_ & kPositionBuiltins)
+                for (size_t lane = 0; lane < lanes; ++lane) {
+                    const Quad& quad = c.quads[i + lane / 4];
+                    fill_builtins(p, b, L0 + lane, kChunkLanes, quad.x + int32_t(lane & 1), quad.y + int32_t((lane >> 1) & 1));
+                }
+            g.quads += n, g.lanes += lanes, i += n;
+            add_run(g, p, g.lanes);
+        }
+        if (i < c.kept) flush(t);
+    }
+}
+
+// No helper lanes: the chunk's covered pixels into the tile's batch, one lane each (flushing as
+// gather_quads does). Their varyings are interpolated for the chunk's quads, then moved to the
+// lanes the pixels take.
+void TilePass::gather_pixels(Tile& t, const Primitive& prim, const Chunk& c) {
+    Scratch& w = t.w;
+    Gathered& g = w.gathered;
+    FragmentBatch& b = w.batch;
+    const PrimitiveSetup& p = prim.p;
+    const uint32_t* const provoking = &vertices_->varyings[size_t(prim.provoking) * size_t(words_)];
+    const uint32_t* const chunk = w.chunk_varyings.data();
+    if (prim.interpolate) interpolate_varyings_at(plan_.simd, prim.vi, c.quads, c.kept, w.chunk_varyings.data(), kChunkLanes);
+    const size_t total = 4 * c.kept;
+    size_t from = 0;
+    uint32_t source[kChunkLanes];   // per lane taken: its lane in the chunk
+    while (from < total) {
+        const size_t L0 = g.lanes;
+        size_t n = 0;
+        for (; from < total && L0 + n < kChunkLanes; ++from) {
+            const uint16_t mask = c.masks[from];
+            if (!mask) continue;
+            const Quad& quad = c.quads[from / 4];
+            const int32_t x = quad.x + int32_t(from & 1), y = quad.y + int32_t((from >> 1) & 1);
+            if (exclusive_pixels_) {
+                uint64_t& row = g.occupied[y - t.rect.y0];
+                const uint64_t bit = uint64_t(1) << (x - t.rect.x0);
+                if (row & bit) break;   // in the batch already: flush, then this pixel again
+                row |= bit;
+                g.any_occupied = true;
+            }
+            const size_t lane = L0 + n;
+            g.masks[lane] = mask;
+            g.xy[2 * lane] = x, g.xy[2 * lane + 1] = y;
+            source[n++] = uint32_t(from);
+        }
+        if (n) {
+            uint32_t* const v = b.varyings.data() + L0;
+            const std::vector<int>& smooth = *smooth_words_;
+            if (!prim.interpolate) {
+                for (int word : smooth) std::fill_n(v + size_t(word) * kChunkLanes, n, provoking[word]);
+            } else {
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+                if (plan_.simd >= SimdLevel::AVX2) move_lanes_avx2(smooth.data(), smooth.size(), chunk, v, source, n);
+                else
+#endif
+                    move_lanes_scalar(smooth.data(), smooth.size(), chunk, v, source, n);
+            }
+            for (int word : *flat_words_) std::fill_n(v + size_t(word) * kChunkLanes, n, provoking[word]);
+            if (builtins_ & kFrontFacing) std::fill_n(b.front_facing.data() + L0, n, uint8_t(p.front_facing ? 1 : 0));
+            if (builtins_ & kPositionBuiltins)
+                for (size_t k = 0; k < n; ++k) fill_builtins(p, b, L0 + k, kChunkLanes, g.xy[2 * (L0 + k)], g.xy[2 * (L0 + k) + 1]);
+            g.lanes += n;
+            add_run(g, p, g.lanes);
+        }
+        while (from < total && !c.masks[from]) ++from;
+        if (from < total) flush(t);
+    }
+}
+
+// The gathered batch through the shade and write steps: the colour kernels on all its lanes, or
+// lane by lane, primitive by primitive, in draw order.
+void TilePass::flush(Tile& t) {
+    Scratch& w = t.w;
+    Gathered& g = w.gathered;
+    if (g.lanes == 0) return;
+    FragmentBatch& b = w.batch;
+    b.lanes = g.lanes;
+    b.lane_stride = kChunkLanes;
+    w.stats.fragments_shaded += g.lanes;
+    Chunk c{g.quad.data(), nullptr, g.quads, g.masks.data(), g.quads};
+    if (single_pixels_) c.xy = g.xy.data(), c.pixels = g.lanes;
+    const Colors col = run_shader(t);
+    if (!col.any_killed && plan_.color_kernels == Path::Taken) {
+        write(t, c, col);
+    } else {
+        size_t first = 0;
+        for (const Gathered::Run& run : g.runs) {
+            per_lane<false>(t, Primitive{*run.p, 0}, c, col, first, run.end);
+            first = run.end;
+        }
+    }
+    g.quads = g.lanes = 0;
+    g.runs.clear();
+    if (g.any_occupied) std::fill_n(g.occupied, kTileSize, uint64_t(0)), g.any_occupied = false;
 }
 
 // The primitive's vertex values of the interpolated words, and its interpolation planes.
@@ -618,10 +886,15 @@ SOFTGL_STEP void TilePass::write_copied_varying(Tile& t, const Primitive& prim, 
 SOFTGL_STEP TilePass::Colors TilePass::shade(Tile& t, const Primitive& prim, const Chunk& c) {
     if (plan_.constant_color == Path::Taken) return Colors{constant_color_, kChunkLanes, 1, false};
     build_fragment_batch(t, prim, c);
-    const size_t L = 4 * c.kept;
+    return run_shader(t);
+}
+
+// The shader (or its copies) on the fragment batch.
+SOFTGL_STEP TilePass::Colors TilePass::run_shader(Tile& t) {
     FragmentBatch& b = t.w.batch;
+    const size_t L = b.lanes, S = b.stride();
     if (plan_.copied_word >= 0)   // the colour is the varying's lanes (FragmentShader::copies)
-        return Colors{reinterpret_cast<const LaneFloat*>(b.varyings.data()) + size_t(plan_.copied_word) * L, L, 1, false};
+        return Colors{reinterpret_cast<const LaneFloat*>(b.varyings.data()) + size_t(plan_.copied_word) * S, S, 1, false};
     FragmentResults& r = t.w.results;
     if (copies_) copy_outputs(*copies_, b, r);
     else fs_.run(b, r, t.worker);
@@ -637,6 +910,7 @@ void TilePass::build_fragment_batch(Tile& t, const Primitive& prim, const Chunk&
     const size_t L = 4 * c.kept;
     const uint32_t* const provoking = &vertices_->varyings[size_t(prim.provoking) * size_t(words_)];
     b.lanes = L;
+    b.lane_stride = 0;
     if (builtins_ & kFrontFacing) std::fill_n(b.front_facing.data(), L, uint8_t(p.front_facing ? 1 : 0));
     if (prim.interpolate) {
         interpolate_varyings_at(plan_.simd, prim.vi, c.quads, c.kept, b.varyings.data(), L);
@@ -645,28 +919,31 @@ void TilePass::build_fragment_batch(Tile& t, const Primitive& prim, const Chunk&
             std::fill_n(&b.varyings[size_t(word) * L], L, provoking[word]);
     }
     for (int word : *flat_words_) std::fill_n(&b.varyings[size_t(word) * L], L, provoking[word]);
-    if (!(builtins_ & (kFragCoordX | kFragCoordY | kPointCoordS | kPointCoordT | kFragCoordZ | kFragCoordW))) return;
-    float* fc = b.frag_coord.data();
+    if (!(builtins_ & kPositionBuiltins)) return;
     for (size_t qi = 0; qi < c.kept; ++qi) {
         const Quad& quad = c.quads[qi];
-        for (int j = 0; j < 4; ++j) {
-            const size_t lane = qi * 4 + size_t(j);
-            const int32_t x = quad.x + (j & 1), y = quad.y + (j >> 1);
-            fc[lane] = float(x) + 0.5f;
-            fc[L + lane] = float(y) + 0.5f;
-            float pc[2] = {0, 0};
-            if (p.kind == PrimitiveKind::Point) p.point_coord(x, y, pc);
-            b.point_coord[lane] = pc[0];
-            b.point_coord[L + lane] = pc[1];
-            // The planes at the pixel centre, as PrimitiveSetup::eval computes them.
-            const double fx = pixel_centre_offset(x, p.origin_x), fy = pixel_centre_offset(y, p.origin_y);
-            if (builtins_ & kFragCoordZ) {   // p.depth_at: plane + offset, clamped to [0, 1]
-                const double z = (p.depth.c + p.depth.a * fx + p.depth.b * fy) + p.depth_offset;
-                fc[2 * L + lane] = float(z < 0 ? 0 : (z > 1 ? 1 : z));
-            }
-            if (builtins_ & kFragCoordW) fc[3 * L + lane] = float(p.inv_w.c + p.inv_w.a * fx + p.inv_w.b * fy);
-        }
+        for (int j = 0; j < 4; ++j) fill_builtins(p, b, qi * 4 + size_t(j), L, quad.x + (j & 1), quad.y + (j >> 1));
     }
+}
+
+// Lane `lane` (arrays `stride` lanes per component) is pixel (x, y) of p: gl_FragCoord,
+// gl_PointCoord.
+SOFTGL_STEP void TilePass::fill_builtins(const PrimitiveSetup& p, FragmentBatch& b, size_t lane, size_t stride,
+                                         int32_t x, int32_t y) const {
+    float* const fc = b.frag_coord.data();
+    fc[lane] = float(x) + 0.5f;
+    fc[stride + lane] = float(y) + 0.5f;
+    float pc[2] = {0, 0};
+    if (p.kind == PrimitiveKind::Point) p.point_coord(x, y, pc);
+    b.point_coord[lane] = pc[0];
+    b.point_coord[stride + lane] = pc[1];
+    // The planes at the pixel centre, as PrimitiveSetup::eval computes them.
+    const double fx = pixel_centre_offset(x, p.origin_x), fy = pixel_centre_offset(y, p.origin_y);
+    if (builtins_ & kFragCoordZ) {   // p.depth_at: plane + offset, clamped to [0, 1]
+        const double z = (p.depth.c + p.depth.a * fx + p.depth.b * fy) + p.depth_offset;
+        fc[2 * stride + lane] = float(z < 0 ? 0 : (z > 1 ? 1 : z));
+    }
+    if (builtins_ & kFragCoordW) fc[3 * stride + lane] = float(p.inv_w.c + p.inv_w.a * fx + p.inv_w.b * fy);
 }
 
 // The colour kernels on the chunk (the RGBA8 drawing buffer; tests done, nothing discarded):
@@ -674,12 +951,12 @@ void TilePass::build_fragment_batch(Tile& t, const Primitive& prim, const Chunk&
 // and scattered pixels (ChunkPixels); else sample by sample.
 SOFTGL_STEP void TilePass::write(Tile& t, const Chunk& c, const Colors& col) {
     Scratch& w = t.w;
-    const size_t L = 4 * c.kept;
+    const size_t L = c.lanes();
     const uint64_t before = w.stats.samples_written;
     const LaneFloat* const src = col.col;
     const size_t cs = col.stride;
     // In locals: the byte stores into pixels may alias anything, so fields would be read again.
-    const Quad* const cq = c.quads;
+    const Chunk chunk = c;
     const uint16_t* const masks = c.masks;
     const bool all_channels = plan_.all_channels;
     const float* const table = unorm8_table_;
@@ -689,9 +966,8 @@ SOFTGL_STEP void TilePass::write(Tile& t, const Chunk& c, const Colors& col) {
         for (size_t lane = 0; lane < L; ++lane) {
             const uint16_t mask = masks[lane];
             if (!mask) continue;
-            const Quad& quad = cq[lane / 4];
-            const int j = int(lane % 4);
-            const int32_t x = quad.x + (j & 1), y = quad.y + (j >> 1);
+            int32_t x, y;
+            chunk.pixel(lane, x, y);
             const float color[4] = {src[lane], src[cs + lane], src[2 * cs + lane], src[3 * cs + lane]};
             uint8_t* px = drawing_buffer_->color_sample(x, y, 0);
             if (samples == 1) {
@@ -716,10 +992,17 @@ SOFTGL_STEP void TilePass::write(Tile& t, const Chunk& c, const Colors& col) {
         // Gather the destination pixels (only when the kernel reads them), blend all lanes at
         // once, scatter back.
         uint32_t* const d = w.pixels.data();
-        if (plan_.kernel != ColorKernel::Plain || !plan_.all_channels)
-            load_chunk_pixels(buffer_pixels_, c.quads, c.masks, c.kept, d);
-        write_color_lanes_at(plan_.simd, plan_.kernel, blend_, src, cs, d, L);
-        w.stats.samples_written += store_chunk_pixels(buffer_pixels_, c.quads, c.masks, c.kept, d);
+        const bool reads = plan_.kernel != ColorKernel::Plain || !plan_.all_channels;
+        if (c.xy) {   // single pixels, each covered
+            if (reads) load_lane_pixels(buffer_pixels_, c.xy, L, d);
+            write_color_lanes_at(plan_.simd, plan_.kernel, blend_, src, cs, d, L);
+            store_lane_pixels(buffer_pixels_, c.xy, L, d);
+            w.stats.samples_written += L;
+        } else {
+            if (reads) load_chunk_pixels(buffer_pixels_, c.quads, c.masks, c.kept, d);
+            write_color_lanes_at(plan_.simd, plan_.kernel, blend_, src, cs, d, L);
+            w.stats.samples_written += store_chunk_pixels(buffer_pixels_, c.quads, c.masks, c.kept, d);
+        }
     } else {
         switch (plan_.kernel) {
             case ColorKernel::Plain: write_all(std::integral_constant<ColorKernel, ColorKernel::Plain>{}); break;
@@ -734,12 +1017,12 @@ SOFTGL_STEP void TilePass::write(Tile& t, const Chunk& c, const Colors& col) {
 // Lane by lane, per covered sample: discard, coverage operations, late tests, coverage, fog and
 // blending through RenderTarget::write_color (any format, every colour output).
 template <bool WithSink>
-void TilePass::per_lane(Tile& t, const Primitive& prim, const Chunk& c, const Colors& col) {
+void TilePass::per_lane(Tile& t, const Primitive& prim, const Chunk& c, const Colors& col, size_t first, size_t end) {
     Scratch& w = t.w;
     const PrimitiveSetup& p = prim.p;
-    const size_t L = 4 * c.kept, cs = col.stride;
+    const size_t cs = col.stride;
     const FragmentResults& r = w.results;
-    for (size_t lane = 0; lane < L; ++lane) {
+    for (size_t lane = first; lane < end; ++lane) {
         uint16_t mask = c.masks[lane];
         if (!mask) continue;
         if (col.any_killed && r.killed[lane]) {
@@ -747,9 +1030,8 @@ void TilePass::per_lane(Tile& t, const Primitive& prim, const Chunk& c, const Co
             if constexpr (WithSink) sink_->discarded(p, c.quads[lane / 4], int(lane % 4), mask);
             continue;
         }
-        const Quad& quad = c.quads[lane / 4];
-        const int j = int(lane % 4);
-        const int32_t x = quad.x + (j & 1), y = quad.y + (j >> 1);
+        int32_t x, y;
+        c.pixel(lane, x, y);
         if constexpr (WithSink) {
             const float shaded[4] = {col.col[lane], col.col[cs + lane], col.col[2 * cs + lane], col.col[3 * cs + lane]};
             sink_->shaded(p, x, y, mask, shaded);
@@ -762,7 +1044,7 @@ void TilePass::per_lane(Tile& t, const Primitive& prim, const Chunk& c, const Co
         for (int o = 0; o < col.outputs; ++o) {
             const LaneFloat* oc = col.col + size_t(4 * o) * cs;
             for (int k = 0; k < 4; ++k) colors[o][k] = oc[size_t(k) * cs + lane];
-            if (c.areas) coverage(colors[o], c.areas[lane / 4].fraction[j]);
+            if (c.areas) coverage(colors[o], c.areas[lane / 4].fraction[lane % 4]);
             if (fog_.enabled) fog(fog_, p, x, y, colors[o]);
         }
         blend<WithSink>(t, prim, col, lane, x, y, mask, colors);

@@ -80,9 +80,15 @@ private:
     template <bool WithSink> size_t early_tests_per_sample(const Primitive& prim, Chunk& c);
     void write_copied_varying(Tile& t, const Primitive& prim, const Chunk& c);
     Colors shade(Tile& t, const Primitive& prim, const Chunk& c);
+    Colors run_shader(Tile& t);
     void build_fragment_batch(Tile& t, const Primitive& prim, const Chunk& c);
+    void fill_builtins(const PrimitiveSetup& p, FragmentBatch& b, size_t lane, size_t stride, int32_t x, int32_t y) const;
+    void gather_quads(Tile& t, const Primitive& prim, const Chunk& c);
+    void gather_pixels(Tile& t, const Primitive& prim, const Chunk& c);
+    void flush(Tile& t);
     void write(Tile& t, const Chunk& c, const Colors& col);
-    template <bool WithSink> void per_lane(Tile& t, const Primitive& prim, const Chunk& c, const Colors& col);
+    template <bool WithSink>
+    void per_lane(Tile& t, const Primitive& prim, const Chunk& c, const Colors& col, size_t first, size_t end);
     template <bool WithSink>
     uint16_t coverage_ops(const PrimitiveSetup& p, const Colors& col, size_t lane, int32_t x, int32_t y,
                           uint16_t mask) const;
@@ -122,6 +128,10 @@ private:
     const std::vector<int>* smooth_words_ = nullptr;   // the varying words the shader reads,
     const std::vector<int>* flat_words_ = nullptr;     // interpolated and flat
     bool prepared_ = false;
+    // Shade full batches (plan_.fragment_batches, decided at prepare): gather the tile's fragments;
+    // as single pixels (plan_.no_helper_lanes); a pixel at most once per batch when the write step
+    // gathers pixels (single-sampled colour kernels that read the destination).
+    bool gather_ = false, single_pixels_ = false, exclusive_pixels_ = false;
     // The current batch.
     const Bins* bins_ = nullptr;
     const PrimitiveTable* prims_ = nullptr;
