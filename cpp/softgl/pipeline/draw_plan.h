@@ -53,6 +53,8 @@ enum class Path : uint8_t {
     GenericKernel,          // the blend has no colour kernel of its own (ColorKernel::Generic)
     NoBlending,             // nothing to look up: the colour is written as it is
     NotPerChannel,          // the blend mixes channels (blend_is_per_channel)
+    DepthNot24Bit,          // a DEPTH_COMPONENT16 or 32F attachment: its words are not the kernel's
+    AttachmentSizesDiffer,  // the depth image is wider than the target: its rows are not the target's
 };
 const char* path_name(Path p);
 

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cstring>
 
+#include "softgl/surface/formats.h"
+
 namespace softgl {
 
 RenderTarget RenderTarget::for_default(DefaultFramebuffer& fb) {
@@ -64,6 +66,19 @@ void write_image_color(Image& img, size_t offset, const BlendOp& op, const float
         return;
     }
     float* dst = &img.color[t * 4];
+    if (op.is_plain_write() && f.encoding == Encoding::Unorm && f.bits == std::array<uint8_t, 4>{8, 8, 8, 8}) {
+        // RGBA8 without blending: what the general path below gives (clamp01 and then
+        // float_to_unorm round as float_to_unorm alone does; k / 255 is the stored value), a
+        // table lookup per channel instead of a division.
+        static const std::array<float, 256> kByteValue = [] {
+            std::array<float, 256> v{};
+            for (uint32_t k = 0; k < 256; ++k) v[k] = float(k) / 255.0f;
+            return v;
+        }();
+        for (int c = 0; c < 4; ++c)
+            if (op.write[size_t(c)]) dst[c] = kByteValue[float_to_unorm8(src[c])];
+        return;
+    }
     float blended[4], stored[4];
     BlendOp o = op;
     o.has_alpha = true;

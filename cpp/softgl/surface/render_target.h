@@ -45,6 +45,9 @@ public:
     Image* stencil_image() const { return stencil_; }
     size_t depth_offset() const { return depth_offset_; }
     size_t stencil_offset() const { return stencil_offset_; }
+    // Pixels from one row of the depth buffer to the next (an attached image may be wider than
+    // the target, which is the smallest attachment).
+    int32_t depth_pitch() const { return default_ ? config_.width : depth_ ? depth_->width : 0; }
     // Blends `src` (fragment output `output`) into sample s of pixel (x, y) of the colour buffer
     // drawBuffers maps that output to (none: nothing happens), quantizing to the buffer's format.
     // The drawing buffer has output 0 only (BACK). Blending state is shared by all buffers;
