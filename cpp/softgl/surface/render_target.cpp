@@ -53,6 +53,14 @@ uint8_t* RenderTarget::stencil_samples(int32_t x, int32_t y) {
     return &stencil_->stencil[stencil_offset_ + (size_t(y) * size_t(stencil_->width) + size_t(x)) * size_t(stencil_->samples)];
 }
 
+namespace {
+
+bool is_rgba8(const FormatInfo& f) {
+    return f.encoding == Encoding::Unorm && f.bits[0] == 8 && f.bits[1] == 8 && f.bits[2] == 8 && f.bits[3] == 8;
+}
+
+}  // namespace
+
 void write_image_color(Image& img, size_t offset, const BlendOp& op, const float src[4], int32_t x, int32_t y, int s) {
     const FormatInfo& f = *img.format;
     const size_t t = offset + (size_t(y) * size_t(img.width) + size_t(x)) * size_t(img.samples) + size_t(s);
@@ -66,17 +74,20 @@ void write_image_color(Image& img, size_t offset, const BlendOp& op, const float
         return;
     }
     float* dst = &img.color[t * 4];
-    if (op.is_plain_write() && f.encoding == Encoding::Unorm && f.bits == std::array<uint8_t, 4>{8, 8, 8, 8}) {
-        // RGBA8 without blending: what the general path below gives (clamp01 and then
-        // float_to_unorm round as float_to_unorm alone does; k / 255 is the stored value), a
-        // table lookup per channel instead of a division.
+    if (is_rgba8(f) && op.is_plain_write()) {
+        // RGBA8 without blending: what the general path below gives (clamp01, then float_to_unorm,
+        // then k / 255), with a table for k / 255. double(v) * 255 + 0.5 is exact for a float v, so
+        // the truncation is float_to_unorm's floor, without a libm call.
         static const std::array<float, 256> kByteValue = [] {
             std::array<float, 256> v{};
             for (uint32_t k = 0; k < 256; ++k) v[k] = float(k) / 255.0f;
             return v;
         }();
-        for (int c = 0; c < 4; ++c)
-            if (op.write[size_t(c)]) dst[c] = kByteValue[float_to_unorm8(src[c])];
+        for (int c = 0; c < 4; ++c) {
+            const float v = src[c];
+            const uint32_t k = !(v > 0.0f) ? 0u : v >= 1.0f ? 255u : uint32_t(double(v) * 255.0 + 0.5);
+            if (op.write[size_t(c)]) dst[c] = kByteValue[k];
+        }
         return;
     }
     float blended[4], stored[4];
