@@ -3,7 +3,8 @@
 - A draw into a framebuffer object (RGBA8 texture + 24-bit depth attachment) takes the quad early
   depth test, depth bounds and hidden-surface removal as the canvas does, and gives the canvas's
   bytes; attachments that cannot (16-bit / float depth, a wider depth image) say why in the plan
-  and still give the canvas's bytes.
+  and still give the canvas's bytes; single- and multisampled, the quad kernel gives the bytes of the
+  sample-by-sample test (forced by a no-op stencil test).
 - Clears of every attachment format (colour, integer, depth 16/24/32F, depth-stencil, stencil),
   with scissor and masks, against values computed by hand.
 - Instanced draws give the bytes of the same geometry drawn without instancing.
@@ -433,3 +434,55 @@ def test_instanced_bytes_for_any_thread_count():
     one, _ = _draw_instances(True, 3001, 1, True, use_id=True, threads=1)
     three, _ = _draw_instances(True, 3001, 1, True, use_id=True, threads=3)
     np.testing.assert_array_equal(one, three)
+
+
+def _draw_into_depth_stencil_fbo(samples, stencil_always):
+    """The mesh into an RGBA8 + DEPTH24_STENCIL8 renderbuffer framebuffer of `samples`, resolved
+    into the canvas. With the stencil test on (ALWAYS, KEEP: no effect on the bytes) the depth
+    test runs sample by sample, the reference of the quad kernel."""
+    gl = softgl.Context(W, H, antialias=False, threads=2)
+    fb = gl.createFramebuffer()
+    gl.bindFramebuffer(gl.FRAMEBUFFER, fb)
+    for fmt, att in ((gl.RGBA8, gl.COLOR_ATTACHMENT0), (gl.DEPTH24_STENCIL8, gl.DEPTH_STENCIL_ATTACHMENT)):
+        rb = gl.createRenderbuffer()
+        gl.bindRenderbuffer(gl.RENDERBUFFER, rb)
+        if samples == 1:
+            gl.renderbufferStorage(gl.RENDERBUFFER, fmt, W, H)
+        else:
+            gl.renderbufferStorageMultisample(gl.RENDERBUFFER, samples, fmt, W, H)
+        gl.framebufferRenderbuffer(gl.FRAMEBUFFER, att, gl.RENDERBUFFER, rb)
+    prog = softgl.program(gl, VS, """#version 300 es
+precision mediump float; in vec2 vUV; out vec4 o; void main() { o = vec4(fract(vUV), 0.5, 1.0); }""")
+    gl.useProgram(prog)
+    pos, uv = _mesh(14, seed=4)
+    for name, data, k in (("aPos", pos, 3), ("aUV", uv, 2)):
+        b = gl.createBuffer()
+        gl.bindBuffer(gl.ARRAY_BUFFER, b)
+        gl.bufferData(gl.ARRAY_BUFFER, data, gl.STATIC_DRAW)
+        loc = gl.getAttribLocation(prog, name)
+        gl.enableVertexAttribArray(loc)
+        gl.vertexAttribPointer(loc, k, gl.FLOAT, False, 0, 0)
+    gl.enable(gl.DEPTH_TEST)
+    if stencil_always:
+        gl.enable(gl.STENCIL_TEST)
+        gl.stencilFunc(gl.ALWAYS, 0, 0xFF)
+    gl.clearColor(0.1, 0.2, 0.3, 1)
+    gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT | gl.STENCIL_BUFFER_BIT)
+    n = len(pos) // 3
+    gl.drawArrays(gl.TRIANGLES, 0, n // 2)
+    gl.drawArrays(gl.TRIANGLES, n // 2, n - n // 2)
+    plan = gl.last_draw_plan()
+    gl.bindFramebuffer(gl.READ_FRAMEBUFFER, fb)
+    gl.bindFramebuffer(gl.DRAW_FRAMEBUFFER, None)
+    gl.blitFramebuffer(0, 0, W, H, 0, 0, W, H, gl.COLOR_BUFFER_BIT, gl.NEAREST)
+    gl.bindFramebuffer(gl.FRAMEBUFFER, None)
+    return gl.readPixels(0, 0, W, H, gl.RGBA, gl.UNSIGNED_BYTE), plan
+
+
+@pytest.mark.parametrize("samples", [1, 4])
+def test_fbo_quad_depth_equals_the_sample_by_sample_test(samples):
+    quad, plan = _draw_into_depth_stencil_fbo(samples, stencil_always=False)
+    reference, ref_plan = _draw_into_depth_stencil_fbo(samples, stencil_always=True)
+    assert plan["quad_depth"] and plan["samples"] == samples
+    assert ref_plan["quad_depth_why_not"] == "stencil_test"
+    np.testing.assert_array_equal(quad, reference)
