@@ -516,26 +516,15 @@ bool Context::clear_framebuffer_object(uint32_t mask) {
             Image* img = a.image();
             // ES 3.0 §4.2.3: clearing integer buffers with clear() is undefined; softgl leaves them.
             if (!img || img->format->is_integer()) continue;
-            for (int32_t y = r.y; y < r.y + r.height; ++y)
-                for (int32_t x = r.x; x < r.x + r.width; ++x)
-                    write_plain(nullptr, img, layer_offset(*img, a.layer), x, y, state_.clear_color.data(), state_.color_mask);
+            clear_image_color(*img, layer_offset(*img, a.layer), r, state_.clear_color.data(), state_.color_mask);
             ++(a.texture ? a.texture->generation : a.renderbuffer->generation);
         }
     }
-    const int S = target.config().samples;
-    if ((mask & gl::DEPTH_BUFFER_BIT) && state_.depth_mask && target.config().depth) {
-        const uint32_t word = target.depth_word(state_.clear_depth);
-        for (int32_t y = r.y; y < r.y + r.height; ++y)
-            for (int32_t x = r.x; x < r.x + r.width; ++x) std::fill_n(target.depth_samples(x, y), S, word);
-    }
-    if ((mask & gl::STENCIL_BUFFER_BIT) && target.config().stencil) {
-        const uint8_t bits = uint8_t(uint32_t(state_.clear_stencil) & 0xFFu), wm = uint8_t(state_.stencil_front.write_mask & 0xFFu);
-        for (int32_t y = r.y; y < r.y + r.height; ++y)
-            for (int32_t x = r.x; x < r.x + r.width; ++x) {
-                uint8_t* p = target.stencil_samples(x, y);
-                for (int s = 0; s < S; ++s) p[s] = uint8_t((p[s] & ~wm) | (bits & wm));
-            }
-    }
+    if ((mask & gl::DEPTH_BUFFER_BIT) && state_.depth_mask && target.config().depth)
+        clear_image_depth(*target.depth_image(), target.depth_offset(), r, target.depth_word(state_.clear_depth));
+    if ((mask & gl::STENCIL_BUFFER_BIT) && target.config().stencil)
+        clear_image_stencil(*target.stencil_image(), target.stencil_offset(), r,
+                            uint8_t(uint32_t(state_.clear_stencil) & 0xFFu), uint8_t(state_.stencil_front.write_mask & 0xFFu));
     return true;
 }
 
@@ -804,9 +793,7 @@ void Context::clear_buffer(const char* call, GLenum buffer, int32_t drawbuffer, 
             return error(gl::INVALID_OPERATION, call, "the buffer's format needs clearBuffer" + std::string(wanted == 'f' ? "fv" : wanted == 'i' ? "iv" : "uiv"));
         float rgba[4];
         std::memcpy(rgba, values, 16);   // float values, or integer bits for write_image_color
-        for (int32_t y = r.y; y < r.y + r.height; ++y)
-            for (int32_t x = r.x; x < r.x + r.width; ++x)
-                write_plain(nullptr, img, layer_offset(*img, a.layer), x, y, rgba, state_.color_mask);
+        clear_image_color(*img, layer_offset(*img, a.layer), r, rgba, state_.color_mask);
         ++(a.texture ? a.texture->generation : a.renderbuffer->generation);
         return;
     }
@@ -815,17 +802,17 @@ void Context::clear_buffer(const char* call, GLenum buffer, int32_t drawbuffer, 
     if (do_depth && state_.depth_mask && target.config().depth) {
         const float d = buffer == gl::DEPTH ? static_cast<const float*>(values)[0] : depth;
         const uint32_t word = target.depth_word(clamp01(d));
-        for (int32_t y = r.y; y < r.y + r.height; ++y)
-            for (int32_t x = r.x; x < r.x + r.width; ++x) std::fill_n(target.depth_samples(x, y), S, word);
+        // A row's samples are contiguous in the drawing buffer and in an image alike.
+        for (int32_t y = r.y; y < r.y + r.height && r.width > 0; ++y)
+            std::fill_n(target.depth_samples(r.x, y), size_t(r.width) * size_t(S), word);
     }
     if (do_stencil && target.config().stencil) {
         const int32_t sv = buffer == gl::STENCIL ? static_cast<const int32_t*>(values)[0] : stencil;
         const uint8_t bits = uint8_t(uint32_t(sv) & 0xFFu), wm = uint8_t(state_.stencil_front.write_mask & 0xFFu);
-        for (int32_t y = r.y; y < r.y + r.height; ++y)
-            for (int32_t x = r.x; x < r.x + r.width; ++x) {
-                uint8_t* p = target.stencil_samples(x, y);
-                for (int s = 0; s < S; ++s) p[s] = uint8_t((p[s] & ~wm) | (bits & wm));
-            }
+        for (int32_t y = r.y; y < r.y + r.height && r.width > 0; ++y) {
+            uint8_t* p = target.stencil_samples(r.x, y);
+            for (size_t i = 0; i < size_t(r.width) * size_t(S); ++i) p[i] = uint8_t((p[i] & ~wm) | (bits & wm));
+        }
     }
 }
 

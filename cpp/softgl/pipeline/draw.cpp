@@ -63,6 +63,7 @@ constexpr size_t kSetupChunk = 2048;    // primitives per setup-and-binning job
 struct VertexWorker {
     std::array<AttributeStream, kMaxVertexAttribs> attribs;
     VertexShaderOutputs shaded;
+    std::vector<uint32_t> vertex_ids, instance_ids;   // per lane of the job
 };
 
 // The set-up primitives of one chunk, its counters and its bins (indices local to the chunk).
@@ -198,6 +199,9 @@ private:
 
     // The vertex stage: each of the batch's vertices once per instance, instance i's vertex v at
     // i * n + v. Triangles project and snap each vertex once, vectorised, while its position is hot.
+    // A job shades up to kVertexChunk vertices: a chunk of one instance's, or, when an instance
+    // has fewer, the vertices of as many whole instances as fit (10k instances of 8 vertices are
+    // 79 executor runs of 1,024 lanes, not 10k runs of 8).
     void shade_vertices(uint32_t instance, uint32_t instances, uint32_t p0, uint32_t p1) {
         if (!whole_instances_) list_vertices(p0, p1);
         const std::vector<uint32_t>& ids = s_.ids;
@@ -212,16 +216,25 @@ private:
         if (s_.vertex_workers.size() < in_.pool.size()) s_.vertex_workers.resize(in_.pool.size());
         const uint32_t used = in_.vertex_shader.used_attributes();
         const size_t vertex_chunks = (n + kVertexChunk - 1) / kVertexChunk;
-        for_chunks(in_.pool, vertex_chunks * instances, [&](size_t job, unsigned worker) {
-            const uint32_t j = uint32_t(job / vertex_chunks);
-            const size_t begin = (job % vertex_chunks) * kVertexChunk, count = std::min(kVertexChunk, n - begin);
+        const size_t per_job = n == 0 || n >= kVertexChunk ? 1 : kVertexChunk / n;   // instances
+        const size_t instance_groups = (size_t(instances) + per_job - 1) / per_job;
+        for_chunks(in_.pool, vertex_chunks * instance_groups, [&](size_t job, unsigned worker) {
+            const size_t j = (job / vertex_chunks) * per_job, k = std::min(per_job, size_t(instances) - j);
+            const size_t begin = (job % vertex_chunks) * kVertexChunk, per = std::min(kVertexChunk, n - begin);
+            const size_t count = k * per;   // k > 1 only when per == n: the lanes are contiguous
             VertexWorker& w = s_.vertex_workers[worker];
+            w.vertex_ids.resize(count);
+            w.instance_ids.resize(count);
+            for (size_t i = 0; i < k; ++i) {
+                std::copy_n(ids.data() + begin, per, w.vertex_ids.data() + i * per);
+                std::fill_n(w.instance_ids.data() + i * per, per, uint32_t(instance + j + i));
+            }
             for (int loc = 0; loc < kMaxVertexAttribs; ++loc)
                 if (used & (1u << loc))
-                    fetch_attribute(in_.vertex_array, in_.current_attribs[size_t(loc)], loc, ids.data() + begin, 0,
-                                    count, instance + j, w.attribs[size_t(loc)]);
-            in_.vertex_shader.run(w.attribs, count, ids.data() + begin, instance + j, w.shaded);
-            const size_t at = size_t(j) * n + begin;
+                    fetch_attribute(in_.vertex_array, in_.current_attribs[size_t(loc)], loc, w.vertex_ids.data(), 0,
+                                    count, w.instance_ids.data(), w.attribs[size_t(loc)]);
+            in_.vertex_shader.run(w.attribs, count, w.vertex_ids.data(), w.instance_ids.data(), w.shaded);
+            const size_t at = j * n + begin;
             std::copy_n(w.shaded.position.data(), count * 4, all_position + at * 4);
             std::copy_n(w.shaded.point_size.data(), count, all_point_size + at);
             std::copy_n(w.shaded.varyings.data(), count * size_t(words_), all_varyings + at * size_t(words_));

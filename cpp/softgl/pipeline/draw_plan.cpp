@@ -16,8 +16,9 @@ constexpr const char* kPathNames[] = {
     "blend_lab", "framebuffer_object", "float_drawing_buffer", "smoothing", "multisampled", "no_color_write",
     "reads_destination", "fog", "not_uniform_only", "not_copy", "not_one_varying_vec4", "not_interpolated",
     "generic_kernel", "no_blending", "not_per_channel", "fused_copy", "constant_color", "quad_neighbours",
+    "depth_not_24_bit", "attachment_sizes_differ",
 };
-static_assert(sizeof(kPathNames) / sizeof(kPathNames[0]) == size_t(Path::QuadNeighbours) + 1, "a name per Path");
+static_assert(sizeof(kPathNames) / sizeof(kPathNames[0]) == size_t(Path::AttachmentSizesDiffer) + 1, "a name per Path");
 
 constexpr const char* kSkipNames[] = {"no", "rasterizer_discard", "no_output"};
 constexpr const char* kTargetNames[] = {"drawing_buffer", "float_drawing_buffer", "framebuffer_object"};
@@ -139,14 +140,16 @@ DrawPlan plan_draw(const DrawInputs& in, const DrawCall& call, const FragmentOps
                                               {fs.writes_depth(), Path::FragDepth},
                                               {plan.coverage_ops, Path::CoverageOps}});
     const bool early = plan.tests_before_shading == Path::Taken;
-    // The common early depth test, the drawing buffer's 24-bit depth and no stencil, runs a quad
-    // at a time (pipeline/early_depth); anything else sample by sample.
+    // The common early depth test, 24-bit depth words (the drawing buffer's, or a DEPTH_COMPONENT24
+    // or DEPTH24_STENCIL8 attachment's) and no stencil test, runs a quad at a time
+    // (pipeline/early_depth); anything else sample by sample.
     plan.quad_depth = first_reason({{skipped, Path::NotRasterized},
                                     {!ds.depth_test, Path::NoDepthTest},
                                     {!early, Path::LateTests},
                                     {ds.stencil_test, Path::StencilTest},
                                     {plan.blend_lab, Path::BlendLab},
-                                    {!default_fb, Path::FramebufferObject}});
+                                    {fb.depth_bits() != 24, Path::DepthNot24Bit},
+                                    {fb.depth_pitch() != fb.width(), Path::AttachmentSizesDiffer}});
     // Primitives hidden in a whole tile skip raster and test (DepthBounds); not with area coverage,
     // which reaches pixels whose centre (the tested sample) is outside the bounding box.
     const GLenum f = ds.depth_func;

@@ -56,6 +56,8 @@ enum class Path : uint8_t {
     FusedCopy,              // the varying goes straight into pixels: no shader batch (fused_copy)
     ConstantColor,          // the shader's colour is computed once: no shader batch (constant_color)
     QuadNeighbours,         // the shader takes derivatives or implicit-LOD lookups
+    DepthNot24Bit,          // a DEPTH_COMPONENT16 or 32F attachment: its words are not the kernel's
+    AttachmentSizesDiffer,  // the depth image is wider than the target: its rows are not the target's
 };
 const char* path_name(Path p);
 

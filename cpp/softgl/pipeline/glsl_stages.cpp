@@ -61,7 +61,7 @@ uint64_t GlslVertexShader::take_fast_texture_queries() const {
 }
 
 void GlslVertexShader::run(const std::array<AttributeStream, kMaxVertexAttribs>& attribs, size_t count,
-                           const uint32_t* vertex_ids, uint32_t instance_id, VertexShaderOutputs& out) const {
+                           const uint32_t* vertex_ids, const uint32_t* instance_ids, VertexShaderOutputs& out) const {
     const glsl::IrProgram& ir = program_->vertex;
     std::unique_ptr<Run> borrowed;
     {
@@ -73,7 +73,8 @@ void GlslVertexShader::run(const std::array<AttributeStream, kMaxVertexAttribs>&
     r.executor->set_simd_level(simd_);   // executors outlive draws; the level is the draw's
     r.ids.resize(count);
     r.instances.resize(count);
-    for (size_t v = 0; v < count; ++v) r.ids[v].u = vertex_ids ? vertex_ids[v] : uint32_t(v), r.instances[v].u = instance_id;
+    for (size_t v = 0; v < count; ++v)
+        r.ids[v].u = vertex_ids ? vertex_ids[v] : uint32_t(v), r.instances[v].u = instance_ids ? instance_ids[v] : 0u;
     r.inputs.assign(ir.inputs.size(), nullptr);
     for (size_t i = 0; i < ir.inputs.size(); ++i) {
         if (input_builtin_[i] == Builtin::VertexId) r.inputs[i] = r.ids.data();

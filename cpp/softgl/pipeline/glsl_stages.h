@@ -27,7 +27,7 @@ public:
     const VaryingLayout& varying_layout() const override { return layout_; }
     void prepare(const Tuning& tuning) const override;
     void run(const std::array<AttributeStream, kMaxVertexAttribs>& attribs, size_t count,
-             const uint32_t* vertex_ids, uint32_t instance_id, VertexShaderOutputs& out) const override;
+             const uint32_t* vertex_ids, const uint32_t* instance_ids, VertexShaderOutputs& out) const override;
     void set_uniforms(const glsl::Scalar* uniforms) { uniforms_ = uniforms; }
     // The bound textures for this draw (null: every lookup reads an incomplete texture).
     void set_sampler(glsl::TextureSampler* sampler) { textures_ = sampler; }

@@ -16,7 +16,7 @@ uint32_t PassthroughVertexShader::used_attributes() const {
 }
 
 void PassthroughVertexShader::run(const std::array<AttributeStream, kMaxVertexAttribs>& attribs,
-                                  size_t count, const uint32_t*, uint32_t, VertexShaderOutputs& out) const {
+                                  size_t count, const uint32_t*, const uint32_t*, VertexShaderOutputs& out) const {
     out.count = count;
     out.position.resize(count * 4);
     out.point_size.assign(count, 1.0f);

@@ -36,9 +36,10 @@ public:
     // draws, and each context has its own).
     virtual void prepare(const Tuning& tuning) const { (void)tuning; }
     // Shades `count` vertices; attribs[loc] holds their attribute values for each used location;
-    // vertex_ids[v] is gl_VertexID. Must be safe to call from several threads at once.
+    // vertex_ids[v] is gl_VertexID and instance_ids[v] gl_InstanceID (the vertices of several
+    // instances are shaded in one call). Must be safe to call from several threads at once.
     virtual void run(const std::array<AttributeStream, kMaxVertexAttribs>& attribs, size_t count,
-                     const uint32_t* vertex_ids, uint32_t instance_id, VertexShaderOutputs& out) const = 0;
+                     const uint32_t* vertex_ids, const uint32_t* instance_ids, VertexShaderOutputs& out) const = 0;
 };
 
 // Fragments of whole 2x2 quads: lane 4*q + j is pixel j (dx = j & 1, dy = j >> 1) of quad q, so

@@ -292,11 +292,10 @@ TilePass::TilePass(const DrawInputs& in, const FragmentOps& ops, const TileGrid&
                      in.target.width() - 1, in.target.height() - 1},
       copies_(plan.fragment_copies == Path::Taken ? in.fragment_shader.copies() : nullptr) {
     if (plan.quad_depth == Path::Taken) {
-        DefaultFramebuffer* const default_fb = fb_.default_framebuffer();
         quad_depth_test_.pattern = &pattern_;
         quad_depth_test_.func = ds_.depth_func;
         quad_depth_test_.write = ds_.depth_write;
-        quad_depth_test_.depth = default_fb->depth_samples(0, 0);
+        quad_depth_test_.depth = fb_.depth_samples(0, 0);   // the drawing buffer's or an image's
         quad_depth_test_.pitch = pitch_;
         if (samples_ == 1) depth_pixels_ = quad_depth_test_.depth;
     }

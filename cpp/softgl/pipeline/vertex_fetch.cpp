@@ -91,13 +91,22 @@ uint64_t effective_stride(const VertexAttribPointer& a) {
 }
 
 // Components 0..kSize-1 of each vertex's float attribute, as they are (a fixed count per vertex: the
-// per-vertex copy is unrolled).
-template <int kSize>
-void copy_floats(const uint8_t* base, uint64_t stride, const uint32_t* vertex_ids, uint32_t first,
-                 size_t count, uint32_t* const comp[4]) {
+// per-vertex copy is unrolled); element(v) is the array element vertex v reads.
+template <int kSize, class Element>
+void copy_floats(const uint8_t* base, uint64_t stride, size_t count, uint32_t* const comp[4], Element element) {
     for (size_t v = 0; v < count; ++v) {
-        const uint8_t* p = base + uint64_t(vertex_ids ? vertex_ids[v] : first + v) * stride;
+        const uint8_t* p = base + uint64_t(element(v)) * stride;
         for (int c = 0; c < kSize; ++c) std::memcpy(&comp[c][v], p + 4 * c, 4);
+    }
+}
+
+template <class Element>
+void copy_floats(int size, const uint8_t* base, uint64_t stride, size_t count, uint32_t* const comp[4], Element element) {
+    switch (size) {
+        case 1: copy_floats<1>(base, stride, count, comp, element); break;
+        case 2: copy_floats<2>(base, stride, count, comp, element); break;
+        case 3: copy_floats<3>(base, stride, count, comp, element); break;
+        default: copy_floats<4>(base, stride, count, comp, element); break;
     }
 }
 
@@ -135,7 +144,7 @@ std::string check_attribute_ranges(const VertexArray& vao, uint32_t used, uint64
 }
 
 void fetch_attribute(const VertexArray& vao, const CurrentAttrib& current, int location,
-                     const uint32_t* vertex_ids, uint32_t first, size_t count, uint32_t instance,
+                     const uint32_t* vertex_ids, uint32_t first, size_t count, const uint32_t* instance_ids,
                      AttributeStream& out) {
     const VertexAttribPointer& a = vao.attribs[size_t(location)];
     for (auto& c : out.comp) c.resize(count);
@@ -155,21 +164,26 @@ void fetch_attribute(const VertexArray& vao, const CurrentAttrib& current, int l
                                                                                  : CurrentAttrib::Kind::Uint;
     const uint8_t* base = a.buffer->data.data() + a.offset;
     const uint64_t stride = effective_stride(a);
-    if (a.type == gl::FLOAT && !a.integer && !a.divisor) {
-        // The common case: float components copied as they are, missing ones (0, 0, 0, 1).
+    if (a.type == gl::FLOAT && !a.integer) {
+        // The common case: float components copied as they are, missing ones (0, 0, 0, 1); per
+        // vertex, or per instance (ES 3.0 §2.9.3: element instance / divisor).
         const int size = a.size;
         uint32_t* comp[4] = {out.comp[0].data(), out.comp[1].data(), out.comp[2].data(), out.comp[3].data()};
         for (int c = size; c < 4; ++c) std::fill_n(comp[c], count, c == 3 ? float_bits(1.0f) : 0u);
-        switch (size) {
-            case 1: copy_floats<1>(base, stride, vertex_ids, first, count, comp); break;
-            case 2: copy_floats<2>(base, stride, vertex_ids, first, count, comp); break;
-            case 3: copy_floats<3>(base, stride, vertex_ids, first, count, comp); break;
-            default: copy_floats<4>(base, stride, vertex_ids, first, count, comp); break;
+        if (a.divisor) {
+            const uint32_t divisor = a.divisor;
+            copy_floats(size, base, stride, count, comp,
+                        [&](size_t v) { return (instance_ids ? instance_ids[v] : 0u) / divisor; });
+        } else if (vertex_ids) {
+            copy_floats(size, base, stride, count, comp, [&](size_t v) { return vertex_ids[v]; });
+        } else {
+            copy_floats(size, base, stride, count, comp, [&](size_t v) { return uint64_t(first) + v; });
         }
         return;
     }
     for (size_t v = 0; v < count; ++v) {
-        const uint64_t element = a.divisor ? instance / a.divisor : (vertex_ids ? vertex_ids[v] : first + v);
+        const uint64_t element = a.divisor ? (instance_ids ? instance_ids[v] : 0u) / a.divisor
+                                           : (vertex_ids ? vertex_ids[v] : first + v);
         const uint8_t* p = base + element * stride;
         if (a.integer) {
             uint32_t comps[4] = {0, 0, 0, 1};

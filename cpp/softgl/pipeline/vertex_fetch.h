@@ -28,9 +28,10 @@ std::string check_attribute_ranges(const VertexArray& vao, uint32_t used, uint64
                                    uint64_t instance_count);
 
 // Fetches attribute `location` for `count` vertices whose indices are `vertex_ids` (or
-// first, first+1, ... when null), for instance `instance`.
+// first, first+1, ... when null) and whose instances are `instance_ids` (vertex v of instance
+// instance_ids[v]; null: instance 0).
 void fetch_attribute(const VertexArray& vao, const CurrentAttrib& current, int location,
-                     const uint32_t* vertex_ids, uint32_t first, size_t count, uint32_t instance,
+                     const uint32_t* vertex_ids, uint32_t first, size_t count, const uint32_t* instance_ids,
                      AttributeStream& out);
 
 }  // namespace softgl

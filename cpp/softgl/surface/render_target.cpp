@@ -1,6 +1,9 @@
 #include "softgl/surface/render_target.h"
 
+#include <algorithm>
 #include <cstring>
+
+#include "softgl/surface/formats.h"
 
 namespace softgl {
 
@@ -50,6 +53,14 @@ uint8_t* RenderTarget::stencil_samples(int32_t x, int32_t y) {
     return &stencil_->stencil[stencil_offset_ + (size_t(y) * size_t(stencil_->width) + size_t(x)) * size_t(stencil_->samples)];
 }
 
+namespace {
+
+bool is_rgba8(const FormatInfo& f) {
+    return f.encoding == Encoding::Unorm && f.bits[0] == 8 && f.bits[1] == 8 && f.bits[2] == 8 && f.bits[3] == 8;
+}
+
+}  // namespace
+
 void write_image_color(Image& img, size_t offset, const BlendOp& op, const float src[4], int32_t x, int32_t y, int s) {
     const FormatInfo& f = *img.format;
     const size_t t = offset + (size_t(y) * size_t(img.width) + size_t(x)) * size_t(img.samples) + size_t(s);
@@ -63,6 +74,22 @@ void write_image_color(Image& img, size_t offset, const BlendOp& op, const float
         return;
     }
     float* dst = &img.color[t * 4];
+    if (is_rgba8(f) && op.is_plain_write()) {
+        // RGBA8 without blending: what the general path below gives (clamp01, then float_to_unorm,
+        // then k / 255), with a table for k / 255. double(v) * 255 + 0.5 is exact for a float v, so
+        // the truncation is float_to_unorm's floor, without a libm call.
+        static const std::array<float, 256> kByteValue = [] {
+            std::array<float, 256> v{};
+            for (uint32_t k = 0; k < 256; ++k) v[k] = float(k) / 255.0f;
+            return v;
+        }();
+        for (int c = 0; c < 4; ++c) {
+            const float v = src[c];
+            const uint32_t k = !(v > 0.0f) ? 0u : v >= 1.0f ? 255u : uint32_t(double(v) * 255.0 + 0.5);
+            if (op.write[size_t(c)]) dst[c] = kByteValue[k];
+        }
+        return;
+    }
     float blended[4], stored[4];
     BlendOp o = op;
     o.has_alpha = true;
@@ -70,6 +97,65 @@ void write_image_color(Image& img, size_t offset, const BlendOp& op, const float
     quantize_color(f, blended, stored);
     for (int c = 0; c < 4; ++c)
         if (op.write[size_t(c)]) dst[c] = stored[c];
+}
+
+namespace {
+
+// The rows of `r`: f(first element, element count) per row, `per_texel` elements per sample.
+template <class F>
+void for_rows(const Image& img, size_t offset, Rect r, size_t per_texel, F&& f) {
+    const size_t S = size_t(img.samples), W = size_t(img.width);
+    if (r.width <= 0 || r.height <= 0) return;
+    if (r.x == 0 && size_t(r.width) == W) {   // whole rows: one run
+        f((offset + size_t(r.y) * W * S) * per_texel, size_t(r.height) * W * S * per_texel);
+        return;
+    }
+    for (int32_t y = r.y; y < r.y + r.height; ++y)
+        f((offset + (size_t(y) * W + size_t(r.x)) * S) * per_texel, size_t(r.width) * S * per_texel);
+}
+
+// Copies the channels of `mask` of the 4-element texel `first` over the run [at, at + n).
+template <class T>
+void fill_texels(std::vector<T>& data, size_t at, size_t n, const T first[4], const std::array<bool, 4>& mask) {
+    T* p = data.data() + at;
+    if (mask[0] && mask[1] && mask[2] && mask[3]) {
+        for (size_t i = 0; i < n; i += 4) std::memcpy(p + i, first, 4 * sizeof(T));
+        return;
+    }
+    for (size_t i = 0; i < n; i += 4)
+        for (size_t c = 0; c < 4; ++c)
+            if (mask[c]) p[i + c] = first[c];
+}
+
+}  // namespace
+
+void clear_image_color(Image& img, size_t offset, Rect r, const float src[4], const std::array<bool, 4>& mask) {
+    if (r.width <= 0 || r.height <= 0) return;
+    BlendOp op;
+    op.write = mask;
+    write_image_color(img, offset, op, src, r.x, r.y, 0);
+    const size_t first = offset + (size_t(r.y) * size_t(img.width) + size_t(r.x)) * size_t(img.samples);
+    if (img.format->is_integer()) {
+        uint32_t texel[4];
+        std::memcpy(texel, &img.integer[first * 4], sizeof texel);
+        for_rows(img, offset, r, 4, [&](size_t at, size_t n) { fill_texels(img.integer, at, n, texel, mask); });
+    } else {
+        float texel[4];
+        std::memcpy(texel, &img.color[first * 4], sizeof texel);
+        for_rows(img, offset, r, 4, [&](size_t at, size_t n) { fill_texels(img.color, at, n, texel, mask); });
+    }
+}
+
+void clear_image_depth(Image& img, size_t offset, Rect r, uint32_t word) {
+    for_rows(img, offset, r, 1, [&](size_t at, size_t n) { std::fill_n(img.depth_words.data() + at, n, word); });
+}
+
+void clear_image_stencil(Image& img, size_t offset, Rect r, uint8_t value, uint8_t write_mask) {
+    for_rows(img, offset, r, 1, [&](size_t at, size_t n) {
+        uint8_t* p = img.stencil.data() + at;
+        if (write_mask == 0xFF) return void(std::fill_n(p, n, value));
+        for (size_t i = 0; i < n; ++i) p[i] = uint8_t((p[i] & ~write_mask) | (value & write_mask));
+    });
 }
 
 void RenderTarget::write_color(const BlendOp& op, const float src[4], int32_t x, int32_t y, int s, int output) {

@@ -39,6 +39,15 @@ public:
     uint32_t depth_word(double z) const;
     uint32_t* depth_samples(int32_t x, int32_t y);
     uint8_t* stencil_samples(int32_t x, int32_t y);
+    // A framebuffer object's depth and stencil images (null for the drawing buffer or when absent)
+    // and where the attached layer starts.
+    Image* depth_image() const { return depth_; }
+    Image* stencil_image() const { return stencil_; }
+    size_t depth_offset() const { return depth_offset_; }
+    size_t stencil_offset() const { return stencil_offset_; }
+    // Pixels from one row of the depth buffer to the next (an attached image may be wider than
+    // the target, which is the smallest attachment).
+    int32_t depth_pitch() const { return default_ ? config_.width : depth_ ? depth_->width : 0; }
     // Blends `src` (fragment output `output`) into sample s of pixel (x, y) of the colour buffer
     // drawBuffers maps that output to (none: nothing happens), quantizing to the buffer's format.
     // The drawing buffer has output 0 only (BACK). Blending state is shared by all buffers;
@@ -60,5 +69,15 @@ private:
 
 // Writes a colour into sample s of texel (x, y) of an image at `offset` (blending with `op`).
 void write_image_color(Image& img, size_t offset, const BlendOp& op, const float src[4], int32_t x, int32_t y, int s);
+
+// Clears of the attached images (ES 3.0 §4.2.3), every sample of the pixels of `r` (inside the
+// image). A colour clear writes `src` (floats, or an integer format's bits) into the first texel
+// through write_image_color, with no blending and the channels of `mask`, and copies that texel's
+// written channels to the rest: one conversion per clear, not per texel.
+void clear_image_color(Image& img, size_t offset, Rect r, const float src[4], const std::array<bool, 4>& mask);
+// Every sample's depth word of `r` set to `word`.
+void clear_image_depth(Image& img, size_t offset, Rect r, uint32_t word);
+// Every sample's stencil of `r`: the bits of `write_mask` from `value`, the others kept.
+void clear_image_stencil(Image& img, size_t offset, Rect r, uint8_t value, uint8_t write_mask);
 
 }  // namespace softgl
