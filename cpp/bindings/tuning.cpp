@@ -35,6 +35,7 @@ py::dict as_dict(const Tuning& t) {
     d["depth_bounds"] = kDepthBounds[int(t.depth_bounds)];
     d["fragment_copies"] = t.fragment_copies;
     d["sampler_path"] = kSamplerPath[int(t.sampler_path)];
+    d["blit_rows"] = t.blit_rows;
     return d;
 }
 
@@ -63,6 +64,8 @@ void update(Tuning& t, const py::kwargs& fields) {
             next.fragment_copies = value.cast<bool>();
         } else if (k == "sampler_path") {
             next.sampler_path = softgl::SamplerPath(named(kSamplerPath, k, value));
+        } else if (k == "blit_rows") {
+            next.blit_rows = value.cast<bool>();
         } else {
             throw py::type_error("set_tuning: no field '" + k + "' (fields: " +
                                  std::string(py::str(as_dict(Tuning{}).attr("keys")())) + ")");
@@ -83,7 +86,7 @@ void bind_tuning(py::module_& m) {
         return before;
     }, py::arg("context"),
        "Sets the named switches of the context (simd, batch_primitives, hidden_surface_removal, depth_bounds, "
-       "fragment_copies, sampler_path); returns the previous ones as a dict, to pass back.");
+       "fragment_copies, sampler_path, blit_rows); returns the previous ones as a dict, to pass back.");
     t.def("default_tuning", [] { return as_dict(Tuning::process_default()); },
           "The switches new contexts start with.");
     t.def("set_default_tuning", [](const py::kwargs& fields) {

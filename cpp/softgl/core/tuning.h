@@ -39,11 +39,15 @@ struct Tuning {
     // kernels read the interpolated varying (pipeline/glsl_stages FragmentShader::copies).
     bool fragment_copies = true;
     SamplerPath sampler_path = SamplerPath::Best;
+    // blitFramebuffer copies and resolves of the same size row by row, on the thread pool
+    // (api/framebuffers.cpp blit_rows); off: every blit takes the general per-pixel loop.
+    bool blit_rows = true;
 
     bool operator==(const Tuning& o) const {
         return simd == o.simd && batch_primitives == o.batch_primitives &&
                hidden_surface_removal == o.hidden_surface_removal && depth_bounds == o.depth_bounds &&
-               fragment_copies == o.fragment_copies && sampler_path == o.sampler_path;
+               fragment_copies == o.fragment_copies && sampler_path == o.sampler_path &&
+               blit_rows == o.blit_rows;
     }
     bool operator!=(const Tuning& o) const { return !(*this == o); }
 
