@@ -977,7 +977,7 @@ struct BlitRows {
 
 // Whether this blit can take the rows: a 1:1 copy (possibly a resolve) whose colour source is an
 // attached image distinct from every destination (a drawing-buffer source goes the general way),
-// LINEAR only for sources without negative zeros, infinities or NaNs (unorm formats).
+// LINEAR only for sources without negative zeros, infinities or NaNs (unorm and sRGB formats).
 bool blit_rows_apply(const BlitColor& color, GLenum filter, int64_t sx0, int64_t sy0, int64_t sx1, int64_t sy1,
                      int64_t dx0, int64_t dy0, int64_t dx1, int64_t dy1) {
     if (sx1 - sx0 != dx1 - dx0 || sy1 - sy0 != dy1 - dy0) return false;
