@@ -37,6 +37,7 @@ py::dict as_dict(const Tuning& t) {
     d["sampler_path"] = kSamplerPath[int(t.sampler_path)];
     d["fragment_batches"] = t.fragment_batches;
     d["skip_helper_lanes"] = t.skip_helper_lanes;
+    d["blit_rows"] = t.blit_rows;
     return d;
 }
 
@@ -69,6 +70,8 @@ void update(Tuning& t, const py::kwargs& fields) {
             next.fragment_batches = value.cast<bool>();
         } else if (k == "skip_helper_lanes") {
             next.skip_helper_lanes = value.cast<bool>();
+        } else if (k == "blit_rows") {
+            next.blit_rows = value.cast<bool>();
         } else {
             throw py::type_error("set_tuning: no field '" + k + "' (fields: " +
                                  std::string(py::str(as_dict(Tuning{}).attr("keys")())) + ")");
@@ -89,7 +92,7 @@ void bind_tuning(py::module_& m) {
         return before;
     }, py::arg("context"),
        "Sets the named switches of the context (simd, batch_primitives, hidden_surface_removal, depth_bounds, "
-       "fragment_copies, sampler_path, fragment_batches, skip_helper_lanes); returns the previous ones as a dict, to pass back.");
+       "fragment_copies, sampler_path, fragment_batches, skip_helper_lanes, blit_rows); returns the previous ones as a dict, to pass back.");
     t.def("default_tuning", [] { return as_dict(Tuning::process_default()); },
           "The switches new contexts start with.");
     t.def("set_default_tuning", [](const py::kwargs& fields) {

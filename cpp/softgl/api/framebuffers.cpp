@@ -951,6 +951,134 @@ std::string depth_stencil_mismatch(const DepthStencilSide& src, const DepthStenc
     return "";
 }
 
+// ---- the 1:1 blit (docs/architecture.md, "Fast paths")
+// When both rectangles have the same signed extents (no scaling, no flip), the general loop's
+// source position for destination pixel (x, y) is exactly (x + ox + 0.5, y + oy + 0.5): NEAREST
+// reads pixel (x + ox, y + oy), and so does LINEAR, whose weights are then (1, 0, 0, 0) (for
+// finite, non-negative sources: 0 * t is +0 and t + 0 is t). The rows below do the general
+// loop's arithmetic on that pixel without the doubles, the filter and the per-pixel dispatch.
+struct BlitRows {
+    int64_t ox = 0, oy = 0;            // source pixel = destination pixel + (ox, oy)
+    int64_t x0 = 0, x1 = 0, y0 = 0, y1 = 0;   // destination pixels whose source pixel is inside
+};
+
+// Whether this blit can take the rows: a 1:1 copy (possibly a resolve) whose colour source is an
+// attached image distinct from every destination (a drawing-buffer source goes the general way),
+// LINEAR only for sources without negative zeros, infinities or NaNs (unorm and sRGB formats).
+bool blit_rows_apply(const BlitColor& color, GLenum filter, int64_t sx0, int64_t sy0, int64_t sx1, int64_t sy1,
+                     int64_t dx0, int64_t dy0, int64_t dx1, int64_t dy1) {
+    if (sx1 - sx0 != dx1 - dx0 || sy1 - sy0 != dy1 - dy0) return false;
+    if (!color.writes()) return true;
+    const Image* src = color.source.img;
+    if (!src) return false;
+    if (filter == gl::LINEAR && src->format->encoding != Encoding::Unorm && src->format->encoding != Encoding::Srgb)
+        return false;
+    if (color.drawing_buffer && color.drawing_buffer->config().samples != 1) return false;
+    for (const auto& d : color.images)
+        if (d.first->samples != 1) return false;
+    return true;
+}
+
+// Source row (iy, columns ix0 .. ix0 + n) of a colour image as float RGBA into `out`, resolved
+// exactly as ColorSource::read does: the mean of the samples in double, in sample order
+// (integer formats: sample 0's bits).
+template <int S>
+void resolve_row(const float* in, size_t n, float* out) {
+    for (size_t i = 0; i < n; ++i, in += 4 * S, out += 4)
+        for (int c = 0; c < 4; ++c) {
+            double sum = 0;
+            for (int s = 0; s < S; ++s) sum += double(in[s * 4 + c]);
+            out[c] = float(sum / double(S));
+        }
+}
+
+void read_source_row(const ColorSource& cs, int64_t ix0, int64_t iy, size_t n, float* out) {
+    const Image& img = *cs.img;
+    const size_t S = size_t(img.samples);
+    const size_t t = cs.offset + (size_t(iy) * size_t(img.width) + size_t(ix0)) * S;
+    if (!img.integer.empty()) {
+        for (size_t i = 0; i < n; ++i) std::memcpy(&out[i * 4], &img.integer[(t + i * S) * 4], 16);
+        return;
+    }
+    const float* in = &img.color[t * 4];
+    switch (S) {
+        case 1: return resolve_row<1>(in, n, out);
+        case 2: return resolve_row<2>(in, n, out);
+        case 4: return resolve_row<4>(in, n, out);
+        case 8: return resolve_row<8>(in, n, out);
+        default:
+            for (size_t i = 0; i < n; ++i, in += 4 * S, out += 4)
+                for (int c = 0; c < 4; ++c) {
+                    double sum = 0;
+                    for (size_t s = 0; s < S; ++s) sum += double(in[s * 4 + size_t(c)]);
+                    out[c] = float(sum / double(S));
+                }
+    }
+}
+
+// float_to_unorm8 (surface/formats.h) with the floor as a truncation: the same byte, since
+// v * 255 + 0.5 is positive wherever the floor is reached.
+inline uint8_t unorm8_of(float v) {
+    if (!(v > 0.0f)) return 0;
+    if (v >= 1.0f) return 255;
+    return uint8_t(uint32_t(double(v) * 255.0 + 0.5));
+}
+
+// Writes n float RGBA pixels at destination (x0, y) as the general loop's write_plain does.
+void write_row(const BlitColor& color, int64_t x0, int64_t y, size_t n, const float* rgba) {
+    if (DefaultFramebuffer* fb = color.drawing_buffer) {   // single-sampled (blit_rows_apply)
+        const bool alpha = fb->config().alpha;
+        if (!fb->is_float()) {
+            uint8_t* p = fb->color_sample(int32_t(x0), int32_t(y), 0);
+            for (size_t i = 0; i < n; ++i, p += 4, rgba += 4) {
+                p[0] = unorm8_of(rgba[0]);
+                p[1] = unorm8_of(rgba[1]);
+                p[2] = unorm8_of(rgba[2]);
+                if (alpha) p[3] = unorm8_of(rgba[3]);
+            }
+            rgba -= 4 * n;
+        } else {
+            float* p = fb->color_sample_f(int32_t(x0), int32_t(y), 0);
+            for (size_t i = 0; i < n * 4; ++i)
+                if (alpha || i % 4 != 3) p[i] = fb->quantize(rgba[i]);
+        }
+    }
+    const BlendOp plain;   // blending off, every channel written
+    for (const auto& d : color.images)
+        for (size_t i = 0; i < n; ++i)
+            write_image_color(*d.first, d.second, plain, &rgba[i * 4], int32_t(x0 + int64_t(i)), int32_t(y), 0);
+}
+
+// Destination rows [y_begin, y_end) of a 1:1 blit: colour within `rc`, depth / stencil within
+// `rd` (their sources may differ in size).
+void blit_rows(const BlitRows& rc, const BlitRows& rd, const BlitColor& color, const DepthStencilSide& ds_src,
+               const DepthStencilSide& ds_dst, bool depth, bool stencil, int64_t y_begin, int64_t y_end) {
+    std::vector<float> row(size_t(std::max<int64_t>(rc.x1 - rc.x0, 0)) * 4);
+    for (int64_t y = y_begin; y < y_end; ++y) {
+        if (color.writes() && rc.x0 < rc.x1 && y >= rc.y0 && y < rc.y1) {
+            const size_t n = size_t(rc.x1 - rc.x0);
+            read_source_row(color.source, rc.x0 + rc.ox, y + rc.oy, n, row.data());
+            write_row(color, rc.x0, y, n, row.data());
+        }
+        if ((depth || stencil) && y >= rd.y0 && y < rd.y1)
+            for (int64_t x = rd.x0; x < rd.x1; ++x) {
+                if (depth) ds_dst.write_depth(int32_t(x), int32_t(y), ds_src.depth_at(x + rd.ox, y + rd.oy));
+                if (stencil) ds_dst.write_stencil(int32_t(x), int32_t(y), ds_src.stencil_at(x + rd.ox, y + rd.oy));
+            }
+    }
+}
+
+// The part of the clipped destination rectangle [cx0, cx1) x [cy0, cy1) whose source pixel,
+// at offset (ox, oy), lies in a width x height source.
+BlitRows blit_rows_within(int64_t cx0, int64_t cy0, int64_t cx1, int64_t cy1, int64_t ox, int64_t oy,
+                          int64_t width, int64_t height) {
+    BlitRows r;
+    r.ox = ox, r.oy = oy;
+    r.x0 = std::max(cx0, -ox), r.x1 = std::min(cx1, width - ox);
+    r.y0 = std::max(cy0, -oy), r.y1 = std::min(cy1, height - oy);
+    return r;
+}
+
 }  // namespace
 
 void Context::blit_framebuffer(int32_t sx0, int32_t sy0, int32_t sx1, int32_t sy1, int32_t dx0, int32_t dy0,
@@ -1004,6 +1132,25 @@ void Context::blit_framebuffer(int32_t sx0, int32_t sy0, int32_t sx1, int32_t sy
         cy0 = std::max<int64_t>(cy0, state_.scissor.y);
         cx1 = std::min<int64_t>(cx1, int64_t(state_.scissor.x) + state_.scissor.width);
         cy1 = std::min<int64_t>(cy1, int64_t(state_.scissor.y) + state_.scissor.height);
+    }
+    if (tuning_.blit_rows && blit_rows_apply(color, filter, sx0, sy0, sx1, sy1, dx0, dy0, dx1, dy1) &&
+        !(ds && ds_src.fb && ds_dst.fb)) {
+        const int64_t ox = int64_t(sx0) - dx0, oy = int64_t(sy0) - dy0;
+        const BlitRows rc = blit_rows_within(cx0, cy0, cx1, cy1, ox, oy, color.source.width, color.source.height);
+        const BlitRows rd = blit_rows_within(cx0, cy0, cx1, cy1, ox, oy, ds_src.width(), ds_src.height());
+        // Bands of rows on the pool: each destination row is written by one band alone, so the
+        // bytes do not depend on the thread count (docs/architecture.md, "Threads").
+        const int64_t rows = cy1 - cy0, pixels = rows * std::max<int64_t>(cx1 - cx0, 0);
+        constexpr int64_t kBandRows = 16, kPoolPixels = 1 << 15;
+        if (rows <= 0) return;
+        if (pixels < kPoolPixels || rows <= kBandRows)
+            return blit_rows(rc, rd, color, ds_src, ds_dst, blit_depth, blit_stencil, cy0, cy1);
+        const size_t bands = size_t((rows + kBandRows - 1) / kBandRows);
+        pool().parallel_for(bands, [&](size_t b, unsigned) {
+            const int64_t y0 = cy0 + int64_t(b) * kBandRows;
+            blit_rows(rc, rd, color, ds_src, ds_dst, blit_depth, blit_stencil, y0, std::min(cy1, y0 + kBandRows));
+        });
+        return;
     }
     for (int64_t y = cy0; y < cy1; ++y)
         for (int64_t x = cx0; x < cx1; ++x) {

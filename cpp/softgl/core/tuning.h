@@ -45,12 +45,16 @@ struct Tuning {
     // ... and, for a shader that does not read its quad neighbours, only covered pixels shaded
     // (no helper lanes); off: whole quads.
     bool skip_helper_lanes = true;
+    // blitFramebuffer copies and resolves of the same size row by row, on the thread pool
+    // (api/framebuffers.cpp blit_rows); off: every blit takes the general per-pixel loop.
+    bool blit_rows = true;
 
     bool operator==(const Tuning& o) const {
         return simd == o.simd && batch_primitives == o.batch_primitives &&
                hidden_surface_removal == o.hidden_surface_removal && depth_bounds == o.depth_bounds &&
                fragment_copies == o.fragment_copies && sampler_path == o.sampler_path &&
-               fragment_batches == o.fragment_batches && skip_helper_lanes == o.skip_helper_lanes;
+               fragment_batches == o.fragment_batches && skip_helper_lanes == o.skip_helper_lanes &&
+               blit_rows == o.blit_rows;
     }
     bool operator!=(const Tuning& o) const { return !(*this == o); }
 
