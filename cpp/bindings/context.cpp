@@ -4,6 +4,7 @@
 #include <pybind11/stl.h>
 
 #include "softgl/api/context.h"
+#include "array_intake.h"
 #include "exclusive.h"
 #include "convert.h"
 #include "signatures.h"
@@ -16,31 +17,19 @@ using softgl::GLenum;
 using softgl::bindings::webidl;
 using softgl::bindings::to_python;
 using softgl::bindings::array_type_of;
+using softgl::bindings::ClientArray;
+using softgl::bindings::dtype_for_pixel_type;
+using softgl::bindings::number_sequence;
 namespace gl = softgl::gl;
 
 namespace {
 
 
 
-py::dtype dtype_for(GLenum type) {
-    switch (type) {
-        case gl::FLOAT: return py::dtype::of<float>();
-        case gl::BYTE: return py::dtype::of<int8_t>();
-        case gl::SHORT: return py::dtype::of<int16_t>();
-        case gl::INT: return py::dtype::of<int32_t>();
-        case gl::UNSIGNED_INT: case gl::UNSIGNED_INT_2_10_10_10_REV:
-        case gl::UNSIGNED_INT_10F_11F_11F_REV: case gl::UNSIGNED_INT_5_9_9_9_REV:
-            return py::dtype::of<uint32_t>();
-        case gl::UNSIGNED_SHORT: case gl::UNSIGNED_SHORT_5_6_5: case gl::UNSIGNED_SHORT_4_4_4_4:
-        case gl::UNSIGNED_SHORT_5_5_5_1: case gl::HALF_FLOAT:
-            return py::dtype::of<uint16_t>();
-        default: return py::dtype::of<uint8_t>();
-    }
-}
-
-void vertex_attrib_fv(Context& c, const char* call, uint32_t index, const std::vector<float>& v, int n) {
+void vertex_attrib_fv(Context& c, const char* call, uint32_t index, py::handle values, int n) {
+    auto v = number_sequence<float>(call, "values", values);
     // WebGL 1.0 §5.14.10: an array shorter than the call's size is INVALID_VALUE.
-    if (int(v.size()) < n) return c.record_error(gl::INVALID_VALUE, call, "needs " + std::to_string(n) + " values");
+    if (v.size() < n) return c.record_error(gl::INVALID_VALUE, call, "needs " + std::to_string(n) + " values");
     c.vertex_attrib_f(call, index, v.data(), n);
 }
 
@@ -57,7 +46,7 @@ py::object read_pixels(Context& ctx, softgl::bindings::IdlInt32 x_, softgl::bind
             ctx.read_pixels(x, y, w, h, format, type, type, nullptr, 0, false);
             return py::none();
         }
-        const uint64_t bytes = uint64_t(w) * uint64_t(h) * 4u * uint64_t(dtype_for(type).itemsize());
+        const uint64_t bytes = uint64_t(w) * uint64_t(h) * 4u * uint64_t(dtype_for_pixel_type(type).itemsize());
         if (bytes > softgl::memory_budget()) {   // refuse before NumPy allocates anything
             ctx.record_error(gl::OUT_OF_MEMORY, "readPixels",
                              "a " + std::to_string(w) + "x" + std::to_string(h) + " result needs " +
@@ -66,7 +55,7 @@ py::object read_pixels(Context& ctx, softgl::bindings::IdlInt32 x_, softgl::bind
         }
         py::array out;
         try {
-            out = py::array(dtype_for(type), std::vector<py::ssize_t>{h, w, 4});
+            out = py::array(dtype_for_pixel_type(type), std::vector<py::ssize_t>{h, w, 4});
         } catch (py::error_already_set& e) {
             if (!e.matches(PyExc_MemoryError)) throw;
             ctx.record_error(gl::OUT_OF_MEMORY, "readPixels", "could not allocate the result array");
@@ -83,46 +72,30 @@ py::object read_pixels(Context& ctx, softgl::bindings::IdlInt32 x_, softgl::bind
         ctx.read_pixels_to_pack_buffer(x, y, w, h, format, type, pixels.cast<int64_t>());
         return py::none();
     }
-    if (!py::isinstance<py::array>(pixels))
-        throw py::type_error("readPixels: pixels must be a NumPy array (the ArrayBufferView) or None");
-    py::array arr = pixels.cast<py::array>();
-    if (!(arr.flags() & py::array::c_style) || !arr.writeable())
-        throw py::type_error("readPixels: pixels must be a writeable C-contiguous NumPy array");
-    ctx.read_pixels(x, y, w, h, format, type, array_type_of(arr.dtype()),
-                    static_cast<uint8_t*>(arr.mutable_data()), size_t(arr.nbytes()), true);
+    const auto dst = softgl::bindings::destination_array(
+        "readPixels", "pixels", pixels,
+        "a writeable NumPy array of numbers, None (a new array) or, in WebGL 2, a byte offset into the PIXEL_PACK_BUFFER");
+    if (ctx.read_pixels(x, y, w, h, format, type, dst.type, dst.data, size_t(dst.bytes()), true)) dst.commit();
     return pixels;
 }
 
-// A read-only byte view of a buffer-protocol object (NumPy array, bytes, ...), optionally the
-// element range [src_offset, src_offset + length) as in WebGL 2's ArrayBufferView overloads.
+// The bytes of a source array (array_intake.h), optionally its element range
+// [src_offset, src_offset + length) as in WebGL 2's ArrayBufferView overloads.
 struct ByteSpan {
     const uint8_t* data = nullptr;
     int64_t size = 0;
     bool ok = true;
 };
 
-ByteSpan byte_span(Context& ctx, const char* call, const py::buffer& source, int64_t src_offset,
-                   int64_t length) {
-    py::buffer_info info = source.request();
-    if (info.ndim > 1) {
-        // Only C-contiguous data is accepted, as a typed array is one contiguous block.
-        py::ssize_t expected = info.itemsize;
-        for (py::ssize_t d = info.ndim - 1; d >= 0; --d) {
-            if (info.strides[size_t(d)] != expected)
-                throw py::type_error(std::string(call) + ": data must be C-contiguous");
-            expected *= info.shape[size_t(d)];
-        }
-    } else if (info.ndim == 1 && info.strides[0] != info.itemsize && info.shape[0] > 1) {
-        throw py::type_error(std::string(call) + ": data must be contiguous");
-    }
-    const int64_t count = int64_t(info.size), item = int64_t(info.itemsize);
+ByteSpan byte_span(Context& ctx, const char* call, const ClientArray& source, int64_t src_offset, int64_t length) {
+    const int64_t count = source.count, item = source.itemsize;
     ByteSpan span;
     if (src_offset < 0 || length < 0 || src_offset > count || length > count - src_offset) {
         ctx.record_error(gl::INVALID_VALUE, call, "srcOffset/length exceed the source array");
         span.ok = false;
         return span;
     }
-    span.data = static_cast<const uint8_t*>(info.ptr) + src_offset * item;
+    span.data = source.data + src_offset * item;
     span.size = (length ? length : count - src_offset) * item;
     return span;
 }
@@ -254,25 +227,27 @@ void bind_buffers(ContextClass& cls) {
                      return c.buffer_data_size(target.value, size, usage.value);
                  }
                  if (data.is_none()) return c.buffer_data(target.value, nullptr, -1, usage.value);
-                 ByteSpan span = byte_span(c, "bufferData", data.cast<py::buffer>(), src_offset, length);
+                 const ClientArray source = softgl::bindings::buffer_source(
+                     "bufferData", "data", data,
+                     "a size in bytes (int), None or an ArrayBuffer-like (a NumPy array of numbers, or bytes)");
+                 ByteSpan span = byte_span(c, "bufferData", source, src_offset, length);
                  if (span.ok) c.buffer_data(target.value, span.data ? span.data : reinterpret_cast<const uint8_t*>(""), span.size, usage.value);
              })
         .def("bufferSubData",
-             [](Context& c, IdlUint32 target, int64_t offset, py::buffer data, int64_t src_offset, int64_t length) {
-                 ByteSpan span = byte_span(c, "bufferSubData", data, src_offset, length);
+             [](Context& c, IdlUint32 target, int64_t offset, py::object data, int64_t src_offset, int64_t length) {
+                 const ClientArray source = softgl::bindings::buffer_source("bufferSubData", "srcData", data);
+                 ByteSpan span = byte_span(c, "bufferSubData", source, src_offset, length);
                  if (span.ok) c.buffer_sub_data(target.value, offset, span.data, span.size);
              })
         .def("copyBufferSubData", webidl(&Context::copy_buffer_sub_data))
         .def("getBufferSubData",
-             [](Context& c, IdlUint32 target, int64_t offset, py::array dst, int64_t dst_offset, int64_t length) {
-                 if (!(dst.flags() & py::array::c_style) || !dst.writeable())
-                     throw py::type_error("getBufferSubData: dstBuffer must be a writeable C-contiguous array");
-                 const int64_t count = int64_t(dst.size()), item = int64_t(dst.itemsize());
+             [](Context& c, IdlUint32 target, int64_t offset, py::object dst_buffer, int64_t dst_offset, int64_t length) {
+                 const auto dst = softgl::bindings::destination_array("getBufferSubData", "dstBuffer", dst_buffer);
+                 const int64_t count = dst.count, item = dst.itemsize;
                  if (dst_offset < 0 || length < 0 || dst_offset > count || length > count - dst_offset)
                      return c.record_error(gl::INVALID_VALUE, "getBufferSubData", "dstOffset/length exceed the array");
                  const int64_t n = length ? length : count - dst_offset;
-                 c.get_buffer_sub_data(target.value, offset,
-                                       static_cast<uint8_t*>(dst.mutable_data()) + dst_offset * item, n * item);
+                 if (c.get_buffer_sub_data(target.value, offset, dst.data + dst_offset * item, n * item)) dst.commit();
              })
         .def("getBufferParameter", [](Context& c, IdlUint32 target, IdlUint32 pname) {
             return to_python(c.get_buffer_parameter(target.value, pname.value));
@@ -289,19 +264,21 @@ void bind_vertex_input(ContextClass& cls) {
         .def("vertexAttrib2f", [](Context& c, IdlUint32 i, float x, float y) { float v[] = {x, y}; c.vertex_attrib_f("vertexAttrib2f", i.value, v, 2); })
         .def("vertexAttrib3f", [](Context& c, IdlUint32 i, float x, float y, float z) { float v[] = {x, y, z}; c.vertex_attrib_f("vertexAttrib3f", i.value, v, 3); })
         .def("vertexAttrib4f", [](Context& c, IdlUint32 i, float x, float y, float z, float w) { float v[] = {x, y, z, w}; c.vertex_attrib_f("vertexAttrib4f", i.value, v, 4); })
-        .def("vertexAttrib1fv", [](Context& c, IdlUint32 i, std::vector<float> v) { vertex_attrib_fv(c, "vertexAttrib1fv", i.value, v, 1); })
-        .def("vertexAttrib2fv", [](Context& c, IdlUint32 i, std::vector<float> v) { vertex_attrib_fv(c, "vertexAttrib2fv", i.value, v, 2); })
-        .def("vertexAttrib3fv", [](Context& c, IdlUint32 i, std::vector<float> v) { vertex_attrib_fv(c, "vertexAttrib3fv", i.value, v, 3); })
-        .def("vertexAttrib4fv", [](Context& c, IdlUint32 i, std::vector<float> v) { vertex_attrib_fv(c, "vertexAttrib4fv", i.value, v, 4); })
+        .def("vertexAttrib1fv", [](Context& c, IdlUint32 i, py::object v) { vertex_attrib_fv(c, "vertexAttrib1fv", i.value, v, 1); })
+        .def("vertexAttrib2fv", [](Context& c, IdlUint32 i, py::object v) { vertex_attrib_fv(c, "vertexAttrib2fv", i.value, v, 2); })
+        .def("vertexAttrib3fv", [](Context& c, IdlUint32 i, py::object v) { vertex_attrib_fv(c, "vertexAttrib3fv", i.value, v, 3); })
+        .def("vertexAttrib4fv", [](Context& c, IdlUint32 i, py::object v) { vertex_attrib_fv(c, "vertexAttrib4fv", i.value, v, 4); })
         .def("vertexAttribI4i", webidl(&Context::vertex_attrib_i4i))
         .def("vertexAttribI4ui", webidl(&Context::vertex_attrib_i4ui))
-        .def("vertexAttribI4iv", [](Context& c, IdlUint32 i, std::vector<int32_t> v) {
+        .def("vertexAttribI4iv", [](Context& c, IdlUint32 i, py::object values) {
+            auto v = number_sequence<int32_t>("vertexAttribI4iv", "values", values);
             if (v.size() < 4) return c.record_error(gl::INVALID_VALUE, "vertexAttribI4iv", "needs 4 values");
-            c.vertex_attrib_i4i(i.value, v[0], v[1], v[2], v[3]);
+            c.vertex_attrib_i4i(i.value, v.data()[0], v.data()[1], v.data()[2], v.data()[3]);
         })
-        .def("vertexAttribI4uiv", [](Context& c, IdlUint32 i, std::vector<uint32_t> v) {
+        .def("vertexAttribI4uiv", [](Context& c, IdlUint32 i, py::object values) {
+            auto v = number_sequence<uint32_t>("vertexAttribI4uiv", "values", values);
             if (v.size() < 4) return c.record_error(gl::INVALID_VALUE, "vertexAttribI4uiv", "needs 4 values");
-            c.vertex_attrib_i4ui(i.value, v[0], v[1], v[2], v[3]);
+            c.vertex_attrib_i4ui(i.value, v.data()[0], v.data()[1], v.data()[2], v.data()[3]);
         })
         .def("vertexAttribDivisor", webidl(&Context::vertex_attrib_divisor))
         .def("getVertexAttrib", [](Context& c, IdlUint32 index, IdlUint32 pname) {
@@ -471,8 +448,7 @@ namespace {
 template <class T>
 void uniform_v(Context& c, const char* call, const softgl::UniformLocation* location, char kind, int columns,
                int rows, py::object data, bool transpose, int64_t src_offset, int64_t src_length) {
-    auto arr = py::array_t<T, py::array::c_style | py::array::forcecast>::ensure(data);
-    if (!arr) throw py::type_error(std::string(call) + ": data must be a sequence of numbers");
+    auto arr = number_sequence<T>(call, "data", data);
     const int64_t total = int64_t(arr.size());
     if (src_offset < 0 || src_length < 0 || src_offset > total || src_length > total - src_offset)
         return c.record_error(gl::INVALID_VALUE, call, "srcOffset/srcLength exceed the data");
