@@ -67,4 +67,37 @@ GLenum array_type_of(const py::dtype& dt);
 // The NumPy dtype that matches a pixel type (np.uint8 for UNSIGNED_BYTE, np.float32 for FLOAT, ...).
 py::dtype dtype_for_pixel_type(GLenum type);
 
+// An argument taken as it is, for the intake to convert, shown in the stubs (_core.pyi) as
+// Kind::name says: Arg<Floats> is "collections.abc.Sequence[float] | numpy.ndarray", ...
+template <class Kind> struct Arg {
+    py::object obj;
+    operator py::handle() const { return obj; }
+};
+#define SOFTGL_ARG_KIND(kind, text) \
+    struct kind { static constexpr auto name = py::detail::const_name(text); };
+SOFTGL_ARG_KIND(Floats, "collections.abc.Sequence[float] | numpy.ndarray")
+SOFTGL_ARG_KIND(Ints, "collections.abc.Sequence[int] | numpy.ndarray")
+SOFTGL_ARG_KIND(BufferSource, "typing_extensions.Buffer")
+SOFTGL_ARG_KIND(BufferDataSource, "int | typing_extensions.Buffer | None")
+SOFTGL_ARG_KIND(PixelsOrOffset, "numpy.ndarray | int | None")
+SOFTGL_ARG_KIND(Image, "numpy.ndarray")
+SOFTGL_ARG_KIND(Destination, "numpy.ndarray")
+#undef SOFTGL_ARG_KIND
+
 }  // namespace softgl::bindings
+
+namespace pybind11::detail {
+
+template <class Kind>
+struct type_caster<softgl::bindings::Arg<Kind>> {
+    PYBIND11_TYPE_CASTER(softgl::bindings::Arg<Kind>, Kind::name);
+    bool load(handle src, bool) {
+        value.obj = reinterpret_borrow<object>(src);
+        return true;
+    }
+    static handle cast(const softgl::bindings::Arg<Kind>& v, return_value_policy, handle) {
+        return v.obj.inc_ref();
+    }
+};
+
+}  // namespace pybind11::detail

@@ -17,6 +17,7 @@ using softgl::GLenum;
 using softgl::bindings::webidl;
 using softgl::bindings::to_python;
 using softgl::bindings::array_type_of;
+using softgl::bindings::Arg;
 using softgl::bindings::ClientArray;
 using softgl::bindings::dtype_for_pixel_type;
 using softgl::bindings::number_sequence;
@@ -36,7 +37,8 @@ void vertex_attrib_fv(Context& c, const char* call, uint32_t index, py::handle v
 py::object read_pixels(Context& ctx, softgl::bindings::IdlInt32 x_, softgl::bindings::IdlInt32 y_,
                        softgl::bindings::IdlInt32 w_, softgl::bindings::IdlInt32 h_,
                        softgl::bindings::IdlUint32 format_, softgl::bindings::IdlUint32 type_,
-                       py::object pixels) {
+                       Arg<softgl::bindings::PixelsOrOffset> pixels_arg) {
+    py::object pixels = pixels_arg.obj;
     const int32_t x = x_.value, y = y_.value, w = w_.value, h = h_.value;
     const GLenum format = format_.value, type = type_.value;
     if (pixels.is_none()) {
@@ -215,7 +217,8 @@ void bind_buffers(ContextClass& cls) {
         .def("deleteBuffer", &Context::delete_buffer)
         .def("isBuffer", &Context::is_buffer)
         .def("bufferData",
-             [](Context& c, IdlUint32 target, py::object data, IdlUint32 usage, int64_t src_offset, int64_t length) {
+             [](Context& c, IdlUint32 target, Arg<softgl::bindings::BufferDataSource> data_arg, IdlUint32 usage, int64_t src_offset, int64_t length) {
+                 py::object data = data_arg.obj;
                  if (py::isinstance<py::int_>(data)) {
                      int64_t size = 0;
                      try {
@@ -234,14 +237,14 @@ void bind_buffers(ContextClass& cls) {
                  if (span.ok) c.buffer_data(target.value, span.data ? span.data : reinterpret_cast<const uint8_t*>(""), span.size, usage.value);
              })
         .def("bufferSubData",
-             [](Context& c, IdlUint32 target, int64_t offset, py::object data, int64_t src_offset, int64_t length) {
+             [](Context& c, IdlUint32 target, int64_t offset, Arg<softgl::bindings::BufferSource> data, int64_t src_offset, int64_t length) {
                  const ClientArray source = softgl::bindings::buffer_source("bufferSubData", "srcData", data);
                  ByteSpan span = byte_span(c, "bufferSubData", source, src_offset, length);
                  if (span.ok) c.buffer_sub_data(target.value, offset, span.data, span.size);
              })
         .def("copyBufferSubData", webidl(&Context::copy_buffer_sub_data))
         .def("getBufferSubData",
-             [](Context& c, IdlUint32 target, int64_t offset, py::object dst_buffer, int64_t dst_offset, int64_t length) {
+             [](Context& c, IdlUint32 target, int64_t offset, Arg<softgl::bindings::Destination> dst_buffer, int64_t dst_offset, int64_t length) {
                  const auto dst = softgl::bindings::destination_array("getBufferSubData", "dstBuffer", dst_buffer);
                  const int64_t count = dst.count, item = dst.itemsize;
                  if (dst_offset < 0 || length < 0 || dst_offset > count || length > count - dst_offset)
@@ -264,18 +267,18 @@ void bind_vertex_input(ContextClass& cls) {
         .def("vertexAttrib2f", [](Context& c, IdlUint32 i, float x, float y) { float v[] = {x, y}; c.vertex_attrib_f("vertexAttrib2f", i.value, v, 2); })
         .def("vertexAttrib3f", [](Context& c, IdlUint32 i, float x, float y, float z) { float v[] = {x, y, z}; c.vertex_attrib_f("vertexAttrib3f", i.value, v, 3); })
         .def("vertexAttrib4f", [](Context& c, IdlUint32 i, float x, float y, float z, float w) { float v[] = {x, y, z, w}; c.vertex_attrib_f("vertexAttrib4f", i.value, v, 4); })
-        .def("vertexAttrib1fv", [](Context& c, IdlUint32 i, py::object v) { vertex_attrib_fv(c, "vertexAttrib1fv", i.value, v, 1); })
-        .def("vertexAttrib2fv", [](Context& c, IdlUint32 i, py::object v) { vertex_attrib_fv(c, "vertexAttrib2fv", i.value, v, 2); })
-        .def("vertexAttrib3fv", [](Context& c, IdlUint32 i, py::object v) { vertex_attrib_fv(c, "vertexAttrib3fv", i.value, v, 3); })
-        .def("vertexAttrib4fv", [](Context& c, IdlUint32 i, py::object v) { vertex_attrib_fv(c, "vertexAttrib4fv", i.value, v, 4); })
+        .def("vertexAttrib1fv", [](Context& c, IdlUint32 i, Arg<softgl::bindings::Floats> v) { vertex_attrib_fv(c, "vertexAttrib1fv", i.value, v, 1); })
+        .def("vertexAttrib2fv", [](Context& c, IdlUint32 i, Arg<softgl::bindings::Floats> v) { vertex_attrib_fv(c, "vertexAttrib2fv", i.value, v, 2); })
+        .def("vertexAttrib3fv", [](Context& c, IdlUint32 i, Arg<softgl::bindings::Floats> v) { vertex_attrib_fv(c, "vertexAttrib3fv", i.value, v, 3); })
+        .def("vertexAttrib4fv", [](Context& c, IdlUint32 i, Arg<softgl::bindings::Floats> v) { vertex_attrib_fv(c, "vertexAttrib4fv", i.value, v, 4); })
         .def("vertexAttribI4i", webidl(&Context::vertex_attrib_i4i))
         .def("vertexAttribI4ui", webidl(&Context::vertex_attrib_i4ui))
-        .def("vertexAttribI4iv", [](Context& c, IdlUint32 i, py::object values) {
+        .def("vertexAttribI4iv", [](Context& c, IdlUint32 i, Arg<softgl::bindings::Ints> values) {
             auto v = number_sequence<int32_t>("vertexAttribI4iv", "values", values);
             if (v.size() < 4) return c.record_error(gl::INVALID_VALUE, "vertexAttribI4iv", "needs 4 values");
             c.vertex_attrib_i4i(i.value, v.data()[0], v.data()[1], v.data()[2], v.data()[3]);
         })
-        .def("vertexAttribI4uiv", [](Context& c, IdlUint32 i, py::object values) {
+        .def("vertexAttribI4uiv", [](Context& c, IdlUint32 i, Arg<softgl::bindings::Ints> values) {
             auto v = number_sequence<uint32_t>("vertexAttribI4uiv", "values", values);
             if (v.size() < 4) return c.record_error(gl::INVALID_VALUE, "vertexAttribI4uiv", "needs 4 values");
             c.vertex_attrib_i4ui(i.value, v.data()[0], v.data()[1], v.data()[2], v.data()[3]);
@@ -447,7 +450,7 @@ namespace {
 
 template <class T>
 void uniform_v(Context& c, const char* call, const softgl::UniformLocation* location, char kind, int columns,
-               int rows, py::object data, bool transpose, int64_t src_offset, int64_t src_length) {
+               int rows, py::handle data, bool transpose, int64_t src_offset, int64_t src_length) {
     auto arr = number_sequence<T>(call, "data", data);
     const int64_t total = int64_t(arr.size());
     if (src_offset < 0 || src_length < 0 || src_offset > total || src_length > total - src_offset)
@@ -468,21 +471,27 @@ void bind_uniform_arrays(py::module_& m) {
         for (int n = 1; n <= 4; ++n) {
             const char kind = kinds[k];
             std::string name = "uniform" + std::to_string(n) + (kind == 'f' ? "f" : kind == 'i' ? "i" : "ui") + "v";
-            auto f = [kind, n, name](Context& c, const softgl::UniformLocation* l, py::object data, int64_t off, int64_t len) {
+            // One lambda per argument type, so the stubs show Sequence[float] or Sequence[int].
+            auto setter = [kind, n, name](Context& c, const softgl::UniformLocation* l, py::handle data, int64_t off, int64_t len) {
                 static thread_local std::string call;
                 call = name;
                 if (kind == 'f') uniform_v<float>(c, call.c_str(), l, 'f', n, 0, data, false, off, len);
                 else if (kind == 'i') uniform_v<int32_t>(c, call.c_str(), l, 'i', n, 0, data, false, off, len);
                 else uniform_v<uint32_t>(c, call.c_str(), l, 'u', n, 0, data, false, off, len);
             };
-            cls.def(name.c_str(), f);
+            if (kind == 'f')
+                cls.def(name.c_str(), [setter](Context& c, const softgl::UniformLocation* l, Arg<softgl::bindings::Floats> data,
+                                               int64_t off, int64_t len) { setter(c, l, data, off, len); });
+            else
+                cls.def(name.c_str(), [setter](Context& c, const softgl::UniformLocation* l, Arg<softgl::bindings::Ints> data,
+                                               int64_t off, int64_t len) { setter(c, l, data, off, len); });
         }
     }
     for (int cols = 2; cols <= 4; ++cols)
         for (int rows = 2; rows <= 4; ++rows) {
             std::string name = "uniformMatrix" + std::to_string(cols) + (cols == rows ? "" : "x" + std::to_string(rows)) + "fv";
             cls.def(name.c_str(),
-                    [cols, rows, name](Context& c, const softgl::UniformLocation* l, bool transpose, py::object data, int64_t off, int64_t len) {
+                    [cols, rows, name](Context& c, const softgl::UniformLocation* l, bool transpose, Arg<softgl::bindings::Floats> data, int64_t off, int64_t len) {
                         static thread_local std::string call;
                         call = name;
                         uniform_v<float>(c, call.c_str(), l, 'm', cols, rows, data, transpose, off, len);

@@ -25,7 +25,9 @@ namespace gl = softgl::gl;
 
 namespace {
 
+using softgl::bindings::Arg;
 using softgl::bindings::number_sequence;
+namespace kinds = softgl::bindings;
 using softgl::bindings::to_python;
 
 
@@ -142,7 +144,7 @@ void bind_textures(py::module_& m) {
         // image source (..., format, type, source).
         .def("texImage2D", [](Context& c, IdlUint32 target, IdlInt32 level, IdlInt32 internal, IdlInt32 width,
                               IdlInt32 height, IdlInt32 border, IdlUint32 format, IdlUint32 type,
-                              py::object pixels, std::optional<int64_t> src_offset) {
+                              Arg<kinds::PixelsOrOffset> pixels, std::optional<int64_t> src_offset) {
             const char* call = "texImage2D";
             if (src_offset && c.version() < 2) throw py::type_error("texImage2D: srcOffset needs WebGL 2");
             Pixels px;
@@ -153,7 +155,7 @@ void bind_textures(py::module_& m) {
                         border.value, format.value, type.value, px.source);
         })
         .def("texImage2D", [](Context& c, IdlUint32 target, IdlInt32 level, IdlInt32 internal, IdlUint32 format,
-                              IdlUint32 type, py::object source) {
+                              IdlUint32 type, Arg<kinds::Image> source) {
             const char* call = "texImage2D";
             Pixels px;
             image_source(call, source, px);
@@ -161,7 +163,7 @@ void bind_textures(py::module_& m) {
                         format.value, type.value, px.source);
         })
         .def("texSubImage2D", [](Context& c, IdlUint32 target, IdlInt32 level, IdlInt32 x, IdlInt32 y, IdlInt32 width,
-                                 IdlInt32 height, IdlUint32 format, IdlUint32 type, py::object pixels,
+                                 IdlInt32 height, IdlUint32 format, IdlUint32 type, Arg<kinds::PixelsOrOffset> pixels,
                                  std::optional<int64_t> src_offset) {
             const char* call = "texSubImage2D";
             Pixels px;
@@ -172,7 +174,7 @@ void bind_textures(py::module_& m) {
                             format.value, type.value, px.source);
         })
         .def("texSubImage2D", [](Context& c, IdlUint32 target, IdlInt32 level, IdlInt32 x, IdlInt32 y, IdlUint32 format,
-                                 IdlUint32 type, py::object source) {
+                                 IdlUint32 type, Arg<kinds::Image> source) {
             const char* call = "texSubImage2D";
             Pixels px;
             image_source(call, source, px);
@@ -180,7 +182,7 @@ void bind_textures(py::module_& m) {
                             format.value, type.value, px.source);
         })
         .def("texImage3D", [](Context& c, IdlUint32 target, IdlInt32 level, IdlInt32 internal, IdlInt32 w, IdlInt32 h,
-                              IdlInt32 d, IdlInt32 border, IdlUint32 format, IdlUint32 type, py::object pixels, int64_t src_offset) {
+                              IdlInt32 d, IdlInt32 border, IdlUint32 format, IdlUint32 type, Arg<kinds::PixelsOrOffset> pixels, int64_t src_offset) {
             Pixels px;
             bool ok;
             view_source(c, "texImage3D", "srcData", pixels, type.value, src_offset, px, &ok);
@@ -188,7 +190,7 @@ void bind_textures(py::module_& m) {
                                 border.value, format.value, type.value, px.source);
         })
         .def("texSubImage3D", [](Context& c, IdlUint32 target, IdlInt32 level, IdlInt32 x, IdlInt32 y, IdlInt32 z, IdlInt32 w,
-                                 IdlInt32 h, IdlInt32 d, IdlUint32 format, IdlUint32 type, py::object pixels, int64_t src_offset) {
+                                 IdlInt32 h, IdlInt32 d, IdlUint32 format, IdlUint32 type, Arg<kinds::PixelsOrOffset> pixels, int64_t src_offset) {
             Pixels px;
             bool ok;
             view_source(c, "texSubImage3D", "srcData", pixels, type.value, src_offset, px, &ok);
@@ -259,17 +261,17 @@ void bind_textures(py::module_& m) {
             softgl::bindings::ExclusiveWithoutGil release(c);
             c.blit_framebuffer(sx0.value, sy0.value, sx1.value, sy1.value, dx0.value, dy0.value, dx1.value, dy1.value, mask.value, filter.value);
         })
-        .def("clearBufferfv", [](Context& c, IdlUint32 buffer, IdlInt32 drawbuffer, py::object values, int64_t off) {
+        .def("clearBufferfv", [](Context& c, IdlUint32 buffer, IdlInt32 drawbuffer, Arg<kinds::Floats> values, int64_t off) {
             auto a = number_sequence<float>("clearBufferfv", "values", values);
             if (off < 0 || off > int64_t(a.size())) return c.record_error(gl::INVALID_VALUE, "clearBufferfv", "srcOffset exceeds the values");
             c.clear_buffer("clearBufferfv", buffer.value, drawbuffer.value, 'f', a.data() + off, size_t(a.size() - off), 0, 0);
         })
-        .def("clearBufferiv", [](Context& c, IdlUint32 buffer, IdlInt32 drawbuffer, py::object values, int64_t off) {
+        .def("clearBufferiv", [](Context& c, IdlUint32 buffer, IdlInt32 drawbuffer, Arg<kinds::Ints> values, int64_t off) {
             auto a = number_sequence<int32_t>("clearBufferiv", "values", values);
             if (off < 0 || off > int64_t(a.size())) return c.record_error(gl::INVALID_VALUE, "clearBufferiv", "srcOffset exceeds the values");
             c.clear_buffer("clearBufferiv", buffer.value, drawbuffer.value, 'i', a.data() + off, size_t(a.size() - off), 0, 0);
         })
-        .def("clearBufferuiv", [](Context& c, IdlUint32 buffer, IdlInt32 drawbuffer, py::object values, int64_t off) {
+        .def("clearBufferuiv", [](Context& c, IdlUint32 buffer, IdlInt32 drawbuffer, Arg<kinds::Ints> values, int64_t off) {
             auto a = number_sequence<uint32_t>("clearBufferuiv", "values", values);
             if (off < 0 || off > int64_t(a.size())) return c.record_error(gl::INVALID_VALUE, "clearBufferuiv", "srcOffset exceeds the values");
             c.clear_buffer("clearBufferuiv", buffer.value, drawbuffer.value, 'u', a.data() + off, size_t(a.size() - off), 0, 0);
@@ -277,18 +279,18 @@ void bind_textures(py::module_& m) {
         .def("clearBufferfi", [](Context& c, IdlUint32 buffer, IdlInt32 drawbuffer, float depth, IdlInt32 stencil) {
             c.clear_buffer("clearBufferfi", buffer.value, drawbuffer.value, 's', nullptr, 0, depth, stencil.value);
         })
-        .def("drawBuffers", [](Context& c, py::object buffers) { c.draw_buffers("drawBuffers", enum_list("drawBuffers", "buffers", buffers)); })
-        .def("_drawBuffersWEBGL", [](Context& c, py::object list) {
+        .def("drawBuffers", [](Context& c, Arg<kinds::Ints> buffers) { c.draw_buffers("drawBuffers", enum_list("drawBuffers", "buffers", buffers)); })
+        .def("_drawBuffersWEBGL", [](Context& c, Arg<kinds::Ints> list) {
             const std::vector<uint32_t> buffers = enum_list("drawBuffersWEBGL", "buffers", list);
             if (!c.extension_enabled("WEBGL_draw_buffers"))
                 return c.record_error(gl::INVALID_OPERATION, "drawBuffersWEBGL", "WEBGL_draw_buffers is not enabled");
             c.draw_buffers("drawBuffersWEBGL", buffers);
         })
-        .def("invalidateFramebuffer", [](Context& c, IdlUint32 target, py::object attachments) {
+        .def("invalidateFramebuffer", [](Context& c, IdlUint32 target, Arg<kinds::Ints> attachments) {
             c.invalidate_framebuffer("invalidateFramebuffer", target.value,
                                      enum_list("invalidateFramebuffer", "attachments", attachments));
         })
-        .def("invalidateSubFramebuffer", [](Context& c, IdlUint32 target, py::object list, IdlInt32 x,
+        .def("invalidateSubFramebuffer", [](Context& c, IdlUint32 target, Arg<kinds::Ints> list, IdlInt32 x,
                                             IdlInt32 y, IdlInt32 w, IdlInt32 h) {
             const std::vector<uint32_t> attachments = enum_list("invalidateSubFramebuffer", "attachments", list);
             if (w.value < 0 || h.value < 0) return c.record_error(gl::INVALID_VALUE, "invalidateSubFramebuffer", "width and height must not be negative");
