@@ -119,7 +119,7 @@ ClientArray pixel_source(const char* method, const char* param, py::handle obj, 
     const std::string accepts = "an ArrayBufferView (a NumPy array of numbers) or None";
     const std::string np_type = "np." + py::str(dtype_for_pixel_type(type).attr("name")).cast<std::string>();
     if (!py::isinstance<py::array>(obj)) {
-        const bool bytes_like = PyObject_CheckBuffer(obj.ptr());
+        const bool bytes_like = PyBytes_Check(obj.ptr()) || PyByteArray_Check(obj.ptr()) || PyMemoryView_Check(obj.ptr());
         refuse(method, param, accepts, obj,
                std::string("use np.") + (bytes_like ? "frombuffer(" : "asarray(") + param + ", " + np_type +
                    ") (the array type of `type`)");
@@ -130,10 +130,11 @@ ClientArray pixel_source(const char* method, const char* param, py::handle obj, 
     return client_array(arr);
 }
 
-ClientDestination destination_array(const char* method, const char* param, py::handle obj, const char* accepts) {
+ClientDestination destination_array(const char* method, const char* param, py::handle obj, const char* accepts,
+                                    const std::string& example) {
     if (!accepts) accepts = "a writeable NumPy array of numbers";
     if (!py::isinstance<py::array>(obj))
-        refuse(method, param, accepts, obj, "e.g. np.empty(n, np.float32)");
+        refuse(method, param, accepts, obj, "e.g. " + (example.empty() ? std::string("np.empty(n, np.float32)") : example));
     py::array arr = py::reinterpret_borrow<py::array>(obj);
     if (!arr.writeable()) refuse(method, param, accepts, obj, std::string("pass a writeable copy, np.array(") + param + ")");
     const std::string why = dtype_refusal(arr.dtype(), param, "an array of the element type the call writes");
@@ -142,6 +143,18 @@ ClientDestination destination_array(const char* method, const char* param, py::h
     static_cast<ClientArray&>(out) = client_array(arr);
     out.target = arr;
     return out;
+}
+
+int64_t byte_offset(const char* method, const char* param, py::handle obj) {
+    const int64_t value = PyLong_AsLongLong(py::reinterpret_steal<py::object>(PyNumber_Index(obj.ptr())).ptr());
+    if (value == -1 && PyErr_Occurred()) {
+        PyErr_Clear();
+        const std::string why = std::string(method) + ": " + param +
+                                " as a buffer offset must fit a GLintptr (64 bits); got " + py::repr(obj).cast<std::string>();
+        PyErr_SetString(PyExc_OverflowError, why.c_str());
+        throw py::error_already_set();
+    }
+    return value;
 }
 
 void ClientDestination::commit() const {

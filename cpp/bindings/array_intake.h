@@ -48,7 +48,11 @@ struct ClientDestination : ClientArray {
     void commit() const;
 };
 ClientDestination destination_array(const char* method, const char* param, py::handle obj,
-                                    const char* accepts = nullptr);
+                                    const char* accepts = nullptr, const std::string& example = "");
+
+// A GLintptr byte offset given where WebGL 2 also takes a buffer offset (pixels of texImage*,
+// readPixels): an int of 64 bits, else an OverflowError naming method and parameter.
+int64_t byte_offset(const char* method, const char* param, py::handle obj);
 
 // A sequence of numbers converted by value, as WebGL's Float32List / Int32List / Uint32List /
 // sequence<GLenum> (uniform*v, vertexAttrib*v, clearBuffer*v, drawBuffers, ...): a list, tuple

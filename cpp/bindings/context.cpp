@@ -71,12 +71,13 @@ py::object read_pixels(Context& ctx, softgl::bindings::IdlInt32 x_, softgl::bind
     }
     // WebGL 2's GLintptr overload: a byte offset into the PIXEL_PACK_BUFFER.
     if (ctx.version() >= 2 && !py::isinstance<py::array>(pixels) && PyIndex_Check(pixels.ptr()) && !PyBool_Check(pixels.ptr())) {
-        ctx.read_pixels_to_pack_buffer(x, y, w, h, format, type, pixels.cast<int64_t>());
+        ctx.read_pixels_to_pack_buffer(x, y, w, h, format, type, softgl::bindings::byte_offset("readPixels", "pixels", pixels));
         return py::none();
     }
     const auto dst = softgl::bindings::destination_array(
         "readPixels", "pixels", pixels,
-        "a writeable NumPy array of numbers, None (a new array) or, in WebGL 2, a byte offset into the PIXEL_PACK_BUFFER");
+        "a writeable NumPy array of numbers, None (a new array) or, in WebGL 2, a byte offset into the PIXEL_PACK_BUFFER",
+        "np.empty((height, width, 4), np." + py::str(dtype_for_pixel_type(type).attr("name")).cast<std::string>() + ") or None");
     if (ctx.read_pixels(x, y, w, h, format, type, dst.type, dst.data, size_t(dst.bytes()), true)) dst.commit();
     return pixels;
 }

@@ -50,7 +50,7 @@ void view_source(Context& c, const char* call, const char* param, py::handle obj
     if (c.version() >= 2 && !py::isinstance<py::array>(obj) && PyIndex_Check(obj.ptr()) && !PyBool_Check(obj.ptr())) {
         if (src_offset != 0) throw py::type_error(std::string(call) + ": a buffer offset takes no srcOffset");
         px.source.kind = TexSource::Kind::UnpackBuffer;
-        px.source.offset = obj.cast<int64_t>();
+        px.source.offset = softgl::bindings::byte_offset(call, param, obj);
         return;
     }
     const softgl::bindings::ClientArray arr = softgl::bindings::pixel_source(call, param, obj, type);

@@ -488,3 +488,14 @@ print(refused, repr(a), gl.getBufferParameter(gl.ARRAY_BUFFER, gl.BUFFER_SIZE))
     assert run.returncode == 0, run.stderr
     assert run.stdout.split()[0] == "2"
     assert run.stdout.strip().endswith("32")   # the buffer kept its 8 floats
+
+
+def test_buffer_offsets_too_big_name_the_parameter():
+    # Was pybind11's "Unable to cast Python instance of type <class 'int'> to C++ type '?'".
+    gl = new_gl()
+    gl.bindTexture(gl.TEXTURE_2D, gl.createTexture())
+    with pytest.raises(OverflowError, match=r"texSubImage2D: pixels as a buffer offset must fit a GLintptr"):
+        gl.texSubImage2D(gl.TEXTURE_2D, 0, 0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, 2**70)
+    with pytest.raises(OverflowError, match=r"readPixels: pixels as a buffer offset must fit a GLintptr"):
+        gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, 2**70)
+    assert gl.getError() == gl.NO_ERROR
