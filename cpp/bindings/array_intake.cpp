@@ -3,6 +3,8 @@
 
 #include <Python.h>
 
+#include <type_traits>
+
 namespace softgl::bindings {
 
 namespace {
@@ -19,16 +21,33 @@ std::string describe(py::handle obj) {
     return Py_TYPE(obj.ptr())->tp_name;
 }
 
+// Read from the descriptor, not through Python attributes: this runs on every call.
+bool has_object(const py::dtype& dt) { return (dt.flags() & 0x01) != 0; }   // NPY_ITEM_HASOBJECT
+
+bool is_native(const py::dtype& dt) {
+    if (dt.kind() == 'V') return dt.attr("isnative").cast<bool>();   // records: field by field
+    const uint16_t probe = 1;
+    const char native = *reinterpret_cast<const uint8_t*>(&probe) == 1 ? '<' : '>';
+    const char order = dt.byteorder();
+    return order == '=' || order == '|' || order == native;
+}
+
 // Why a dtype cannot be client memory ("" if it can). JS's typed arrays hold integers of 1, 2, 4
 // or 8 bytes and floats of 2, 4 or 8 bytes; records (structured dtypes) and raw bytes (void)
 // are bytes, as a DataView's. `suggestion` is the conversion to offer, e.g. np.asarray(x, np.float32).
-std::string dtype_refusal(const py::dtype& dt, const char* param, const std::string& suggestion) {
-    if (dt.attr("hasobject").cast<bool>()) return "convert its items to numbers first: " + suggestion;
+bool is_client_memory(const py::dtype& dt) {
+    if (has_object(dt)) return false;
     const char kind = dt.kind();
     const auto size = dt.itemsize();
-    if ((kind == 'i' || kind == 'u') && (size == 1 || size == 2 || size == 4 || size == 8)) return "";
-    if (kind == 'f' && (size == 2 || size == 4 || size == 8)) return "";
-    if (kind == 'V') return "";
+    if (kind == 'i' || kind == 'u') return size == 1 || size == 2 || size == 4 || size == 8;
+    if (kind == 'f') return size == 2 || size == 4 || size == 8;
+    return kind == 'V';
+}
+
+std::string dtype_refusal(const py::dtype& dt, const char* param, const std::string& suggestion) {
+    if (is_client_memory(dt)) return "";
+    if (has_object(dt)) return "convert its items to numbers first: " + suggestion;
+    const char kind = dt.kind();
     if (kind == 'b') return std::string("WebGL has no boolean arrays: use ") + param + ".astype(np.uint8)";
     return "WebGL data are integers of 1, 2, 4 or 8 bytes or floats of 2, 4 or 8 bytes: use " + suggestion;
 }
@@ -40,7 +59,7 @@ bool aligned(const py::array& arr) {
 // The array itself when it is native-endian, aligned and C-contiguous; else a converted copy.
 py::array native_c_order(const py::array& arr) {
     const py::dtype dt = arr.dtype();
-    const bool native = dt.attr("isnative").cast<bool>();
+    const bool native = is_native(dt);
     if (native && (arr.flags() & py::array::c_style) && aligned(arr)) return arr;
     py::object numpy = py::module_::import("numpy");
     py::object want = native ? py::object(dt) : dt.attr("newbyteorder")("=");
@@ -49,11 +68,12 @@ py::array native_c_order(const py::array& arr) {
 
 ClientArray client_array(py::array arr) {
     ClientArray out;
-    out.array = native_c_order(arr);
-    out.data = static_cast<uint8_t*>(const_cast<void*>(out.array.data()));
-    out.count = int64_t(out.array.size());
-    out.itemsize = int64_t(out.array.itemsize());
-    out.type = array_type_of(out.array.dtype());
+    const py::array native = native_c_order(arr);
+    out.array = native;
+    out.data = static_cast<uint8_t*>(const_cast<void*>(native.data()));
+    out.count = int64_t(native.size());
+    out.itemsize = int64_t(native.itemsize());
+    out.type = array_type_of(native.dtype());
     return out;
 }
 
@@ -99,10 +119,10 @@ py::dtype dtype_for_pixel_type(GLenum type) {
 
 ClientArray buffer_source(const char* method, const char* param, py::handle obj, const char* accepts) {
     if (!accepts) accepts = kBufferSource;
-    const std::string suggestion = std::string("np.asarray(") + param + ", np.float32)";
+    const auto suggestion = [&] { return std::string("np.asarray(") + param + ", np.float32)"; };
     const py::array arr = [&]() -> py::array {
         if (py::isinstance<py::array>(obj)) return py::reinterpret_borrow<py::array>(obj);
-        if (!PyObject_CheckBuffer(obj.ptr())) refuse(method, param, accepts, obj, "use " + suggestion);
+        if (!PyObject_CheckBuffer(obj.ptr())) refuse(method, param, accepts, obj, "use " + suggestion());
         // bytes, bytearray, memoryview, array.array: their elements as the buffer describes them.
         try {
             return py::module_::import("numpy").attr("asarray")(py::memoryview(py::reinterpret_borrow<py::object>(obj)));
@@ -110,23 +130,25 @@ ClientArray buffer_source(const char* method, const char* param, py::handle obj,
             refuse(method, param, accepts, obj, "its buffer format is not one NumPy reads");
         }
     }();
-    const std::string why = dtype_refusal(arr.dtype(), param, suggestion);
-    if (!why.empty()) refuse(method, param, accepts, obj, why);
+    if (!is_client_memory(arr.dtype())) refuse(method, param, accepts, obj, dtype_refusal(arr.dtype(), param, suggestion()));
     return client_array(arr);
 }
 
 ClientArray pixel_source(const char* method, const char* param, py::handle obj, GLenum type) {
-    const std::string accepts = "an ArrayBufferView (a NumPy array of numbers) or None";
-    const std::string np_type = "np." + py::str(dtype_for_pixel_type(type).attr("name")).cast<std::string>();
+    const char* accepts = "an ArrayBufferView (a NumPy array of numbers) or None";
+    const auto np_type = [&] {
+        return "np." + py::str(dtype_for_pixel_type(type).attr("name")).cast<std::string>();
+    };
     if (!py::isinstance<py::array>(obj)) {
         const bool bytes_like = PyBytes_Check(obj.ptr()) || PyByteArray_Check(obj.ptr()) || PyMemoryView_Check(obj.ptr());
         refuse(method, param, accepts, obj,
-               std::string("use np.") + (bytes_like ? "frombuffer(" : "asarray(") + param + ", " + np_type +
+               std::string("use np.") + (bytes_like ? "frombuffer(" : "asarray(") + param + ", " + np_type() +
                    ") (the array type of `type`)");
     }
     py::array arr = py::reinterpret_borrow<py::array>(obj);
-    const std::string why = dtype_refusal(arr.dtype(), param, std::string("np.asarray(") + param + ", " + np_type + ")");
-    if (!why.empty()) refuse(method, param, accepts, obj, why);
+    if (!is_client_memory(arr.dtype()))
+        refuse(method, param, accepts, obj,
+               dtype_refusal(arr.dtype(), param, std::string("np.asarray(") + param + ", " + np_type() + ")"));
     return client_array(arr);
 }
 
@@ -137,8 +159,8 @@ ClientDestination destination_array(const char* method, const char* param, py::h
         refuse(method, param, accepts, obj, "e.g. " + (example.empty() ? std::string("np.empty(n, np.float32)") : example));
     py::array arr = py::reinterpret_borrow<py::array>(obj);
     if (!arr.writeable()) refuse(method, param, accepts, obj, std::string("pass a writeable copy, np.array(") + param + ")");
-    const std::string why = dtype_refusal(arr.dtype(), param, "an array of the element type the call writes");
-    if (!why.empty()) refuse(method, param, accepts, obj, why);
+    if (!is_client_memory(arr.dtype()))
+        refuse(method, param, accepts, obj, dtype_refusal(arr.dtype(), param, "an array of the element type the call writes"));
     ClientDestination out;
     static_cast<ClientArray&>(out) = client_array(arr);
     out.target = arr;
@@ -168,6 +190,30 @@ template <class T>
 py::array_t<T, py::array::c_style | py::array::forcecast> number_sequence(const char* method, const char* param,
                                                                             py::handle obj) {
     const char* accepts = "a sequence of numbers (a list, tuple or NumPy array)";
+    if (PyList_Check(obj.ptr()) || PyTuple_Check(obj.ptr())) {
+        // The common case, Python floats and ints, without NumPy's list conversion (a few µs).
+        py::sequence seq = py::reinterpret_borrow<py::sequence>(obj);
+        const py::ssize_t n = PySequence_Fast_GET_SIZE(seq.ptr());
+        PyObject** items = PySequence_Fast_ITEMS(seq.ptr());
+        py::array_t<T, py::array::c_style | py::array::forcecast> values(n);
+        T* out = values.mutable_data();
+        py::ssize_t i = 0;
+        for (; i < n; ++i) {
+            PyObject* item = items[i];
+            if (PyLong_CheckExact(item) || PyBool_Check(item)) {
+                int overflow = 0;
+                const long long v = PyLong_AsLongLongAndOverflow(item, &overflow);
+                if (overflow) break;
+                // Integers wrap modulo 2^32, as WebIDL's ToInt32/ToUint32 and NumPy's cast do.
+                out[i] = std::is_floating_point_v<T> ? T(PyLong_AsDouble(item)) : T(uint32_t(uint64_t(v)));
+            } else if (std::is_floating_point_v<T> && PyFloat_CheckExact(item)) {
+                out[i] = T(PyFloat_AS_DOUBLE(item));
+            } else {
+                break;
+            }
+        }
+        if (i == n && n > 0) return values;
+    }
     py::object made;   // null when obj is no sequence or NumPy cannot make an array of it (ragged lists, ...)
     if (py::isinstance<py::array>(obj)) {
         made = py::reinterpret_borrow<py::object>(obj);
@@ -178,7 +224,7 @@ py::array_t<T, py::array::c_style | py::array::forcecast> number_sequence(const 
     const auto arr = py::reinterpret_borrow<py::array>(made);
     const py::dtype dt = arr.dtype();
     const char kind = dt.kind();
-    if (dt.attr("hasobject").cast<bool>())
+    if (has_object(dt))
         refuse(method, param, accepts, obj, "its items must all be numbers (NumPy made an object array of them)");
     if (kind != 'b' && kind != 'i' && kind != 'u' && kind != 'f')
         refuse(method, param, accepts, obj, "WebGL takes real numbers");

@@ -24,7 +24,9 @@ namespace py = pybind11;
 
 // Client memory in native byte order and C order, ready for the core to read or write.
 struct ClientArray {
-    py::array array;          // owns the memory: the caller's array or a converted copy
+    // Owns the memory: the caller's array or a converted copy. (py::object, not py::array,
+    // whose default constructor makes a NumPy array: this runs on every call.)
+    py::object array;
     uint8_t* data = nullptr;
     int64_t count = 0;        // elements (records for a structured array, bytes for bytes)
     int64_t itemsize = 1;
@@ -44,7 +46,7 @@ ClientArray pixel_source(const char* method, const char* param, py::handle obj, 
 // numbers or records. Call commit() after the core wrote into data successfully. `accepts`
 // replaces the default description of what the parameter takes.
 struct ClientDestination : ClientArray {
-    py::array target;         // the caller's array (the same as `array` when no copy was needed)
+    py::object target;        // the caller's array (the same as `array` when no copy was needed)
     void commit() const;
 };
 ClientDestination destination_array(const char* method, const char* param, py::handle obj,

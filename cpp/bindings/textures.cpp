@@ -36,7 +36,7 @@ using softgl::bindings::to_python;
 // Holds the converted pixels of one call.
 struct Pixels {
     TexSource source;
-    py::array keep;                 // the array the source points into (array_intake.h)
+    py::object keep;                // the array the source points into (array_intake.h)
     std::vector<uint8_t> rgba8;     // image sources, converted to RGBA rows
     std::vector<float> rgba32f;
 };

@@ -499,3 +499,24 @@ def test_buffer_offsets_too_big_name_the_parameter():
     with pytest.raises(OverflowError, match=r"readPixels: pixels as a buffer offset must fit a GLintptr"):
         gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE, 2**70)
     assert gl.getError() == gl.NO_ERROR
+
+
+@pytest.mark.parametrize("setter, uniform, values", [
+    ("uniform4iv", "u_i", [2**32 + 5, -1, True, -2**31 - 1]),
+    ("uniform4uiv", "u_u", [-1, 2**33 + 2, False, 7]),
+    ("uniform4fv", "u_f", [1, 2.5, True, 2**40]),
+])
+def test_lists_of_python_numbers_convert_as_numpy_does(setter, uniform, values):
+    # Lists of Python ints and floats take a path of their own (no NumPy conversion): the same
+    # values as the NumPy array of them (integers wrap modulo 2^32, as WebIDL's ToInt32/ToUint32).
+    gl = new_gl()
+    prog = _program(gl)
+    loc = gl.getUniformLocation(prog, uniform)
+    getattr(gl, setter)(loc, values)
+    from_list = gl.getUniform(prog, loc)
+    getattr(gl, setter)(loc, np.array([0, 0, 0, 0]))
+    getattr(gl, setter)(loc, np.array(values, np.int64 if setter != "uniform4fv" else np.float64))
+    assert np.array_equal(from_list, gl.getUniform(prog, loc))
+    expected = {"uniform4iv": [5, -1, 1, 2**31 - 1], "uniform4uiv": [2**32 - 1, 2, 0, 7],
+                "uniform4fv": [1.0, 2.5, 1.0, 2.0**40]}[setter]
+    assert from_list.tolist() == expected
