@@ -392,10 +392,11 @@ void bind_drawing(ContextClass& cls) {
             softgl::bindings::ExclusiveWithoutGil release(c);
             c.draw_range_elements(mode.value, start.value, end.value, count.value, type.value, offset);
         })
-        .def("_fog", [](Context& c, const std::string& call, IdlUint32 pname, std::vector<float> values) {
-            if (values.empty()) return c.record_error(gl::INVALID_VALUE, "fogfv", "no values");
+        .def("_fog", [](Context& c, const std::string& call, IdlUint32 pname, Arg<softgl::bindings::Floats> given) {
             static thread_local std::string name;
             name = call;
+            auto values = number_sequence<float>(name.c_str(), "params", given);
+            if (values.size() == 0) return c.record_error(gl::INVALID_VALUE, "fogfv", "no values");
             c.fog(name.c_str(), pname.value, values.data(), int(values.size()));
         })
         .def("_stats", [](Context& c, bool reset) {

@@ -520,3 +520,22 @@ def test_lists_of_python_numbers_convert_as_numpy_does(setter, uniform, values):
     expected = {"uniform4iv": [5, -1, 1, 2**31 - 1], "uniform4uiv": [2**32 - 1, 2, 0, 7],
                 "uniform4fv": [1.0, 2.5, 1.0, 2.0**40]}[setter]
     assert from_list.tolist() == expected
+
+
+def test_matrices_and_fog_take_the_intake():
+    gl = new_gl()
+    prog = _program(gl)
+    loc = gl.getUniformLocation(prog, "u_m")
+    m = np.arange(16, dtype=np.float32).reshape(4, 4)
+    gl.uniformMatrix4fv(loc, False, m.astype(">f4"))          # a 2-D matrix: math layout, any byte order
+    assert np.array_equal(gl.getUniform(prog, loc), m.T.reshape(-1))
+    before = gl.getUniform(prog, loc)
+    with pytest.raises(TypeError, match=r"^uniformMatrix4fv: data must be a sequence of numbers"):
+        gl.uniformMatrix4fv(loc, False, m.astype(object))
+    assert np.array_equal(gl.getUniform(prog, loc), before) and gl.getError() == gl.NO_ERROR
+    fog = gl.getExtension("SOFTGL_fog")
+    fog.fogfv(fog.FOG_COLOR, np.array([0.25, 0.5, 0.75, 1.0], ">f4")[::-1][::-1])
+    assert np.array_equal(gl.getParameter(fog.FOG_COLOR), [0.25, 0.5, 0.75, 1.0])
+    with pytest.raises(TypeError, match=r"^fogfv: params must be a sequence of numbers"):
+        fog.fogfv(fog.FOG_COLOR, [0.5, None, 0.5, 1.0])
+    assert np.array_equal(gl.getParameter(fog.FOG_COLOR), [0.25, 0.5, 0.75, 1.0])
