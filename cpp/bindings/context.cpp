@@ -4,6 +4,7 @@
 #include <pybind11/stl.h>
 
 #include "softgl/api/context.h"
+#include "array_intake.h"
 #include "exclusive.h"
 #include "convert.h"
 #include "signatures.h"
@@ -16,38 +17,28 @@ using softgl::GLenum;
 using softgl::bindings::webidl;
 using softgl::bindings::to_python;
 using softgl::bindings::array_type_of;
+using softgl::bindings::Arg;
+using softgl::bindings::ClientArray;
+using softgl::bindings::dtype_for_pixel_type;
+using softgl::bindings::number_sequence;
 namespace gl = softgl::gl;
 
 namespace {
 
 
 
-py::dtype dtype_for(GLenum type) {
-    switch (type) {
-        case gl::FLOAT: return py::dtype::of<float>();
-        case gl::BYTE: return py::dtype::of<int8_t>();
-        case gl::SHORT: return py::dtype::of<int16_t>();
-        case gl::INT: return py::dtype::of<int32_t>();
-        case gl::UNSIGNED_INT: case gl::UNSIGNED_INT_2_10_10_10_REV:
-        case gl::UNSIGNED_INT_10F_11F_11F_REV: case gl::UNSIGNED_INT_5_9_9_9_REV:
-            return py::dtype::of<uint32_t>();
-        case gl::UNSIGNED_SHORT: case gl::UNSIGNED_SHORT_5_6_5: case gl::UNSIGNED_SHORT_4_4_4_4:
-        case gl::UNSIGNED_SHORT_5_5_5_1: case gl::HALF_FLOAT:
-            return py::dtype::of<uint16_t>();
-        default: return py::dtype::of<uint8_t>();
-    }
-}
-
-void vertex_attrib_fv(Context& c, const char* call, uint32_t index, const std::vector<float>& v, int n) {
+void vertex_attrib_fv(Context& c, const char* call, uint32_t index, py::handle values, int n) {
+    auto v = number_sequence<float>(call, "values", values);
     // WebGL 1.0 §5.14.10: an array shorter than the call's size is INVALID_VALUE.
-    if (int(v.size()) < n) return c.record_error(gl::INVALID_VALUE, call, "needs " + std::to_string(n) + " values");
+    if (v.size() < n) return c.record_error(gl::INVALID_VALUE, call, "needs " + std::to_string(n) + " values");
     c.vertex_attrib_f(call, index, v.data(), n);
 }
 
 py::object read_pixels(Context& ctx, softgl::bindings::IdlInt32 x_, softgl::bindings::IdlInt32 y_,
                        softgl::bindings::IdlInt32 w_, softgl::bindings::IdlInt32 h_,
                        softgl::bindings::IdlUint32 format_, softgl::bindings::IdlUint32 type_,
-                       py::object pixels) {
+                       Arg<softgl::bindings::PixelsOrOffset> pixels_arg) {
+    py::object pixels = pixels_arg.obj;
     const int32_t x = x_.value, y = y_.value, w = w_.value, h = h_.value;
     const GLenum format = format_.value, type = type_.value;
     if (pixels.is_none()) {
@@ -57,7 +48,7 @@ py::object read_pixels(Context& ctx, softgl::bindings::IdlInt32 x_, softgl::bind
             ctx.read_pixels(x, y, w, h, format, type, type, nullptr, 0, false);
             return py::none();
         }
-        const uint64_t bytes = uint64_t(w) * uint64_t(h) * 4u * uint64_t(dtype_for(type).itemsize());
+        const uint64_t bytes = uint64_t(w) * uint64_t(h) * 4u * uint64_t(dtype_for_pixel_type(type).itemsize());
         if (bytes > softgl::memory_budget()) {   // refuse before NumPy allocates anything
             ctx.record_error(gl::OUT_OF_MEMORY, "readPixels",
                              "a " + std::to_string(w) + "x" + std::to_string(h) + " result needs " +
@@ -66,7 +57,7 @@ py::object read_pixels(Context& ctx, softgl::bindings::IdlInt32 x_, softgl::bind
         }
         py::array out;
         try {
-            out = py::array(dtype_for(type), std::vector<py::ssize_t>{h, w, 4});
+            out = py::array(dtype_for_pixel_type(type), std::vector<py::ssize_t>{h, w, 4});
         } catch (py::error_already_set& e) {
             if (!e.matches(PyExc_MemoryError)) throw;
             ctx.record_error(gl::OUT_OF_MEMORY, "readPixels", "could not allocate the result array");
@@ -80,49 +71,34 @@ py::object read_pixels(Context& ctx, softgl::bindings::IdlInt32 x_, softgl::bind
     }
     // WebGL 2's GLintptr overload: a byte offset into the PIXEL_PACK_BUFFER.
     if (ctx.version() >= 2 && !py::isinstance<py::array>(pixels) && PyIndex_Check(pixels.ptr()) && !PyBool_Check(pixels.ptr())) {
-        ctx.read_pixels_to_pack_buffer(x, y, w, h, format, type, pixels.cast<int64_t>());
+        ctx.read_pixels_to_pack_buffer(x, y, w, h, format, type, softgl::bindings::byte_offset("readPixels", "pixels", pixels));
         return py::none();
     }
-    if (!py::isinstance<py::array>(pixels))
-        throw py::type_error("readPixels: pixels must be a NumPy array (the ArrayBufferView) or None");
-    py::array arr = pixels.cast<py::array>();
-    if (!(arr.flags() & py::array::c_style) || !arr.writeable())
-        throw py::type_error("readPixels: pixels must be a writeable C-contiguous NumPy array");
-    ctx.read_pixels(x, y, w, h, format, type, array_type_of(arr.dtype()),
-                    static_cast<uint8_t*>(arr.mutable_data()), size_t(arr.nbytes()), true);
+    const auto dst = softgl::bindings::destination_array(
+        "readPixels", "pixels", pixels,
+        "a writeable NumPy array of numbers, None (a new array) or, in WebGL 2, a byte offset into the PIXEL_PACK_BUFFER",
+        "np.empty((height, width, 4), np." + py::str(dtype_for_pixel_type(type).attr("name")).cast<std::string>() + ") or None");
+    if (ctx.read_pixels(x, y, w, h, format, type, dst.type, dst.data, size_t(dst.bytes()), true)) dst.commit();
     return pixels;
 }
 
-// A read-only byte view of a buffer-protocol object (NumPy array, bytes, ...), optionally the
-// element range [src_offset, src_offset + length) as in WebGL 2's ArrayBufferView overloads.
+// The bytes of a source array (array_intake.h), optionally its element range
+// [src_offset, src_offset + length) as in WebGL 2's ArrayBufferView overloads.
 struct ByteSpan {
     const uint8_t* data = nullptr;
     int64_t size = 0;
     bool ok = true;
 };
 
-ByteSpan byte_span(Context& ctx, const char* call, const py::buffer& source, int64_t src_offset,
-                   int64_t length) {
-    py::buffer_info info = source.request();
-    if (info.ndim > 1) {
-        // Only C-contiguous data is accepted, as a typed array is one contiguous block.
-        py::ssize_t expected = info.itemsize;
-        for (py::ssize_t d = info.ndim - 1; d >= 0; --d) {
-            if (info.strides[size_t(d)] != expected)
-                throw py::type_error(std::string(call) + ": data must be C-contiguous");
-            expected *= info.shape[size_t(d)];
-        }
-    } else if (info.ndim == 1 && info.strides[0] != info.itemsize && info.shape[0] > 1) {
-        throw py::type_error(std::string(call) + ": data must be contiguous");
-    }
-    const int64_t count = int64_t(info.size), item = int64_t(info.itemsize);
+ByteSpan byte_span(Context& ctx, const char* call, const ClientArray& source, int64_t src_offset, int64_t length) {
+    const int64_t count = source.count, item = source.itemsize;
     ByteSpan span;
     if (src_offset < 0 || length < 0 || src_offset > count || length > count - src_offset) {
         ctx.record_error(gl::INVALID_VALUE, call, "srcOffset/length exceed the source array");
         span.ok = false;
         return span;
     }
-    span.data = static_cast<const uint8_t*>(info.ptr) + src_offset * item;
+    span.data = source.data + src_offset * item;
     span.size = (length ? length : count - src_offset) * item;
     return span;
 }
@@ -242,7 +218,8 @@ void bind_buffers(ContextClass& cls) {
         .def("deleteBuffer", &Context::delete_buffer)
         .def("isBuffer", &Context::is_buffer)
         .def("bufferData",
-             [](Context& c, IdlUint32 target, py::object data, IdlUint32 usage, int64_t src_offset, int64_t length) {
+             [](Context& c, IdlUint32 target, Arg<softgl::bindings::BufferDataSource> data_arg, IdlUint32 usage, int64_t src_offset, int64_t length) {
+                 py::object data = data_arg.obj;
                  if (py::isinstance<py::int_>(data)) {
                      int64_t size = 0;
                      try {
@@ -254,25 +231,27 @@ void bind_buffers(ContextClass& cls) {
                      return c.buffer_data_size(target.value, size, usage.value);
                  }
                  if (data.is_none()) return c.buffer_data(target.value, nullptr, -1, usage.value);
-                 ByteSpan span = byte_span(c, "bufferData", data.cast<py::buffer>(), src_offset, length);
+                 const ClientArray source = softgl::bindings::buffer_source(
+                     "bufferData", "data", data,
+                     "a size in bytes (int), None or an ArrayBuffer-like (a NumPy array of numbers, or bytes)");
+                 ByteSpan span = byte_span(c, "bufferData", source, src_offset, length);
                  if (span.ok) c.buffer_data(target.value, span.data ? span.data : reinterpret_cast<const uint8_t*>(""), span.size, usage.value);
              })
         .def("bufferSubData",
-             [](Context& c, IdlUint32 target, int64_t offset, py::buffer data, int64_t src_offset, int64_t length) {
-                 ByteSpan span = byte_span(c, "bufferSubData", data, src_offset, length);
+             [](Context& c, IdlUint32 target, int64_t offset, Arg<softgl::bindings::BufferSource> data, int64_t src_offset, int64_t length) {
+                 const ClientArray source = softgl::bindings::buffer_source("bufferSubData", "srcData", data);
+                 ByteSpan span = byte_span(c, "bufferSubData", source, src_offset, length);
                  if (span.ok) c.buffer_sub_data(target.value, offset, span.data, span.size);
              })
         .def("copyBufferSubData", webidl(&Context::copy_buffer_sub_data))
         .def("getBufferSubData",
-             [](Context& c, IdlUint32 target, int64_t offset, py::array dst, int64_t dst_offset, int64_t length) {
-                 if (!(dst.flags() & py::array::c_style) || !dst.writeable())
-                     throw py::type_error("getBufferSubData: dstBuffer must be a writeable C-contiguous array");
-                 const int64_t count = int64_t(dst.size()), item = int64_t(dst.itemsize());
+             [](Context& c, IdlUint32 target, int64_t offset, Arg<softgl::bindings::Destination> dst_buffer, int64_t dst_offset, int64_t length) {
+                 const auto dst = softgl::bindings::destination_array("getBufferSubData", "dstBuffer", dst_buffer);
+                 const int64_t count = dst.count, item = dst.itemsize;
                  if (dst_offset < 0 || length < 0 || dst_offset > count || length > count - dst_offset)
                      return c.record_error(gl::INVALID_VALUE, "getBufferSubData", "dstOffset/length exceed the array");
                  const int64_t n = length ? length : count - dst_offset;
-                 c.get_buffer_sub_data(target.value, offset,
-                                       static_cast<uint8_t*>(dst.mutable_data()) + dst_offset * item, n * item);
+                 if (c.get_buffer_sub_data(target.value, offset, dst.data + dst_offset * item, n * item)) dst.commit();
              })
         .def("getBufferParameter", [](Context& c, IdlUint32 target, IdlUint32 pname) {
             return to_python(c.get_buffer_parameter(target.value, pname.value));
@@ -289,19 +268,21 @@ void bind_vertex_input(ContextClass& cls) {
         .def("vertexAttrib2f", [](Context& c, IdlUint32 i, float x, float y) { float v[] = {x, y}; c.vertex_attrib_f("vertexAttrib2f", i.value, v, 2); })
         .def("vertexAttrib3f", [](Context& c, IdlUint32 i, float x, float y, float z) { float v[] = {x, y, z}; c.vertex_attrib_f("vertexAttrib3f", i.value, v, 3); })
         .def("vertexAttrib4f", [](Context& c, IdlUint32 i, float x, float y, float z, float w) { float v[] = {x, y, z, w}; c.vertex_attrib_f("vertexAttrib4f", i.value, v, 4); })
-        .def("vertexAttrib1fv", [](Context& c, IdlUint32 i, std::vector<float> v) { vertex_attrib_fv(c, "vertexAttrib1fv", i.value, v, 1); })
-        .def("vertexAttrib2fv", [](Context& c, IdlUint32 i, std::vector<float> v) { vertex_attrib_fv(c, "vertexAttrib2fv", i.value, v, 2); })
-        .def("vertexAttrib3fv", [](Context& c, IdlUint32 i, std::vector<float> v) { vertex_attrib_fv(c, "vertexAttrib3fv", i.value, v, 3); })
-        .def("vertexAttrib4fv", [](Context& c, IdlUint32 i, std::vector<float> v) { vertex_attrib_fv(c, "vertexAttrib4fv", i.value, v, 4); })
+        .def("vertexAttrib1fv", [](Context& c, IdlUint32 i, Arg<softgl::bindings::Floats> v) { vertex_attrib_fv(c, "vertexAttrib1fv", i.value, v, 1); })
+        .def("vertexAttrib2fv", [](Context& c, IdlUint32 i, Arg<softgl::bindings::Floats> v) { vertex_attrib_fv(c, "vertexAttrib2fv", i.value, v, 2); })
+        .def("vertexAttrib3fv", [](Context& c, IdlUint32 i, Arg<softgl::bindings::Floats> v) { vertex_attrib_fv(c, "vertexAttrib3fv", i.value, v, 3); })
+        .def("vertexAttrib4fv", [](Context& c, IdlUint32 i, Arg<softgl::bindings::Floats> v) { vertex_attrib_fv(c, "vertexAttrib4fv", i.value, v, 4); })
         .def("vertexAttribI4i", webidl(&Context::vertex_attrib_i4i))
         .def("vertexAttribI4ui", webidl(&Context::vertex_attrib_i4ui))
-        .def("vertexAttribI4iv", [](Context& c, IdlUint32 i, std::vector<int32_t> v) {
+        .def("vertexAttribI4iv", [](Context& c, IdlUint32 i, Arg<softgl::bindings::Ints> values) {
+            auto v = number_sequence<int32_t>("vertexAttribI4iv", "values", values);
             if (v.size() < 4) return c.record_error(gl::INVALID_VALUE, "vertexAttribI4iv", "needs 4 values");
-            c.vertex_attrib_i4i(i.value, v[0], v[1], v[2], v[3]);
+            c.vertex_attrib_i4i(i.value, v.data()[0], v.data()[1], v.data()[2], v.data()[3]);
         })
-        .def("vertexAttribI4uiv", [](Context& c, IdlUint32 i, std::vector<uint32_t> v) {
+        .def("vertexAttribI4uiv", [](Context& c, IdlUint32 i, Arg<softgl::bindings::Ints> values) {
+            auto v = number_sequence<uint32_t>("vertexAttribI4uiv", "values", values);
             if (v.size() < 4) return c.record_error(gl::INVALID_VALUE, "vertexAttribI4uiv", "needs 4 values");
-            c.vertex_attrib_i4ui(i.value, v[0], v[1], v[2], v[3]);
+            c.vertex_attrib_i4ui(i.value, v.data()[0], v.data()[1], v.data()[2], v.data()[3]);
         })
         .def("vertexAttribDivisor", webidl(&Context::vertex_attrib_divisor))
         .def("getVertexAttrib", [](Context& c, IdlUint32 index, IdlUint32 pname) {
@@ -411,10 +392,11 @@ void bind_drawing(ContextClass& cls) {
             softgl::bindings::ExclusiveWithoutGil release(c);
             c.draw_range_elements(mode.value, start.value, end.value, count.value, type.value, offset);
         })
-        .def("_fog", [](Context& c, const std::string& call, IdlUint32 pname, std::vector<float> values) {
-            if (values.empty()) return c.record_error(gl::INVALID_VALUE, "fogfv", "no values");
+        .def("_fog", [](Context& c, const std::string& call, IdlUint32 pname, Arg<softgl::bindings::Floats> given) {
             static thread_local std::string name;
             name = call;
+            auto values = number_sequence<float>(name.c_str(), "params", given);
+            if (values.size() == 0) return c.record_error(gl::INVALID_VALUE, "fogfv", "no values");
             c.fog(name.c_str(), pname.value, values.data(), int(values.size()));
         })
         .def("_stats", [](Context& c, bool reset) {
@@ -470,9 +452,8 @@ namespace {
 
 template <class T>
 void uniform_v(Context& c, const char* call, const softgl::UniformLocation* location, char kind, int columns,
-               int rows, py::object data, bool transpose, int64_t src_offset, int64_t src_length) {
-    auto arr = py::array_t<T, py::array::c_style | py::array::forcecast>::ensure(data);
-    if (!arr) throw py::type_error(std::string(call) + ": data must be a sequence of numbers");
+               int rows, py::handle data, bool transpose, int64_t src_offset, int64_t src_length) {
+    auto arr = number_sequence<T>(call, "data", data);
     const int64_t total = int64_t(arr.size());
     if (src_offset < 0 || src_length < 0 || src_offset > total || src_length > total - src_offset)
         return c.record_error(gl::INVALID_VALUE, call, "srcOffset/srcLength exceed the data");
@@ -492,21 +473,27 @@ void bind_uniform_arrays(py::module_& m) {
         for (int n = 1; n <= 4; ++n) {
             const char kind = kinds[k];
             std::string name = "uniform" + std::to_string(n) + (kind == 'f' ? "f" : kind == 'i' ? "i" : "ui") + "v";
-            auto f = [kind, n, name](Context& c, const softgl::UniformLocation* l, py::object data, int64_t off, int64_t len) {
+            // One lambda per argument type, so the stubs show Sequence[float] or Sequence[int].
+            auto setter = [kind, n, name](Context& c, const softgl::UniformLocation* l, py::handle data, int64_t off, int64_t len) {
                 static thread_local std::string call;
                 call = name;
                 if (kind == 'f') uniform_v<float>(c, call.c_str(), l, 'f', n, 0, data, false, off, len);
                 else if (kind == 'i') uniform_v<int32_t>(c, call.c_str(), l, 'i', n, 0, data, false, off, len);
                 else uniform_v<uint32_t>(c, call.c_str(), l, 'u', n, 0, data, false, off, len);
             };
-            cls.def(name.c_str(), f);
+            if (kind == 'f')
+                cls.def(name.c_str(), [setter](Context& c, const softgl::UniformLocation* l, Arg<softgl::bindings::Floats> data,
+                                               int64_t off, int64_t len) { setter(c, l, data, off, len); });
+            else
+                cls.def(name.c_str(), [setter](Context& c, const softgl::UniformLocation* l, Arg<softgl::bindings::Ints> data,
+                                               int64_t off, int64_t len) { setter(c, l, data, off, len); });
         }
     }
     for (int cols = 2; cols <= 4; ++cols)
         for (int rows = 2; rows <= 4; ++rows) {
             std::string name = "uniformMatrix" + std::to_string(cols) + (cols == rows ? "" : "x" + std::to_string(rows)) + "fv";
             cls.def(name.c_str(),
-                    [cols, rows, name](Context& c, const softgl::UniformLocation* l, bool transpose, py::object data, int64_t off, int64_t len) {
+                    [cols, rows, name](Context& c, const softgl::UniformLocation* l, bool transpose, Arg<softgl::bindings::Floats> data, int64_t off, int64_t len) {
                         static thread_local std::string call;
                         call = name;
                         uniform_v<float>(c, call.c_str(), l, 'm', cols, rows, data, transpose, off, len);

@@ -1,4 +1,4 @@
-// Conversions shared by the binding files: WebGL values to Python, NumPy dtypes to typed arrays.
+// Conversions shared by the binding files: WebGL values to Python (arrays from Python: array_intake.h).
 #pragma once
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -34,20 +34,6 @@ inline py::object to_python(const softgl::Value& value) {
         }
     };
     return std::visit(Visitor{}, value);
-}
-
-// The WebGL typed-array kind of a NumPy dtype (Uint8Array <-> uint8, ...); 0 if none.
-inline GLenum array_type_of(const py::dtype& dt) {
-    const char kind = dt.kind();
-    const auto size = dt.itemsize();
-    if (kind == 'u' && size == 1) return softgl::gl::UNSIGNED_BYTE;
-    if (kind == 'i' && size == 1) return softgl::gl::BYTE;
-    if (kind == 'u' && size == 2) return softgl::gl::UNSIGNED_SHORT;
-    if (kind == 'i' && size == 2) return softgl::gl::SHORT;
-    if (kind == 'u' && size == 4) return softgl::gl::UNSIGNED_INT;
-    if (kind == 'i' && size == 4) return softgl::gl::INT;
-    if (kind == 'f' && size == 4) return softgl::gl::FLOAT;
-    return 0;
 }
 
 }  // namespace softgl::bindings

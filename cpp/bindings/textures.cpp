@@ -7,6 +7,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include "array_intake.h"
 #include "convert.h"
 #include "softgl/api/context.h"
 #include "exclusive.h"
@@ -24,7 +25,9 @@ namespace gl = softgl::gl;
 
 namespace {
 
-using softgl::bindings::array_type_of;
+using softgl::bindings::Arg;
+using softgl::bindings::number_sequence;
+namespace kinds = softgl::bindings;
 using softgl::bindings::to_python;
 
 
@@ -33,52 +36,51 @@ using softgl::bindings::to_python;
 // Holds the converted pixels of one call.
 struct Pixels {
     TexSource source;
-    py::array keep;                 // the array the source points into
+    py::object keep;                // the array the source points into (array_intake.h)
     std::vector<uint8_t> rgba8;     // image sources, converted to RGBA rows
     std::vector<float> rgba32f;
 };
 
-// An ArrayBufferView argument: None, or a C-contiguous NumPy array (from element src_offset).
-void view_source(Context& c, const char* call, py::handle obj, int64_t src_offset, Pixels& px, bool* ok) {
+// An ArrayBufferView argument (array_intake.h): None, or a NumPy array (from element src_offset).
+void view_source(Context& c, const char* call, const char* param, py::handle obj, GLenum type, int64_t src_offset,
+                 Pixels& px, bool* ok) {
     *ok = true;
     if (obj.is_none()) return;
     // WebGL 2's GLintptr overloads: a byte offset into the PIXEL_UNPACK_BUFFER.
     if (c.version() >= 2 && !py::isinstance<py::array>(obj) && PyIndex_Check(obj.ptr()) && !PyBool_Check(obj.ptr())) {
         if (src_offset != 0) throw py::type_error(std::string(call) + ": a buffer offset takes no srcOffset");
         px.source.kind = TexSource::Kind::UnpackBuffer;
-        px.source.offset = obj.cast<int64_t>();
+        px.source.offset = softgl::bindings::byte_offset(call, param, obj);
         return;
     }
-    if (!py::isinstance<py::array>(obj))
-        throw py::type_error(std::string(call) + ": pixels must be a NumPy array (the ArrayBufferView) or None");
-    py::array arr = py::reinterpret_borrow<py::array>(obj);
-    if (!(arr.flags() & py::array::c_style)) throw py::type_error(std::string(call) + ": pixels must be C-contiguous");
-    const int64_t count = int64_t(arr.size());
-    if (src_offset < 0 || src_offset > count) {
+    const softgl::bindings::ClientArray arr = softgl::bindings::pixel_source(call, param, obj, type);
+    if (src_offset < 0 || src_offset > arr.count) {
         c.record_error(gl::INVALID_VALUE, call, "srcOffset exceeds the array");
         *ok = false;
         return;
     }
-    px.keep = arr;
+    px.keep = arr.array;
     px.source.kind = TexSource::Kind::View;
-    px.source.data = static_cast<const uint8_t*>(arr.data()) + src_offset * int64_t(arr.itemsize());
-    px.source.bytes = size_t((count - src_offset) * int64_t(arr.itemsize()));
-    px.source.array_type = array_type_of(arr.dtype());
+    px.source.data = arr.data + src_offset * arr.itemsize;
+    px.source.bytes = size_t((arr.count - src_offset) * arr.itemsize);
+    px.source.array_type = arr.type;
 }
 
 // An image source: an H x W (grey) or H x W x C array (C = 1 grey, 2 grey + alpha, 3 RGB, 4 RGBA)
 // of uint8 (0..255) or floats (any float dtype, taken as float32). Row 0 is the image's first row,
 // which WebGL uploads to texel row 0.
 void image_source(const char* call, py::handle obj, Pixels& px) {
-    if (!py::isinstance<py::array>(obj))
-        throw py::type_error(std::string(call) + ": the image source must be a NumPy array of shape (H, W) or (H, W, C)");
+    using softgl::bindings::refuse;
+    const std::string accepts = "an image: a NumPy array of shape (H, W) or (H, W, C), C = 1 to 4, of uint8 or floats";
+    if (!py::isinstance<py::array>(obj)) refuse(call, "source", accepts, obj, "use np.asarray(source, np.uint8)");
     py::array arr = py::reinterpret_borrow<py::array>(obj);
-    if (arr.ndim() != 2 && arr.ndim() != 3) throw py::type_error(std::string(call) + ": the image must have shape (H, W) or (H, W, C)");
+    if (arr.ndim() != 2 && arr.ndim() != 3)
+        refuse(call, "source", accepts, obj, "its shape is " + py::str(arr.attr("shape")).cast<std::string>());
     const py::ssize_t h = arr.shape(0), w = arr.shape(1), ch = arr.ndim() == 3 ? arr.shape(2) : 1;
-    if (ch < 1 || ch > 4) throw py::type_error(std::string(call) + ": the image must have 1 to 4 channels");
+    if (ch < 1 || ch > 4) refuse(call, "source", accepts, obj, "it has " + std::to_string(ch) + " channels");
     const char kind = arr.dtype().kind();
     const bool bytes = kind == 'u' && arr.itemsize() == 1;
-    if (!bytes && kind != 'f') throw py::type_error(std::string(call) + ": the image must be uint8 or floating point");
+    if (!bytes && kind != 'f') refuse(call, "source", accepts, obj, "use source.astype(np.uint8) or np.float32");
     const size_t n = size_t(h) * size_t(w);
     auto expand = [&](auto* out, auto get, auto one) {
         for (size_t i = 0; i < n; ++i) {
@@ -110,6 +112,12 @@ void image_source(const char* call, py::handle obj, Pixels& px) {
     px.source.height = int32_t(h);
 }
 
+// A sequence<GLenum> (drawBuffers, invalidateFramebuffer): numbers taken modulo 2^32, as WebIDL does.
+std::vector<uint32_t> enum_list(const char* call, const char* param, py::handle obj) {
+    auto a = number_sequence<uint32_t>(call, param, obj);
+    return std::vector<uint32_t>(a.data(), a.data() + a.size());
+}
+
 }  // namespace
 
 void bind_textures(py::module_& m) {
@@ -136,18 +144,18 @@ void bind_textures(py::module_& m) {
         // image source (..., format, type, source).
         .def("texImage2D", [](Context& c, IdlUint32 target, IdlInt32 level, IdlInt32 internal, IdlInt32 width,
                               IdlInt32 height, IdlInt32 border, IdlUint32 format, IdlUint32 type,
-                              py::object pixels, std::optional<int64_t> src_offset) {
+                              Arg<kinds::PixelsOrOffset> pixels, std::optional<int64_t> src_offset) {
             const char* call = "texImage2D";
             if (src_offset && c.version() < 2) throw py::type_error("texImage2D: srcOffset needs WebGL 2");
             Pixels px;
             bool ok;
-            view_source(c, call, pixels, src_offset.value_or(0), px, &ok);
+            view_source(c, call, "pixels", pixels, type.value, src_offset.value_or(0), px, &ok);
             if (!ok) return;
             c.tex_image(call, target.value, level.value, GLenum(internal.value), width.value, height.value, 1,
                         border.value, format.value, type.value, px.source);
         })
         .def("texImage2D", [](Context& c, IdlUint32 target, IdlInt32 level, IdlInt32 internal, IdlUint32 format,
-                              IdlUint32 type, py::object source) {
+                              IdlUint32 type, Arg<kinds::Image> source) {
             const char* call = "texImage2D";
             Pixels px;
             image_source(call, source, px);
@@ -155,18 +163,18 @@ void bind_textures(py::module_& m) {
                         format.value, type.value, px.source);
         })
         .def("texSubImage2D", [](Context& c, IdlUint32 target, IdlInt32 level, IdlInt32 x, IdlInt32 y, IdlInt32 width,
-                                 IdlInt32 height, IdlUint32 format, IdlUint32 type, py::object pixels,
+                                 IdlInt32 height, IdlUint32 format, IdlUint32 type, Arg<kinds::PixelsOrOffset> pixels,
                                  std::optional<int64_t> src_offset) {
             const char* call = "texSubImage2D";
             Pixels px;
             bool ok;
-            view_source(c, call, pixels, src_offset.value_or(0), px, &ok);
+            view_source(c, call, "pixels", pixels, type.value, src_offset.value_or(0), px, &ok);
             if (!ok) return;
             c.tex_sub_image(call, target.value, level.value, x.value, y.value, 0, width.value, height.value, 1,
                             format.value, type.value, px.source);
         })
         .def("texSubImage2D", [](Context& c, IdlUint32 target, IdlInt32 level, IdlInt32 x, IdlInt32 y, IdlUint32 format,
-                                 IdlUint32 type, py::object source) {
+                                 IdlUint32 type, Arg<kinds::Image> source) {
             const char* call = "texSubImage2D";
             Pixels px;
             image_source(call, source, px);
@@ -174,18 +182,18 @@ void bind_textures(py::module_& m) {
                             format.value, type.value, px.source);
         })
         .def("texImage3D", [](Context& c, IdlUint32 target, IdlInt32 level, IdlInt32 internal, IdlInt32 w, IdlInt32 h,
-                              IdlInt32 d, IdlInt32 border, IdlUint32 format, IdlUint32 type, py::object pixels, int64_t src_offset) {
+                              IdlInt32 d, IdlInt32 border, IdlUint32 format, IdlUint32 type, Arg<kinds::PixelsOrOffset> pixels, int64_t src_offset) {
             Pixels px;
             bool ok;
-            view_source(c, "texImage3D", pixels, src_offset, px, &ok);
+            view_source(c, "texImage3D", "srcData", pixels, type.value, src_offset, px, &ok);
             if (ok) c.tex_image("texImage3D", target.value, level.value, GLenum(internal.value), w.value, h.value, d.value,
                                 border.value, format.value, type.value, px.source);
         })
         .def("texSubImage3D", [](Context& c, IdlUint32 target, IdlInt32 level, IdlInt32 x, IdlInt32 y, IdlInt32 z, IdlInt32 w,
-                                 IdlInt32 h, IdlInt32 d, IdlUint32 format, IdlUint32 type, py::object pixels, int64_t src_offset) {
+                                 IdlInt32 h, IdlInt32 d, IdlUint32 format, IdlUint32 type, Arg<kinds::PixelsOrOffset> pixels, int64_t src_offset) {
             Pixels px;
             bool ok;
-            view_source(c, "texSubImage3D", pixels, src_offset, px, &ok);
+            view_source(c, "texSubImage3D", "srcData", pixels, type.value, src_offset, px, &ok);
             if (ok) c.tex_sub_image("texSubImage3D", target.value, level.value, x.value, y.value, z.value, w.value, h.value,
                                     d.value, format.value, type.value, px.source);
         })
@@ -253,38 +261,38 @@ void bind_textures(py::module_& m) {
             softgl::bindings::ExclusiveWithoutGil release(c);
             c.blit_framebuffer(sx0.value, sy0.value, sx1.value, sy1.value, dx0.value, dy0.value, dx1.value, dy1.value, mask.value, filter.value);
         })
-        .def("clearBufferfv", [](Context& c, IdlUint32 buffer, IdlInt32 drawbuffer, py::object values, int64_t off) {
-            auto a = py::array_t<float, py::array::c_style | py::array::forcecast>::ensure(values);
-            if (!a) throw py::type_error("clearBufferfv: values must be a sequence of numbers");
+        .def("clearBufferfv", [](Context& c, IdlUint32 buffer, IdlInt32 drawbuffer, Arg<kinds::Floats> values, int64_t off) {
+            auto a = number_sequence<float>("clearBufferfv", "values", values);
             if (off < 0 || off > int64_t(a.size())) return c.record_error(gl::INVALID_VALUE, "clearBufferfv", "srcOffset exceeds the values");
             c.clear_buffer("clearBufferfv", buffer.value, drawbuffer.value, 'f', a.data() + off, size_t(a.size() - off), 0, 0);
         })
-        .def("clearBufferiv", [](Context& c, IdlUint32 buffer, IdlInt32 drawbuffer, py::object values, int64_t off) {
-            auto a = py::array_t<int32_t, py::array::c_style | py::array::forcecast>::ensure(values);
-            if (!a) throw py::type_error("clearBufferiv: values must be a sequence of integers");
+        .def("clearBufferiv", [](Context& c, IdlUint32 buffer, IdlInt32 drawbuffer, Arg<kinds::Ints> values, int64_t off) {
+            auto a = number_sequence<int32_t>("clearBufferiv", "values", values);
             if (off < 0 || off > int64_t(a.size())) return c.record_error(gl::INVALID_VALUE, "clearBufferiv", "srcOffset exceeds the values");
             c.clear_buffer("clearBufferiv", buffer.value, drawbuffer.value, 'i', a.data() + off, size_t(a.size() - off), 0, 0);
         })
-        .def("clearBufferuiv", [](Context& c, IdlUint32 buffer, IdlInt32 drawbuffer, py::object values, int64_t off) {
-            auto a = py::array_t<uint32_t, py::array::c_style | py::array::forcecast>::ensure(values);
-            if (!a) throw py::type_error("clearBufferuiv: values must be a sequence of integers");
+        .def("clearBufferuiv", [](Context& c, IdlUint32 buffer, IdlInt32 drawbuffer, Arg<kinds::Ints> values, int64_t off) {
+            auto a = number_sequence<uint32_t>("clearBufferuiv", "values", values);
             if (off < 0 || off > int64_t(a.size())) return c.record_error(gl::INVALID_VALUE, "clearBufferuiv", "srcOffset exceeds the values");
             c.clear_buffer("clearBufferuiv", buffer.value, drawbuffer.value, 'u', a.data() + off, size_t(a.size() - off), 0, 0);
         })
         .def("clearBufferfi", [](Context& c, IdlUint32 buffer, IdlInt32 drawbuffer, float depth, IdlInt32 stencil) {
             c.clear_buffer("clearBufferfi", buffer.value, drawbuffer.value, 's', nullptr, 0, depth, stencil.value);
         })
-        .def("drawBuffers", [](Context& c, std::vector<uint32_t> buffers) { c.draw_buffers("drawBuffers", buffers); })
-        .def("_drawBuffersWEBGL", [](Context& c, std::vector<uint32_t> buffers) {
+        .def("drawBuffers", [](Context& c, Arg<kinds::Ints> buffers) { c.draw_buffers("drawBuffers", enum_list("drawBuffers", "buffers", buffers)); })
+        .def("_drawBuffersWEBGL", [](Context& c, Arg<kinds::Ints> list) {
+            const std::vector<uint32_t> buffers = enum_list("drawBuffersWEBGL", "buffers", list);
             if (!c.extension_enabled("WEBGL_draw_buffers"))
                 return c.record_error(gl::INVALID_OPERATION, "drawBuffersWEBGL", "WEBGL_draw_buffers is not enabled");
             c.draw_buffers("drawBuffersWEBGL", buffers);
         })
-        .def("invalidateFramebuffer", [](Context& c, IdlUint32 target, std::vector<uint32_t> attachments) {
-            c.invalidate_framebuffer("invalidateFramebuffer", target.value, attachments);
+        .def("invalidateFramebuffer", [](Context& c, IdlUint32 target, Arg<kinds::Ints> attachments) {
+            c.invalidate_framebuffer("invalidateFramebuffer", target.value,
+                                     enum_list("invalidateFramebuffer", "attachments", attachments));
         })
-        .def("invalidateSubFramebuffer", [](Context& c, IdlUint32 target, std::vector<uint32_t> attachments, IdlInt32 x,
+        .def("invalidateSubFramebuffer", [](Context& c, IdlUint32 target, Arg<kinds::Ints> list, IdlInt32 x,
                                             IdlInt32 y, IdlInt32 w, IdlInt32 h) {
+            const std::vector<uint32_t> attachments = enum_list("invalidateSubFramebuffer", "attachments", list);
             if (w.value < 0 || h.value < 0) return c.record_error(gl::INVALID_VALUE, "invalidateSubFramebuffer", "width and height must not be negative");
             c.invalidate_framebuffer("invalidateSubFramebuffer", target.value, attachments);
         });

@@ -82,11 +82,11 @@ class Context:
         ...
     def _attributes(self) -> ContextAttributes:
         ...
-    def _drawBuffersWEBGL(self, arg0: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex]) -> None:
+    def _drawBuffersWEBGL(self, arg0: collections.abc.Sequence[int] | numpy.ndarray) -> None:
         ...
     def _enable_extension(self, arg0: str) -> bool:
         ...
-    def _fog(self, arg0: str, arg1: int, arg2: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex]) -> None:
+    def _fog(self, arg0: str, arg1: int, arg2: collections.abc.Sequence[float] | numpy.ndarray) -> None:
         ...
     def _introspection_memory(self) -> dict:
         ...
@@ -170,7 +170,7 @@ class Context:
         """
         Copies a rectangle of the read framebuffer to a rectangle of the draw framebuffer, scaling with filter.
         """
-    def bufferData(self, target: int, data: typing.Any, usage: int, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, length: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
+    def bufferData(self, target: int, data: int | typing_extensions.Buffer | None, usage: int, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, length: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
         """
         Creates the bound buffer's data store: from an array or bytes (data), or zeroed of data bytes (an int).
         """
@@ -190,15 +190,15 @@ class Context:
         """
         Clears the depth and stencil buffers at once.
         """
-    def clearBufferfv(self, buffer: int, drawbuffer: int, values: typing.Any, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
+    def clearBufferfv(self, buffer: int, drawbuffer: int, values: collections.abc.Sequence[float] | numpy.ndarray, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
         """
         Clears one float colour buffer (or the depth buffer) to values.
         """
-    def clearBufferiv(self, buffer: int, drawbuffer: int, values: typing.Any, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
+    def clearBufferiv(self, buffer: int, drawbuffer: int, values: collections.abc.Sequence[int] | numpy.ndarray, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
         """
         Clears one integer colour buffer (or the stencil buffer) to values.
         """
-    def clearBufferuiv(self, buffer: int, drawbuffer: int, values: typing.Any, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
+    def clearBufferuiv(self, buffer: int, drawbuffer: int, values: collections.abc.Sequence[int] | numpy.ndarray, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
         """
         Clears one unsigned integer colour buffer to values.
         """
@@ -338,7 +338,7 @@ class Context:
         """
         As drawArrays, instanceCount times (gl_InstanceID counts them).
         """
-    def drawBuffers(self, buffers: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex]) -> None:
+    def drawBuffers(self, buffers: collections.abc.Sequence[int] | numpy.ndarray) -> None:
         """
         Chooses the colour buffer each fragment shader output writes to.
         """
@@ -490,11 +490,11 @@ class Context:
         """
         Sets an implementation hint (GENERATE_MIPMAP_HINT, ...).
         """
-    def invalidateFramebuffer(self, target: int, attachments: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex]) -> None:
+    def invalidateFramebuffer(self, target: int, attachments: collections.abc.Sequence[int] | numpy.ndarray) -> None:
         """
         Declares that the attachments' contents are no longer needed.
         """
-    def invalidateSubFramebuffer(self, target: int, attachments: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex], x: int, y: int, width: int, height: int) -> None:
+    def invalidateSubFramebuffer(self, target: int, attachments: collections.abc.Sequence[int] | numpy.ndarray, x: int, y: int, width: int, height: int) -> None:
         """
         Declares that a rectangle of the attachments is no longer needed.
         """
@@ -558,7 +558,7 @@ class Context:
         """
         Chooses the colour buffer that readPixels and copies read.
         """
-    def readPixels(self, x: int, y: int, width: int, height: int, format: int, type: int, pixels: typing.Any = None) -> typing.Any:
+    def readPixels(self, x: int, y: int, width: int, height: int, format: int, type: int, pixels: numpy.ndarray | int | None = None) -> typing.Any:
         """
         Reads a rectangle of the read framebuffer: into pixels (an array or, WebGL 2, a PIXEL_PACK_BUFFER offset), or returned as a new (height, width, 4) array when pixels is None.
         """
@@ -615,16 +615,16 @@ class Context:
         Sets the stencil operations for front, back or both faces.
         """
     @typing.overload
-    def texImage2D(self, target: int, level: int, internalformat: int, width: int, height: int, border: int, format: int, type: int, pixels: typing.Any, srcOffset: typing.SupportsInt | typing.SupportsIndex | None = None) -> None:
+    def texImage2D(self, target: int, level: int, internalformat: int, width: int, height: int, border: int, format: int, type: int, pixels: numpy.ndarray | int | None, srcOffset: typing.SupportsInt | typing.SupportsIndex | None = None) -> None:
         """
         Gives a 2D texture level its size and texels from pixels (an array, None for zeros, or, WebGL 2, a PIXEL_UNPACK_BUFFER offset); srcOffset (WebGL 2) skips that many elements of the array.
         """
     @typing.overload
-    def texImage2D(self, target: int, level: int, internalformat: int, format: int, type: int, source: typing.Any) -> None:
+    def texImage2D(self, target: int, level: int, internalformat: int, format: int, type: int, source: numpy.ndarray) -> None:
         """
         Gives a 2D texture level the size and texels of an image: an (H, W) or (H, W, C) uint8 or float array.
         """
-    def texImage3D(self, target: int, level: int, internalformat: int, width: int, height: int, depth: int, border: int, format: int, type: int, srcData: typing.Any, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
+    def texImage3D(self, target: int, level: int, internalformat: int, width: int, height: int, depth: int, border: int, format: int, type: int, srcData: numpy.ndarray | int | None, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
         """
         Gives a 3D or 2D array texture level its size and texels.
         """
@@ -645,16 +645,16 @@ class Context:
         Allocates all levels of an immutable 3D or 2D array texture at once.
         """
     @typing.overload
-    def texSubImage2D(self, target: int, level: int, xoffset: int, yoffset: int, width: int, height: int, format: int, type: int, pixels: typing.Any, srcOffset: typing.SupportsInt | typing.SupportsIndex | None = None) -> None:
+    def texSubImage2D(self, target: int, level: int, xoffset: int, yoffset: int, width: int, height: int, format: int, type: int, pixels: numpy.ndarray | int | None, srcOffset: typing.SupportsInt | typing.SupportsIndex | None = None) -> None:
         """
         Replaces a rectangle of a 2D texture level with pixels (an array or, WebGL 2, a PIXEL_UNPACK_BUFFER offset).
         """
     @typing.overload
-    def texSubImage2D(self, target: int, level: int, xoffset: int, yoffset: int, format: int, type: int, source: typing.Any) -> None:
+    def texSubImage2D(self, target: int, level: int, xoffset: int, yoffset: int, format: int, type: int, source: numpy.ndarray) -> None:
         """
         Replaces a rectangle of a 2D texture level with an image: an (H, W) or (H, W, C) uint8 or float array.
         """
-    def texSubImage3D(self, target: int, level: int, xoffset: int, yoffset: int, zoffset: int, width: int, height: int, depth: int, format: int, type: int, srcData: typing.Any, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
+    def texSubImage3D(self, target: int, level: int, xoffset: int, yoffset: int, zoffset: int, width: int, height: int, depth: int, format: int, type: int, srcData: numpy.ndarray | int | None, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
         """
         Replaces a box of a 3D or 2D array texture level.
         """
@@ -662,7 +662,7 @@ class Context:
         """
         Sets a float uniform.
         """
-    def uniform1fv(self, location: WebGLUniformLocation, data: typing.Any, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
+    def uniform1fv(self, location: WebGLUniformLocation, data: collections.abc.Sequence[float] | numpy.ndarray, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
         """
         Sets a float uniform (or array) from a sequence.
         """
@@ -670,7 +670,7 @@ class Context:
         """
         Sets an int, bool or sampler uniform (a sampler takes its texture unit).
         """
-    def uniform1iv(self, location: WebGLUniformLocation, data: typing.Any, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
+    def uniform1iv(self, location: WebGLUniformLocation, data: collections.abc.Sequence[int] | numpy.ndarray, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
         """
         Sets an int, bool or sampler uniform (or array) from a sequence.
         """
@@ -678,7 +678,7 @@ class Context:
         """
         Sets a uint uniform.
         """
-    def uniform1uiv(self, location: WebGLUniformLocation, data: typing.Any, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
+    def uniform1uiv(self, location: WebGLUniformLocation, data: collections.abc.Sequence[int] | numpy.ndarray, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
         """
         Sets a uint uniform (or array) from a sequence.
         """
@@ -686,7 +686,7 @@ class Context:
         """
         Sets a vec2 uniform.
         """
-    def uniform2fv(self, location: WebGLUniformLocation, data: typing.Any, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
+    def uniform2fv(self, location: WebGLUniformLocation, data: collections.abc.Sequence[float] | numpy.ndarray, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
         """
         Sets a vec2 uniform (or array) from a sequence.
         """
@@ -694,7 +694,7 @@ class Context:
         """
         Sets an ivec2 or bvec2 uniform.
         """
-    def uniform2iv(self, location: WebGLUniformLocation, data: typing.Any, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
+    def uniform2iv(self, location: WebGLUniformLocation, data: collections.abc.Sequence[int] | numpy.ndarray, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
         """
         Sets an ivec2 uniform (or array) from a sequence.
         """
@@ -702,7 +702,7 @@ class Context:
         """
         Sets a uvec2 uniform.
         """
-    def uniform2uiv(self, location: WebGLUniformLocation, data: typing.Any, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
+    def uniform2uiv(self, location: WebGLUniformLocation, data: collections.abc.Sequence[int] | numpy.ndarray, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
         """
         Sets a uvec2 uniform (or array) from a sequence.
         """
@@ -710,7 +710,7 @@ class Context:
         """
         Sets a vec3 uniform.
         """
-    def uniform3fv(self, location: WebGLUniformLocation, data: typing.Any, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
+    def uniform3fv(self, location: WebGLUniformLocation, data: collections.abc.Sequence[float] | numpy.ndarray, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
         """
         Sets a vec3 uniform (or array) from a sequence.
         """
@@ -718,7 +718,7 @@ class Context:
         """
         Sets an ivec3 or bvec3 uniform.
         """
-    def uniform3iv(self, location: WebGLUniformLocation, data: typing.Any, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
+    def uniform3iv(self, location: WebGLUniformLocation, data: collections.abc.Sequence[int] | numpy.ndarray, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
         """
         Sets an ivec3 uniform (or array) from a sequence.
         """
@@ -726,7 +726,7 @@ class Context:
         """
         Sets a uvec3 uniform.
         """
-    def uniform3uiv(self, location: WebGLUniformLocation, data: typing.Any, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
+    def uniform3uiv(self, location: WebGLUniformLocation, data: collections.abc.Sequence[int] | numpy.ndarray, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
         """
         Sets a uvec3 uniform (or array) from a sequence.
         """
@@ -734,7 +734,7 @@ class Context:
         """
         Sets a vec4 uniform.
         """
-    def uniform4fv(self, location: WebGLUniformLocation, data: typing.Any, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
+    def uniform4fv(self, location: WebGLUniformLocation, data: collections.abc.Sequence[float] | numpy.ndarray, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
         """
         Sets a vec4 uniform (or array) from a sequence.
         """
@@ -742,7 +742,7 @@ class Context:
         """
         Sets an ivec4 or bvec4 uniform.
         """
-    def uniform4iv(self, location: WebGLUniformLocation, data: typing.Any, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
+    def uniform4iv(self, location: WebGLUniformLocation, data: collections.abc.Sequence[int] | numpy.ndarray, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
         """
         Sets an ivec4 uniform (or array) from a sequence.
         """
@@ -750,43 +750,43 @@ class Context:
         """
         Sets a uvec4 uniform.
         """
-    def uniform4uiv(self, location: WebGLUniformLocation, data: typing.Any, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
+    def uniform4uiv(self, location: WebGLUniformLocation, data: collections.abc.Sequence[int] | numpy.ndarray, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
         """
         Sets a uvec4 uniform (or array) from a sequence.
         """
-    def uniformMatrix2fv(self, location: WebGLUniformLocation, transpose: bool, data: typing.Any, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
+    def uniformMatrix2fv(self, location: WebGLUniformLocation, transpose: bool, data: collections.abc.Sequence[float] | numpy.ndarray, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
         """
         Sets a mat2 uniform (or array) from column-major values.
         """
-    def uniformMatrix2x3fv(self, location: WebGLUniformLocation, transpose: bool, data: typing.Any, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
+    def uniformMatrix2x3fv(self, location: WebGLUniformLocation, transpose: bool, data: collections.abc.Sequence[float] | numpy.ndarray, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
         """
         Sets a mat2x3 uniform (or array) from column-major values.
         """
-    def uniformMatrix2x4fv(self, location: WebGLUniformLocation, transpose: bool, data: typing.Any, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
+    def uniformMatrix2x4fv(self, location: WebGLUniformLocation, transpose: bool, data: collections.abc.Sequence[float] | numpy.ndarray, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
         """
         Sets a mat2x4 uniform (or array) from column-major values.
         """
-    def uniformMatrix3fv(self, location: WebGLUniformLocation, transpose: bool, data: typing.Any, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
+    def uniformMatrix3fv(self, location: WebGLUniformLocation, transpose: bool, data: collections.abc.Sequence[float] | numpy.ndarray, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
         """
         Sets a mat3 uniform (or array) from column-major values.
         """
-    def uniformMatrix3x2fv(self, location: WebGLUniformLocation, transpose: bool, data: typing.Any, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
+    def uniformMatrix3x2fv(self, location: WebGLUniformLocation, transpose: bool, data: collections.abc.Sequence[float] | numpy.ndarray, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
         """
         Sets a mat3x2 uniform (or array) from column-major values.
         """
-    def uniformMatrix3x4fv(self, location: WebGLUniformLocation, transpose: bool, data: typing.Any, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
+    def uniformMatrix3x4fv(self, location: WebGLUniformLocation, transpose: bool, data: collections.abc.Sequence[float] | numpy.ndarray, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
         """
         Sets a mat3x4 uniform (or array) from column-major values.
         """
-    def uniformMatrix4fv(self, location: WebGLUniformLocation, transpose: bool, data: typing.Any, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
+    def uniformMatrix4fv(self, location: WebGLUniformLocation, transpose: bool, data: collections.abc.Sequence[float] | numpy.ndarray, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
         """
         Sets a mat4 uniform (or array) from column-major values.
         """
-    def uniformMatrix4x2fv(self, location: WebGLUniformLocation, transpose: bool, data: typing.Any, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
+    def uniformMatrix4x2fv(self, location: WebGLUniformLocation, transpose: bool, data: collections.abc.Sequence[float] | numpy.ndarray, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
         """
         Sets a mat4x2 uniform (or array) from column-major values.
         """
-    def uniformMatrix4x3fv(self, location: WebGLUniformLocation, transpose: bool, data: typing.Any, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
+    def uniformMatrix4x3fv(self, location: WebGLUniformLocation, transpose: bool, data: collections.abc.Sequence[float] | numpy.ndarray, srcOffset: typing.SupportsInt | typing.SupportsIndex = 0, srcLength: typing.SupportsInt | typing.SupportsIndex = 0) -> None:
         """
         Sets a mat4x3 uniform (or array) from column-major values.
         """
@@ -802,7 +802,7 @@ class Context:
         """
         Sets the constant value of attribute index to (x, 0, 0, 1).
         """
-    def vertexAttrib1fv(self, index: int, values: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex]) -> None:
+    def vertexAttrib1fv(self, index: int, values: collections.abc.Sequence[float] | numpy.ndarray) -> None:
         """
         As vertexAttrib1f, from a sequence.
         """
@@ -810,7 +810,7 @@ class Context:
         """
         Sets the constant value of attribute index to (x, y, 0, 1).
         """
-    def vertexAttrib2fv(self, index: int, values: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex]) -> None:
+    def vertexAttrib2fv(self, index: int, values: collections.abc.Sequence[float] | numpy.ndarray) -> None:
         """
         As vertexAttrib2f, from a sequence.
         """
@@ -818,7 +818,7 @@ class Context:
         """
         Sets the constant value of attribute index to (x, y, z, 1).
         """
-    def vertexAttrib3fv(self, index: int, values: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex]) -> None:
+    def vertexAttrib3fv(self, index: int, values: collections.abc.Sequence[float] | numpy.ndarray) -> None:
         """
         As vertexAttrib3f, from a sequence.
         """
@@ -826,7 +826,7 @@ class Context:
         """
         Sets the constant value of attribute index to (x, y, z, w).
         """
-    def vertexAttrib4fv(self, index: int, values: collections.abc.Sequence[typing.SupportsFloat | typing.SupportsIndex]) -> None:
+    def vertexAttrib4fv(self, index: int, values: collections.abc.Sequence[float] | numpy.ndarray) -> None:
         """
         As vertexAttrib4f, from a sequence.
         """
@@ -838,7 +838,7 @@ class Context:
         """
         Sets the constant value of integer attribute index.
         """
-    def vertexAttribI4iv(self, index: int, values: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex]) -> None:
+    def vertexAttribI4iv(self, index: int, values: collections.abc.Sequence[int] | numpy.ndarray) -> None:
         """
         As vertexAttribI4i, from a sequence of 4.
         """
@@ -846,7 +846,7 @@ class Context:
         """
         Sets the constant value of unsigned integer attribute index.
         """
-    def vertexAttribI4uiv(self, index: int, values: collections.abc.Sequence[typing.SupportsInt | typing.SupportsIndex]) -> None:
+    def vertexAttribI4uiv(self, index: int, values: collections.abc.Sequence[int] | numpy.ndarray) -> None:
         """
         As vertexAttribI4ui, from a sequence of 4.
         """

@@ -57,9 +57,9 @@ def _float64_met(gl, call: str, texture_type=None):
 def _column_major(value):
     """A matrix in math layout M[row, col] (2-D, or an array of them) -> WebGL's column-major
     floats; anything else (flat sequences) is passed as it is."""
-    if type(value) is np.ndarray and value.ndim >= 2:
+    if type(value) is np.ndarray and value.ndim >= 2 and value.dtype.kind in "biuf":
         return np.ascontiguousarray(np.swapaxes(value, -1, -2), np.float32).reshape(-1)
-    return value
+    return value   # the array intake refuses what is not numbers (docs/reliability.md, "Array intake")
 
 
 def _matrix_setter(name: str):
@@ -182,7 +182,7 @@ def _extension_functions(name: str, gl) -> dict:
                 "isVertexArrayOES": lambda vao: core.isVertexArray(ref(), vao)}
     if name == "SOFTGL_fog":
         def fogfv(pname, values):
-            core._fog(ref(), "fogfv", pname, [float(v) for v in values])
+            core._fog(ref(), "fogfv", pname, values)
         return {"fogf": lambda pname, value: core._fog(ref(), "fogf", pname, [float(value)]),
                 "fogi": lambda pname, value: core._fog(ref(), "fogi", pname, [float(value)]),
                 "fogfv": fogfv}

@@ -219,8 +219,12 @@ def test_read_errors_for_sizes_and_destination(quiet):
     assert empty.shape == (0, 0, 4) and gl.getError() == gl.NO_ERROR
     with pytest.raises(TypeError):
         gl.readPixels(0, 0, 2, 2, gl.RGBA, gl.UNSIGNED_BYTE, [0] * 16)
-    with pytest.raises(TypeError):
-        gl.readPixels(0, 0, 2, 2, gl.RGBA, gl.UNSIGNED_BYTE, np.zeros((4, 16), np.uint8)[:, ::2])
+    # A strided destination is written through a native copy (docs/reliability.md, "Array intake").
+    strided = np.full((2, 16), 7, np.uint8)
+    gl.readPixels(0, 0, 2, 2, gl.RGBA, gl.UNSIGNED_BYTE, strided[:, ::2])
+    assert gl.getError() == gl.NO_ERROR
+    assert np.array_equal(strided[:, ::2].reshape(-1), gl.readPixels(0, 0, 2, 2, gl.RGBA, gl.UNSIGNED_BYTE).reshape(-1))
+    assert (strided[:, 1::2] == 7).all()
 
 
 def test_huge_read_fails_cleanly(quiet):

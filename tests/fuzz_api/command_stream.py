@@ -283,9 +283,32 @@ class CommandFuzzer:
             a = self.rng.uniform(-2, 2, n).astype(dtype)
             if n and self.rng.random() < 0.3:
                 a[int(self.rng.integers(n))] = [np.nan, np.inf, -np.inf][int(self.rng.integers(3))]
-            return a
+            return self.layout(a)
         info = np.iinfo(dtype)
-        return self.rng.integers(max(info.min, -4), min(info.max, 8), n, endpoint=True).astype(dtype)
+        return self.layout(self.rng.integers(max(info.min, -4), min(info.max, 8), n, endpoint=True).astype(dtype))
+
+    def layout(self, a):
+        """Mostly `a`; else the same values in another NumPy layout (big-endian, strided, Fortran
+        order, misaligned) or something the array intake refuses (read-only, object, a list):
+        docs/reliability.md, "Array intake"."""
+        if a.size < 2 or self.rng.random() < 0.8:
+            return a
+        pick = int(self.rng.integers(7))
+        if pick == 0:
+            return a.astype(a.dtype.newbyteorder(">"))
+        if pick == 1:
+            strided = np.zeros(2 * a.size, a.dtype)
+            strided[::2] = a
+            return strided[::2]
+        if pick == 2:
+            return np.asfortranarray(a[: a.size // 2 * 2].reshape(2, -1))
+        if pick == 3:
+            return np.frombuffer(bytearray(b"\0" + a.tobytes()), a.dtype, offset=1)
+        if pick == 4:
+            read_only = a.copy()
+            read_only.flags.writeable = False
+            return read_only
+        return a.astype(object) if pick == 5 else a.tolist()
 
     def floats(self, max_len=20):
         return [self.float_() for _ in range(int(self.rng.integers(0, max_len + 1)))]

@@ -496,8 +496,19 @@ bool Context::check_tex_source(const char* call, const TexSource& given, GLenum 
     }
     const uint64_t needed = unpack_size(u, width, height, depth);
     if (src.bytes < needed) {
-        error(gl::INVALID_OPERATION, call, "the pixel array holds " + std::to_string(src.bytes) + " bytes, " +
-              std::to_string(needed) + " are needed");
+        std::string why = "the pixel array holds " + std::to_string(src.bytes) + " bytes, " + std::to_string(needed) +
+                          " are needed";
+        PixelUnpack tight = u;
+        tight.alignment = 1;
+        if (u.alignment > 1 && src.bytes >= unpack_size(tight, width, height, depth)) {
+            // The shortfall is the row padding (ES 3.0 §3.7.2 / §3.8.3): say so, as it surprises.
+            const uint64_t row = uint64_t(u.row_length > 0 ? u.row_length : width) * uint64_t(pixel_bytes(format, type));
+            const uint64_t padded = (row + uint64_t(u.alignment) - 1) / uint64_t(u.alignment) * uint64_t(u.alignment);
+            why += ": UNPACK_ALIGNMENT is " + std::to_string(u.alignment) + ", so each row of " + std::to_string(row) +
+                   " bytes starts " + std::to_string(padded) + " bytes after the previous one (all rows but the last "
+                   "are padded); pad the rows or call pixelStorei(UNPACK_ALIGNMENT, 1)";
+        }
+        error(gl::INVALID_OPERATION, call, why);
         return false;
     }
     u.data = src.data;
