@@ -678,23 +678,17 @@ def _worker_main(conn, width: int, height: int, threads: int, samples: int) -> N
     renderer.close()
 
 
-class LlvmpipeProcess:
-    """An llvmpipe renderer living in its own process, so each can have its own LP_NUM_THREADS.
+class WorkerProcess:
+    """A Mesa worker in its own "spawn" process (a fresh interpreter that has never loaded Mesa,
+    whatever the parent did), answering ``(method, args)`` requests over a pipe with
+    ``("ok", value)`` or ``("error", exception)``. Subclasses name the worker's entry point."""
 
-    It stays alive between requests, so a benchmark can alternate softgl and llvmpipe runs (A/B)
-    without paying process start and shader compiles every time. Methods mirror
-    ``LlvmpipeRenderer``: ``render``, ``time_draws``, ``info``.
-    """
-
-    def __init__(self, width: int, height: int, threads: int, samples: int = 0):
-        # "spawn": a fresh interpreter that has never loaded Mesa, whatever the parent did.
+    def __init__(self, target, *args):
         ctx = multiprocessing.get_context("spawn")
         self._conn, child = ctx.Pipe()
-        self._proc = ctx.Process(target=_worker_main, args=(child, width, height, threads, samples),
-                                 daemon=True)
+        self._proc = ctx.Process(target=target, args=(child, *args), daemon=True)
         self._proc.start()
         child.close()
-        self._info = self._reply()
 
     def _reply(self):
         try:
@@ -708,15 +702,6 @@ class LlvmpipeProcess:
     def _call(self, method: str, *args):
         self._conn.send((method, args))
         return self._reply()
-
-    def info(self) -> dict:
-        return dict(self._info)
-
-    def render(self, scene: Scene) -> np.ndarray:
-        return self._call("render", scene)
-
-    def time_draws(self, scene: Scene, repeats: int = 10, warmup: int = 1) -> list[float]:
-        return self._call("time_draws", scene, repeats, warmup)
 
     def close(self) -> None:
         if self._proc.is_alive():
@@ -732,6 +717,28 @@ class LlvmpipeProcess:
 
     def __exit__(self, *exc):
         self.close()
+
+
+class LlvmpipeProcess(WorkerProcess):
+    """An llvmpipe renderer living in its own process, so each can have its own LP_NUM_THREADS.
+
+    It stays alive between requests, so a benchmark can alternate softgl and llvmpipe runs (A/B)
+    without paying process start and shader compiles every time. Methods mirror
+    ``LlvmpipeRenderer``: ``render``, ``time_draws``, ``info``.
+    """
+
+    def __init__(self, width: int, height: int, threads: int, samples: int = 0):
+        super().__init__(_worker_main, width, height, threads, samples)
+        self._info = self._reply()
+
+    def info(self) -> dict:
+        return dict(self._info)
+
+    def render(self, scene: Scene) -> np.ndarray:
+        return self._call("render", scene)
+
+    def time_draws(self, scene: Scene, repeats: int = 10, warmup: int = 1) -> list[float]:
+        return self._call("time_draws", scene, repeats, warmup)
 
 
 def run_in_subprocess(scene: Scene, threads: int, width: int, height: int, samples: int = 0,

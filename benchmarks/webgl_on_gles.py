@@ -23,15 +23,14 @@ the canvas.
 from __future__ import annotations
 
 import ctypes as _c
-import multiprocessing
 import time
 
 import numpy as np
 
 try:  # as a script's sibling (python benchmarks/ordinary.py) or as a package module (tests)
-    from reference_gl import GL, LlvmpipeRenderer
+    from reference_gl import GL, LlvmpipeRenderer, WorkerProcess
 except ImportError:  # pragma: no cover
-    from .reference_gl import GL, LlvmpipeRenderer
+    from .reference_gl import GL, LlvmpipeRenderer, WorkerProcess
 
 # WebGL's constants used by the scenes (the same numbers as OpenGL ES 3.0's; WebGL 2.0 §3.7).
 ENUMS = {name: value for name, value in GL.items()} | {
@@ -427,7 +426,7 @@ def _check(gl: WebGLOnGLES, what: str) -> None:
         raise RuntimeError(f"llvmpipe: GL error 0x{err:x} in {what}")
 
 
-class GlesProcess:
+class GlesProcess(WorkerProcess):
     """A WebGLOnGLES context in its own process with LP_NUM_THREADS=threads; one scene at a time.
 
     ``setup(scene_setup, width, height, samples=0)`` makes a new context of that canvas size and
@@ -438,22 +437,8 @@ class GlesProcess:
     """
 
     def __init__(self, threads: int):
-        ctx = multiprocessing.get_context("spawn")  # a fresh interpreter that never loaded Mesa
-        self._conn, child = ctx.Pipe()
-        self._proc = ctx.Process(target=_worker_main, args=(child, threads), daemon=True)
-        self._proc.start()
-        child.close()
+        super().__init__(_worker_main, threads)
         self.threads = threads
-
-    def _call(self, method: str, *args):
-        self._conn.send((method, args))
-        try:
-            status, value = self._conn.recv()
-        except EOFError:
-            raise RuntimeError(f"llvmpipe worker died (exit code {self._proc.exitcode})") from None
-        if status == "error":
-            raise value
-        return value
 
     def setup(self, scene_setup, width: int, height: int, samples: int = 0) -> dict:
         return self._call("setup", scene_setup, width, height, samples)
@@ -463,18 +448,3 @@ class GlesProcess:
 
     def render(self) -> np.ndarray:
         return self._call("render")
-
-    def close(self) -> None:
-        if self._proc.is_alive():
-            try:
-                self._conn.send(("close", ()))
-            except OSError:
-                pass
-            self._proc.join(timeout=10)
-        self._conn.close()
-
-    def __enter__(self):
-        return self
-
-    def __exit__(self, *exc):
-        self.close()
