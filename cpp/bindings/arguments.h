@@ -98,9 +98,11 @@ const char* refused(py::handle obj) {
 // "float 1.5", "str 'BLEND'", "None": the object's type and a short repr.
 inline std::string shown(py::handle obj) {
     if (obj.is_none()) return "None";
+    const std::string type = Py_TYPE(obj.ptr())->tp_name;
     std::string text = py::repr(obj).cast<std::string>();
+    if (!text.empty() && text[0] == '<') return type;   // <softgl._core.WebGLProgram object at ...>
     if (text.size() > 40) text = text.substr(0, 37) + "...";
-    return std::string(Py_TYPE(obj.ptr())->tp_name) + " " + text;
+    return type + " " + text;
 }
 
 [[noreturn]] inline void refuse_argument(const std::string& method, const std::string& param,

@@ -312,6 +312,8 @@ class Context(_core.Context):
 
     def getExtension(self, name: str):
         """The extension object (always the same one), or None if softgl does not support it."""
+        if not isinstance(name, str):
+            raise TypeError(f"getExtension: name must be a str; got {type(name).__name__} {name!r:.40}")
         if name in self._extensions:
             return self._extensions[name]
         supported = {n.lower(): n for n in self.getSupportedExtensions()}
