@@ -370,6 +370,8 @@ class Context(_core.Context):
         its colour straight to the colour kernels), ``draws_blend_table`` (that colour blended by
         table lookup) and ``draws_copied_varying`` (a shader that only copies varyings or
         constants to its colours, not run)."""
+        if not isinstance(reset, (bool, np.bool_, int)):
+            raise TypeError(f"stats: reset must be a bool; got {type(reset).__name__} {reset!r:.40}")
         return self._stats(reset)
 
     def last_draw_plan(self) -> dict | None:

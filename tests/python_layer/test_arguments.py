@@ -163,8 +163,11 @@ def test_context_attributes_name_the_attribute(kwargs, message):
     assert str(info.value) == message
 
 
-def test_get_extension_names_its_parameter():
+def test_the_methods_written_in_python_name_their_parameter():
     gl = softgl.Context(4, 4)
     with pytest.raises(TypeError) as info:
         gl.getExtension(5)
     assert str(info.value) == "getExtension: name must be a str; got int 5"
+    with pytest.raises(TypeError) as info:
+        gl.stats("yes")
+    assert str(info.value) == "stats: reset must be a bool; got str 'yes'"
