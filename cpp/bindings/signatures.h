@@ -1,17 +1,24 @@
 // Names and docstrings for Context's methods from one table (webgl_signatures.h): ContextClass is
 // the Context class whose def() adds, to each public method, the parameter names and the
-// one-line description of its row, so no call site repeats them.
+// one-line description of its row, so no call site repeats them, and binds every method through
+// the argument conversion (arguments.h), so a wrong argument's TypeError names method and parameter.
 #pragma once
 #include <pybind11/pybind11.h>
 
 #include <cstring>
 #include <deque>
 #include <string>
+#include <vector>
 
+#include "arguments.h"
 #include "softgl/api/context.h"
 #include "webgl_signatures.h"
 
 namespace softgl::bindings {
+
+// The names of a method's parameters from its row in kWebGLSignatures with `arity` parameters
+// ("a, b, c=0" -> a, b, c); none for softgl's private hooks, which have no row.
+inline std::vector<std::string> parameter_names(const char* method, size_t arity);
 
 // Marks a method whose names and doc come from kWebGLSignatures (looked up by its name).
 struct from_webgl_signatures {};
@@ -23,14 +30,46 @@ public:
 
     template <class Func, class... Extra>
     ContextClass& def(const char* name, Func&& f, const Extra&... extra) {
-        Base::def(name, std::forward<Func>(f), extra..., from_webgl_signatures{});
+        using Shape = arguments::shape<std::decay_t<Func>>;
+        const size_t arity = std::tuple_size_v<typename Shape::params>;
+        Base::def(name, checked(std::forward<Func>(f), name, parameter_names(name, arity)), extra...,
+                  from_webgl_signatures{});
         return *this;
     }
 };
 
+
 // The Context class of module m, once bind_context has made it.
 inline ContextClass context_class(pybind11::module_& m) {
     return ContextClass(pybind11::reinterpret_borrow<ContextClass::Base>(m.attr("Context")));
+}
+
+// "a, b, c=0" -> "a", "b", "c=0".
+inline std::deque<std::string> split_parameters(const char* params) {
+    std::deque<std::string> out;
+    std::string cur;
+    for (const char* c = params;; ++c) {
+        if (*c == ',' || *c == 0) {
+            if (!cur.empty()) out.push_back(cur);
+            cur.clear();
+            if (*c == 0) break;
+        } else if (*c != ' ') {
+            cur += *c;
+        }
+    }
+    return out;
+}
+
+inline std::vector<std::string> parameter_names(const char* method, size_t arity) {
+    for (const auto& row : kWebGLSignatures) {
+        if (std::strcmp(method, row.method) != 0) continue;
+        std::deque<std::string> params = split_parameters(row.params);
+        if (params.size() != arity) continue;
+        std::vector<std::string> names;
+        for (const std::string& p : params) names.push_back(p.substr(0, p.find('=')));
+        return names;
+    }
+    return {};
 }
 
 }  // namespace softgl::bindings
@@ -49,7 +88,7 @@ struct process_attribute<softgl::bindings::from_webgl_signatures>
         const size_t wanted = size_t(r->nargs_pos) - 1;
         for (const auto& row : softgl::bindings::kWebGLSignatures) {
             if (method != row.method) continue;
-            std::deque<std::string> params = split(row.params);
+            std::deque<std::string> params = softgl::bindings::split_parameters(row.params);
             if (params.size() != wanted) continue;   // another overload's row
             r->args.emplace_back("self", nullptr, handle(), true, false);
             for (const std::string& p : params) {
@@ -70,20 +109,6 @@ struct process_attribute<softgl::bindings::from_webgl_signatures>
     }
 
 private:
-    static std::deque<std::string> split(const char* params) {
-        std::deque<std::string> out;
-        std::string cur;
-        for (const char* c = params;; ++c) {
-            if (*c == ',' || *c == 0) {
-                if (!cur.empty()) out.push_back(cur);
-                cur.clear();
-                if (*c == 0) break;
-            } else if (*c != ' ') {
-                cur += *c;
-            }
-        }
-        return out;
-    }
     // pybind11 copies names and descriptions when the function is made; the table's strings are
     // split, so they need to live until then (for the life of the module: a handful of bytes).
     static const char* keep(const std::string& s) {

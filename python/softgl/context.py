@@ -16,6 +16,24 @@ _ATTRIBUTE_DEFAULTS = dict(alpha=True, depth=True, stencil=False, antialias=True
                            desynchronized=False)
 
 
+def _check_argument(name: str, value, kind: type):
+    """Context()'s arguments by the rules of the methods' (cpp/bindings/arguments.h): an int is
+    an int (not a float, not a bool), a bool is True/False or a number by its truth value (as JS's
+    ToBoolean, but never a string), a str is a str. A TypeError names the parameter."""
+    if kind is int:
+        ok = isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_))
+        what = "an int"
+    elif kind is bool:
+        ok = value is None or isinstance(value, (bool, int, float, np.bool_, np.integer, np.floating))
+        what = "a bool"
+    else:
+        ok = isinstance(value, str)
+        what = "a str"
+    if not ok:
+        shown = repr(value) if len(repr(value)) <= 40 else repr(value)[:37] + "..."
+        raise TypeError(f"Context: {name} must be {what}; got {type(value).__name__} {shown}")
+
+
 def _caller_level() -> int:
     # The warning points at the user's line: past the listener and this module's wrappers
     # (bufferData, texImage2D, ... below), so it shows once per call site.
@@ -255,17 +273,20 @@ class Context(_core.Context):
         if unknown:
             raise TypeError(f"Context() got unexpected keyword argument(s): {', '.join(sorted(unknown))}")
         for name in ("width", "height"):
-            value = locals()[name]
-            if not isinstance(value, int) or isinstance(value, bool):
-                raise TypeError(f"Context(): {name} must be an int, got {type(value).__name__}")
+            _check_argument(name, locals()[name], int)
+        for name, value in (("version", version), ("samples", samples), ("threads", threads)):
+            if value is not None:
+                _check_argument(name, value, int)
+        _check_argument("strict", strict, bool)
+        _check_argument("color_format", color_format, str)
         attrs = _core.ContextAttributes()
         for name, default in _ATTRIBUTE_DEFAULTS.items():
-            setattr(attrs, name, attributes.get(name, default))
+            value = attributes.get(name, default)
+            _check_argument(name, value, type(default))
+            setattr(attrs, name, bool(value) if type(default) is bool else value)
         attrs.version = version
         attrs.samples = 0 if samples is None else samples
         attrs.threads = 0 if threads is None else threads
-        if not isinstance(color_format, str):
-            raise TypeError(f"Context(): color_format must be a str, got {type(color_format).__name__}")
         attrs.color_format = color_format
         if not (-2**31 <= width < 2**31 and -2**31 <= height < 2**31):
             raise ValueError(f"drawing buffer size {width}x{height} is out of range")
@@ -291,6 +312,8 @@ class Context(_core.Context):
 
     def getExtension(self, name: str):
         """The extension object (always the same one), or None if softgl does not support it."""
+        if not isinstance(name, str):
+            raise TypeError(f"getExtension: name must be a str; got {type(name).__name__} {name!r:.40}")
         if name in self._extensions:
             return self._extensions[name]
         supported = {n.lower(): n for n in self.getSupportedExtensions()}
@@ -347,6 +370,8 @@ class Context(_core.Context):
         its colour straight to the colour kernels), ``draws_blend_table`` (that colour blended by
         table lookup) and ``draws_copied_varying`` (a shader that only copies varyings or
         constants to its colours, not run)."""
+        if not isinstance(reset, (bool, np.bool_, int)):
+            raise TypeError(f"stats: reset must be a bool; got {type(reset).__name__} {reset!r:.40}")
         return self._stats(reset)
 
     def last_draw_plan(self) -> dict | None:
