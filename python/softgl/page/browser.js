@@ -141,6 +141,7 @@
     'WebGLSync', 'WebGLTransformFeedback', 'WebGLActiveInfo', 'WebGLShaderPrecisionFormat']) {
     glClasses[name] = ({ [name]: class extends WebGLObject {} })[name];
   }
+  const wrappers = new Map();
   const wrapHandle = (handle, className) => {
     const Cls = glClasses[className];
     if (!Cls) throw unsupported('a WebGL object of type ' + className);
@@ -158,15 +159,28 @@
     if (a.__pixels !== undefined) return a.__pixels();   // an Image, ImageData or canvas
     return a;
   };
-  // The host returns ['typed', kind, latin1], ['object', class, handle], ['list', ...], ['ext', ...] or a plain value.
+  // The host returns ['typed', kind, latin1], ['list', items], ['dict', object], a wrapper or a plain value.
   const resultFromPython = (r) => {
     if (r === null || typeof r !== 'object') return r;
     const tag = r[0];
     if (tag === 'typed') return fromPython(r[1], r[2]);
-    if (tag === 'object') return r[2];   // already the JS wrapper (made once by the host)
+    if (tag === 'object') {   // ['object', id, class, handle]: one wrapper per softgl object
+      let w = wrappers.get(r[1]);
+      if (w === undefined) { w = wrapHandle(r[3], r[2]); wrappers.set(r[1], w); }
+      return w;
+    }
+    if (tag === 'ext') {      // ['ext', id, constants, method names, method getter]
+      let ext = wrappers.get(r[1]);
+      if (ext === undefined) {
+        ext = {};
+        for (let i = 0; i < r[2].length; i++) ext[r[2][i][0]] = r[2][i][1];
+        for (let i = 0; i < r[3].length; i++) ext[r[3][i]] = converting(r[4](r[3][i]));
+        wrappers.set(r[1], ext);
+      }
+      return ext;
+    }
     if (tag === 'list') { const out = []; for (let i = 0; i < r[1].length; i++) out.push(resultFromPython(r[1][i])); return out; }
     if (tag === 'dict') return r[1];
-    if (tag === 'ext') return r[1];
     return r;
   };
 
@@ -184,15 +198,17 @@
     const gl = Object.create(proto);
     for (let i = 0; i < constants.length; i++) gl[constants[i][0]] = constants[i][1];
     for (let i = 0; i < methodNames.length; i++) gl[methodNames[i]] = converting(py.method(methodNames[i]));
-    // readPixels into the page's own typed array: softgl fills a NumPy copy, the bytes come back.
-    const readPixelsPy = py.method('readPixels_into');
-    gl.readPixels = function (x, y, width, height, format, type, pixels, offset) {
-      if (!ArrayBuffer.isView(pixels)) throw new TypeError("Failed to execute 'readPixels': parameter 7 is not an ArrayBufferView");
-      const r = readPixelsPy(x, y, width, height, format, type, KINDS.get(pixels.constructor), pixels.byteLength, offset || 0);
-      if (r === null) return;
-      const bytes = fromPython('uint8', r);
-      new Uint8Array(pixels.buffer, pixels.byteOffset, pixels.byteLength).set(bytes);
-    };
+    // Calls that write into the page's typed array: the bytes come back into it.
+    for (const [name, index] of [['readPixels', 6], ['getBufferSubData', 2]]) {
+      if (!methodNames.includes(name)) continue;
+      const call = converting(py.method_into(name, index));
+      gl[name] = function (...args) {
+        const dest = args[index];
+        if (!ArrayBuffer.isView(dest)) throw new TypeError("Failed to execute '" + name + "': parameter " + (index + 1) + ' is not an ArrayBufferView');
+        const bytes = call(...args);
+        new Uint8Array(dest.buffer, dest.byteOffset, dest.byteLength).set(fromPython('uint8', bytes));
+      };
+    }
     gl.canvas = canvas;
     Object.defineProperty(gl, 'drawingBufferWidth', { get: () => py.size()[0] });
     Object.defineProperty(gl, 'drawingBufferHeight', { get: () => py.size()[1] });
@@ -236,24 +252,32 @@
     get textContent() { return this.data; }
     set textContent(v) { this.data = String(v); }
   }
-  const matchesSimple = (el, sel) => {
-    // One compound selector: tag, #id, .class and [attr] / [attr=value] parts.
+  // One compound selector: tag, #id, .class and [attr] / [attr=value] parts; anything else
+  // (pseudo-classes, child/sibling combinators) is refused by name.
+  const compounds = new Map();
+  const parseCompound = (sel) => {
+    if (compounds.has(sel)) return compounds.get(sel);
     const re = /([a-zA-Z][\w-]*)|#([\w-]+)|\.([\w-]+)|\[([\w-]+)(?:=["']?([^"'\]]*)["']?)?\]|(\*)/g;
+    const parts = [];
     let m, consumed = 0;
-    while ((m = re.exec(sel)) !== null) {
-      if (m.index !== consumed) throw unsupported('the selector ' + JSON.stringify(sel));
-      consumed = re.lastIndex;
+    while ((m = re.exec(sel)) !== null && m.index === consumed) { parts.push(m); consumed = re.lastIndex; }
+    if (consumed !== sel.length || sel.length === 0) throw unsupported('the selector ' + JSON.stringify(sel));
+    compounds.set(sel, parts);
+    return parts;
+  };
+  const matchesSimple = (el, sel) => {
+    for (const m of parseCompound(sel)) {
       if (m[1] && el.localName !== m[1].toLowerCase()) return false;
       if (m[2] && el.id !== m[2]) return false;
       if (m[3] && !el.className.split(/\s+/).includes(m[3])) return false;
       if (m[4] && (!el.hasAttribute(m[4]) || (m[5] !== undefined && el.getAttribute(m[4]) !== m[5]))) return false;
     }
-    if (consumed !== sel.length) throw unsupported('the selector ' + JSON.stringify(sel));
     return true;
   };
   const matches = (el, selector) => selector.split(',').some((group) => {
     const parts = group.trim().split(/\s+/);   // descendant combinators only
     if (parts.some((p) => /[>+~]/.test(p))) throw unsupported('the selector combinator in ' + JSON.stringify(selector));
+    parts.forEach(parseCompound);
     if (!matchesSimple(el, parts[parts.length - 1])) return false;
     let i = parts.length - 2;
     for (let n = el.parentNode; n && i >= 0; n = n.parentNode) if (n instanceof Element && matchesSimple(n, parts[i])) i--;
@@ -314,6 +338,7 @@
     }
     get src() { return this.__src; }
     set src(url) {
+      localOnly(url);
       this.__src = String(url);
       // Decoding happens on the clock's task queue, as in a browser: onload fires later.
       setTimeout(() => {
@@ -399,15 +424,19 @@
     json() { return Promise.resolve(JSON.parse(this.__text)); }
     arrayBuffer() { return Promise.resolve(fromPython('uint8', this.__text).buffer); }
   }
-  const fetch = (url) => new Promise((resolve, reject) => {
+  const localOnly = (url) => {
+    if (/^(https?|data|blob|wss?):/i.test(String(url))) throw unsupported('network URLs (softgl.page loads local files only): ' + url);
+  };
+  const fetch = (url) => { localOnly(url); return new Promise((resolve, reject) => {
     setTimeout(() => {
       try { resolve(new Response(String(url), host.read_file(String(url), 'latin-1'))); } catch (e) { reject(e); }
     }, 0);
-  });
+  }); };
   class XMLHttpRequest extends EventTarget {
     constructor() { super(); this.readyState = 0; this.status = 0; this.responseType = ''; this.response = null; this.responseText = ''; }
     open(method, url, async) {
       if (String(method).toUpperCase() !== 'GET') throw unsupported('XMLHttpRequest ' + method);
+      localOnly(url);
       this.__url = String(url); this.__async = async !== false; this.readyState = 1;
     }
     overrideMimeType() {}
@@ -475,19 +504,13 @@
   host.attach({
     buildJSON: (text) => { build(document, JSON.parse(text)); },
     json: (text) => JSON.parse(text),
-    wrapExtension: (constants, methods, method) => {
-      const ext = {};
-      for (let i = 0; i < constants.length; i++) ext[constants[i][0]] = constants[i][1];
-      for (let i = 0; i < methods.length; i++) ext[methods[i]] = converting(method(methods[i]));
-      return ext;
-    },
     runScript: (source, name) => { try { (0, eval)(source + '\n//# sourceURL=' + name); } catch (e) { report(e); } },
     runHandler: (source, name) => {
       try { (0, eval)('(function (event) {' + source + '\n})//# sourceURL=' + name).call(global.window, new Event('load')); } catch (e) { report(e); }
     },
     fire: (target, type) => {
       const t = target === 'document' ? document : win;
-      if (target === 'document') document.readyState = type === 'DOMContentLoaded' ? 'interactive' : 'complete';
+      document.readyState = type === 'DOMContentLoaded' ? 'interactive' : 'complete';
       t.dispatchEvent(new Event(type));
     },
     runTimers, runFrame,

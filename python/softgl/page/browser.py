@@ -25,7 +25,7 @@ _DTYPES = {"int8": np.int8, "uint8": np.uint8, "int16": np.int16, "uint16": np.u
            "int32": np.int32, "uint32": np.uint32, "float32": np.float32, "float64": np.float64}
 _KINDS = {np.dtype(v): k for k, v in _DTYPES.items()}
 # Context methods that are softgl's own (not WebGL's): a page never sees them.
-_PYTHON_ONLY = {"stats", "last_draw_plan", "fragments", "canvas", "version", "readPixels"}
+_PYTHON_ONLY = {"stats", "last_draw_plan", "fragments", "canvas", "version"}
 # Where <script src> and other relative URLs are looked for after the page's own folder:
 # Debian installs JavaScript libraries (libjs-three: three/three.js) under /usr/share/javascript.
 LIBRARY_PATH = (Path("/usr/share/javascript"),)
@@ -92,15 +92,22 @@ class PageContext:
         self.gl.canvas.width, self.gl.canvas.height = int(width), int(height)
 
     def method(self, name: str):
-        if name == "readPixels_into":
-            return self._read_pixels
         return self.browser.converting(getattr(self.gl, name), f"gl.{name}")
 
-    def _read_pixels(self, x, y, width, height, fmt, type_, kind, nbytes, offset):
-        dtype = _DTYPES[kind]
-        dest = np.zeros(int(nbytes) // np.dtype(dtype).itemsize, dtype)
-        self.gl.readPixels(x, y, width, height, fmt, type_, dest, int(offset))
-        return dest.view(np.uint8).tobytes().decode("latin-1")
+    def method_into(self, name: str, index: int):
+        """A method that writes into its argument `index` (readPixels, getBufferSubData): softgl
+        writes into a copy of the page's array, whose bytes go back to the page's array."""
+        fn = getattr(self.gl, name)
+
+        def call(*args):
+            args = list(args)
+            dest = np.array(args[index])   # writable copy of the page's bytes
+            args[index] = dest
+            if name == "readPixels" and len(args) > 7:   # WebGL 2 dstOffset: a view from there
+                args[index] = dest[int(args.pop(7)):]
+            fn(*args)
+            return dest.view(np.uint8).tobytes().decode("latin-1")
+        return call
 
 
 class Browser:
@@ -213,27 +220,24 @@ class Browser:
             return self.js_array(["typed", kind, np.ascontiguousarray(r).view(np.uint8).tobytes().decode("latin-1")])
         if isinstance(r, np.generic):
             return r.item()
-        if type(r).__name__.startswith("WebGL") and type(r).__module__ == _core.__name__:
-            cached = self.wrappers.get(id(r))
-            if cached is None:
-                if type(r).__name__ == "WebGLActiveInfo":
-                    return self.js_array(["dict", self.js.json(json.dumps({"name": r.name, "size": r.size, "type": r.type}))])
-                if type(r).__name__ == "WebGLShaderPrecisionFormat":
-                    return self.js_array(["dict", self.js.json(json.dumps({"rangeMin": r.rangeMin, "rangeMax": r.rangeMax,
-                                                                "precision": r.precision}))])
-                cached = (r, self.js.wrapHandle(r, type(r).__name__))
-                self.wrappers[id(r)] = cached
-            return self.js_array(["object", type(r).__name__, cached[1]])
+        name = type(r).__name__
+        if name.startswith("WebGL") and type(r).__module__ == _core.__name__:
+            if name == "WebGLActiveInfo":
+                return self.js_array(["dict", self.js.json(json.dumps({"name": r.name, "size": r.size, "type": r.type}))])
+            if name == "WebGLShaderPrecisionFormat":
+                return self.js_array(["dict", self.js.json(json.dumps(
+                    {"rangeMin": r.rangeMin, "rangeMax": r.rangeMax, "precision": r.precision}))])
+            # The page sees one wrapper per softgl object (so === works): JS keeps them by this
+            # number; the object is held here so that its id stays its own.
+            self.wrappers.setdefault(id(r), r)
+            return self.js_array(["object", id(r), name, r])
         if isinstance(r, Extension):
-            cached = self.wrappers.get(id(r))
-            if cached is None:
-                names = [n for n in dir(r) if not n.startswith("_")]
-                constants = [self.js_array([n, getattr(r, n)]) for n in names if not callable(getattr(r, n))]
-                methods = [n for n in names if callable(getattr(r, n))]
-                cached = (r, self.js.wrapExtension(self.js_array(constants), self.js_array(methods),
-                                                   lambda n, r=r: self.converting(getattr(r, n), n)))
-                self.wrappers[id(r)] = cached
-            return self.js_array(["ext", cached[1]])
+            self.wrappers.setdefault(id(r), r)
+            names = [n for n in dir(r) if not n.startswith("_")]
+            constants = [self.js_array([n, getattr(r, n)]) for n in names if not callable(getattr(r, n))]
+            methods = [n for n in names if callable(getattr(r, n))]
+            return self.js_array(["ext", id(r), self.js_array(constants), self.js_array(methods),
+                                  lambda n, r=r: self.converting(getattr(r, n), n)])
         if isinstance(r, dict):
             return self.js_array(["dict", self.js.json(json.dumps(
                 {k: (v.item() if isinstance(v, np.generic) else v) for k, v in r.items()}))])
