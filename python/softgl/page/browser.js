@@ -7,7 +7,7 @@
 (function (global, pyhost) {
   // Python attributes are looked up once: a property read on a Python object costs ~5x a call.
   const host = {};
-  for (const name of ['bytes_begin', 'small', 'load_image', 'console', 'create_context', 'read_file', 'js_error', 'attach'])
+  for (const name of ['bytes_begin', 'small', 'typed', 'numbers', 'load_image', 'console', 'create_context', 'read_file', 'js_error', 'attach'])
     host[name] = pyhost[name];
   host.page_url = pyhost.page_url; host.window_size = [pyhost.window_size[0], pyhost.window_size[1]];
   // An uncaught exception in a script, an event listener, a timer or an animation frame is
@@ -111,17 +111,31 @@
   // A JS string of one Latin-1 character per byte crosses into Python as one str; String.fromCharCode
   // over a subarray is V8's own loop. 64 KiB pieces (V8 converts larger strings more slowly).
   const PIECE = 65536, SUB = 8192;
+  const latin1 = (u8, start, end) => {
+    const parts = [];
+    for (let j = start; j < end; j += SUB) parts.push(String.fromCharCode.apply(null, u8.subarray(j, Math.min(j + SUB, end))));
+    return parts.length === 1 ? parts[0] : parts.join('');
+  };
   const toPython = (view) => {
     const kind = KINDS.get(view.constructor) || (view instanceof ArrayBuffer ? 'uint8' : null);
     if (kind === null) throw unsupported('typed array ' + view.constructor.name);
     const u8 = view instanceof ArrayBuffer ? new Uint8Array(view) : new Uint8Array(view.buffer, view.byteOffset, view.byteLength);
+    if (u8.length <= PIECE) return host.typed(kind, latin1(u8, 0, u8.length));
     const sink = host.bytes_begin(kind, u8.length);
-    for (let i = 0; i < u8.length; i += PIECE) {
-      const end = Math.min(i + PIECE, u8.length), parts = [];
-      for (let j = i; j < end; j += SUB) parts.push(String.fromCharCode.apply(null, u8.subarray(j, Math.min(j + SUB, end))));
-      sink.add(parts.join(''));
-    }
+    for (let i = 0; i < u8.length; i += PIECE) sink.add(latin1(u8, i, Math.min(i + PIECE, u8.length)));
     return sink.array();
+  };
+  // A JS array of numbers (uniform3fv(loc, [x, y, z])) crosses as the bytes of an Int32Array
+  // (all integers) or a Float64Array (exact), and arrives as a Python list.
+  const numbersToPython = (a) => {
+    let ints = true;
+    for (let i = 0; i < a.length; i++) {
+      const x = a[i];
+      if (typeof x !== 'number') return host.small('list', a.map((y) => (y instanceof WebGLObject ? y.__h : y)));
+      if (ints && !(Number.isInteger(x) && x >= -2147483648 && x <= 2147483647)) ints = false;
+    }
+    const typed = ints ? new Int32Array(a) : new Float64Array(a);
+    return host.numbers(ints ? 'int32' : 'float64', latin1(new Uint8Array(typed.buffer), 0, typed.byteLength));
   };
   // Python -> JS: a Latin-1 string of the bytes, written into a typed array.
   const fromPython = (kind, text) => {
@@ -131,7 +145,6 @@
       uint32: Uint32Array, float32: Float32Array, float64: Float64Array }[kind];
     return new Type(u8.buffer);
   };
-  const SMALL = 64;   // up to this many elements a typed array crosses as a list (cheaper than bytes)
 
   // -- WebGL objects: JS wrappers around softgl's Python objects, one wrapper per object ------
   class WebGLObject { constructor(handle) { this.__h = handle; } }
@@ -151,11 +164,8 @@
   const argToPython = (a) => {
     if (a === null || a === undefined || typeof a !== 'object') return a;
     if (a instanceof WebGLObject) return a.__h;
-    if (ArrayBuffer.isView(a) || a instanceof ArrayBuffer) {
-      if (a.length !== undefined && a.length <= SMALL && !(a instanceof DataView)) return host.small(KINDS.get(a.constructor), Array.from(a));
-      return toPython(a);
-    }
-    if (Array.isArray(a)) return host.small('list', a.map((x) => (x instanceof WebGLObject ? x.__h : x)));
+    if (ArrayBuffer.isView(a) || a instanceof ArrayBuffer) return toPython(a);
+    if (Array.isArray(a)) return numbersToPython(a);
     if (a.__pixels !== undefined) return a.__pixels();   // an Image, ImageData or canvas
     return a;
   };

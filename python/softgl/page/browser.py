@@ -155,6 +155,14 @@ class Browser:
     def bytes_begin(self, kind: str, length):
         return _Bytes(kind, int(length))
 
+    def typed(self, kind: str, text: str):
+        """A typed array's bytes (one Latin-1 character each) as a NumPy array of its type."""
+        return np.frombuffer(text.encode("latin-1"), _DTYPES[kind])
+
+    def numbers(self, kind: str, text: str):
+        """A JavaScript array of numbers (sent as int32 or float64 bytes) as a Python list."""
+        return np.frombuffer(text.encode("latin-1"), _DTYPES[kind]).tolist()
+
     def small(self, kind: str, values):
         items = list(values)
         if kind == "list":
