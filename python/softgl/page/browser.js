@@ -340,6 +340,14 @@
     setPointerCapture() {}
     releasePointerCapture() {}
   }
+  // Attributes HTML reflects as properties of the same name ('' when absent).
+  for (const name of ['type', 'src', 'name', 'title', 'href', 'alt', 'value', 'lang', 'rel', 'charset']) {
+    Object.defineProperty(Element.prototype, name, {
+      get() { return this.getAttribute(name) || ''; },
+      set(v) { this.setAttribute(name, v); },
+      configurable: true,
+    });
+  }
   class HTMLImageElement extends Element {
     constructor(attributes) {
       super('img', attributes);
