@@ -262,3 +262,16 @@ def test_module_scripts_are_refused(tmp_path):
     path = page(tmp_path, '<script type="module">import * as THREE from "three";</script>')
     with pytest.raises(PageError, match='does not run <script type="module">'):
         softgl.page.run(path)
+
+
+def test_result_shows_in_jupyter_as_the_composited_last_frame(tmp_path):
+    path = script(tmp_path, """
+        const gl = document.getElementById('c').getContext('webgl', {premultipliedAlpha: true});
+        gl.clearColor(0.5, 0, 0, 0.5); gl.clear(gl.COLOR_BUFFER_BIT);
+    """)
+    result = softgl.page.run(path, frames=1)
+    # premultiplied (128, 0, 0, 128) over white: 128 + (1 - 128/255) * 255 = 255; g, b = 127
+    assert (result.image == [255, 127, 127]).all()
+    png = result._repr_png_()
+    assert png.startswith(b"\x89PNG\r\n\x1a\n")
+    assert "1 frame(s) 8x4" in repr(result)
