@@ -3,7 +3,8 @@ in headless Chromium (SwiftShader), and their agreement with the committed Chrom
 
     python benchmarks/three_frames.py     # writes benchmarks/results/three_frames.md
 
-softgl: (run with 1 + N frames) - (run with 1 frame), over N; Chromium: N further frames timed in
+softgl: N frames after a first one, each the page's animation frame then a 1-pixel readPixels;
+Chromium: N further frames timed in
 the page (performance.now before and after, finished by a 1-pixel readPixels). Wall clock; the
 load average is printed with the table. Needs chromium and libjs-three.
 """
@@ -28,13 +29,22 @@ N = 20
 
 
 def softgl_frame_ms(page: Path) -> float:
-    def run(frames):
+    """softgl.page.run's frame loop after a first (warm-up) frame: the page's animation frame
+    callbacks, then the 1-pixel read that ends Chromium's timing too."""
+    from softgl.page.browser import Browser
+    browser = Browser(page)
+    try:
+        browser.load()
+        step = 1000 / 60
+        browser.js.runFrame(step)
+        gl = browser.contexts[0].gl
         t0 = time.perf_counter()
-        softgl.page.run(page, frames=frames)
-        return time.perf_counter() - t0
-    one = min(run(1) for _ in range(2))
-    many = min(run(1 + N) for _ in range(2))
-    return max(0.0, (many - one) / N * 1e3)
+        for i in range(2, N + 2):
+            browser.js.runFrame(i * step)
+            gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE)
+        return (time.perf_counter() - t0) / N * 1e3
+    finally:
+        browser.close()
 
 
 def main():
