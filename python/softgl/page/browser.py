@@ -19,6 +19,7 @@ from .. import _core, io as _io
 from ..context import Context, Extension
 
 log = logging.getLogger("softgl.page")
+log.addHandler(logging.NullHandler())   # a library: shown only where the application configures logging
 
 _JS = (Path(__file__).with_name("browser.js")).read_text(encoding="utf-8")
 _DTYPES = {"int8": np.int8, "uint8": np.uint8, "int16": np.int16, "uint16": np.uint16,
