@@ -1,6 +1,8 @@
 """Each lesson page, run as JavaScript through softgl.page, gives the same bytes as the same
 scene written with softgl's Python API (its twin): the bridge must pass every call, array and
 object through unchanged."""
+import math
+
 import numpy as np
 import pytest
 
@@ -91,3 +93,76 @@ def test_fog_blend_page_equals_its_python_twin(lessons):
         assert np.array_equal(frame, twin)
     # Fog: the far cubes fade towards the fog colour; the translucent cube mixes blue in.
     assert len(np.unique(twin.reshape(-1, 4), axis=0)) > 40
+
+
+def shadows_twin(time_ms, width=200, height=150):
+    """tests/pages/lessons/shadows.html at one animation frame, in Python: the same shaders,
+    geometry.plane and geometry.cube, transforms.shadow_matrix, plain softgl calls."""
+    vertex, lit_fs, shadow_fs = shadow_shaders()
+    gl = softgl.Context(width, height, version=1, antialias=False, stencil=True)
+    gl.clearColor(0.95, 0.95, 1, 1)
+    gl.enable(gl.DEPTH_TEST)
+    lit = programs.Program(gl, vertex, lit_fs)
+    shadow = programs.Program(gl, vertex, shadow_fs)
+    angle = time_ms / 500
+    light = (3 * math.cos(angle), 5, 3 * math.sin(angle))
+    view = T.look_at((0, 4, 7), (0, 0, 0), (0, 1, 0))
+    projection = T.perspective(np.pi / 4, width / height, 0.5, 50)
+    floor, cube = geometry.plane(8, 8), geometry.cube(1.0)
+    gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT | gl.STENCIL_BUFFER_BIT)
+    frame = dict(uView=view, uProjection=projection, uLightPosition=light, uLightColor=(1, 1, 0.9, 1),
+                 uLightAmbient=(0.2, 0.2, 0.2, 1))
+    scene.draw_mesh(gl, lit, floor, model=T.identity(), uNormalMatrix=T.normal_matrix(view @ T.identity()),
+                    uMaterialDiffuse=(0.7, 0.75, 0.8, 1), **frame)
+    gl.enable(gl.BLEND)
+    gl.blendFunc(gl.SRC_ALPHA, gl.ONE_MINUS_SRC_ALPHA)
+    gl.enable(gl.STENCIL_TEST)
+    gl.stencilFunc(gl.EQUAL, 0, 0xFF)
+    gl.stencilOp(gl.KEEP, gl.KEEP, gl.INCR)
+    shadow_model = T.shadow_matrix(light, 0.0, 0.01).astype(np.float64) @ T.translate(0, 0.5, 0).astype(np.float64)
+    scene.draw_mesh(gl, shadow, cube, model=shadow_model, uView=view, uProjection=projection,
+                    uShadowColor=(0, 0, 0, 0.5))
+    gl.disable(gl.STENCIL_TEST)
+    gl.disable(gl.BLEND)
+    model = T.translate(0, 0.5, 0)
+    scene.draw_mesh(gl, lit, cube, model=model, uNormalMatrix=T.normal_matrix(view @ model),
+                    uMaterialDiffuse=(0.9, 0.3, 0.2, 1), **frame)
+    return gl.readPixels(0, 0, width, height, gl.RGBA, gl.UNSIGNED_BYTE)
+
+
+def shadow_shaders():
+    """The page's three shaders, as the twin's own copies (GLSL is the same language on both)."""
+    vertex = """attribute vec3 aPosition; attribute vec3 aNormal;
+uniform mat4 uModel; uniform mat4 uView; uniform mat4 uProjection; uniform mat4 uNormalMatrix;
+varying vec3 vEyePosition; varying vec3 vEyeNormal;
+void main() {
+  vec4 eye = uView * uModel * vec4(aPosition, 1.0);
+  vEyePosition = eye.xyz;
+  vEyeNormal = (uNormalMatrix * vec4(aNormal, 0.0)).xyz;
+  gl_Position = uProjection * eye;
+}"""
+    lit = """precision highp float;
+uniform mat4 uView; uniform vec3 uLightPosition; uniform vec4 uLightColor; uniform vec4 uLightAmbient;
+uniform vec4 uMaterialDiffuse; varying vec3 vEyePosition; varying vec3 vEyeNormal;
+void main() {
+  vec3 N = normalize(vEyeNormal);
+  vec3 light = (uView * vec4(uLightPosition, 1.0)).xyz;
+  vec3 L = normalize(vEyePosition - light);
+  float lambert = dot(N, -L);
+  vec4 diffuse = vec4(0.0);
+  if (lambert > 0.0) diffuse += uLightColor * uMaterialDiffuse * lambert;
+  vec4 color = uLightAmbient * uMaterialDiffuse + diffuse;
+  gl_FragColor = vec4(color.rgb, uMaterialDiffuse.a);
+}"""
+    shadow = "precision highp float; uniform vec4 uShadowColor; void main() { gl_FragColor = uShadowColor; }"
+    return vertex, lit, shadow
+
+
+def test_shadows_page_equals_its_python_twin_frame_by_frame(lessons):
+    result = softgl.page.run(lessons / "shadows.html", frames=3, time_step=250)
+    assert result.errors == []
+    twins = [shadows_twin(t) for t in result.times]
+    for frame, twin in zip(result.frames, twins):
+        assert np.array_equal(frame, twin)
+    # The light moves: the shadow (and the lit faces) differ from frame to frame.
+    assert not np.array_equal(twins[0], twins[1]) and not np.array_equal(twins[1], twins[2])
