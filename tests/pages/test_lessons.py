@@ -166,3 +166,60 @@ def test_shadows_page_equals_its_python_twin_frame_by_frame(lessons):
         assert np.array_equal(frame, twin)
     # The light moves: the shadow (and the lit faces) differ from frame to frame.
     assert not np.array_equal(twins[0], twins[1]) and not np.array_equal(twins[1], twins[2])
+
+
+COLUMNS = [(False, False, True, "LESS", False), (True, False, True, "LESS", False),
+           (False, True, True, "LESS", False), (True, True, True, "LESS", True),
+           (False, True, True, "LESS", True), (True, True, True, "LEQUAL", True),
+           (True, True, True, "GREATER", True), (True, True, False, "LESS", True)]
+
+
+def columns_twin():
+    """tests/pages/lessons/columns.html in Python: softgl.programs.vertex_color (points of
+    uPointSize) and plain softgl calls, the same eight depth/blend settings."""
+    gl = softgl.Context(320, 160, version=1, antialias=False)
+    prog = programs.vertex_color(gl)
+    prog.set(uPointSize=14.0)
+    gl.bindBuffer(gl.ARRAY_BUFFER, gl.createBuffer())
+    for name, loc in prog.attributes.items():
+        if name == "aPosition":
+            gl.enableVertexAttribArray(loc)
+            gl.vertexAttribPointer(loc, 3, gl.FLOAT, False, 28, 0)
+        elif name == "aColor":
+            gl.enableVertexAttribArray(loc)
+            gl.vertexAttribPointer(loc, 4, gl.FLOAT, False, 28, 12)
+    gl.clearColor(0, 0, 0, 1)
+    gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT)
+    gl.enable(gl.SCISSOR_TEST)
+    gl.scissor(0, 94, 320, 12)
+    gl.clearColor(1, 1, 1, 1)
+    gl.clear(gl.COLOR_BUFFER_BIT)
+    gl.disable(gl.SCISSOR_TEST)
+    d = 0.04
+    for c, (depth, blend, mask, func, separate) in enumerate(COLUMNS):
+        (gl.enable if depth else gl.disable)(gl.DEPTH_TEST)
+        (gl.enable if blend else gl.disable)(gl.BLEND)
+        if separate:
+            gl.blendFuncSeparate(gl.SRC_ALPHA, gl.ONE_MINUS_SRC_ALPHA, gl.ZERO, gl.ONE)
+        else:
+            gl.blendFunc(gl.SRC_ALPHA, gl.ONE_MINUS_SRC_ALPHA)
+        gl.depthMask(mask)
+        gl.depthFunc(getattr(gl, func))
+        for r, alpha in enumerate([1, 0.75, 0.5, 0.25]):
+            x, y = (c + 0.5) / 4 - 1, 1 - (r + 0.5) / 2
+            data = np.array([[x - d, y + d, -0.5, 1, 0, 0, alpha], [x, y, 0, 1, 1, 0, alpha],
+                             [x + d, y - d, 0.5, 0, 0, 1, alpha]], np.float32)
+            gl.bufferData(gl.ARRAY_BUFFER, data, gl.DYNAMIC_DRAW)
+            gl.drawArrays(gl.POINTS, 0, 3)
+    return gl.readPixels(0, 0, 320, 160, gl.RGBA, gl.UNSIGNED_BYTE)
+
+
+def test_columns_page_equals_its_python_twin(lessons):
+    result = softgl.page.run(lessons / "columns.html", frames=1)
+    assert result.errors == []
+    # The lesson's getters, read from JavaScript after the last column.
+    assert result.console == [("log", f"depth test true depth bits 24 depth range 0,1 write mask false func {0x0201}")]
+    twin = columns_twin()
+    assert np.array_equal(result.frames[0], twin)
+    # Columns differ: e.g. column 1 (no depth test) shows blue on top, column 2 (depth) red.
+    assert not np.array_equal(twin[:, :40], twin[:, 40:80])
