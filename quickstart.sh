@@ -8,8 +8,9 @@ job="${1:-showcase}"
 shift || true
 
 # System packages: GLM (C++ math headers) for the build; Mesa's EGL/GLES (llvmpipe), the speed
-# reference the benchmarks and their tests compare against.
-SYSTEM_PACKAGES="libglm-dev g++ cmake python3-venv libegl1 libgles2 libegl-mesa0 libgl1-mesa-dri"
+# reference the benchmarks and their tests compare against; three.js (r111), which the softgl.page
+# tests run unchanged (tests/pages/test_three.py).
+SYSTEM_PACKAGES="libglm-dev g++ cmake python3-venv libegl1 libgles2 libegl-mesa0 libgl1-mesa-dri libjs-three"
 if ! dpkg -s $SYSTEM_PACKAGES >/dev/null 2>&1; then
     SUDO=""; [ "$(id -u)" -ne 0 ] && SUDO="sudo"
     $SUDO apt-get update -qq

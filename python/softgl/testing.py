@@ -205,3 +205,29 @@ def default_tuned(**fields):
         yield previous
     finally:
         _core.testing.set_default_tuning(**previous)
+
+
+def assert_page_frame(page, expected, *, frame: int = -1, frames: int | None = None,
+                      atol: float = 1 / 255, max_outliers: int = 0, min_psnr: float | None = None,
+                      out_dir=None, **run_options) -> ImageComparison:
+    """Assert that a page's frame matches a reference image (e.g. one test per student page).
+
+    `page` is a softgl.page.PageResult or the path of an HTML page (then run with
+    ``softgl.page.run(page, frames=frames or frame + 1 (at least 1), **run_options)``).
+    `expected` is an image file (top row first, as saved) or an (h, w, 4) array as readPixels
+    returns it (row 0 at the bottom). The comparison is ``assert_images_close``'s, on the frame
+    seen upright; on failure the images go to `out_dir` as there."""
+    from . import page as _page
+    from .io import load_image
+    if not isinstance(page, _page.PageResult):
+        count = frames if frames is not None else max(1, frame + 1 if frame >= 0 else 1)
+        page = _page.run(page, frames=count, **run_options)
+    if not page.frames:
+        raise AssertionError(f"{page.path.name} drew no frame (it made no WebGL context)")
+    actual = page.frames[frame][::-1]
+    if isinstance(expected, (str, Path)):
+        reference = load_image(expected, np.uint8)
+    else:
+        reference = np.asarray(expected)[::-1]
+    return assert_images_close(actual, reference, atol=atol, max_outliers=max_outliers,
+                               min_psnr=min_psnr, name=page.path.stem, out_dir=out_dir)
