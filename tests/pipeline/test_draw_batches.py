@@ -176,6 +176,37 @@ def test_batches_give_the_same_bytes_as_small_draws(mode, batch_size):
         assert batched[1][key] == counters[key], key
 
 
+@pytest.mark.parametrize("span", [1_000, 60_000, 300_000], ids=["narrow", "wide", "wider_than_the_table"])
+@pytest.mark.parametrize("batch", [37, HUGE])
+def test_index_span_gives_the_same_vertices_and_bytes(span, batch, batch_size):
+    # list_vertices finds each distinct index's slot in a table over the indices' span, or, when
+    # the span is wider than max(2^16, 8 x the indices), in a hash map. The same vertices placed
+    # at indices spread over `span` must give the bytes of the compact draw, and the vertex stage
+    # must run once per distinct index (per batch).
+    rng = np.random.default_rng(span)
+    n, count = 420, 400
+    pos, color = vertices(rng, n)
+    indices = (np.arange(count) + rng.integers(-4, 5, count)) % n
+    where = np.sort(rng.choice(span, n, replace=False))
+    where[-1] = span - 1   # the span is exactly `span`
+    wide_pos, wide_color = np.zeros((span, 4)), np.zeros((span, 4))
+    wide_pos[where], wide_color[where] = pos, color
+    mode = softgl.WebGL2RenderingContext.TRIANGLE_STRIP
+    batch_size(batch)
+    results = []
+    for p_pos, p_color, p_indices, dtype in ((pos, color, indices, np.uint16),
+                                             (wide_pos, wide_color, where[indices], np.uint32)):
+        p = Painter(1, p_pos, p_color)
+        p.elements(p_indices, dtype)
+        p.gl.drawElements(mode, count, p.gl.UNSIGNED_SHORT if dtype == np.uint16 else p.gl.UNSIGNED_INT, 0)
+        results.append(p.result())
+    (compact, compact_counters), (spread, spread_counters) = results
+    assert spread == compact
+    assert spread_counters == compact_counters
+    assert compact_counters["vertices_shaded"] == expected_vertices_shaded("TRIANGLE_STRIP", count, 1, batch, indices)
+    assert compact_counters["primitives_rasterized"] > 100
+
+
 @pytest.mark.parametrize("mode", ["TRIANGLE_STRIP", "TRIANGLE_FAN", "LINE_STRIP", "LINE_LOOP"])
 def test_primitive_restart_in_batches(mode, batch_size):
     rng = np.random.default_rng(5)

@@ -77,7 +77,8 @@ struct SetupChunk {
 // draw touches no fresh pages). The tile pass keeps its own (pipeline/tile_pass.cpp).
 struct DrawScratch {
     std::vector<uint32_t> ids, slot_of_position, tiles, index_base;
-    std::unordered_map<uint32_t, uint32_t> slot;
+    std::vector<uint32_t> slot_of_index;   // list_vertices: per index - lowest, its slot (~0u: none yet)
+    std::unordered_map<uint32_t, uint32_t> slot;   // ... when the indices span too wide a range
     std::vector<VertexWorker> vertex_workers;
     VertexShaderOutputs all;
     std::vector<WindowPosition> window;   // triangles: the batch's vertices projected by setup
@@ -182,14 +183,31 @@ private:
         ids.clear();
         if (call_.indices) {
             s_.slot_of_position.resize(count);
-            std::unordered_map<uint32_t, uint32_t>& slot = s_.slot;
-            slot.clear();
-            slot.reserve(size_t(count) * 2);
-            for (uint32_t k = 0; k < count; ++k) {
-                const uint32_t index = call_.indices[k < inside ? range_.begin + k : 0];
-                auto [it, added] = slot.emplace(index, uint32_t(ids.size()));
-                if (added) ids.push_back(index);
-                s_.slot_of_position[k] = it->second;
+            auto index_at = [&](uint32_t k) { return call_.indices[k < inside ? range_.begin + k : 0]; };
+            uint32_t lowest = ~0u, highest = 0;
+            for (uint32_t k = 0; k < count; ++k) lowest = std::min(lowest, index_at(k)), highest = std::max(highest, index_at(k));
+            const uint64_t span = count ? uint64_t(highest) - lowest + 1 : 0;
+            if (span <= std::max<uint64_t>(uint64_t(1) << 16, 8 * uint64_t(count))) {
+                // A table over the indices' span (8- and 16-bit indices always fit): the same slots
+                // as the hash map below without a node allocated and freed per vertex.
+                uint32_t* const slot = at_least(s_.slot_of_index, size_t(span));
+                std::fill_n(slot, size_t(span), ~0u);
+                for (uint32_t k = 0; k < count; ++k) {
+                    const uint32_t index = index_at(k);
+                    uint32_t& s = slot[index - lowest];
+                    if (s == ~0u) s = uint32_t(ids.size()), ids.push_back(index);
+                    s_.slot_of_position[k] = s;
+                }
+            } else {
+                std::unordered_map<uint32_t, uint32_t>& slot = s_.slot;
+                slot.clear();
+                slot.reserve(size_t(count) * 2);
+                for (uint32_t k = 0; k < count; ++k) {
+                    const uint32_t index = index_at(k);
+                    auto [it, added] = slot.emplace(index, uint32_t(ids.size()));
+                    if (added) ids.push_back(index);
+                    s_.slot_of_position[k] = it->second;
+                }
             }
         } else {
             ids.resize(count);
