@@ -583,12 +583,13 @@ template <bool WithSink>
 SOFTGL_STEP void TilePass::draw_primitive(Tile& t, const PrimitiveSetup& p, size_t entry) {
     Scratch& w = t.w;
     Primitive prim{p, entry};
-    prepare_varyings(t, prim);
+    bool prepared = false;   // the varyings' planes: only once a fragment survives the early tests
     for (size_t c0 = 0; c0 < w.quads.size(); c0 += kChunkQuads) {
         Chunk c{w.quads.data() + c0, plan_.area_coverage ? w.areas.data() + c0 : nullptr,
                 std::min(kChunkQuads, w.quads.size() - c0), w.masks.data()};
         c.kept = early_tests<WithSink>(t, prim, c);
         if (c.kept == 0) continue;
+        if (!prepared) prepare_varyings(t, prim), prepared = true;
         w.stats.quads += c.kept;
         if constexpr (!WithSink) {   // the blend lab's draws are never gathered (plan_fragment_batches)
             if (gather_) {
