@@ -333,3 +333,49 @@ void main() { fragColor = uColor; }
     for mode in ("TRIANGLES", "TRIANGLE_FAN", "POINTS"):
         _, reference = draw_twice(make, lambda p: p.gl.drawArrays(getattr(p.gl, mode), 0, 600), 13, batch_size)
         assert reference["samples_blended"] > 100
+
+
+def test_vertex_outputs_written_in_some_lanes_or_none():
+    # The vertex stage zeroes only the outputs whose register no instruction writes; the executor
+    # writes every lane of the others (a variable written under a branch starts at zero). Flat
+    # varyings from the provoking (last) vertex: vA is written only where aPos.x > 0, vB never.
+    # Drawn twice with different vertex counts, so the runs reuse their arrays.
+    vs = """#version 300 es
+    in vec4 aPos;
+    flat out vec4 vA;
+    flat out vec4 vB;
+    void main() {
+        if (aPos.x > 0.0) vA = vec4(0.25, 0.5, 0.75, 1.0);
+        gl_Position = aPos;
+    }"""
+    fs = """#version 300 es
+    precision highp float;
+    flat in vec4 vA;
+    flat in vec4 vB;
+    out vec4 fragColor;
+    void main() { fragColor = vec4(vA.rg, vB.r + vA.b, 1.0 - vB.a); }"""
+    size = 16
+    gl = softgl.Context(size, size, antialias=False, preserveDrawingBuffer=True)
+    prog = softgl.program(gl, vs, fs)
+    gl.useProgram(prog)
+    gl.bindVertexArray(gl.createVertexArray())
+
+    def quad(x0, x1):   # two triangles; each one's last vertex on the x1 side
+        return [[x0, -1, 0, 1], [x0, 1, 0, 1], [x1, -1, 0, 1], [x0, 1, 0, 1], [x1, -1, 0, 1], [x1, 1, 0, 1]]
+
+    expect = np.zeros((size, size, 4), np.uint8)
+    expect[..., 3] = 255
+    expect[:, size // 2:, :3] = [64, 128, 191]   # 0.25, 0.5, 0.75 of 255, rounded
+    for quads in ([(-1, 0), (0, 1)], [(-1, -0.5), (-0.5, 0), (0, 0.5), (0.5, 1)], [(-1, 0), (0, 1)]):
+        pos = np.array([v for q in quads for v in quad(*q)], np.float32)
+        # the left quads' last vertices are at x <= 0: vA stays zero there
+        gl.bindBuffer(gl.ARRAY_BUFFER, gl.createBuffer())
+        gl.bufferData(gl.ARRAY_BUFFER, pos, gl.STATIC_DRAW)
+        loc = gl.getAttribLocation(prog, "aPos")
+        gl.enableVertexAttribArray(loc)
+        gl.vertexAttribPointer(loc, 4, gl.FLOAT, False, 0, 0)
+        gl.clearColor(0.5, 0.5, 0.5, 0.5)
+        gl.clear(gl.COLOR_BUFFER_BIT)
+        gl.drawArrays(gl.TRIANGLES, 0, len(pos))
+        image = gl.readPixels(0, 0, size, size, gl.RGBA, gl.UNSIGNED_BYTE)
+        np.testing.assert_array_equal(image.reshape(size, size, 4), expect, err_msg=str(quads))
