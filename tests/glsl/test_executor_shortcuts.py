@@ -5,6 +5,7 @@ import numpy as np
 import pytest
 
 from conftest import run
+from softgl import _core
 
 rng = np.random.default_rng(5)
 LANES = 4 * 37
@@ -80,3 +81,38 @@ def test_variables_and_libm_calls_under_divergent_control_flow():
     np.testing.assert_allclose(out["o"][:, 1], acc, rtol=4e-6)
     np.testing.assert_allclose(out["o"][:, 2], np.exp(a[:, 0].astype(np.float64)), rtol=4e-7)
     np.testing.assert_array_equal(out["o"][:, 0] == -1.0, kept == -1.0)
+
+
+@pytest.mark.parametrize("share", [0.0, 1 / 148, 0.1, 0.25, 0.3, 0.5, 1.0])
+def test_vector_math_under_a_branch_equals_every_lane(share):
+    # pow, exp2, log2, sin under an `if` taken by `share` of the lanes: the executor computes only
+    # the active lanes, packed together (vector_math). An active lane's bits are those of the
+    # same call with every lane active (o1, from a copy of the inputs so the two calls stay
+    # apart), at every SIMD level, and near the float64 value.
+    fs = """#version 300 es
+    precision highp float;
+    in vec4 a;
+    in vec4 b;
+    in float taken;
+    layout(location = 0) out vec4 o0;
+    layout(location = 1) out vec4 o1;
+    void main() {
+        vec4 r = vec4(-7.0);
+        if (taken > 0.5) r = vec4(pow(a.x, a.y), exp2(a.z), log2(a.x), sin(a.w));
+        o0 = r;
+        o1 = vec4(pow(b.x, b.y), exp2(b.z), log2(b.x), sin(b.w));
+    }"""
+    lanes = 4 * 37   # a batch of 128 lanes and one of 20
+    a = np.column_stack([rng.uniform(0.01, 8, lanes), rng.uniform(-6, 6, lanes), rng.uniform(-20, 20, lanes),
+                         rng.uniform(-9, 9, lanes)]).astype(np.float32)
+    taken = np.zeros(lanes, np.float32)
+    taken[rng.permutation(lanes)[:int(round(share * lanes))]] = 1.0
+    on = taken > 0.5
+    x = a.astype(np.float64)
+    expected = np.column_stack([x[:, 0] ** x[:, 1], 2 ** x[:, 2], np.log2(x[:, 0]), np.sin(x[:, 3])])
+    for level in _core.glsl_simd_levels():
+        out = _core.glsl_run(fs, "fragment", 2, {"a": a, "b": a.copy(), "taken": taken}, {}, lanes, {}, 128, 1, level)
+        o0, o1 = out["o0"], out["o1"]
+        np.testing.assert_array_equal(o0[on].view(np.uint32), o1[on].view(np.uint32), err_msg=level)
+        assert np.all(o0[~on] == -7.0), level
+        np.testing.assert_allclose(o1, expected, rtol=2e-6, atol=1e-7, err_msg=level)

@@ -176,6 +176,37 @@ def test_batches_give_the_same_bytes_as_small_draws(mode, batch_size):
         assert batched[1][key] == counters[key], key
 
 
+@pytest.mark.parametrize("span", [1_000, 60_000, 300_000], ids=["narrow", "wide", "wider_than_the_table"])
+@pytest.mark.parametrize("batch", [37, HUGE])
+def test_index_span_gives_the_same_vertices_and_bytes(span, batch, batch_size):
+    # list_vertices finds each distinct index's slot in a table over the indices' span, or, when
+    # the span is wider than max(2^16, 8 x the indices), in a hash map. The same vertices placed
+    # at indices spread over `span` must give the bytes of the compact draw, and the vertex stage
+    # must run once per distinct index (per batch).
+    rng = np.random.default_rng(span)
+    n, count = 420, 400
+    pos, color = vertices(rng, n)
+    indices = (np.arange(count) + rng.integers(-4, 5, count)) % n
+    where = np.sort(rng.choice(span, n, replace=False))
+    where[-1] = span - 1   # the span is exactly `span`
+    wide_pos, wide_color = np.zeros((span, 4)), np.zeros((span, 4))
+    wide_pos[where], wide_color[where] = pos, color
+    mode = softgl.WebGL2RenderingContext.TRIANGLE_STRIP
+    batch_size(batch)
+    results = []
+    for p_pos, p_color, p_indices, dtype in ((pos, color, indices, np.uint16),
+                                             (wide_pos, wide_color, where[indices], np.uint32)):
+        p = Painter(1, p_pos, p_color)
+        p.elements(p_indices, dtype)
+        p.gl.drawElements(mode, count, p.gl.UNSIGNED_SHORT if dtype == np.uint16 else p.gl.UNSIGNED_INT, 0)
+        results.append(p.result())
+    (compact, compact_counters), (spread, spread_counters) = results
+    assert spread == compact
+    assert spread_counters == compact_counters
+    assert compact_counters["vertices_shaded"] == expected_vertices_shaded("TRIANGLE_STRIP", count, 1, batch, indices)
+    assert compact_counters["primitives_rasterized"] > 100
+
+
 @pytest.mark.parametrize("mode", ["TRIANGLE_STRIP", "TRIANGLE_FAN", "LINE_STRIP", "LINE_LOOP"])
 def test_primitive_restart_in_batches(mode, batch_size):
     rng = np.random.default_rng(5)
@@ -302,3 +333,49 @@ void main() { fragColor = uColor; }
     for mode in ("TRIANGLES", "TRIANGLE_FAN", "POINTS"):
         _, reference = draw_twice(make, lambda p: p.gl.drawArrays(getattr(p.gl, mode), 0, 600), 13, batch_size)
         assert reference["samples_blended"] > 100
+
+
+def test_vertex_outputs_written_in_some_lanes_or_none():
+    # The vertex stage zeroes only the outputs whose register no instruction writes; the executor
+    # writes every lane of the others (a variable written under a branch starts at zero). Flat
+    # varyings from the provoking (last) vertex: vA is written only where aPos.x > 0, vB never.
+    # Drawn twice with different vertex counts, so the runs reuse their arrays.
+    vs = """#version 300 es
+    in vec4 aPos;
+    flat out vec4 vA;
+    flat out vec4 vB;
+    void main() {
+        if (aPos.x > 0.0) vA = vec4(0.25, 0.5, 0.75, 1.0);
+        gl_Position = aPos;
+    }"""
+    fs = """#version 300 es
+    precision highp float;
+    flat in vec4 vA;
+    flat in vec4 vB;
+    out vec4 fragColor;
+    void main() { fragColor = vec4(vA.rg, vB.r + vA.b, 1.0 - vB.a); }"""
+    size = 16
+    gl = softgl.Context(size, size, antialias=False, preserveDrawingBuffer=True)
+    prog = softgl.program(gl, vs, fs)
+    gl.useProgram(prog)
+    gl.bindVertexArray(gl.createVertexArray())
+
+    def quad(x0, x1):   # two triangles; each one's last vertex on the x1 side
+        return [[x0, -1, 0, 1], [x0, 1, 0, 1], [x1, -1, 0, 1], [x0, 1, 0, 1], [x1, -1, 0, 1], [x1, 1, 0, 1]]
+
+    expect = np.zeros((size, size, 4), np.uint8)
+    expect[..., 3] = 255
+    expect[:, size // 2:, :3] = [64, 128, 191]   # 0.25, 0.5, 0.75 of 255, rounded
+    for quads in ([(-1, 0), (0, 1)], [(-1, -0.5), (-0.5, 0), (0, 0.5), (0.5, 1)], [(-1, 0), (0, 1)]):
+        pos = np.array([v for q in quads for v in quad(*q)], np.float32)
+        # the left quads' last vertices are at x <= 0: vA stays zero there
+        gl.bindBuffer(gl.ARRAY_BUFFER, gl.createBuffer())
+        gl.bufferData(gl.ARRAY_BUFFER, pos, gl.STATIC_DRAW)
+        loc = gl.getAttribLocation(prog, "aPos")
+        gl.enableVertexAttribArray(loc)
+        gl.vertexAttribPointer(loc, 4, gl.FLOAT, False, 0, 0)
+        gl.clearColor(0.5, 0.5, 0.5, 0.5)
+        gl.clear(gl.COLOR_BUFFER_BIT)
+        gl.drawArrays(gl.TRIANGLES, 0, len(pos))
+        image = gl.readPixels(0, 0, size, size, gl.RGBA, gl.UNSIGNED_BYTE)
+        np.testing.assert_array_equal(image.reshape(size, size, 4), expect, err_msg=str(quads))

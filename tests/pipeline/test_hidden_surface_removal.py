@@ -263,3 +263,22 @@ def test_rectangles_match_a_painters_model_and_a_hand_count(hsr_mode):
     assert off["samples_written"] == layers.sum()
     assert every["samples_written"] == np.count_nonzero(layers)
     assert every["fragments_hidden"] == layers.sum() - np.count_nonzero(layers)
+
+
+def test_deep_piles_past_the_kept_quads_bound(hsr_mode):
+    """The first pass keeps each primitive's quads for the second (no second raster), at most 2^16
+    quads per tile; the primitives after that are rasterized again. 150 full-canvas layers put
+    ~150 x 1,024 quads in a whole tile, so both kinds are drawn: each pixel shows the last layer
+    and is written once per layer without removal, once with it."""
+    rng = np.random.default_rng(11)
+    n = 150
+    colors = rng.integers(0, 256, (n, 4))
+    quad = [[-1, -1, 0, 1], [1, -1, 0, 1], [1, 1, 0, 1], [-1, -1, 0, 1], [1, 1, 0, 1], [-1, 1, 0, 1]]
+    pos = np.array(quad * n, np.float32)
+    color = np.repeat(colors / 255, 6, axis=0).astype(np.float32)
+    image, off, every = same_with_and_without(COPY_FS, pos, color)
+    expect = np.broadcast_to(colors[-1].astype(np.uint8), (SIZE, SIZE, 4))
+    assert np.array_equal(np.frombuffer(image, np.uint8).reshape(SIZE, SIZE, 4), expect)
+    assert off["samples_written"] == n * SIZE * SIZE
+    assert every["samples_written"] == SIZE * SIZE
+    assert every["fragments_hidden"] == (n - 1) * SIZE * SIZE

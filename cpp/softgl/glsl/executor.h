@@ -70,7 +70,8 @@ struct StageRun {
     // program.inputs[i] reads inputs[i][lane] (nullptr: zero). Built-in fragment inputs:
     // gl_FragCoord (4 slots), gl_FrontFacing (.i 0/1), gl_PointCoord (2 slots).
     const Scalar* const* inputs = nullptr;
-    // program.outputs[i] is written to outputs[i][lane] (nullptr: not needed).
+    // program.outputs[i] is written to outputs[i][lane] (nullptr: not needed): every lane of the run
+    // when some instruction writes the output's register (glsl_stages relies on it), else perhaps none.
     Scalar* const* outputs = nullptr;
     const Scalar* uniforms = nullptr;  // the flat uniform buffer (reflection offsets)
     TextureSampler* sampler = nullptr;

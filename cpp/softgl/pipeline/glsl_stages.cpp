@@ -32,6 +32,14 @@ GlslVertexShader::GlslVertexShader(std::shared_ptr<const glsl::LinkedProgram> pr
                                  : s.name == "gl_InstanceID" ? Builtin::InstanceId : Builtin::None);
     const auto& outputs = program_->vertex.outputs;
     output_word_.assign(outputs.size(), -1);
+    // The executor writes every lane of an output whose register the program writes (glsl/
+    // executor.h, StageRun::outputs); the others are zeroed per run.
+    unwritten_.assign(outputs.size(), 1);
+    for (const glsl::Instruction& i : program_->vertex.code)
+        glsl::for_each_write(program_->vertex, i, [&](glsl::Reg r) {
+            for (size_t k = 0; k < outputs.size(); ++k)
+                if (outputs[k].reg == r) unwritten_[k] = 0;
+        });
     for (size_t i = 0; i < outputs.size(); ++i) {
         if (outputs[i].name == "gl_Position") position_slot_[outputs[i].component] = int(i);
         if (outputs[i].name == "gl_PointSize") point_size_slot_ = int(i);
@@ -84,8 +92,11 @@ void GlslVertexShader::run(const std::array<AttributeStream, kMaxVertexAttribs>&
             r.inputs[i] = reinterpret_cast<const Scalar*>(stream.data());
         }
     }
-    // Output i at results[i * count ..], zero where the shader does not write it.
-    r.results.assign(ir.outputs.size() * count, Scalar{});
+    // Output i at results[i * count ..], zero where the shader does not write it (the rest is
+    // written by the run: no fill; the array only grows).
+    if (r.results.size() < ir.outputs.size() * count) r.results.resize(ir.outputs.size() * count);
+    for (size_t i = 0; i < ir.outputs.size(); ++i)
+        if (unwritten_[i]) std::fill_n(r.results.data() + i * count, count, Scalar{});
     r.outputs.resize(ir.outputs.size());
     for (size_t i = 0; i < r.outputs.size(); ++i) r.outputs[i] = r.results.data() + i * count;
     glsl::StageRun run;

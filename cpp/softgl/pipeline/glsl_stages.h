@@ -42,6 +42,7 @@ private:
     std::vector<int> input_location_;    // per vertex input slot: attribute location, -1 built-in
     std::vector<int> input_component_;   // per vertex input slot: component of that location
     std::vector<int> output_word_;       // per vertex output slot: varying word, -1 otherwise
+    std::vector<uint8_t> unwritten_;     // per vertex output slot: no instruction writes its register
     int position_slot_[4] = {-1, -1, -1, -1};
     int point_size_slot_ = -1;
     uint32_t used_ = 0;

@@ -211,6 +211,15 @@ struct alignas(64) TilePass::Scratch {
     std::vector<uint16_t> masks;      // per lane of a chunk: surviving sample mask
     std::vector<uint64_t> owners;     // hidden-surface removal: the tile's owner map (OwnerMap)
     std::vector<uint8_t> owns;        // ... and per entry of the tile's list, whether it owns a pixel
+    // ... and the first pass's quads, kept for the second pass (no second raster of the entries
+    // that own pixels): entry li's are kept_quads[kept[li].begin ..] when kept[li].kept.
+    struct KeptRaster {
+        uint32_t begin = 0, count = 0;
+        bool kept = false;
+        RasterStats stats;            // what raster() counts for them
+    };
+    std::vector<Quad> kept_quads;
+    std::vector<KeptRaster> kept;
     DepthBounds depth_bounds;         // the tile's stored depth bounds (early depth, skips hidden primitives)
     FragmentBatch batch;
     FragmentResults results;
@@ -397,12 +406,14 @@ void TilePass::add_counters(DrawStats& stats) const {
 
 // Hidden-surface removal's first pass pays where bounding boxes cover the tile twice, or three
 // times for a shader that only copies or is constant; such a shader costs less than the pass where
-// early depth already rejects most hidden fragments (100 large depth-tested triangles: 20% slower).
+// early depth already rejects most hidden fragments (100 large depth-tested triangles: 20% slower;
+// 10k instanced cubes with a copying shader: the pass was 43% of the draw's instructions). Any
+// copying shader counts, not only the one-vec4 copy the fused kernels read (copied_word).
 bool TilePass::hides(const Tile& t) const {
     if (plan_.hidden_surface_removal != Path::Taken || t.list.size() <= 1 || t.list.size() >= OwnerMap::kNone)
         return false;
     if (plan_.hidden_surface_in_every_tile) return true;
-    const bool cheap_shader = plan_.uniform_only || plan_.copied_word >= 0;
+    const bool cheap_shader = plan_.uniform_only || plan_.fragment_copies == Path::Taken;
     const bool tests = plan_.depth_test || plan_.stencil_test;
     return !(cheap_shader && tests) && piles_up(t.list, *prims_, t.rect, cheap_shader ? 3 : 2);
 }
@@ -447,7 +458,14 @@ void TilePass::tile(size_t index, unsigned worker) {
             ++w.stats.primitives_depth_hidden;
             continue;
         }
-        raster(t, p);
+        if (t.hide && w.kept[li].kept) {   // the first pass's quads (raster() would give the same)
+            const Scratch::KeptRaster& k = w.kept[li];
+            w.quads.assign(w.kept_quads.begin() + k.begin, w.kept_quads.begin() + k.begin + k.count);
+            w.areas.clear();
+            w.raster.add(k.stats);
+        } else {
+            raster(t, p);
+        }
         if (w.quads.empty()) continue;
         draw_primitive<WithSink>(t, p, li);
     }
@@ -466,23 +484,34 @@ void TilePass::hidden_surface_first_pass(Tile& t) {
     std::fill_n(owns, list.size(), uint8_t(0));
     uint16_t* const masks = w.masks.data();
     const bool quad_depth = plan_.quad_depth == Path::Taken, depth_bounds = plan_.depth_bounds == Path::Taken;
-    RasterStats counted_in_second_pass;
+    // Quads kept for the second pass, at most this many per tile (bounded working memory; the
+    // entries after that are rasterized again).
+    constexpr size_t kKeptQuadsMax = size_t(1) << 16;
+    w.kept_quads.clear();
+    Scratch::KeptRaster* const kept = at_least(w.kept, list.size());
     uint64_t survived = 0;
     for (size_t li = 0; li < list.size(); ++li) {
         const PrimitiveSetup& p = (*prims_)[list[li]];
+        kept[li].kept = false;
         if (depth_bounds && w.depth_bounds.hides(p)) {
             ++w.stats.primitives_depth_hidden;
             continue;
         }
-        w.quads.clear();
-        rasterize_at(plan_.simd, p, t.rect, pattern_, w.quads, counted_in_second_pass);
-        const Quad* const q = w.quads.data();
+        const bool keep = !plan_.area_coverage && w.kept_quads.size() < kKeptQuadsMax;
+        std::vector<Quad>& out = keep ? w.kept_quads : w.quads;
+        const size_t at = keep ? out.size() : 0;
+        if (!keep) out.clear();
+        RasterStats counted;
+        rasterize_at(plan_.simd, p, t.rect, pattern_, out, counted);
+        const Quad* const q = out.data() + at;
+        const size_t n = out.size() - at;
+        if (keep) kept[li] = Scratch::KeptRaster{uint32_t(at), uint32_t(n), true, counted};
         if (!quad_depth) {
-            survived += owners.mark_all(q, w.quads.size(), li, [q](size_t i) { return q[i].coverage; });
+            survived += owners.mark_all(q, n, li, [q](size_t i) { return q[i].coverage; });
             continue;
         }
-        for (size_t c0 = 0; c0 < w.quads.size(); c0 += kChunkQuads) {
-            const size_t chunk = std::min(kChunkQuads, w.quads.size() - c0);
+        for (size_t c0 = 0; c0 < n; c0 += kChunkQuads) {
+            const size_t chunk = std::min(kChunkQuads, n - c0);
             EarlyDepth test = quad_depth_test_;
             test.prim = &p;
             w.stats.fragments_killed_early += early_depth_test_at(plan_.simd, test, q + c0, chunk, masks);
@@ -554,12 +583,13 @@ template <bool WithSink>
 SOFTGL_STEP void TilePass::draw_primitive(Tile& t, const PrimitiveSetup& p, size_t entry) {
     Scratch& w = t.w;
     Primitive prim{p, entry};
-    prepare_varyings(t, prim);
+    bool prepared = false;   // the varyings' planes: only once a fragment survives the early tests
     for (size_t c0 = 0; c0 < w.quads.size(); c0 += kChunkQuads) {
         Chunk c{w.quads.data() + c0, plan_.area_coverage ? w.areas.data() + c0 : nullptr,
                 std::min(kChunkQuads, w.quads.size() - c0), w.masks.data()};
         c.kept = early_tests<WithSink>(t, prim, c);
         if (c.kept == 0) continue;
+        if (!prepared) prepare_varyings(t, prim), prepared = true;
         w.stats.quads += c.kept;
         if constexpr (!WithSink) {   // the blend lab's draws are never gathered (plan_fragment_batches)
             if (gather_) {
