@@ -701,22 +701,55 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bo
         // The fixed-point rule (Level::filter): 8-bit weights, texels as bytes k, exact sums.
         const __m256 k256 = _mm256_set1_ps(256.0f), A = weight8x8(a), B = weight8x8(b);
         const __m256 nA = _mm256_sub_ps(k256, A), nB = _mm256_sub_ps(k256, B);
-        alignas(32) float w[4][8];
-        _mm256_store_ps(w[0], _mm256_mul_ps(nA, nB));
-        _mm256_store_ps(w[1], _mm256_mul_ps(A, nB));
-        _mm256_store_ps(w[2], _mm256_mul_ps(nA, B));
-        _mm256_store_ps(w[3], _mm256_mul_ps(A, B));
-        const __m128 k255 = _mm_set1_ps(255.0f), divisor = _mm_set1_ps(kUnorm8Divisor);
-        for (int l = 0; l < 8; ++l) {
-            const size_t row0 = layer_at[l] + size_t(j0[l]) * size_t(p.width), row1 = layer_at[l] + size_t(j1[l]) * size_t(p.width);
-            const size_t at[4] = {row0 + size_t(i0[l]), row0 + size_t(i1[l]), row1 + size_t(i0[l]), row1 + size_t(i1[l])};
-            __m128 sum = _mm_setzero_ps();
+        const __m256 w[4] = {_mm256_mul_ps(nA, nB), _mm256_mul_ps(A, nB), _mm256_mul_ps(nA, B), _mm256_mul_ps(A, B)};
+        __m256 sum[4];   // channel c of the 8 lanes' integer sums
+        if (p.rgba8 && !r) {
+            // The bytes of each of the 4 texels of 8 lanes by one gather (2D: no layers).
+            const __m256i width = _mm256_set1_epi32(p.width);
+            const __m256i row0 = _mm256_mullo_epi32(_mm256_load_si256(reinterpret_cast<const __m256i*>(j0)), width);
+            const __m256i row1 = _mm256_mullo_epi32(_mm256_load_si256(reinterpret_cast<const __m256i*>(j1)), width);
+            const __m256i c0 = _mm256_load_si256(reinterpret_cast<const __m256i*>(i0));
+            const __m256i c1 = _mm256_load_si256(reinterpret_cast<const __m256i*>(i1));
+            const __m256i at[4] = {_mm256_add_epi32(row0, c0), _mm256_add_epi32(row0, c1), _mm256_add_epi32(row1, c0),
+                                   _mm256_add_epi32(row1, c1)};
+            const __m256i byte = _mm256_set1_epi32(255);
             for (int n = 0; n < 4; ++n) {
-                const __m128 k = p.rgba8 ? _mm_cvtepi32_ps(_mm_cvtepu8_epi32(_mm_cvtsi32_si128(int(p.rgba8[at[n]]))))
-                                         : _mm_mul_ps(_mm_loadu_ps(p.color + at[n] * 4), k255);
-                sum = _mm_add_ps(sum, _mm_mul_ps(_mm_set1_ps(w[n][l]), k));
+                const __m256i t = _mm256_i32gather_epi32(reinterpret_cast<const int*>(p.rgba8), at[n], 4);
+                for (int c = 0; c < 4; ++c) {
+                    const __m256 k = _mm256_cvtepi32_ps(_mm256_and_si256(_mm256_srli_epi32(t, 8 * c), byte));
+                    sum[c] = n ? _mm256_add_ps(sum[c], _mm256_mul_ps(w[n], k)) : _mm256_mul_ps(w[n], k);
+                }
             }
-            _mm_storeu_ps(out[l], _mm_div_ps(sum, divisor));
+        } else {
+            // Float storage: k = 255 v per lane (exact), sums lane by lane.
+            alignas(32) float wl[4][8], lanes[4][8];
+            for (int n = 0; n < 4; ++n) _mm256_store_ps(wl[n], w[n]);
+            const __m128 k255 = _mm_set1_ps(255.0f);
+            for (int l = 0; l < 8; ++l) {
+                const size_t row0 = layer_at[l] + size_t(j0[l]) * size_t(p.width), row1 = layer_at[l] + size_t(j1[l]) * size_t(p.width);
+                const size_t at[4] = {row0 + size_t(i0[l]), row0 + size_t(i1[l]), row1 + size_t(i0[l]), row1 + size_t(i1[l])};
+                __m128 lane = _mm_setzero_ps();
+                for (int n = 0; n < 4; ++n)
+                    lane = _mm_add_ps(lane, _mm_mul_ps(_mm_set1_ps(wl[n][l]), _mm_mul_ps(_mm_loadu_ps(p.color + at[n] * 4), k255)));
+                alignas(16) float v[4];
+                _mm_store_ps(v, lane);
+                for (int c = 0; c < 4; ++c) lanes[c][l] = v[c];
+            }
+            for (int c = 0; c < 4; ++c) sum[c] = _mm256_load_ps(lanes[c]);
+        }
+        // One correctly rounded division per channel, then the 8 lanes back to out[l][c].
+        const __m256 divisor = _mm256_set1_ps(kUnorm8Divisor);
+        for (int c = 0; c < 4; ++c) sum[c] = _mm256_div_ps(sum[c], divisor);
+        for (int h = 0; h < 2; ++h) {
+            __m128 r0 = h ? _mm256_extractf128_ps(sum[0], 1) : _mm256_castps256_ps128(sum[0]);
+            __m128 r1 = h ? _mm256_extractf128_ps(sum[1], 1) : _mm256_castps256_ps128(sum[1]);
+            __m128 r2 = h ? _mm256_extractf128_ps(sum[2], 1) : _mm256_castps256_ps128(sum[2]);
+            __m128 r3 = h ? _mm256_extractf128_ps(sum[3], 1) : _mm256_castps256_ps128(sum[3]);
+            _MM_TRANSPOSE4_PS(r0, r1, r2, r3);
+            _mm_storeu_ps(out[4 * h + 0], r0);
+            _mm_storeu_ps(out[4 * h + 1], r1);
+            _mm_storeu_ps(out[4 * h + 2], r2);
+            _mm_storeu_ps(out[4 * h + 3], r3);
         }
         return;
     }
