@@ -8,7 +8,9 @@ the GLSL draw path end to end (vertex fetch, vertex shader, setup, raster, early
 fragment shader, blending, MSAA). A deliberate change of the drawn bytes (e.g. a coverage-rule
 fix) regenerates them with the command below. That happened once so far, when varying
 interpolation moved from double to float (session 4): at 256x256, 44 of the scenes' 983,040 pixels
-changed, by 1 in one channel each. Regenerate with:
+changed, by 1 in one channel each. Session 9: LINEAR filtering of 8-bit unorm textures took the
+fixed-point rule of README "Choices" (8-bit weights): spot_mesh_tex at 256x256 changed in 2,758
+of 65,536 pixels, by 1. Regenerate with:
 
     SOFTGL_UPDATE_SCENE_BYTES=1 python -m pytest tests/benchmarks/test_scene_bytes.py
 """

@@ -95,8 +95,30 @@ def wrap(i, size, mode):
     return np.clip(i, 0, size - 1)
 
 
-def sample_level(img, s, t, linear, wrap_s="REPEAT", wrap_t="REPEAT"):
-    """img: (h, w, 4) float64; s, t arrays; returns (..., 4)."""
+def weight8(frac):
+    """README "Choices": LINEAR filtering of 8-bit unorm textures uses 8-bit weights,
+    round(256 frac) to nearest even, over 256."""
+    return np.round(np.asarray(frac, np.float64) * 256) / 256
+
+
+def near_weight_tie(s, t, sizes, eps=1e-3):
+    """Pixels whose 256 * frac(u - 1/2) or 256 * frac(v - 1/2) lies within eps of a rounding tie on
+    a level of one of `sizes` (w, h): there float32 coordinates (interpolated by the pipeline)
+    and the float64 ones of the reference may round the 8-bit weight differently."""
+    mask = np.zeros(np.shape(s), bool)
+    for w, h in sizes:
+        for c, n in ((s, w), (t, h)):
+            if n == 1:
+                continue   # one texel: the weights do not matter
+            x = np.asarray(c, np.float64) * n - 0.5
+            x = (x - np.floor(x)) * 256
+            mask |= np.abs(x - np.floor(x) - 0.5) < eps
+    return mask
+
+
+def sample_level(img, s, t, linear, wrap_s="REPEAT", wrap_t="REPEAT", weights8=False):
+    """img: (h, w, 4) float64; s, t arrays; returns (..., 4). weights8: the 8-bit weights of
+    LINEAR filtering of 8-bit unorm textures (weight8)."""
     h, w = img.shape[:2]
     u, v = s * w, t * h
     if not linear:
@@ -104,22 +126,25 @@ def sample_level(img, s, t, linear, wrap_s="REPEAT", wrap_t="REPEAT"):
     u0, v0 = u - 0.5, v - 0.5
     i0, j0 = np.floor(u0).astype(np.int64), np.floor(v0).astype(np.int64)
     a, b = (u0 - np.floor(u0))[..., None], (v0 - np.floor(v0))[..., None]
+    if weights8:
+        a, b = weight8(a), weight8(b)
     i1, j1 = wrap(i0 + 1, w, wrap_s), wrap(j0 + 1, h, wrap_t)
     i0, j0 = wrap(i0, w, wrap_s), wrap(j0, h, wrap_t)
     return ((1 - a) * (1 - b) * img[j0, i0] + a * (1 - b) * img[j0, i1] +
             (1 - a) * b * img[j1, i0] + a * b * img[j1, i1])
 
 
-def sample_mipmapped(levels, s, t, lam, min_filter, mag_filter="NEAREST", wrap_s="REPEAT", wrap_t="REPEAT"):
-    """ES 3.0 §3.8.11 with c = 0; `lam` per pixel."""
+def sample_mipmapped(levels, s, t, lam, min_filter, mag_filter="NEAREST", wrap_s="REPEAT", wrap_t="REPEAT",
+                     weights8=False):
+    """ES 3.0 §3.8.11 with c = 0; `lam` per pixel (weights8: as sample_level)."""
     q = len(levels) - 1
     out = np.zeros(s.shape + (4,))
     mag = lam <= 0
-    out[mag] = sample_level(levels[0], s[mag], t[mag], mag_filter == "LINEAR", wrap_s, wrap_t)
+    out[mag] = sample_level(levels[0], s[mag], t[mag], mag_filter == "LINEAR", wrap_s, wrap_t, weights8)
     m = ~mag
     lin = min_filter.startswith("LINEAR")
     if min_filter in ("NEAREST", "LINEAR"):
-        out[m] = sample_level(levels[0], s[m], t[m], lin, wrap_s, wrap_t)
+        out[m] = sample_level(levels[0], s[m], t[m], lin, wrap_s, wrap_t, weights8)
         return out
     L = lam[m]
     if min_filter.endswith("MIPMAP_NEAREST"):
@@ -127,7 +152,7 @@ def sample_mipmapped(levels, s, t, lam, min_filter, mag_filter="NEAREST", wrap_s
         res = np.zeros(L.shape + (4,))
         for level in range(q + 1):
             k = d == level
-            res[k] = sample_level(levels[level], s[m][k], t[m][k], lin, wrap_s, wrap_t)
+            res[k] = sample_level(levels[level], s[m][k], t[m][k], lin, wrap_s, wrap_t, weights8)
         out[m] = res
         return out
     d1 = np.where(L >= q, q, np.floor(L)).astype(int)
@@ -136,8 +161,8 @@ def sample_mipmapped(levels, s, t, lam, min_filter, mag_filter="NEAREST", wrap_s
     res = np.zeros(L.shape + (4,))
     for level in range(q + 1):
         k1 = d1 == level
-        res[k1] += np.where(d2[k1, None] == d1[k1, None], 1.0, 1 - frac[k1]) * sample_level(levels[level], s[m][k1], t[m][k1], lin, wrap_s, wrap_t)
+        res[k1] += np.where(d2[k1, None] == d1[k1, None], 1.0, 1 - frac[k1]) * sample_level(levels[level], s[m][k1], t[m][k1], lin, wrap_s, wrap_t, weights8)
         k2 = (d2 == level) & (d2 != d1)
-        res[k2] += frac[k2] * sample_level(levels[level], s[m][k2], t[m][k2], lin, wrap_s, wrap_t)
+        res[k2] += frac[k2] * sample_level(levels[level], s[m][k2], t[m][k2], lin, wrap_s, wrap_t, weights8)
     out[m] = res
     return out

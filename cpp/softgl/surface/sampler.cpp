@@ -130,6 +130,26 @@ bool compare_passes(GLenum func, float ref, float d) {
     }
 }
 
+// ---- LINEAR filtering of 8-bit unorm textures (README "Choices"): a fixed-point rule.
+// The fractions a, b of eq. 3.20 become 8-bit weights A = round(256 a), B = round(256 b)
+// (nearest, ties to even; a NaN fraction gives 0), as GPUs quantize them (8 bits of sub-texel
+// precision), and with texels k (the bytes, value k / 255) the value is
+//   ((256 - A)(256 - B) k00 + A (256 - B) k10 + (256 - A) B k01 + A B k11) / (255 * 65536),
+// the integer sum (at most 255 * 65536 < 2^24) divided in float32, correctly rounded. Every
+// product and partial sum is an integer below 2^24, exact in float32, so any order, SIMD width
+// or FMA gives the same bits. Levels (mipmaps, 3D slices) still blend in float as before.
+inline float weight8(float frac) {
+    const float w = std::nearbyint(frac * 256.0f);
+    return w > 0.0f ? std::min(w, 256.0f) : 0.0f;   // NaN -> 0, as SIMD max(w, 0) then min(., 256)
+}
+constexpr float kUnorm8Divisor = 255.0f * 65536.0f;
+
+// The four weights of the rule for fractions a, b: w[0] for t00, w[1] t10, w[2] t01, w[3] t11.
+inline void weights8(float a, float b, float w[4]) {
+    const float A = weight8(a), B = weight8(b);
+    w[0] = (256.0f - A) * (256.0f - B), w[1] = A * (256.0f - B), w[2] = (256.0f - A) * B, w[3] = A * B;
+}
+
 // Filtering one level of one bound texture.
 struct Level {
     const BoundTexture* bt;
@@ -223,13 +243,26 @@ struct Level {
         const int32_t i0 = ifloor(u0), j0 = ifloor(v0);
         const float a = u0 - std::floor(u0), b = v0 - std::floor(v0);
         float t00[4], t10[4], t01[4], t11[4];
+        // 8-bit unorm: the fixed-point rule above (texels k = 255 v: exact for v = k / 255).
+        const bool unorm8 = img->format->is_unorm8();
+        float w8[4] = {0, 0, 0, 0};
+        if (unorm8) weights8(a, b, w8);
+        const auto bilinear = [&](float dst[4]) {
+            if (unorm8) {
+                for (int c = 0; c < 4; ++c)
+                    dst[c] = (w8[0] * (t00[c] * 255.0f) + w8[1] * (t10[c] * 255.0f) + w8[2] * (t01[c] * 255.0f) +
+                              w8[3] * (t11[c] * 255.0f)) / kUnorm8Divisor;
+                return;
+            }
+            for (int c = 0; c < 4; ++c)
+                dst[c] = (1 - a) * (1 - b) * t00[c] + a * (1 - b) * t10[c] + (1 - a) * b * t01[c] + a * b * t11[c];
+        };
         if (!is3d) {
             texel(i0, j0, layer, t00);
             texel(i0 + 1, j0, layer, t10);
             texel(i0, j0 + 1, layer, t01);
             texel(i0 + 1, j0 + 1, layer, t11);
-            for (int c = 0; c < 4; ++c)
-                out[c] = (1 - a) * (1 - b) * t00[c] + a * (1 - b) * t10[c] + (1 - a) * b * t01[c] + a * b * t11[c];
+            bilinear(out);
             return;
         }
         const float w0 = wz - 0.5f;
@@ -242,8 +275,7 @@ struct Level {
             texel(i0 + 1, j0, k0 + plane, t10);
             texel(i0, j0 + 1, k0 + plane, t01);
             texel(i0 + 1, j0 + 1, k0 + plane, t11);
-            for (int c = 0; c < 4; ++c)
-                dst[c] = (1 - a) * (1 - b) * t00[c] + a * (1 - b) * t10[c] + (1 - a) * b * t01[c] + a * b * t11[c];
+            bilinear(dst);
         }
         for (int c = 0; c < 4; ++c) out[c] = (1 - g) * lo[c] + g * hi[c];
     }
@@ -517,6 +549,18 @@ struct Fast2D {
         wrap_pair(wrap_t, ifloor(v0), p.height, p.height_pot, j0, j1);
         const float a = u0 - std::floor(u0), b = v0 - std::floor(v0);
         const size_t row0 = plane + size_t(j0) * size_t(p.width), row1 = plane + size_t(j1) * size_t(p.width);
+        if (p.unorm8) {
+            // The fixed-point rule (Level::filter), from the bytes or k = 255 v of the floats.
+            float w8[4], k[4][4];
+            weights8(a, b, w8);
+            const size_t at[4] = {row0 + size_t(i0), row0 + size_t(i1), row1 + size_t(i0), row1 + size_t(i1)};
+            for (int n = 0; n < 4; ++n)
+                for (int c = 0; c < 4; ++c)
+                    k[n][c] = p.rgba8 ? float((p.rgba8[at[n]] >> (8 * c)) & 255u) : p.color[at[n] * 4 + size_t(c)] * 255.0f;
+            for (int c = 0; c < 4; ++c)
+                out[c] = (w8[0] * k[0][c] + w8[1] * k[1][c] + w8[2] * k[2][c] + w8[3] * k[3][c]) / kUnorm8Divisor;
+            return;
+        }
         float t00[4], t10[4], t01[4], t11[4];
         texel(p, row0 + size_t(i0), ref, t00);
         texel(p, row0 + size_t(i1), ref, t10);
@@ -615,6 +659,12 @@ __attribute__((target("avx2"))) inline void wrap8(GLenum mode, __m256i i, int32_
 
 static_assert(sizeof(glsl::Scalar) == sizeof(float), "8 lanes of coordinates load as 8 floats");
 
+// weight8 of 8 lanes: round to nearest even, then max(w, 0) (NaN -> 0) and min(w, 256).
+__attribute__((target("avx2"))) inline __m256 weight8x8(__m256 frac) {
+    const __m256 w = _mm256_round_ps(_mm256_mul_ps(frac, _mm256_set1_ps(256.0f)), _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
+    return _mm256_min_ps(_mm256_max_ps(w, _mm256_setzero_ps()), _mm256_set1_ps(256.0f));
+}
+
 // Fast2D::filter of one plane for 8 lanes (r: the layers of a 2D array, else null).
 // Depth planes (ref: the lanes' references, or null) read their texels through Fast2D::texel.
 __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bool linear, const float* s,
@@ -647,6 +697,62 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bo
     wrap8(f.wrap_s, ifloor_floored8(fu), p.width, p.width_pot, true, i0, i1);
     wrap8(f.wrap_t, ifloor_floored8(fv), p.height, p.height_pot, true, j0, j1);
     const __m256 a = _mm256_sub_ps(u0, fu), b = _mm256_sub_ps(v0, fv);
+    if (p.unorm8) {
+        // The fixed-point rule (Level::filter): 8-bit weights, texels as bytes k, exact sums.
+        const __m256 k256 = _mm256_set1_ps(256.0f), A = weight8x8(a), B = weight8x8(b);
+        const __m256 nA = _mm256_sub_ps(k256, A), nB = _mm256_sub_ps(k256, B);
+        const __m256 w[4] = {_mm256_mul_ps(nA, nB), _mm256_mul_ps(A, nB), _mm256_mul_ps(nA, B), _mm256_mul_ps(A, B)};
+        __m256 sum[4];   // channel c of the 8 lanes' integer sums
+        if (p.rgba8 && !r) {
+            // The bytes of each of the 4 texels of 8 lanes by one gather (2D: no layers).
+            const __m256i width = _mm256_set1_epi32(p.width);
+            const __m256i row0 = _mm256_mullo_epi32(_mm256_load_si256(reinterpret_cast<const __m256i*>(j0)), width);
+            const __m256i row1 = _mm256_mullo_epi32(_mm256_load_si256(reinterpret_cast<const __m256i*>(j1)), width);
+            const __m256i c0 = _mm256_load_si256(reinterpret_cast<const __m256i*>(i0));
+            const __m256i c1 = _mm256_load_si256(reinterpret_cast<const __m256i*>(i1));
+            const __m256i at[4] = {_mm256_add_epi32(row0, c0), _mm256_add_epi32(row0, c1), _mm256_add_epi32(row1, c0),
+                                   _mm256_add_epi32(row1, c1)};
+            const __m256i byte = _mm256_set1_epi32(255);
+            for (int n = 0; n < 4; ++n) {
+                const __m256i t = _mm256_i32gather_epi32(reinterpret_cast<const int*>(p.rgba8), at[n], 4);
+                for (int c = 0; c < 4; ++c) {
+                    const __m256 k = _mm256_cvtepi32_ps(_mm256_and_si256(_mm256_srli_epi32(t, 8 * c), byte));
+                    sum[c] = n ? _mm256_add_ps(sum[c], _mm256_mul_ps(w[n], k)) : _mm256_mul_ps(w[n], k);
+                }
+            }
+        } else {
+            // Float storage: k = 255 v per lane (exact), sums lane by lane.
+            alignas(32) float wl[4][8], lanes[4][8];
+            for (int n = 0; n < 4; ++n) _mm256_store_ps(wl[n], w[n]);
+            const __m128 k255 = _mm_set1_ps(255.0f);
+            for (int l = 0; l < 8; ++l) {
+                const size_t row0 = layer_at[l] + size_t(j0[l]) * size_t(p.width), row1 = layer_at[l] + size_t(j1[l]) * size_t(p.width);
+                const size_t at[4] = {row0 + size_t(i0[l]), row0 + size_t(i1[l]), row1 + size_t(i0[l]), row1 + size_t(i1[l])};
+                __m128 lane = _mm_setzero_ps();
+                for (int n = 0; n < 4; ++n)
+                    lane = _mm_add_ps(lane, _mm_mul_ps(_mm_set1_ps(wl[n][l]), _mm_mul_ps(_mm_loadu_ps(p.color + at[n] * 4), k255)));
+                alignas(16) float v[4];
+                _mm_store_ps(v, lane);
+                for (int c = 0; c < 4; ++c) lanes[c][l] = v[c];
+            }
+            for (int c = 0; c < 4; ++c) sum[c] = _mm256_load_ps(lanes[c]);
+        }
+        // One correctly rounded division per channel, then the 8 lanes back to out[l][c].
+        const __m256 divisor = _mm256_set1_ps(kUnorm8Divisor);
+        for (int c = 0; c < 4; ++c) sum[c] = _mm256_div_ps(sum[c], divisor);
+        for (int h = 0; h < 2; ++h) {
+            __m128 r0 = h ? _mm256_extractf128_ps(sum[0], 1) : _mm256_castps256_ps128(sum[0]);
+            __m128 r1 = h ? _mm256_extractf128_ps(sum[1], 1) : _mm256_castps256_ps128(sum[1]);
+            __m128 r2 = h ? _mm256_extractf128_ps(sum[2], 1) : _mm256_castps256_ps128(sum[2]);
+            __m128 r3 = h ? _mm256_extractf128_ps(sum[3], 1) : _mm256_castps256_ps128(sum[3]);
+            _MM_TRANSPOSE4_PS(r0, r1, r2, r3);
+            _mm_storeu_ps(out[4 * h + 0], r0);
+            _mm_storeu_ps(out[4 * h + 1], r1);
+            _mm_storeu_ps(out[4 * h + 2], r2);
+            _mm_storeu_ps(out[4 * h + 3], r3);
+        }
+        return;
+    }
     const __m256 na = _mm256_sub_ps(one, a), nb = _mm256_sub_ps(one, b);
     alignas(32) float w00[8], w10[8], w01[8], w11[8];
     _mm256_store_ps(w00, _mm256_mul_ps(na, nb));
@@ -925,33 +1031,39 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) inline __m512 unorm8_16(__
     return _mm512_fmadd_ps(r, inv, q);
 }
 
-// The four channels of 16 packed texels as k / 255, the floats the storage holds.
-__attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) inline void unpack16(__m512i t, __m512 out[4]) {
+// weight8 of 16 lanes (as weight8x8).
+__attribute__((target(SOFTGL_SAMPLER_AVX512))) inline __m512 weight8x16(__m512 frac) {
+    const __m512 k256 = _mm512_set1_ps(256.0f);
+    const __m512 w = _mm512_roundscale_ps(_mm512_mul_ps(frac, k256), _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
+    return _mm512_min_ps(_mm512_max_ps(w, _mm512_setzero_ps()), k256);
+}
+
+// The four channels of 16 packed texels as k / 255, the floats the storage holds, or (bytes:
+// true) as k, for the fixed-point rule.
+__attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) inline void unpack16(__m512i t, __m512 out[4], bool bytes) {
     const __m512i byte = _mm512_set1_epi32(255);
-    for (int c = 0; c < 4; ++c) out[c] = unorm8_16(_mm512_and_si512(_mm512_srli_epi32(t, 8 * c), byte));
+    for (int c = 0; c < 4; ++c) {
+        const __m512i k = _mm512_and_si512(_mm512_srli_epi32(t, 8 * c), byte);
+        out[c] = bytes ? _mm512_cvtepi32_ps(k) : unorm8_16(k);
+    }
 }
 
-// texels16 from a byte copy (Texture::rgba8).
-__attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) inline void texels16(const uint32_t* rgba8, __m512i index, __m512 out[4]) {
-    alignas(64) int32_t at[16];
-    alignas(64) uint32_t t[16];
-    _mm512_store_si512(at, index);
-    for (int l = 0; l < 16; ++l) t[l] = rgba8[at[l]];
-    unpack16(_mm512_load_si512(t), out);
+// texels16 from a byte copy (Texture::rgba8): one gather.
+__attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) inline void texels16(const uint32_t* rgba8, __m512i index, __m512 out[4],
+                                                                          bool bytes = false) {
+    unpack16(_mm512_i32gather_epi32(index, rgba8, 4), out, bytes);
 }
 
-// texel_pairs16 from a byte copy: one 8-byte load per lane.
+// texel_pairs16 from a byte copy: two gathers of 8-byte pairs.
 __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) inline void texel_pairs16(const uint32_t* rgba8, __m512i index,
-                                                                               __m512 left[4], __m512 right[4]) {
-    alignas(64) int32_t at[16];
-    alignas(64) uint64_t pair[16];
-    _mm512_store_si512(at, index);
-    for (int l = 0; l < 16; ++l) std::memcpy(&pair[l], rgba8 + at[l], 8);
-    const __m512i p0 = _mm512_load_si512(pair), p1 = _mm512_load_si512(pair + 8);
+                                                                               __m512 left[4], __m512 right[4],
+                                                                               bool bytes = false) {
+    const __m512i p0 = _mm512_i32gather_epi64(_mm512_castsi512_si256(index), rgba8, 4);
+    const __m512i p1 = _mm512_i32gather_epi64(_mm512_extracti64x4_epi64(index, 1), rgba8, 4);
     // The low halves are the left texels, the high halves the right ones.
-    unpack16(_mm512_inserti64x4(_mm512_castsi256_si512(_mm512_cvtepi64_epi32(p0)), _mm512_cvtepi64_epi32(p1), 1), left);
+    unpack16(_mm512_inserti64x4(_mm512_castsi256_si512(_mm512_cvtepi64_epi32(p0)), _mm512_cvtepi64_epi32(p1), 1), left, bytes);
     unpack16(_mm512_inserti64x4(_mm512_castsi256_si512(_mm512_cvtepi64_epi32(_mm512_srli_epi64(p0, 32))),
-                                _mm512_cvtepi64_epi32(_mm512_srli_epi64(p1, 32)), 1), right);
+                                _mm512_cvtepi64_epi32(_mm512_srli_epi64(p1, 32)), 1), right, bytes);
 }
 
 // texels16 of two horizontally adjacent texels per lane (index[l] and index[l] + 1 in one row),
@@ -1015,19 +1127,28 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) void filter16(const Fast2D
     wrap16(f.wrap_s, ifloor_floored16(fu), p.width, p.width_pot, true, i0, i1);
     wrap16(f.wrap_t, ifloor_floored16(fv), p.height, p.height_pot, true, j0, j1);
     const __m512 a = _mm512_sub_ps(u0, fu), b = _mm512_sub_ps(v0, fv);
-    const __m512 na = _mm512_sub_ps(one, a), nb = _mm512_sub_ps(one, b);
-    const __m512 w[4] = {_mm512_mul_ps(na, nb), _mm512_mul_ps(a, nb), _mm512_mul_ps(na, b), _mm512_mul_ps(a, b)};
+    __m512 w[4];
+    if (p.unorm8) {
+        // The fixed-point rule (Level::filter): weight8 of 16 lanes, texels as bytes k below.
+        const __m512 k256 = _mm512_set1_ps(256.0f);
+        const __m512 A = weight8x16(a), B = weight8x16(b), nA = _mm512_sub_ps(k256, A), nB = _mm512_sub_ps(k256, B);
+        w[0] = _mm512_mul_ps(nA, nB), w[1] = _mm512_mul_ps(A, nB), w[2] = _mm512_mul_ps(nA, B), w[3] = _mm512_mul_ps(A, B);
+    } else {
+        const __m512 na = _mm512_sub_ps(one, a), nb = _mm512_sub_ps(one, b);
+        w[0] = _mm512_mul_ps(na, nb), w[1] = _mm512_mul_ps(a, nb), w[2] = _mm512_mul_ps(na, b), w[3] = _mm512_mul_ps(a, b);
+    }
     const __m512i row0 = _mm512_mullo_epi32(j0, width), row1 = _mm512_mullo_epi32(j1, width);
     __m512 texel[4][4];   // t00, t10, t01, t11
     const bool pairs = _mm512_cmpeq_epi32_mask(i1, _mm512_add_epi32(i0, _mm512_set1_epi32(1))) == 0xFFFF;
+    const bool bytes = p.unorm8;   // rgba8 texels as k for the fixed-point rule
     if (!kLayered && p.rgba8 && pairs) {
-        texel_pairs16(p.rgba8, _mm512_add_epi32(row0, i0), texel[0], texel[1]);
-        texel_pairs16(p.rgba8, _mm512_add_epi32(row1, i0), texel[2], texel[3]);
+        texel_pairs16(p.rgba8, _mm512_add_epi32(row0, i0), texel[0], texel[1], bytes);
+        texel_pairs16(p.rgba8, _mm512_add_epi32(row1, i0), texel[2], texel[3], bytes);
     } else if (!kLayered && p.rgba8) {
-        texels16(p.rgba8, _mm512_add_epi32(row0, i0), texel[0]);
-        texels16(p.rgba8, _mm512_add_epi32(row0, i1), texel[1]);
-        texels16(p.rgba8, _mm512_add_epi32(row1, i0), texel[2]);
-        texels16(p.rgba8, _mm512_add_epi32(row1, i1), texel[3]);
+        texels16(p.rgba8, _mm512_add_epi32(row0, i0), texel[0], bytes);
+        texels16(p.rgba8, _mm512_add_epi32(row0, i1), texel[1], bytes);
+        texels16(p.rgba8, _mm512_add_epi32(row1, i0), texel[2], bytes);
+        texels16(p.rgba8, _mm512_add_epi32(row1, i1), texel[3], bytes);
     } else if (pairs) {
         // No lane wraps between its columns: each row's two texels are neighbours in memory.
         texel_pairs16(layers, _mm512_add_epi32(row0, i0), texel[0], texel[1]);
@@ -1037,6 +1158,18 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) void filter16(const Fast2D
         texels16(layers, _mm512_add_epi32(row0, i1), texel[1]);
         texels16(layers, _mm512_add_epi32(row1, i0), texel[2]);
         texels16(layers, _mm512_add_epi32(row1, i1), texel[3]);
+    }
+    if (p.unorm8) {
+        // Exact integer sums (any order), one correctly rounded division.
+        const __m512 k255 = _mm512_set1_ps(255.0f), divisor = _mm512_set1_ps(kUnorm8Divisor);
+        for (int c = 0; c < 4; ++c) {
+            __m512 k[4];
+            for (int n = 0; n < 4; ++n) k[n] = p.rgba8 && !kLayered ? texel[n][c] : _mm512_mul_ps(texel[n][c], k255);
+            __m512 sum = _mm512_mul_ps(w[0], k[0]);
+            for (int n = 1; n < 4; ++n) sum = _mm512_fmadd_ps(w[n], k[n], sum);
+            out[c] = _mm512_div_ps(sum, divisor);
+        }
+        return;
     }
     // w00 * t00 + w10 * t10 + w01 * t01 + w11 * t11, left to right, as Fast2D::filter.
     for (int c = 0; c < 4; ++c) {

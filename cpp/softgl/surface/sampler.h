@@ -5,7 +5,8 @@
 // comparison), texelFetch and textureSize (ES 3.00 GLSL §8.8).
 //
 // Everything is computed in float32 per lane, in a fixed order: the same inputs give the same
-// bits whatever the batch size or thread.
+// bits whatever the batch size or thread. LINEAR filtering of 8-bit unorm textures follows a
+// fixed-point rule (8-bit weights, exact integer sums; README "Choices", sampler.cpp).
 #pragma once
 #include <array>
 #include <cstdint>

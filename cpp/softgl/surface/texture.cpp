@@ -495,6 +495,13 @@ const Image* Texture::find(int face, int level) const {
     return &levels[size_t(level)];
 }
 
+size_t Texture::storage_bytes() const {
+    size_t total = 0;
+    for (const auto& face : images)
+        for (const Image& img : face) total += img.storage_bytes();
+    return total;
+}
+
 namespace {
 
 // The texels of an 8-bit unorm image as bytes (Image::rgba8); false if a float is not k / 255
@@ -530,9 +537,7 @@ void Texture::refresh_rgba8(int32_t base, int32_t q) {
         img.rgba8_generation = generation;
         img.rgba8.clear();
         const FormatInfo& f = *img.format;
-        const bool unorm8 = f.kind() == SampleKind::Float && f.encoding == Encoding::Unorm &&
-                            std::all_of(f.bits.begin(), f.bits.end(), [](uint8_t b) { return b == 0 || b == 8; });
-        if (unorm8 && img.samples == 1 && img.color.size() == img.texel_count() * 4 && !pack_unorm8(img, img.rgba8))
+        if (f.kind() == SampleKind::Float && f.is_unorm8() && img.samples == 1 && img.color.size() == img.texel_count() * 4 && !pack_unorm8(img, img.rgba8))
             img.rgba8.clear();
     }
 }
@@ -551,6 +556,7 @@ void Texture::refresh_sampling(int32_t base, int32_t q) {
             SampledLevel& s = sampled_levels[size_t(face) * size_t(sampled_count) + size_t(k)];
             if (img->format->kind() == SampleKind::Float && img->color.size() == img->texel_count() * 4) {
                 s.color = img->color.data();
+                s.unorm8 = img->format->is_unorm8();
                 s.rgba8 = rgba8(*img);
             } else if (img->format->is_depth() && img->depth_words.size() == img->texel_count()) {
                 s.depth = img->depth_words.data();

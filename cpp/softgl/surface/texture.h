@@ -73,6 +73,13 @@ struct FormatInfo {
                encoding == Encoding::Float11_11_10 || encoding == Encoding::Rgb9e5;
     }
     int depth_bits() const { return encoding == Encoding::Depth16 ? 16 : encoding == Encoding::Depth24 ? 24 : encoding == Encoding::Depth32F ? 32 : 0; }
+    // 8-bit unorm colour (RGBA8, RGB8, RG8, R8, LUMINANCE8, ALPHA8, LUMINANCE8_ALPHA8; not
+    // sRGB): texels are k / 255, filtered by the fixed-point rule of surface/sampler.cpp.
+    bool is_unorm8() const {
+        return encoding == Encoding::Unorm && !has_stencil &&
+               (bits[0] == 8 || bits[0] == 0) && (bits[1] == 8 || bits[1] == 0) &&
+               (bits[2] == 8 || bits[2] == 0) && (bits[3] == 8 || bits[3] == 0);
+    }
 };
 
 // The format of a sized (or WebGL 1 pseudo-sized) internal format; null if unknown.
@@ -116,6 +123,11 @@ struct Image {
     void clear() { *this = Image{}; }
     // Texel (x, y, z) as RGBA float, as sampled (integer formats: converted; depth: (d, 0, 0, 1)).
     void texel(int32_t x, int32_t y, int32_t z, float out[4]) const;
+    // Bytes of texel storage this image holds (all its vectors, the byte copy included).
+    size_t storage_bytes() const {
+        return color.size() * sizeof(float) + integer.size() * sizeof(uint32_t) + depth_words.size() * sizeof(uint32_t) +
+               stencil.size() + rgba8.size() * sizeof(uint32_t);
+    }
 };
 
 // Client pixel data for texImage*/texSubImage*: `format`/`type` describe the data layout,
@@ -149,6 +161,8 @@ struct SamplerParams {
 // and `depth` (Depth kind) is set; `rgba8` too when the level has a current byte copy.
 struct SampledLevel {
     const float* color = nullptr;      // 4 floats per texel, layer-major then row-major
+    bool unorm8 = false;               // an 8-bit unorm format (FormatInfo::is_unorm8): LINEAR
+                                       // filters with 8-bit weights (surface/sampler.cpp)
     const uint32_t* rgba8 = nullptr;   // the same texels as bytes (Texture::rgba8), or null
     const uint32_t* depth = nullptr;   // depth words, one per texel
     Encoding depth_encoding = Encoding::Depth16;
@@ -171,6 +185,8 @@ public:
     int faces() const { return target == gl::TEXTURE_CUBE_MAP ? 6 : 1; }
     Image& image(int face, int level);  // grows the arrays as needed
     const Image* find(int face, int level) const;
+    // Bytes of texel storage held by all images of all faces (memory accounting).
+    size_t storage_bytes() const;
     // Brings the byte copies (Image::rgba8) of levels [base, q] of a 2D or cube-map texture of
     // an 8-bit unorm format up to date with `generation`; levels whose floats are not all k / 255 get none.
     // Called when a draw binds the texture (single-threaded), so lookups only read them. A copy
