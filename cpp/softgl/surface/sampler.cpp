@@ -1323,6 +1323,41 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
             l += n;
         }
     }
+    // Cube maps: face and face coordinates lane by lane (cube_coords, as one_lane), then blocks of
+    // 8 active lanes on one face, one level and inside the face filtered by filter8; other
+    // blocks lane by lane.
+    if (simd != SimdBlocks::None && cube && q.coord[0] && q.coord[1] && q.coord[2]) {
+        while (l + 8 <= q.lane_count) {
+            alignas(32) float s8[8], t8[8], ref8[8];
+            LevelChoice ch8[8];
+            int face0 = -1;
+            bool block = true;
+            for (int k = 0; k < 8 && block; ++k) {
+                const int lane = l + k;
+                if (q.active && !q.active[lane]) { block = false; break; }
+                float s = q.coord[0][lane].f, t = q.coord[1][lane].f;
+                const float r = q.coord[2][lane].f;
+                float dx[3], dy[3];
+                derivatives(lane, dx, dy);
+                const int face = cube_coords(s, t, r, dx, dy);
+                ch8[k] = needs_lambda ? f.choose(lambda_of_derivatives(dx, dy, true, true, lane)) : fixed;
+                if (k == 0) face0 = face;
+                block = face == face0 && ch8[k].second < 0 && ch8[k].same_levels(ch8[0]) &&
+                        (!bt.seamless_cube || f.inside(ch8[k], face, s, t));
+                s8[k] = s, t8[k] = t, ref8[k] = q.compare ? q.compare[lane].f : 0.0f;
+            }
+            if (!block) {
+                for (int k = 0; k < 8; ++k) one_lane(l + k);
+            } else {
+                float result[8][4];
+                const Plane& plane = f.planes[size_t(face0) * size_t(f.face_stride) + size_t(ch8[0].first)];
+                filter8(f, plane, ch8[0].linear, s8, t8, nullptr, result, q.compare ? ref8 : nullptr);
+                glsl::Scalar* const out[4] = {q.out[0], q.out[1], q.out[2], q.out[3]};
+                store_lanes8(result, out, l);
+            }
+            l += 8;
+        }
+    }
 #endif
     for (; l < q.lane_count; ++l) one_lane(l);
     return true;
