@@ -1337,8 +1337,9 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
                 if (q.active && !q.active[lane]) { block = false; break; }
                 float s = q.coord[0][lane].f, t = q.coord[1][lane].f;
                 const float r = q.coord[2][lane].f;
-                float dx[3], dy[3];
-                derivatives(lane, dx, dy);
+                // (Without a level choice the derivatives are not needed: s, t do not depend on them.)
+                float dx[3] = {0, 0, 0}, dy[3] = {0, 0, 0};
+                if (needs_lambda) derivatives(lane, dx, dy);
                 const int face = cube_coords(s, t, r, dx, dy);
                 ch8[k] = needs_lambda ? f.choose(lambda_of_derivatives(dx, dy, true, true, lane)) : fixed;
                 if (k == 0) face0 = face;
