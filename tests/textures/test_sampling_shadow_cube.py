@@ -206,3 +206,26 @@ def test_large_shadow_and_cube_with_threads():
     r.programs[source] = prog
     for c0, cx, cy in CUBE_MAPS.values():
         r.compare(source, c0, cx, cy)
+
+
+@pytest.mark.parametrize("key", ["cubemap_env", "shadow_map"])
+def test_ordinary_benchmark_scenes_same_bytes_on_every_path(key):
+    """benchmarks/ordinary.py's cube-map and shadow scenes (blocks of 8 cube lanes on one face;
+    depth-compare sums of 8 lanes): every sampler path and thread count gives the general path's bytes."""
+    import sys
+    from pathlib import Path
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
+    import ordinary
+    spec = ordinary.ALL[key]
+    w, h = 128, 96
+    images = []
+    for path in PATHS:
+        for threads in (1, 2):
+            gl = softgl.Context(w, h, antialias=False, threads=threads)
+            use_path(gl, path)
+            spec.setup(gl, w, h)()
+            assert (fast_queries(gl) > 0) == (path != GENERAL)
+            images.append(ordinary.canvas_pixels(gl))
+    assert images[0].std() > 10
+    for img in images[1:]:
+        np.testing.assert_array_equal(img, images[0])

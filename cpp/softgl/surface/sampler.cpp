@@ -667,6 +667,15 @@ __attribute__((target("avx2"))) inline __m256 weight8x8(__m256 frac) {
 
 // Fast2D::filter of one plane for 8 lanes (r: the layers of a 2D array, else null).
 // Depth planes (ref: the lanes' references, or null) read their texels through Fast2D::texel.
+// w00 t00 + w10 t10 + w01 t01 + w11 t11 of 8 lanes, in Fast2D::filter's order.
+__attribute__((target("avx2"))) inline __m256 weighted_sum8(__m256 w00, __m256 w10, __m256 w01, __m256 w11, __m256 t00,
+                                                            __m256 t10, __m256 t01, __m256 t11) {
+    __m256 sum = _mm256_mul_ps(w00, t00);
+    sum = _mm256_add_ps(sum, _mm256_mul_ps(w10, t10));
+    sum = _mm256_add_ps(sum, _mm256_mul_ps(w01, t01));
+    return _mm256_add_ps(sum, _mm256_mul_ps(w11, t11));
+}
+
 __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bool linear, const float* s,
                                              const float* t, const float* r, float out[8][4], const float* ref = nullptr) {
     size_t layer_at[8] = {};   // the first texel of each lane's layer
@@ -760,20 +769,32 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bo
     _mm256_store_ps(w01, _mm256_mul_ps(na, b));
     _mm256_store_ps(w11, _mm256_mul_ps(a, b));
     if (p.depth) {
+        // The four texels' first channel per lane (Fast2D::texel: the depth, or the compare's 0 / 1),
+        // then the weighted sums of all 8 lanes at once: per lane the same products and sums, in the
+        // same order, as Fast2D::filter, so the same bits.
+        alignas(32) float d00[8], d10[8], d01[8], d11[8];
         for (int l = 0; l < 8; ++l) {
             const size_t row0 = layer_at[l] + size_t(j0[l]) * size_t(p.width), row1 = layer_at[l] + size_t(j1[l]) * size_t(p.width);
             const float lane_ref = ref ? ref[l] : 0.0f;
-            float t00[4], t10[4], t01[4], t11[4];
-            f.texel(p, row0 + size_t(i0[l]), lane_ref, t00);
-            f.texel(p, row0 + size_t(i1[l]), lane_ref, t10);
-            f.texel(p, row1 + size_t(i0[l]), lane_ref, t01);
-            f.texel(p, row1 + size_t(i1[l]), lane_ref, t11);
-            __m128 sum = _mm_mul_ps(_mm_set1_ps(w00[l]), _mm_loadu_ps(t00));
-            sum = _mm_add_ps(sum, _mm_mul_ps(_mm_set1_ps(w10[l]), _mm_loadu_ps(t10)));
-            sum = _mm_add_ps(sum, _mm_mul_ps(_mm_set1_ps(w01[l]), _mm_loadu_ps(t01)));
-            sum = _mm_add_ps(sum, _mm_mul_ps(_mm_set1_ps(w11[l]), _mm_loadu_ps(t11)));
-            _mm_storeu_ps(out[l], sum);
+            float t[4];
+            f.texel(p, row0 + size_t(i0[l]), lane_ref, t); d00[l] = t[0];
+            f.texel(p, row0 + size_t(i1[l]), lane_ref, t); d10[l] = t[0];
+            f.texel(p, row1 + size_t(i0[l]), lane_ref, t); d01[l] = t[0];
+            f.texel(p, row1 + size_t(i1[l]), lane_ref, t); d11[l] = t[0];
         }
+        const __m256 a00 = _mm256_load_ps(w00), a10 = _mm256_load_ps(w10), a01 = _mm256_load_ps(w01), a11 = _mm256_load_ps(w11);
+        const auto weighted = [&](__m256 t00, __m256 t10, __m256 t01, __m256 t11) {
+            return weighted_sum8(a00, a10, a01, a11, t00, t10, t01, t11);
+        };
+        const __m256 t00 = _mm256_load_ps(d00), t10 = _mm256_load_ps(d10), t01 = _mm256_load_ps(d01), t11 = _mm256_load_ps(d11);
+        alignas(32) float c0[8], c1[8], c3[8];
+        _mm256_store_ps(c0, weighted(t00, t10, t01, t11));
+        const bool grey = f.compare || f.luminance;   // channels 1 and 2 repeat the depth, else 0
+        const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f);
+        if (grey) std::memcpy(c1, c0, sizeof c1);
+        else _mm256_store_ps(c1, weighted(zero, zero, zero, zero));
+        _mm256_store_ps(c3, weighted(one, one, one, one));
+        for (int l = 0; l < 8; ++l) out[l][0] = c0[l], out[l][1] = out[l][2] = c1[l], out[l][3] = c3[l];
         return;
     }
     for (int l = 0; l < 8; ++l) {
@@ -1454,6 +1475,42 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
                         for (int c = 0; c < 4; ++c) if (q.out[c]) q.out[c][l + k].f = c == 3 ? 1.0f : 0.0f;
             }
             l += n;
+        }
+    }
+    // Cube maps: face and face coordinates lane by lane (cube_coords, as one_lane), then blocks of
+    // 8 active lanes on one face, one level and inside the face filtered by filter8; other
+    // blocks lane by lane.
+    if (simd != SimdBlocks::None && cube && q.coord[0] && q.coord[1] && q.coord[2]) {
+        while (l + 8 <= q.lane_count) {
+            alignas(32) float s8[8], t8[8], ref8[8];
+            LevelChoice ch8[8];
+            int face0 = -1;
+            bool block = true;
+            for (int k = 0; k < 8 && block; ++k) {
+                const int lane = l + k;
+                if (q.active && !q.active[lane]) { block = false; break; }
+                float s = q.coord[0][lane].f, t = q.coord[1][lane].f;
+                const float r = q.coord[2][lane].f;
+                // (Without a level choice the derivatives are not needed: s, t do not depend on them.)
+                float dx[3] = {0, 0, 0}, dy[3] = {0, 0, 0};
+                if (needs_lambda) derivatives(lane, dx, dy);
+                const int face = cube_coords(s, t, r, dx, dy);
+                ch8[k] = needs_lambda ? f.choose(lambda_of_derivatives(dx, dy, true, true, lane)) : fixed;
+                if (k == 0) face0 = face;
+                block = face == face0 && ch8[k].second < 0 && ch8[k].same_levels(ch8[0]) &&
+                        (!bt.seamless_cube || f.inside(ch8[k], face, s, t));
+                s8[k] = s, t8[k] = t, ref8[k] = q.compare ? q.compare[lane].f : 0.0f;
+            }
+            if (!block) {
+                for (int k = 0; k < 8; ++k) one_lane(l + k);
+            } else {
+                float result[8][4];
+                const Plane& plane = f.planes[size_t(face0) * size_t(f.face_stride) + size_t(ch8[0].first)];
+                filter8(f, plane, ch8[0].linear, s8, t8, nullptr, result, q.compare ? ref8 : nullptr);
+                glsl::Scalar* const out[4] = {q.out[0], q.out[1], q.out[2], q.out[3]};
+                store_lanes8(result, out, l);
+            }
+            l += 8;
         }
     }
 #endif
