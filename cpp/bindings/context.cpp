@@ -170,26 +170,16 @@ void bind_state(ContextClass& cls) {
                      f(code, call, why);
                  });
              })
-        .def("set_work_budget",
-             [](Context& c, std::optional<uint64_t> draw, std::optional<uint64_t> compile) {
-                 if ((draw && *draw == 0) || (compile && *compile == 0))
-                     throw py::value_error("set_work_budget: a budget must be at least 1 unit");
-                 if (draw) c.work_limits().draw = *draw;
-                 if (compile) c.work_limits().compile = *compile;
-             },
-             py::arg("draw") = py::none(), py::arg("compile") = py::none(),
-             "Sets the work budget of each draw and of each compile or link, in units of about one "
-             "GLSL instruction on one vertex or fragment (docs/reliability.md, 'Work budget and "
-             "Ctrl-C'). A call that exceeds it stops, changes nothing and records OUT_OF_MEMORY.")
-        .def("work_budget",
+        // set_work_budget / work_budget (python/softgl/context.py): 0 leaves a limit unchanged.
+        .def("_set_work_budget",
+             [](Context& c, uint64_t draw, uint64_t compile) {
+                 if (draw) c.work_limits().draw = draw;
+                 if (compile) c.work_limits().compile = compile;
+             })
+        .def("_work_budget",
              [](Context& c) {
-                 py::dict d;
-                 d["draw"] = c.work_limits().draw;
-                 d["compile"] = c.work_limits().compile;
-                 d["last_call_used"] = c.work_budget().used();
-                 return d;
-             },
-             "The work budgets (set_work_budget) and the units the last draw, compile or link used.")
+                 return py::make_tuple(c.work_limits().draw, c.work_limits().compile, c.work_budget().used());
+             })
         .def("_attributes", [](const Context& c) { return c.attributes(); })
         .def("_present", &Context::present)
         .def("getError", webidl(&Context::get_error))

@@ -308,6 +308,20 @@ class Context(_core.Context):
         self._extensions[name] = self._extensions[canonical] = ext
         return ext
 
+    def set_work_budget(self, draw: int | None = None, compile: int | None = None) -> None:
+        """Sets the work budget of each draw and of each compile or link, in units of about one
+        GLSL instruction on one vertex or fragment (docs/reliability.md, "Work budget and
+        Ctrl-C"). A call that exceeds it stops, changes nothing and records OUT_OF_MEMORY."""
+        for name, value in (("draw", draw), ("compile", compile)):
+            if value is not None and (not isinstance(value, int) or isinstance(value, bool) or not 1 <= value < 2**64):
+                raise ValueError(f"set_work_budget: {name} must be an int from 1 to 2**64 - 1, got {value!r}")
+        self._set_work_budget(draw or 0, compile or 0)
+
+    def work_budget(self) -> dict:
+        """The work budgets (set_work_budget) and the units the last draw, compile or link used."""
+        draw, compile, used = self._work_budget()
+        return {"draw": draw, "compile": compile, "last_call_used": used}
+
     def stats(self, reset: bool = False) -> dict:
         """softgl's counters since the context was made (or last reset): what the draws did and
         what they skipped (docs/architecture.md, "Fast paths"), with seconds per stage.
