@@ -19,7 +19,12 @@ _ATTRIBUTE_DEFAULTS = dict(alpha=True, depth=True, stencil=False, antialias=True
 def _caller_level() -> int:
     # The warning points at the user's line: past the listener and this module's wrappers
     # (bufferData, texImage2D, ... below), so it shows once per call site.
-    level, frame = 2, sys._getframe(2)
+    # A draw, compile or link on the main thread reports from the thread that runs it while the
+    # main thread watches for Ctrl-C (cpp/bindings/interruptible.h): no Python frames there.
+    try:
+        level, frame = 2, sys._getframe(2)
+    except ValueError:
+        return 1
     while frame is not None and frame.f_code.co_filename == __file__:
         level, frame = level + 1, frame.f_back
     return level
