@@ -341,8 +341,8 @@ class Context(_core.Context):
         ``fragments_hidden`` counts fragments that passed the tests but were not shaded, because
         a later primitive of the same draw covers their pixel and nothing blends (hidden-surface
         removal, single-sampled targets, in tiles where primitives pile up): the bytes are the
-        same as when every fragment is shaded. A shader's loop-limit abort can then only come
-        from a fragment that is shaded.
+        same as when every fragment is shaded. Hidden fragments are not charged to the draw's work
+        budget (set_work_budget).
 
         ``primitives_depth_hidden`` counts (primitive, tile) pairs that were neither rasterized
         nor tested, because the tile's stored depth words show that every fragment of the
