@@ -4,6 +4,7 @@
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
 
+#include "softgl/core/memory_ledger.h"
 #include "softgl/api/context.h"
 #include "array_intake.h"
 #include "exclusive.h"
@@ -156,6 +157,10 @@ void bind_context_attributes(py::module_& m) {
         .def_readwrite("color_format", &ContextAttributes::color_format);
 
     m.def("check_context", &Context::check, "Why a context of this size and attributes cannot be made ('' if it can)");
+    m.def("set_memory_limit", &softgl::set_memory_limit, py::arg("bytes"),
+          "Process-wide limit on the bytes GL objects hold (0: half of physical memory)");
+    m.def("memory_limit", &softgl::memory_limit);
+    m.def("memory_in_use", &softgl::memory_in_use, "Bytes that buffers and renderbuffers hold now");
     m.def("error_name", &softgl::error_name);
     m.def("enum_name", &softgl::enum_name);
 }

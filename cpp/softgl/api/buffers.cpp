@@ -114,11 +114,14 @@ void Context::buffer_data_size(GLenum target, int64_t size, GLenum usage) {
     if (!buffer_binding(target)) return error(gl::INVALID_ENUM, call, enum_name(target) + " is not a buffer target here");
     if (!valid_usage(usage, version())) return error(gl::INVALID_ENUM, call, enum_name(usage) + " is not a buffer usage");
     if (size < 0) return error(gl::INVALID_VALUE, call, "size must not be negative");
-    if (uint64_t(size) > memory_budget())
-        return error(gl::OUT_OF_MEMORY, call, "a buffer of " + std::to_string(size) +
-                     " bytes is more than half of this machine's memory");
     Buffer* buffer = bound_buffer(call, target);
     if (!buffer) return;
+    // The limit bounds all objects together (core/memory_ledger.h), not this call alone.
+    MemoryReservation reservation;
+    if (!reservation.reserve(uint64_t(size)))
+        return error(gl::OUT_OF_MEMORY, call, "a buffer of " + std::to_string(size) + " bytes would bring softgl's memory to " +
+                     std::to_string(memory_in_use() + uint64_t(size)) + " bytes, over its limit of " +
+                     std::to_string(memory_limit()));
     std::vector<uint8_t> data;
     try {
         data.assign(size_t(size), 0);   // WebGL: a buffer created with a size reads as zeros
@@ -126,6 +129,7 @@ void Context::buffer_data_size(GLenum target, int64_t size, GLenum usage) {
         return error(gl::OUT_OF_MEMORY, call, "could not allocate " + std::to_string(size) + " bytes");
     }
     buffer->data = std::move(data);
+    buffer->reservation = std::move(reservation);
     buffer->usage = usage;
 }
 
@@ -136,7 +140,17 @@ void Context::buffer_data(GLenum target, const uint8_t* data, int64_t size, GLen
     if (!data) return error(gl::INVALID_VALUE, call, "data is null");
     Buffer* buffer = bound_buffer(call, target);
     if (!buffer) return;
-    buffer->data.assign(data, data + size);
+    MemoryReservation reservation;
+    if (!reservation.reserve(uint64_t(size)))
+        return error(gl::OUT_OF_MEMORY, call, "a buffer of " + std::to_string(size) + " bytes would bring softgl's memory to " +
+                     std::to_string(memory_in_use() + uint64_t(size)) + " bytes, over its limit of " +
+                     std::to_string(memory_limit()));
+    try {
+        buffer->data.assign(data, data + size);
+    } catch (const std::bad_alloc&) {
+        return error(gl::OUT_OF_MEMORY, call, "could not allocate " + std::to_string(size) + " bytes");
+    }
+    buffer->reservation = std::move(reservation);
     buffer->usage = usage;
 }
 

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <memory>
 
+#include "softgl/core/memory_ledger.h"
 #include "softgl/core/objects.h"
 #include "softgl/surface/texture.h"
 
@@ -29,6 +30,7 @@ struct TexSource {
 class Renderbuffer : public Object {
 public:
     Image image;                      // samples > 1 for multisample storage
+    MemoryReservation reservation;    // image's bytes, charged to the process-wide total
     GLenum internal_format = gl::RGBA4;
     int32_t samples = 0;              // as requested (0 = single-sampled)
     uint64_t generation = 0;

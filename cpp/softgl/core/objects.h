@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "softgl/core/enums.h"
+#include "softgl/core/memory_ledger.h"
 
 namespace softgl {
 
@@ -27,6 +28,7 @@ public:
     // WebGL 1.0 §6.1 / WebGL 2.0 §5.1: a buffer used for indices can never hold other data.
     enum class Kind { Unbound, ElementArray, Other };
     std::vector<uint8_t> data;
+    MemoryReservation reservation;   // data's bytes, charged to the process-wide total
     GLenum usage = gl::STATIC_DRAW;
     Kind kind = Kind::Unbound;
 };

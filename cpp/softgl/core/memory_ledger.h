@@ -1,0 +1,34 @@
+// One process-wide account of the bytes that GL objects hold (docs/reliability.md, "Memory").
+// Each storage is paired with a MemoryReservation charged before the allocation and released when
+// the storage goes (free, resize, destruction), so the limit bounds the sum of all objects rather
+// than each call alone.
+#pragma once
+#include <cstdint>
+
+namespace softgl {
+
+// The process-wide limit: half of the machine's physical memory unless set_memory_limit() chose
+// another (0 restores the default).
+uint64_t memory_limit();
+void set_memory_limit(uint64_t bytes);
+uint64_t memory_in_use();
+
+class MemoryReservation {
+public:
+    MemoryReservation() = default;
+    ~MemoryReservation() { release(); }
+    MemoryReservation(MemoryReservation&& other) noexcept : bytes_(other.bytes_) { other.bytes_ = 0; }
+    MemoryReservation& operator=(MemoryReservation&& other) noexcept;
+    MemoryReservation(const MemoryReservation&) = delete;
+    MemoryReservation& operator=(const MemoryReservation&) = delete;
+
+    // Charges `bytes` to the total; false (and nothing charged) if that would pass the limit.
+    bool reserve(uint64_t bytes);
+    void release();
+    uint64_t bytes() const { return bytes_; }
+
+private:
+    uint64_t bytes_ = 0;
+};
+
+}  // namespace softgl
