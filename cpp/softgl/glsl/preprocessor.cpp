@@ -1,5 +1,4 @@
 #include "softgl/glsl/preprocessor.h"
-#include "softgl/core/work_budget.h"
 
 #include <cstdint>
 #include <cstdlib>
@@ -79,7 +78,6 @@ private:
             line_tokens.push_back(input_[pos_++]);
         if (pos_ < input_.size() && input_[pos_].kind == TokenKind::Newline) ++pos_;
         for (Token& t : line_tokens) t.line = line(t);
-        WorkBudget::charge_current(line_tokens.size() + 1);   // the compile's work budget
         return line_tokens;
     }
 

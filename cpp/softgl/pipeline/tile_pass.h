@@ -32,7 +32,6 @@
 namespace softgl {
 
 class FragmentSink;
-class DrawRollback;
 
 // The batch's set-up primitives: number k is record k & mask of chunk k >> shift (no per-primitive
 // table: the chunk's base address is in a few hot cache lines).
@@ -59,8 +58,6 @@ public:
     void run(const TileBatch& batch, DrawStats& stats);
     // Once at the end of the draw: the workers' counters.
     void add_counters(DrawStats& stats) const;
-    // Each tile's pixels are kept here before the draw first writes them (pipeline/draw_rollback).
-    void set_rollback(DrawRollback* rollback) { rollback_ = rollback; }
 
     struct Scratch;   // per worker (tile_pass.cpp)
 
@@ -102,7 +99,6 @@ private:
                const float (*colors)[4]);
 
     const DrawInputs& in_;
-    DrawRollback* rollback_ = nullptr;
     DrawPlan& plan_;
     const State& state_;
     RenderTarget& fb_;
