@@ -119,9 +119,7 @@ void Context::buffer_data_size(GLenum target, int64_t size, GLenum usage) {
     // The limit bounds all objects together (core/memory_ledger.h), not this call alone.
     MemoryReservation reservation;
     if (!reservation.reserve(uint64_t(size)))
-        return error(gl::OUT_OF_MEMORY, call, "a buffer of " + std::to_string(size) + " bytes would bring softgl's memory to " +
-                     std::to_string(memory_in_use() + uint64_t(size)) + " bytes, over its limit of " +
-                     std::to_string(memory_limit()));
+        return error(gl::OUT_OF_MEMORY, call, "a buffer of " + std::to_string(size) + " bytes " + over_memory_limit(uint64_t(size)));
     std::vector<uint8_t> data;
     try {
         data.assign(size_t(size), 0);   // WebGL: a buffer created with a size reads as zeros
@@ -142,9 +140,7 @@ void Context::buffer_data(GLenum target, const uint8_t* data, int64_t size, GLen
     if (!buffer) return;
     MemoryReservation reservation;
     if (!reservation.reserve(uint64_t(size)))
-        return error(gl::OUT_OF_MEMORY, call, "a buffer of " + std::to_string(size) + " bytes would bring softgl's memory to " +
-                     std::to_string(memory_in_use() + uint64_t(size)) + " bytes, over its limit of " +
-                     std::to_string(memory_limit()));
+        return error(gl::OUT_OF_MEMORY, call, "a buffer of " + std::to_string(size) + " bytes " + over_memory_limit(uint64_t(size)));
     try {
         buffer->data.assign(data, data + size);
     } catch (const std::bad_alloc&) {

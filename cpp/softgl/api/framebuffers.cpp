@@ -179,16 +179,6 @@ bool Context::color_renderable(const FormatInfo& f) const {
     }
 }
 
-namespace {
-// The bytes Image::allocate stores for a renderbuffer: colour (any kind) as 4 four-byte words per
-// sample, depth as one word, stencil as one byte (surface/texture.h, Image).
-uint64_t image_storage_bytes(const FormatInfo* f, int32_t width, int32_t height, int32_t samples) {
-    const uint64_t n = uint64_t(width) * uint64_t(height) * uint64_t(samples);
-    if (f->kind() != SampleKind::Depth) return n * 16;
-    return n * ((f->encoding != Encoding::Stencil8 ? 4 : 0) + (f->has_stencil ? 1 : 0));
-}
-}  // namespace
-
 void Context::renderbuffer_storage(const char* call, GLenum target, int32_t samples, GLenum internal_format,
                                    int32_t width, int32_t height) {
     if (target != gl::RENDERBUFFER) return error(gl::INVALID_ENUM, call, quote(target) + " is not RENDERBUFFER");
@@ -216,13 +206,12 @@ void Context::renderbuffer_storage(const char* call, GLenum target, int32_t samp
     int32_t actual = 1;
     if (samples > 0) for (int32_t n : {2, 4, 8, 16}) if (n >= samples) { actual = n; break; }
     // Charged before allocating, so the limit bounds all objects together (core/memory_ledger.h).
-    const uint64_t bytes = image_storage_bytes(f, width, height, actual);
+    const uint64_t bytes = Image::allocation_bytes(f, width, height, 1, actual);
     MemoryReservation reservation;
     if (!reservation.reserve(bytes))
         return error(gl::OUT_OF_MEMORY, call, "a " + std::to_string(width) + "x" + std::to_string(height) + "x" +
                      std::to_string(actual) + "-sample renderbuffer needs " + std::to_string(bytes) +
-                     " bytes, which would bring softgl's memory to " + std::to_string(memory_in_use() + bytes) +
-                     " bytes, over its limit of " + std::to_string(memory_limit()));
+                     " bytes, which " + over_memory_limit(bytes));
     Image image;
     try {
         image.allocate(f, width, height, 1, actual);

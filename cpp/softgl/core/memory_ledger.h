@@ -4,6 +4,7 @@
 // than each call alone.
 #pragma once
 #include <cstdint>
+#include <string>
 
 namespace softgl {
 
@@ -12,6 +13,10 @@ namespace softgl {
 uint64_t memory_limit();
 void set_memory_limit(uint64_t bytes);
 uint64_t memory_in_use();
+// Half of the machine's physical memory (4 GiB if unknown).
+uint64_t default_memory_limit();
+// The end of an OUT_OF_MEMORY message for `bytes` refused by the limit.
+std::string over_memory_limit(uint64_t bytes);
 
 class MemoryReservation {
 public:

@@ -1,18 +1,14 @@
 #include "softgl/surface/framebuffer.h"
 
 #include <algorithm>
-#include <unistd.h>
 
+#include "softgl/core/memory_ledger.h"
 #include "softgl/surface/formats.h"
 #include "softgl/surface/texture.h"   // float_to_half / half_to_float (IEEE binary16)
 
 namespace softgl {
 
-uint64_t memory_budget() {
-    const long pages = sysconf(_SC_PHYS_PAGES), page_size = sysconf(_SC_PAGE_SIZE);
-    if (pages <= 0 || page_size <= 0) return uint64_t(1) << 32;   // unknown: a conservative 4 GiB
-    return uint64_t(pages) * uint64_t(page_size) / 2;
-}
+uint64_t memory_budget() { return default_memory_limit(); }
 
 uint64_t DefaultFramebuffer::bytes_needed(const FramebufferConfig& c) {
     const uint64_t samples = uint64_t(c.width) * uint64_t(c.height) * uint64_t(c.samples);

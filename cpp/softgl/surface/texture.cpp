@@ -233,6 +233,12 @@ float depth_value(Encoding e, uint32_t w) {
     return float(double(w) / 16777215.0);
 }
 
+uint64_t Image::allocation_bytes(const FormatInfo* fmt, int32_t w, int32_t h, int32_t d, int32_t s) {
+    const uint64_t n = uint64_t(w) * uint64_t(h) * uint64_t(d) * uint64_t(s);
+    if (fmt->kind() != SampleKind::Depth) return n * 4 * 4;   // four 4-byte words per sample
+    return n * ((fmt->encoding != Encoding::Stencil8 ? 4 : 0) + (fmt->has_stencil ? 1 : 0));
+}
+
 void Image::allocate(const FormatInfo* fmt, int32_t w, int32_t h, int32_t d, int32_t s) {
     clear();
     format = fmt;

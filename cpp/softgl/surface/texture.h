@@ -120,6 +120,8 @@ struct Image {
     size_t texel_count() const { return size_t(width) * size_t(height) * size_t(depth) * size_t(samples); }
     // Allocates storage for `fmt` and fills it with zeros (transparent black, depth 0).
     void allocate(const FormatInfo* fmt, int32_t w, int32_t h, int32_t d, int32_t s = 1);
+    // The bytes allocate() would store, computed before allocating (the memory limit is charged first).
+    static uint64_t allocation_bytes(const FormatInfo* fmt, int32_t w, int32_t h, int32_t d, int32_t s);
     void clear() { *this = Image{}; }
     // Texel (x, y, z) as RGBA float, as sampled (integer formats: converted; depth: (d, 0, 0, 1)).
     void texel(int32_t x, int32_t y, int32_t z, float out[4]) const;
