@@ -176,6 +176,9 @@ _EXTENSION_CONSTANTS = {
     **_blendlab_ext.CONSTANTS,   # SOFTGL_exact_transparency, SOFTGL_introspection
     # Textures and framebuffers
     "OES_texture_half_float": {"HALF_FLOAT_OES": 0x8D61},
+    # Shaders and filtering (values from the WebGL extension registry's IDL)
+    "OES_standard_derivatives": {"FRAGMENT_SHADER_DERIVATIVE_HINT_OES": 0x8B8B},
+    "EXT_texture_filter_anisotropic": {"TEXTURE_MAX_ANISOTROPY_EXT": 0x84FE, "MAX_TEXTURE_MAX_ANISOTROPY_EXT": 0x84FF},
     "WEBGL_depth_texture": {"UNSIGNED_INT_24_8_WEBGL": 0x84FA},
     "WEBGL_color_buffer_float": {"RGBA32F_EXT": 0x8814, "FRAMEBUFFER_ATTACHMENT_COMPONENT_TYPE_EXT": 0x8211,
                                  "UNSIGNED_NORMALIZED_EXT": 0x8C17},

@@ -103,10 +103,13 @@ Context::Context(int32_t width, int32_t height, const ContextAttributes& attribu
 std::vector<std::string> Context::get_supported_extensions() const {
     std::vector<std::string> names;
     names = texture_extension_names();   // textures.cpp
-    if (version() == 1) {   // all three are core in WebGL 2
+    if (version() == 1) {   // all of these are core in WebGL 2
         names.push_back("ANGLE_instanced_arrays");
         names.push_back("EXT_blend_minmax");
+        names.push_back("EXT_frag_depth");
+        names.push_back("EXT_shader_texture_lod");
         names.push_back("OES_element_index_uint");
+        names.push_back("OES_standard_derivatives");
         names.push_back("OES_vertex_array_object");
     }
     names.push_back("SOFTGL_fog");      // softgl's own: they never change pure WebGL code
@@ -131,6 +134,10 @@ bool Context::enable_extension(const std::string& name) {
     if (name == "OES_vertex_array_object") return ext_vertex_array_object_ = true;
     if (name == "ANGLE_instanced_arrays") return ext_instanced_arrays_ = true;
     if (name == "OES_element_index_uint") return ext_element_index_uint_ = true;
+    // Shader extensions: what they add is the GLSL ES 1.00 directive (compile_shader).
+    if (name == "OES_standard_derivatives") return ext_standard_derivatives_ = true;
+    if (name == "EXT_frag_depth") return ext_frag_depth_ = true;
+    if (name == "EXT_shader_texture_lod") return ext_shader_texture_lod_ = true;
     return false;
 }
 
@@ -140,6 +147,9 @@ bool Context::extension_enabled(const std::string& name) const {
     if (name == "OES_vertex_array_object") return ext_vertex_array_object_;
     if (name == "ANGLE_instanced_arrays") return ext_instanced_arrays_;
     if (name == "OES_element_index_uint") return ext_element_index_uint_;
+    if (name == "OES_standard_derivatives") return ext_standard_derivatives_;
+    if (name == "EXT_frag_depth") return ext_frag_depth_;
+    if (name == "EXT_shader_texture_lod") return ext_shader_texture_lod_;
     if (name == "SOFTGL_fog") return ext_fog_;
     if (name == "SOFTGL_smooth") return ext_smooth_;
     if (name == "SOFTGL_exact_transparency") return blendlab_ && blendlab_->ext_exact;
@@ -383,7 +393,7 @@ void Context::viewport(int32_t x, int32_t y, int32_t width, int32_t height) {
 void Context::hint(GLenum target, GLenum mode) {
     GLenum* slot = nullptr;
     if (target == gl::GENERATE_MIPMAP_HINT) slot = &state_.generate_mipmap_hint;
-    else if (target == gl::FRAGMENT_SHADER_DERIVATIVE_HINT && version() >= 2)
+    else if (target == gl::FRAGMENT_SHADER_DERIVATIVE_HINT && (version() >= 2 || ext_standard_derivatives_))
         slot = &state_.fragment_shader_derivative_hint;
     else if (ext_smooth_ && target == gl::POLYGON_SMOOTH_HINT) slot = &state_.smooth.polygon_hint;
     else if (ext_smooth_ && target == gl::LINE_SMOOTH_HINT) slot = &state_.smooth.line_hint;

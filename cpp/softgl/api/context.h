@@ -343,6 +343,7 @@ private:
     DefaultFramebuffer framebuffer_;
     ErrorState errors_;
     bool ext_blend_minmax_ = false;
+    bool ext_standard_derivatives_ = false, ext_frag_depth_ = false, ext_shader_texture_lod_ = false;
     bool ext_vertex_array_object_ = false;
     bool ext_instanced_arrays_ = false;
     bool ext_element_index_uint_ = false;

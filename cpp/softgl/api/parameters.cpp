@@ -286,6 +286,9 @@ Value Context::get_parameter(GLenum pname) {
         if (std::optional<Value> v = webgl2_limit_parameter(pname)) return *std::move(v);
     }
     if (ext_vertex_array_object_ && pname == gl::VERTEX_ARRAY_BINDING) return vertex_array_binding();
+    // OES_standard_derivatives: FRAGMENT_SHADER_DERIVATIVE_HINT_OES (WebGL 2's value).
+    if (ext_standard_derivatives_ && pname == gl::FRAGMENT_SHADER_DERIVATIVE_HINT)
+        return Value(int64_t(s.fragment_shader_derivative_hint));
     if (ext_smooth_) {
         if (std::optional<Value> v = smooth_parameter(s, pname)) return *std::move(v);
     }

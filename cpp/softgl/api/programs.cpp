@@ -2,6 +2,7 @@
 // linked by softgl's GLSL compiler. Error codes follow WebGL (and match Chromium): a deleted
 // object is INVALID_VALUE, an object of another context INVALID_OPERATION.
 #include <cstring>
+#include <set>
 
 #include "softgl/api/context.h"
 
@@ -101,7 +102,18 @@ std::string Context::get_shader_source(const std::shared_ptr<Shader>& shader) {
 void Context::compile_shader(const std::shared_ptr<Shader>& shader) {
     if (!check_shader("compileShader", shader.get())) return;
     const glsl::Stage stage = shader->type == gl::VERTEX_SHADER ? glsl::Stage::Vertex : glsl::Stage::Fragment;
-    glsl::CompileResult result = glsl::compile(shader->source, stage, version());
+    // WebGL 1's extension registry: a GLSL ES 1.00 #extension directive takes effect only for an
+    // extension the page enabled with getExtension. In WebGL 2 what they add is core, and 1.00
+    // shaders may still name them.
+    std::set<std::string> enabled;
+    if (version() == 1) {
+        for (auto [webgl, glsl_name] : {std::pair{"OES_standard_derivatives", "GL_OES_standard_derivatives"},
+                                        {"EXT_frag_depth", "GL_EXT_frag_depth"},
+                                        {"EXT_shader_texture_lod", "GL_EXT_shader_texture_lod"},
+                                        {"WEBGL_draw_buffers", "GL_EXT_draw_buffers"}})
+            if (extension_enabled(webgl)) enabled.insert(glsl_name);
+    }
+    glsl::CompileResult result = glsl::compile(shader->source, stage, version(), version() == 1 ? &enabled : nullptr);
     shader->compile_status = result.ok;
     shader->info_log = result.info_log;
     shader->compiled = result.ok ? result.shader : nullptr;

@@ -159,6 +159,17 @@ bool set_sampler_param(Context& c, const char* call, SamplerParams& p, GLenum pn
                        bool* bad) {
     const GLenum e = GLenum(int64_t(value));
     auto fail = [&](const std::string& why) { c.record_error(gl::INVALID_ENUM, call, why); *bad = true; return true; };
+    if (pname == TEXTURE_MAX_ANISOTROPY_EXT && c.extension_enabled("EXT_texture_filter_anisotropic")) {
+        // EXT_texture_filter_anisotropic: a value below 1.0 is INVALID_VALUE; larger ones are
+        // kept as given (getTexParameter returns them) and clamped when sampling.
+        if (!(value >= 1.0)) {
+            c.record_error(gl::INVALID_VALUE, call, "TEXTURE_MAX_ANISOTROPY_EXT must be at least 1.0");
+            *bad = true;
+            return true;
+        }
+        p.max_anisotropy = float(value);
+        return true;
+    }
     switch (pname) {
         case gl::TEXTURE_MAG_FILTER:
             if (e != gl::NEAREST && e != gl::LINEAR) return fail(quote(e) + " is not a magnification filter");
@@ -188,7 +199,8 @@ bool set_sampler_param(Context& c, const char* call, SamplerParams& p, GLenum pn
     }
 }
 
-std::optional<Value> get_sampler_param(const SamplerParams& p, GLenum pname, int version) {
+std::optional<Value> get_sampler_param(const SamplerParams& p, GLenum pname, int version, bool anisotropic) {
+    if (pname == TEXTURE_MAX_ANISOTROPY_EXT && anisotropic) return Value(double(p.max_anisotropy));
     switch (pname) {
         case gl::TEXTURE_MAG_FILTER: return Value(int64_t(p.mag_filter));
         case gl::TEXTURE_MIN_FILTER: return Value(int64_t(p.min_filter));
@@ -219,10 +231,10 @@ Value object_value(const std::shared_ptr<T>& p) {
 
 std::vector<std::string> Context::texture_extension_names() const {
     if (version() == 1)
-        return {"EXT_color_buffer_half_float", "OES_texture_float", "OES_texture_float_linear", "OES_texture_half_float",
-                "OES_texture_half_float_linear", "WEBGL_color_buffer_float", "WEBGL_depth_texture",
-                "WEBGL_draw_buffers"};
-    return {"EXT_color_buffer_float", "OES_texture_float_linear"};
+        return {"EXT_color_buffer_half_float", "EXT_texture_filter_anisotropic", "OES_texture_float",
+                "OES_texture_float_linear", "OES_texture_half_float", "OES_texture_half_float_linear",
+                "WEBGL_color_buffer_float", "WEBGL_depth_texture", "WEBGL_draw_buffers"};
+    return {"EXT_color_buffer_float", "EXT_texture_filter_anisotropic", "OES_texture_float_linear"};
 }
 
 bool Context::enable_texture_extension(const std::string& name) {
@@ -346,7 +358,7 @@ Value Context::get_tex_parameter(GLenum target, GLenum pname) {
     if (!slot) { error(gl::INVALID_ENUM, call, quote(target) + " is not a texture target here"); return Value(Null{}); }
     if (!*slot) { error(gl::INVALID_OPERATION, call, "no texture is bound to " + quote(target)); return Value(Null{}); }
     const Texture& t = **slot;
-    if (auto v = get_sampler_param(t.sampler, pname, version())) return *v;
+    if (auto v = get_sampler_param(t.sampler, pname, version(), extension_enabled("EXT_texture_filter_anisotropic"))) return *v;
     if (version() >= 2) {
         switch (pname) {
             case gl::TEXTURE_BASE_LEVEL: return Value(int64_t(t.base_level));
@@ -718,7 +730,7 @@ void Context::sampler_parameter(const char* call, const std::shared_ptr<Sampler>
 Value Context::get_sampler_parameter(const std::shared_ptr<Sampler>& s, GLenum pname) {
     const char* call = "getSamplerParameter";
     if (!s || !check_object(call, s.get())) return Value(Null{});
-    if (auto v = get_sampler_param(s->params, pname, version())) return *v;
+    if (auto v = get_sampler_param(s->params, pname, version(), extension_enabled("EXT_texture_filter_anisotropic"))) return *v;
     error(gl::INVALID_ENUM, call, quote(pname) + " is not a sampler parameter");
     return Value(Null{});
 }
@@ -819,6 +831,8 @@ std::optional<Value> Context::texture_framebuffer_parameter(GLenum pname) {
         case gl::TEXTURE_BINDING_CUBE_MAP: return object_value(u.cube);
         default: break;
     }
+    if (pname == MAX_TEXTURE_MAX_ANISOTROPY_EXT && extension_enabled("EXT_texture_filter_anisotropic"))
+        return Value(double(kMaxAnisotropy));
     if (version() >= 2) {
         switch (pname) {
             case gl::TEXTURE_BINDING_3D: return object_value(u.tex_3d);

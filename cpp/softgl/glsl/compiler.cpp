@@ -112,13 +112,14 @@ int uniform_vectors(const std::vector<UniformInfo>& uniforms) {
 
 }  // namespace
 
-CompileResult compile(const std::string& source, Stage stage, int webgl_version) {
+CompileResult compile(const std::string& source, Stage stage, int webgl_version,
+                      const std::set<std::string>* enabled_extensions) {
     CompileResult result;
     Diagnostics diagnostics;
     auto shader = std::make_shared<CompiledShader>();
     shader->stage = stage;
     try {
-        PreprocessedSource pre = preprocess(source, stage, webgl_version, diagnostics);
+        PreprocessedSource pre = preprocess(source, stage, webgl_version, diagnostics, enabled_extensions);
         shader->version = pre.version;
         CheckedShader checked;
         checked.stage = stage;

@@ -71,7 +71,9 @@ struct CompileResult {
     std::shared_ptr<const CompiledShader> shader;  // null unless ok
 };
 
-CompileResult compile(const std::string& source, Stage stage, int webgl_version);
+// `enabled_extensions`: as preprocess() takes them (null: every extension softgl implements).
+CompileResult compile(const std::string& source, Stage stage, int webgl_version,
+                      const std::set<std::string>* enabled_extensions = nullptr);
 
 struct LinkLimits {
     int max_vertex_attribs = 16;

@@ -34,8 +34,8 @@ bool same_body(const Macro& a, const Macro& b) {
 
 class Preprocessor {
 public:
-    Preprocessor(Stage stage, int webgl_version, Diagnostics& diagnostics)
-        : stage_(stage), webgl_version_(webgl_version), diagnostics_(diagnostics) {}
+    Preprocessor(Stage stage, int webgl_version, Diagnostics& diagnostics, const std::set<std::string>* enabled)
+        : stage_(stage), webgl_version_(webgl_version), enabled_(enabled), diagnostics_(diagnostics) {}
 
     PreprocessedSource run(const std::string& source) {
         input_ = tokenize(source, diagnostics_);
@@ -519,7 +519,9 @@ private:
                 diagnostics_.error(line_number, "'all' : extension behavior must be 'warn' or 'disable'");
             return;
         }
-        if (!extension_supported(ext, out_.version, webgl_version_)) {
+        // WebGL 1.0 extension registry (OES_standard_derivatives, EXT_frag_depth, ...): a
+        // shader's directive takes effect only once getExtension has enabled the extension.
+        if (!extension_supported(ext, out_.version, webgl_version_) || (enabled_ && !enabled_->count(ext))) {
             if (b == ExtensionBehavior::Require) diagnostics_.error(line_number, "'" + ext + "' : extension is not supported");
             else if (b != ExtensionBehavior::Disable) diagnostics_.warning(line_number, "'" + ext + "' : extension is not supported");
             return;
@@ -684,6 +686,7 @@ private:
 
     Stage stage_;
     int webgl_version_;
+    const std::set<std::string>* enabled_;
     Diagnostics& diagnostics_;
     TokenList input_;
     size_t pos_ = 0;
@@ -715,8 +718,9 @@ bool extension_supported(const std::string& name, int version, int webgl_version
     return false;
 }
 
-PreprocessedSource preprocess(const std::string& source, Stage stage, int webgl_version, Diagnostics& diagnostics) {
-    return Preprocessor(stage, webgl_version, diagnostics).run(source);
+PreprocessedSource preprocess(const std::string& source, Stage stage, int webgl_version, Diagnostics& diagnostics,
+                              const std::set<std::string>* enabled) {
+    return Preprocessor(stage, webgl_version, diagnostics, enabled).run(source);
 }
 
 }  // namespace softgl::glsl

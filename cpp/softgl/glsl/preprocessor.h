@@ -2,6 +2,7 @@
 // compilation. Produces the token stream the parser reads, plus what the directives declared.
 #pragma once
 #include <map>
+#include <set>
 #include <string>
 
 #include "softgl/glsl/diagnostics.h"
@@ -20,8 +21,11 @@ struct PreprocessedSource {
 };
 
 // webgl_version 1 accepts only GLSL ES 1.00; webgl_version 2 accepts 1.00 and 3.00.
+// `enabled`: the GLSL extensions (e.g. "GL_OES_standard_derivatives") the WebGL context has
+// enabled with getExtension; a directive naming another is treated as unsupported. Null: every
+// extension softgl implements (the compiler on its own, and WebGL 2, where they are core).
 PreprocessedSource preprocess(const std::string& source, Stage stage, int webgl_version,
-                              Diagnostics& diagnostics);
+                              Diagnostics& diagnostics, const std::set<std::string>* enabled = nullptr);
 
 // Extensions softgl implements, by language version.
 bool extension_supported(const std::string& name, int version, int webgl_version);

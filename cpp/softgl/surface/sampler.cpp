@@ -1284,6 +1284,7 @@ bool TextureUnitSampler::lod_matters(const glsl::TextureQuery& q) const {
     if (unit < 0 || unit >= kSamplerUnits) return false;
     const BoundTexture& bt = units[size_t(unit)][size_t(dim_index(q.dim))];
     if (!bt.texture) return false;
+    if (bt.params.max_anisotropy > 1.0f) return true;   // the probes follow the derivatives
     const GLenum mf = bt.params.min_filter;
     const bool min_linear = mf == gl::LINEAR || mf == gl::LINEAR_MIPMAP_NEAREST || mf == gl::LINEAR_MIPMAP_LINEAR;
     const bool mipmapped = !(mf == gl::NEAREST || mf == gl::LINEAR || bt.q == bt.base);
@@ -1518,7 +1519,129 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
     return true;
 }
 
+// ---------------------------------------------------------------------------- anisotropic filtering
+//
+// EXT_texture_filter_anisotropic, by the method its specification suggests, in one fixed rule
+// (scalar code, so the same bits on every SIMD level and thread count). With the base level's
+// size (w, h, d) and the lane's coordinate derivatives:
+//   Px = |(w ds/dx, h dt/dx, d dr/dx)|, Py = the same along y (double, as the isotropic rho);
+//   Pmax = max(Px, Py), Pmin = min(Px, Py);
+//   lambda = log2(Pmax) (+ bias): the isotropic LOD (ES 3.0 eq. 3.17-3.19), which still decides
+//     magnification (lambda <= 0, or NaN): a magnified lookup is the isotropic one;
+//   otherwise N = min(ceil(Pmax / Pmin), floor(min(TEXTURE_MAX_ANISOTROPY_EXT, 16))) probes
+//     (N = that limit when Pmin = 0), at lambda' = log2(Pmax / N) (+ bias), clamped to
+//     [TEXTURE_MIN_LOD, TEXTURE_MAX_LOD] as any lambda;
+//   probe i (1..N) is an ordinary lookup at LOD lambda' (the texture's filters and mipmaps)
+//     at the coordinates moved by (i / (N + 1) - 1/2) times the derivative along the major axis
+//     (x when Px > Py, else y);
+//   the result is the sum of the probes, added in order i = 1..N in float, divided by N.
+// N = 1 gives exactly the isotropic lookup. Lanes whose texture's TEXTURE_MAX_ANISOTROPY_EXT is
+// 1 take the ordinary paths.
+
+bool TextureUnitSampler::anisotropic(const glsl::TextureQuery& q) const {
+    // Integer textures sample NEAREST only (ES 3.0 §3.8.14): nothing to filter.
+    if (q.kind != TextureKind::Sample || q.lod_mode == TextureLod::Explicit || q.result != BaseType::Float) return false;
+    const int dim = dim_index(q.dim);
+    int32_t unit;
+    if (one_unit(q, unit)) {
+        if (unit < 0 || unit >= kSamplerUnits) return false;
+        const BoundTexture& bt = units[size_t(unit)][size_t(dim)];
+        return bt.texture && bt.params.max_anisotropy > 1.0f;
+    }
+    for (int l = 0; l < q.lane_count; ++l) {
+        const int32_t u = q.unit[l].i;
+        if (u >= 0 && u < kSamplerUnits && units[size_t(u)][size_t(dim)].texture &&
+            units[size_t(u)][size_t(dim)].params.max_anisotropy > 1.0f)
+            return true;
+    }
+    return false;
+}
+
+void TextureUnitSampler::sample_anisotropic(const glsl::TextureQuery& q) const {
+    const int dim = dim_index(q.dim);
+    for (int l = 0; l < q.lane_count; ++l) {
+        const int32_t unit = q.unit[l].i;
+        const BoundTexture* bt = unit >= 0 && unit < kSamplerUnits ? &units[size_t(unit)][size_t(dim)] : nullptr;
+        if (!bt || !bt->texture || bt->params.max_anisotropy <= 1.0f || (q.active && !q.active[l])) {
+            sample_lane(q, l);
+            continue;
+        }
+        sample_lane_anisotropic(q, l, *bt);
+    }
+}
+
+void TextureUnitSampler::sample_lane_anisotropic(const glsl::TextureQuery& q, int l, const BoundTexture& bt) const {
+    float dx[3] = {0, 0, 0}, dy[3] = {0, 0, 0};
+    for (int k = 0; k < 3; ++k) {
+        if (q.ddx[k]) dx[k] = q.ddx[k][l].f;
+        if (q.ddy[k]) dy[k] = q.ddy[k][l].f;
+    }
+    // The footprint in texels of the base level (of the face the lane's direction selects).
+    float w = 0, h = 0, d = 0;
+    {
+        float s = q.coord[0] ? q.coord[0][l].f : 0.0f, t = q.coord[1] ? q.coord[1][l].f : 0.0f;
+        float r = q.coord[2] ? q.coord[2][l].f : 0.0f;
+        float fdx[3] = {dx[0], dx[1], dx[2]}, fdy[3] = {dy[0], dy[1], dy[2]};
+        const int face = q.dim == SamplerDim::Cube ? cube_coords(s, t, r, fdx, fdy) : 0;
+        const Image* img = bt.texture->find(face, bt.base);
+        if (!img) { sample_lane(q, l); return; }
+        w = float(img->width), h = float(img->height), d = q.dim == SamplerDim::Tex3D ? float(img->depth) : 0.0f;
+        if (q.dim == SamplerDim::Cube) std::copy(fdx, fdx + 3, dx), std::copy(fdy, fdy + 3, dy);
+    }
+    const double px = std::sqrt(double(dx[0] * w) * (dx[0] * w) + double(dx[1] * h) * (dx[1] * h) + double(dx[2] * d) * (dx[2] * d));
+    const double py = std::sqrt(double(dy[0] * w) * (dy[0] * w) + double(dy[1] * h) * (dy[1] * h) + double(dy[2] * d) * (dy[2] * d));
+    const double pmax = std::max(px, py), pmin = std::min(px, py);
+    const float bias = q.lod_mode == TextureLod::Bias && q.lod ? q.lod[l].f : 0.0f;
+    const SamplerParams& p = bt.params;
+    float lambda = pmax > 0 ? float(std::log2(pmax)) : -INFINITY;
+    lambda = std::clamp(lambda + bias, p.min_lod, p.max_lod);
+    const int limit = int(std::floor(std::min(p.max_anisotropy, kMaxAnisotropy)));
+    if (!(lambda > 0.0f) || limit <= 1 || !std::isfinite(pmax)) { sample_lane(q, l); return; }
+    const double ratio = pmin > 0 ? std::ceil(pmax / pmin) : double(limit);
+    const int n = int(std::min(ratio, double(limit)));
+    if (n <= 1) { sample_lane(q, l); return; }
+    const float lambda_n = std::clamp(float(std::log2(pmax / n)) + bias, p.min_lod, p.max_lod);
+
+    // Each probe is an ordinary lookup of one lane at an explicit LOD (the general path).
+    // For a cube map the probe moves the direction (the derivatives given are the direction's).
+    const bool along_x = px > py;
+    glsl::Scalar coord[3], lod, unit_reg, compare, out[4];
+    unit_reg.i = q.unit[l].i;
+    lod.f = lambda_n;
+    if (q.compare) compare = q.compare[l];
+    glsl::TextureQuery probe = q;
+    probe.lane_count = 1;
+    probe.active = nullptr;
+    probe.unit = &unit_reg;
+    probe.lod_mode = TextureLod::Explicit;
+    probe.lod = &lod;
+    probe.compare = q.compare ? &compare : nullptr;
+    for (int k = 0; k < 3; ++k) {
+        probe.coord[k] = q.coord[k] ? &coord[k] : nullptr;
+        probe.ddx[k] = probe.ddy[k] = nullptr;
+    }
+    for (int c = 0; c < 4; ++c) probe.out[c] = &out[c];
+    float sum[4] = {0, 0, 0, 0}, axis[3] = {0, 0, 0};
+    for (int k = 0; k < 3; ++k) {
+        const glsl::Scalar* g = along_x ? q.ddx[k] : q.ddy[k];
+        axis[k] = g ? g[l].f : 0.0f;
+    }
+    for (int i = 1; i <= n; ++i) {
+        const float offset = float(i) / float(n + 1) - 0.5f;
+        for (int k = 0; k < 3; ++k)
+            if (q.coord[k]) coord[k].f = q.coord[k][l].f + offset * axis[k];
+        sample_lane(probe, 0);
+        for (int c = 0; c < 4; ++c) sum[c] += out[c].f;
+    }
+    for (int c = 0; c < 4; ++c)
+        if (q.out[c]) q.out[c][l].f = sum[c] / float(n);
+}
+
 void TextureUnitSampler::sample(const glsl::TextureQuery& q) {
+    if (anisotropic(q)) {   // EXT_texture_filter_anisotropic (above): one lane at a time
+        sample_anisotropic(q);
+        return;
+    }
     // q.simd is at most best_simd_level() (glsl::Executor::set_simd_level).
     SimdBlocks simd = SimdBlocks::None;
 #ifdef SOFTGL_SAMPLER_AVX2

@@ -48,6 +48,12 @@ private:
     // AVX-512. Cube-map lanes whose footprint crosses a face edge (seamless filtering) go to
     // sample_lane. False (nothing written) when the query is not that.
     enum class SimdBlocks { None, Avx2, Avx512 };
+    // EXT_texture_filter_anisotropic: whether a lane of the query samples a texture whose
+    // TEXTURE_MAX_ANISOTROPY_EXT is above 1, and the lookups that then serve the query lane by
+    // lane (the rule is in sampler.cpp, "anisotropic filtering").
+    bool anisotropic(const glsl::TextureQuery& query) const;
+    void sample_anisotropic(const glsl::TextureQuery& query) const;
+    void sample_lane_anisotropic(const glsl::TextureQuery& query, int lane, const BoundTexture& bt) const;
     bool sample_2d(const glsl::TextureQuery& query, SimdBlocks simd) const;
 };
 

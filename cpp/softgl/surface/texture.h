@@ -37,7 +37,9 @@ inline constexpr GLenum SRGB_ALPHA_EXT = 0x8C42;
 inline constexpr GLenum ALPHA8 = 0x803C, LUMINANCE8 = 0x8040, LUMINANCE8_ALPHA8 = 0x8045;
 inline constexpr GLenum ALPHA16F = 0x881C, LUMINANCE16F = 0x881E, LUMINANCE_ALPHA16F = 0x881F;
 inline constexpr GLenum ALPHA32F = 0x8816, LUMINANCE32F = 0x8818, LUMINANCE_ALPHA32F = 0x8819;
-inline constexpr GLenum TEXTURE_MAX_ANISOTROPY_EXT = 0x84FE;
+inline constexpr GLenum TEXTURE_MAX_ANISOTROPY_EXT = 0x84FE;      // EXT_texture_filter_anisotropic
+inline constexpr GLenum MAX_TEXTURE_MAX_ANISOTROPY_EXT = 0x84FF;
+inline constexpr GLenum FRAGMENT_SHADER_DERIVATIVE_HINT_OES = 0x8B8B; // OES_standard_derivatives
 // WebGL 1's luminance/alpha formats under OpenGL's sized names: internal only, never accepted
 // as an internalformat argument.
 inline bool is_pseudo_format(GLenum f) {
@@ -156,7 +158,12 @@ struct SamplerParams {
     GLenum wrap_s = gl::REPEAT, wrap_t = gl::REPEAT, wrap_r = gl::REPEAT;
     float min_lod = -1000.0f, max_lod = 1000.0f;
     GLenum compare_mode = gl::NONE, compare_func = gl::LEQUAL;
+    // EXT_texture_filter_anisotropic: as set (>= 1); lookups use min(it, kMaxAnisotropy).
+    float max_anisotropy = 1.0f;
 };
+
+// MAX_TEXTURE_MAX_ANISOTROPY_EXT (what Chromium reports on SwiftShader and most GPUs).
+inline constexpr float kMaxAnisotropy = 16.0f;
 
 // One level of one face as the sampler's fast path reads it (surface/sampler.cpp): its storage
 // and sizes resolved once per draw instead of per lookup. Exactly one of `color` (Float kind)
@@ -179,7 +186,6 @@ public:
     int32_t base_level = 0, max_level = 1000;
     bool immutable = false;
     int32_t immutable_levels = 0;
-    float max_anisotropy = 1.0f;
     // images[face][level]; one face except for cube maps (faces in TEXTURE_CUBE_MAP_POSITIVE_X order).
     std::vector<std::vector<Image>> images;
     uint64_t generation = 0;            // bumps on every change (render targets, caches)
