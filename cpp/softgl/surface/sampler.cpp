@@ -1528,8 +1528,10 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
 //   Pmax = max(Px, Py), Pmin = min(Px, Py);
 //   lambda = log2(Pmax) (+ bias): the isotropic LOD (ES 3.0 eq. 3.17-3.19), which still decides
 //     magnification (lambda <= 0, or NaN): a magnified lookup is the isotropic one;
-//   otherwise N = min(ceil(Pmax / Pmin), floor(min(TEXTURE_MAX_ANISOTROPY_EXT, 16))) probes
-//     (N = that limit when Pmin = 0), at lambda' = log2(Pmax / N) (+ bias), clamped to
+//   otherwise N = min(ceil(Pmax / Pmin - 1/64), floor(min(TEXTURE_MAX_ANISOTROPY_EXT, 16)))
+//     probes (N = that limit when Pmin = 0; the 1/64: the derivatives of a square footprint
+//     carry float rounding, which must not make it two probes), at lambda' = log2(Pmax / N)
+//     (+ bias), clamped to
 //     [TEXTURE_MIN_LOD, TEXTURE_MAX_LOD] as any lambda;
 //   probe i (1..N) is an ordinary lookup at LOD lambda' (the texture's filters and mipmaps)
 //     at the coordinates moved by (i / (N + 1) - 1/2) times the derivative along the major axis
@@ -1537,6 +1539,10 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
 //   the result is the sum of the probes, added in order i = 1..N in float, divided by N.
 // N = 1 gives exactly the isotropic lookup. Lanes whose texture's TEXTURE_MAX_ANISOTROPY_EXT is
 // 1 take the ordinary paths.
+
+namespace {
+constexpr double kAnisotropyRatioSlack = 1.0 / 64;
+}
 
 bool TextureUnitSampler::anisotropic(const glsl::TextureQuery& q) const {
     // Integer textures sample NEAREST only (ES 3.0 §3.8.14): nothing to filter.
@@ -1597,7 +1603,7 @@ void TextureUnitSampler::sample_lane_anisotropic(const glsl::TextureQuery& q, in
     lambda = std::clamp(lambda + bias, p.min_lod, p.max_lod);
     const int limit = int(std::floor(std::min(p.max_anisotropy, kMaxAnisotropy)));
     if (!(lambda > 0.0f) || limit <= 1 || !std::isfinite(pmax)) { sample_lane(q, l); return; }
-    const double ratio = pmin > 0 ? std::ceil(pmax / pmin) : double(limit);
+    const double ratio = pmin > 0 ? std::ceil(pmax / pmin - kAnisotropyRatioSlack) : double(limit);
     const int n = int(std::min(ratio, double(limit)));
     if (n <= 1) { sample_lane(q, l); return; }
     const float lambda_n = std::clamp(float(std::log2(pmax / n)) + bias, p.min_lod, p.max_lod);
