@@ -40,7 +40,20 @@ HARNESS = """<script>
   let clock = 0;
   const realNow = performance.now.bind(performance);
   performance.now = () => clock;
-  window.addEventListener('load', () => {
+  // Images the page creates load at time 0 in softgl.page, before its first frame: here the
+  // frames wait until every image the page made has loaded (Chromium may fire 'load' earlier).
+  const images = [];
+  const track = (el) => { if (el && el.tagName === 'IMG') images.push(el); return el; };
+  const createElement = document.createElement.bind(document), createElementNS = document.createElementNS.bind(document);
+  document.createElement = (...a) => track(createElement(...a));
+  document.createElementNS = (...a) => track(createElementNS(...a));
+  const RealImage = window.Image;
+  window.Image = function (...a) { return track(new RealImage(...a)); };
+  const whenImagesLoaded = (fn) => () => {
+    const wait = () => (images.every((i) => i.complete) ? fn() : setTimeout(wait, 10));
+    wait();
+  };
+  window.addEventListener('load', whenImagesLoaded(() => {
     for (let i = 1; i <= %(frames)d; i++) {
       clock = i * %(step)r;
       const now = callbacks; callbacks = [];
@@ -68,7 +81,7 @@ HARNESS = """<script>
     out.id = 'out';
     out.textContent = w + ' ' + h + ' ' + btoa(s) + timed;
     document.body.appendChild(out);
-  });
+  }));
 })();
 </script>"""
 
@@ -85,7 +98,9 @@ def harness_page(page: Path, timed: int = 0) -> str:
                 return f'src="{(base / src).resolve().as_uri()}"'
         raise FileNotFoundError(src)
     text = re.sub(r'src="([^":]+)"', absolute, text)
-    return text.replace("<head>", "<head>" + HARNESS % {"frames": frames, "step": TIME_STEP, "kind": kind,
+    # The page is run from a temporary copy: its relative URLs (images) resolve from its folder.
+    base = f'<base href="{page.parent.resolve().as_uri()}/">'
+    return text.replace("<head>", "<head>" + base + HARNESS % {"frames": frames, "step": TIME_STEP, "kind": kind,
                                                         "timed": timed}, 1)
 
 

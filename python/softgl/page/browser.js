@@ -31,7 +31,8 @@
     Symbol.toStringTag, 'toString']);
   const strict = (obj, label) => new Proxy(obj, {
     get(target, key, receiver) {
-      if (key in target || typeof key === 'symbol' || PROBED.has(key) || key.startsWith('__')) return Reflect.get(target, key, receiver);
+      // Event handler properties (onload, onerror, ...) read as undefined until set, as null in a browser.
+      if (key in target || typeof key === 'symbol' || PROBED.has(key) || key.startsWith('__') || /^on[a-z]+$/.test(key)) return Reflect.get(target, key, receiver);
       throw unsupported(label + '.' + String(key));
     },
   });
