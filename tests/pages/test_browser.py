@@ -230,6 +230,41 @@ def test_uncaught_exception_raises_with_the_javascript_stack(tmp_path):
     assert len(result.errors) == 1 and "RangeError: deliberate" in result.errors[0]
 
 
+@pytest.mark.parametrize("throw, first_line", [
+    ("throw new RangeError('deliberate')", "RangeError: deliberate"),
+    ("null.foo", "TypeError: Cannot read properties of null (reading 'foo')"),
+    ("undefinedName()", "ReferenceError: undefinedName is not defined"),
+    ("throw new Error('plain')", "Error: plain"),
+])
+def test_uncaught_exception_at_a_scripts_top_level_has_the_javascript_stack(tmp_path, throw, first_line):
+    path = script(tmp_path, f"""
+        function inner() {{ {throw}; }}
+        function outer() {{ inner(); }}
+        outer();
+    """)
+    result = softgl.page.run(path, frames=0, raise_errors=False)
+    assert len(result.errors) == 1
+    lines = result.errors[0].split("\n")
+    assert lines[0] == "JavaScript: " + first_line
+    assert [line.split(" (")[0].strip() for line in lines[1:3]] == ["at inner", "at outer"]
+    assert "page.html#script1:" in lines[1] and lines[3].strip().startswith("at page.html#script1:")
+    # A caught error whose stack the page read earlier does not stand in for a later one.
+    path = script(tmp_path, """
+        try { null.x; } catch (e) { console.log(e.stack.split('\\n')[0]); }
+        function f() { throw new RangeError('second'); }
+        f();
+    """)
+    result = softgl.page.run(path, frames=0, raise_errors=False)
+    assert result.console == [("log", "TypeError: Cannot read properties of null (reading 'x')")]
+    assert result.errors[0].startswith("JavaScript: RangeError: second\n    at f (")
+
+
+def test_syntax_error_reports_the_location(tmp_path):
+    path = script(tmp_path, "function broken( {")
+    with pytest.raises(PageError, match=r"SyntaxError: .*page.html#script1 @ 1"):
+        softgl.page.run(path, frames=0)
+
+
 def test_gl_errors_are_collected(tmp_path):
     path = script(tmp_path, """
         const gl = document.getElementById('c').getContext('webgl');

@@ -13,6 +13,18 @@
   // An uncaught exception in a script, an event listener, a timer or an animation frame is
   // reported with its stack; the page goes on, as in a browser (Python raises it afterwards).
   const report = (e) => { host.js_error((e && e.stack) ? String(e.stack) : String(e)); };
+  // V8 formats an error's stack when its .stack is first read (through Error.prepareStackTrace,
+  // as V8's default would); STPyV8 reads it for an exception escaping a script's top level but
+  // gives Python only the message and location (for RangeError, TypeError, ...). The last stack
+  // formatted is kept, so that the host reports the whole JavaScript stack of such an error too.
+  let lastStack = '';
+  Error.prepareStackTrace = (error, frames) => {
+    let text;
+    try { text = String(error); } catch (e) { text = 'Error'; }
+    for (const frame of frames) text += '\n    at ' + frame;
+    lastStack = text;
+    return text;
+  };
   const guarded = (fn, self, args) => { try { return fn.apply(self, args); } catch (e) { report(e); return undefined; } };
   const unsupported = (what) => {
     const e = new Error('softgl.page does not provide ' + what);
@@ -538,5 +550,7 @@
     wrapHandle,
     fromPython,
     stackOf: (e) => (e && e.stack) ? String(e.stack) : String(e),
+    lastStack: () => lastStack,
+    clearLastStack: () => { lastStack = ''; },
   });
 })(globalThis, __softgl_host);

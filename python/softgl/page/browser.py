@@ -277,11 +277,19 @@ class Browser:
     def run_script(self, source: str, name: str):
         """Run a classic script as a browser does: its top-level const/let/class declarations are
         seen by the scripts after it (so not through eval). An exception thrown at its top level
-        is reported with V8's location (and stack, where STPyV8 gives one)."""
+        is reported with its JavaScript stack (browser.js keeps the last stack V8 formatted:
+        STPyV8 turns RangeError, TypeError, ... into Python exceptions with the message and
+        location only); a syntax error, or a thrown value that is not an Error, with V8's
+        location and source line."""
+        self.js.clearLastStack()
         try:
             self.ctx.eval(source, name)
         except Exception as e:   # JavaScript exceptions arrive as Python exceptions
-            self.js_error(str(getattr(e, "stackTrace", None) or e))
+            message = str(getattr(e, "stackTrace", None) or e)
+            stack = str(self.js.lastStack())
+            if "\n    at " in stack and stack.split("\n", 1)[0] in message:
+                message = stack
+            self.js_error(message)
 
     # -- driving the page ---------------------------------------------------------------------------
     def load(self):
