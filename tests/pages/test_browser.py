@@ -278,7 +278,11 @@ def test_gl_errors_are_collected(tmp_path):
 
 @pytest.mark.parametrize("code, missing", [
     ("document.fooBar()", "document.fooBar"),
-    ("document.getElementById('c').getContext('2d')", "canvas.getContext('2d')"),
+    ("document.getElementById('c').getContext('bitmaprenderer')", "canvas.getContext('bitmaprenderer')"),
+    ("document.createElement('canvas').getContext('2d').beginPath()", "CanvasRenderingContext2D.beginPath"),
+    ("document.createElement('canvas').getContext('2d').fillRect(0.5, 0, 1, 1)", "canvas 2D fillRect with an edge at 0.5"),
+    ("document.getElementById('c').getContext('webgl'); document.createElement('canvas').getContext('2d')"
+     ".drawImage(document.getElementById('c'), 0, 0)", "a WebGL canvas as an image source"),
     ("window.speechSynthesis.speak()", "window.speechSynthesis"),
     ("document.querySelector('p:first-child')", 'the selector "p:first-child"'),
     ("fetch('https://example.org/x.json')", "softgl.page loads local files only"),
@@ -310,3 +314,64 @@ def test_result_shows_in_jupyter_as_the_composited_last_frame(tmp_path):
     png = result._repr_png_()
     assert png.startswith(b"\x89PNG\r\n\x1a\n")
     assert "1 frame(s) 8x4" in repr(result)
+
+
+def test_canvas_2d_fills_clears_and_image_data(tmp_path):
+    path = script(tmp_path, """
+        const cv = document.createElement('canvas'); cv.width = 4; cv.height = 2;
+        const ctx = cv.getContext('2d');
+        const dump = (d) => console.log(d.width + 'x' + d.height + ' ' + Array.from(d.data).join(','));
+        ctx.fillStyle = '#ff0000'; ctx.fillRect(0, 0, 2, 2);
+        ctx.fillStyle = 'rgba(0, 0, 255, 0.5)'; ctx.fillRect(1, 0, 2, 1);
+        ctx.globalAlpha = 0.25; ctx.fillStyle = '#0f0'; ctx.fillRect(3, 1, -1, -1);
+        ctx.globalAlpha = 1; ctx.clearRect(0, 1, 1, 1);
+        dump(ctx.getImageData(0, 0, 4, 2));
+        const e = ctx.createImageData(1, 1); e.data.set([1, 2, 3, 4]); ctx.putImageData(e, 3, 0);
+        dump(ctx.getImageData(2, -1, 2, 2));
+        cv.width = 2;   // resizing clears
+        dump(ctx.getImageData(0, 0, 2, 1));
+    """)
+    result = softgl.page.run(path, frames=0)
+    # Hand computation (source-over, not premultiplied): opaque red; half blue over red ->
+    # (127.5, 0, 127.5) -> 128; over transparent pixel (2, 0): (0, 0, 255, 127.5 -> 128). The
+    # negative-size rect is pixel (2, 0): green at alpha 0.25 over it: a = 0.25 + (128/255) 0.75
+    # = 0.62647 -> 159.75 -> 160, g = 255 * 0.25 / a = 101.76 -> 102, b = 255 (128/255) 0.75 / a
+    # = 153.24 -> 153. (0, 1) cleared.
+    assert [text for _, text in result.console] == [
+        "4x2 255,0,0,255,128,0,128,255,0,102,153,160,0,0,0,0,0,0,0,0,255,0,0,255,0,0,0,0,0,0,0,0",
+        "2x2 0,0,0,0,0,0,0,0,0,102,153,160,1,2,3,4",
+        "2x1 0,0,0,0,0,0,0,0",
+    ]
+
+
+def test_canvas_2d_draw_image_scaling_and_texture_source(tmp_path):
+    path = script(tmp_path, """
+        const src = document.createElement('canvas'); src.width = 2; src.height = 1;
+        const s = src.getContext('2d');
+        s.fillStyle = '#ff0000'; s.fillRect(0, 0, 1, 1);
+        s.fillStyle = '#0000ff'; s.fillRect(1, 0, 1, 1);
+        const dst = document.createElement('canvas'); dst.width = 4; dst.height = 1;
+        const d = dst.getContext('2d');
+        d.drawImage(src, 0, 0, 4, 1);
+        console.log(Array.from(d.getImageData(0, 0, 4, 1).data).join(','));
+        d.imageSmoothingEnabled = false; d.drawImage(src, 0, 0, 4, 1);
+        console.log(Array.from(d.getImageData(0, 0, 4, 1).data).join(','));
+        d.clearRect(0, 0, 4, 1); d.drawImage(src, 1, 0, 1, 1, 2, 0, 1, 1);
+        console.log(Array.from(d.getImageData(0, 0, 4, 1).data).join(','));
+        const gl = document.getElementById('c').getContext('webgl');
+        gl.bindTexture(gl.TEXTURE_2D, gl.createTexture());
+        gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA, gl.RGBA, gl.UNSIGNED_BYTE, src);
+        const fb = gl.createFramebuffer(); gl.bindFramebuffer(gl.FRAMEBUFFER, fb);
+        gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, gl.getParameter(gl.TEXTURE_BINDING_2D), 0);
+        const px = new Uint8Array(8); gl.readPixels(0, 0, 2, 1, gl.RGBA, gl.UNSIGNED_BYTE, px);
+        console.log(Array.from(px).join(','), gl.getError());
+    """)
+    result = softgl.page.run(path, frames=0)
+    # Bilinear at destination pixel centres: source x = (i + 0.5) / 2 - 0.5 = -0.25, 0.25, 0.75,
+    # 1.25, clamped to the edge texels: weights of blue 0, 0.25, 0.75, 1 -> 63.75 -> 64, 191.25 -> 191.
+    assert [text for _, text in result.console] == [
+        "255,0,0,255,191,0,64,255,64,0,191,255,0,0,255,255",
+        "255,0,0,255,255,0,0,255,0,0,255,255,0,0,255,255",
+        "0,0,0,0,0,0,0,0,0,0,255,255,0,0,0,0",
+        "255,0,0,255,0,0,255,255 0",
+    ]

@@ -7,7 +7,8 @@
 (function (global, pyhost) {
   // Python attributes are looked up once: a property read on a Python object costs ~5x a call.
   const host = {};
-  for (const name of ['bytes_begin', 'small', 'typed', 'numbers', 'load_image', 'console', 'create_context', 'read_file', 'js_error', 'attach'])
+  for (const name of ['bytes_begin', 'small', 'typed', 'numbers', 'load_image', 'console', 'create_context', 'read_file', 'js_error', 'attach',
+    'create_canvas2d', 'blank_pixels', 'image_data_pixels'])
     host[name] = pyhost[name];
   host.page_url = pyhost.page_url; host.window_size = [pyhost.window_size[0], pyhost.window_size[1]];
   // An uncaught exception in a script, an event listener, a timer or an animation frame is
@@ -392,21 +393,82 @@
       return this.__image.pixels;
     }
   }
+  // -- canvas 2D: the exact part pages and three.js use for texture images (softgl/page/canvas2d.py;
+  // docs/pages.md, "Canvas 2D"). Anything else on the context is refused by name (strict).
+  class ImageData {
+    constructor(a, b, c) {
+      if (typeof a === 'number') {
+        this.width = a >>> 0; this.height = b >>> 0;
+        this.data = new Uint8ClampedArray(this.width * this.height * 4);
+      } else {
+        this.data = a; this.width = b >>> 0;
+        this.height = c === undefined ? a.length / 4 / this.width : c >>> 0;
+      }
+      this.colorSpace = 'srgb';
+    }
+    __pixels() { return host.image_data_pixels(toPython(this.data), this.width, this.height); }
+  }
+  const call2d = (fn) => {
+    try { return fn(); } catch (e) {
+      const m = /canvas 2D [^\n]*/.exec(String(e && e.message !== undefined ? e.message : e));
+      if (m) throw unsupported(m[0]);
+      throw e;
+    }
+  };
+  class CanvasRenderingContext2D {
+    constructor(canvas) {
+      this.canvas = canvas;
+      this.fillStyle = '#000000'; this.globalAlpha = 1; this.globalCompositeOperation = 'source-over';
+      this.imageSmoothingEnabled = true; this.imageSmoothingQuality = 'low';
+      this.__py = host.create_canvas2d(canvas.width, canvas.height);
+    }
+    __checkState(what) {
+      if (this.globalCompositeOperation !== 'source-over') throw unsupported("canvas 2D globalCompositeOperation '" + this.globalCompositeOperation + "'");
+      if (what === 'fill' && typeof this.fillStyle !== 'string') throw unsupported('a canvas 2D fillStyle that is not a colour (gradients, patterns)');
+    }
+    fillRect(x, y, w, h) { this.__checkState('fill'); call2d(() => this.__py.fill_rect(+x, +y, +w, +h, this.fillStyle, +this.globalAlpha)); }
+    clearRect(x, y, w, h) { call2d(() => this.__py.clear_rect(+x, +y, +w, +h)); }
+    drawImage(image, ...args) {
+      this.__checkState('image');
+      if (!image || image.__pixels === undefined) throw new TypeError("Failed to execute 'drawImage': the source is not an image or a canvas");
+      const pixels = image.__pixels();
+      call2d(() => this.__py.draw(pixels, args.map(Number), !!this.imageSmoothingEnabled, +this.globalAlpha));
+    }
+    getImageData(x, y, w, h) {
+      const text = call2d(() => this.__py.get_image_data_bytes(+x, +y, +w, +h));
+      return new ImageData(new Uint8ClampedArray(fromPython('uint8', text).buffer), Math.abs(w), Math.abs(h));
+    }
+    putImageData(imageData, dx, dy, ...dirty) {
+      if (dirty.length) throw unsupported('putImageData with a dirty rectangle');
+      call2d(() => this.__py.put_image_data(toPython(imageData.data), imageData.width, imageData.height, +dx, +dy));
+    }
+    createImageData(w, h) { return typeof w === 'object' ? new ImageData(w.width, w.height) : new ImageData(Math.abs(w), Math.abs(h)); }
+  }
+
   class HTMLCanvasElement extends Element {
     constructor(attributes) {
       super('canvas', attributes);
       this.__context = null; this.__kind = null;
     }
     get width() { return +(this.getAttribute('width') || 300); }
-    set width(v) { this.setAttribute('width', v >>> 0); if (this.__context) this.__context.__py.resize(this.width, this.height); }
+    set width(v) { this.setAttribute('width', v >>> 0); this.__resized(); }
     get height() { return +(this.getAttribute('height') || 150); }
-    set height(v) { this.setAttribute('height', v >>> 0); if (this.__context) this.__context.__py.resize(this.width, this.height); }
+    set height(v) { this.setAttribute('height', v >>> 0); this.__resized(); }
+    __resized() {
+      if (this.__context) this.__context.__py.resize(this.width, this.height);   // a 2D canvas is cleared too
+    }
     get clientWidth() { return this.width; }
     get clientHeight() { return this.height; }
     getContext(kind, attributes) {
+      if (kind === '2d') {
+        if (this.__context) return this.__kind === '2d' ? this.__context : null;
+        this.__context = strict(new CanvasRenderingContext2D(this), 'CanvasRenderingContext2D');
+        this.__kind = '2d';
+        return this.__context;
+      }
       const version = { webgl: 1, 'experimental-webgl': 1, webgl2: 2 }[kind];
       if (version === undefined) {
-        if (kind === '2d' || kind === 'bitmaprenderer' || kind === 'webgpu') throw unsupported("canvas.getContext('" + kind + "')");
+        if (kind === 'bitmaprenderer' || kind === 'webgpu') throw unsupported("canvas.getContext('" + kind + "')");
         return null;
       }
       if (this.__context) return this.__kind === version ? this.__context : null;
@@ -416,7 +478,13 @@
       return this.__context;
     }
     toDataURL() { throw unsupported('canvas.toDataURL'); }
-    __pixels() { throw unsupported('a canvas as a texture source'); }
+    // As an image (texImage2D, drawImage): a 2D canvas's pixels; a canvas without a context is
+    // transparent black; a WebGL canvas is not provided.
+    __pixels() {
+      if (this.__kind === '2d') return this.__context.__py.pixels;
+      if (this.__context) throw unsupported('a WebGL canvas as an image source');
+      return host.blank_pixels(this.width, this.height);
+    }
   }
   const makeElement = (localName, attributes) => {
     if (localName === 'canvas') return strict(new HTMLCanvasElement(attributes), '<canvas>');
@@ -513,7 +581,7 @@
     innerWidth: host.window_size[0], innerHeight: host.window_size[1], devicePixelRatio: 1,
     addEventListener: win.addEventListener.bind(win), removeEventListener: win.removeEventListener.bind(win),
     WebGLRenderingContext, WebGL2RenderingContext, HTMLCanvasElement, HTMLImageElement, HTMLElement: Element,
-    Element, Node, Event, EventTarget: EventTarget, Response,
+    Element, Node, Event, EventTarget: EventTarget, Response, ImageData, CanvasRenderingContext2D,
     alert: (msg) => host.console('alert', [format(msg)]),
     getComputedStyle: () => ({ getPropertyValue: () => '' }),
     matchMedia: () => ({ matches: false, addListener() {}, removeListener() {}, addEventListener() {}, removeEventListener() {} }),

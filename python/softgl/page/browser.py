@@ -17,6 +17,7 @@ import numpy as np
 
 from .. import _core, io as _io
 from ..context import Context, Extension
+from .canvas2d import Canvas2D
 
 log = logging.getLogger("softgl.page")
 log.addHandler(logging.NullHandler())   # a library: shown only where the application configures logging
@@ -197,6 +198,17 @@ class Browser:
         elif pixels.shape[2] == 1:
             pixels = np.concatenate([np.repeat(pixels, 3, axis=2), np.full(pixels.shape[:2] + (1,), 255, np.uint8)], axis=2)
         return _LoadedImage(np.ascontiguousarray(pixels))
+
+    def create_canvas2d(self, width, height):
+        return Canvas2D(int(width), int(height))
+
+    def blank_pixels(self, width, height):
+        """A canvas without a context as an image: transparent black of its size."""
+        return np.zeros((int(height), int(width), 4), np.uint8)
+
+    def image_data_pixels(self, data, width, height):
+        """An ImageData (its Uint8ClampedArray's bytes) as an (h, w, 4) image, top row first."""
+        return np.asarray(data, np.uint8).reshape(int(height), int(width), 4)
 
     def create_context(self, canvas, version, attributes):
         attrs = {}
