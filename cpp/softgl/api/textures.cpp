@@ -779,6 +779,7 @@ bool Context::prepare_textures_and_targets(const char* call) {
             draw_sampler_.units[size_t(__builtin_ctz(m))][size_t(dim)] = BoundTexture{};
         draw_sampler_filled_[dim] = 0;
     }
+    draw_sampler_.any_anisotropic = false;
     uint32_t used_units[4] = {0, 0, 0, 0};     // bit per unit, per sampler dimension
     uint32_t unit_type[limits::kMaxCombinedTextureImageUnits] = {};
     for (const auto& u : p.linked->reflection.uniforms) {
@@ -812,6 +813,7 @@ bool Context::prepare_textures_and_targets(const char* call) {
             bt.texture = tex.get();
             draw_sampler_filled_[dim] |= 1u << unit;
             bt.params = params;
+            draw_sampler_.any_anisotropic |= params.max_anisotropy > 1.0f;
             bt.base = tex->immutable ? std::clamp(tex->base_level, 0, tex->immutable_levels - 1) : tex->base_level;
             bt.q = needs_mipmaps(params.min_filter) ? max_sampled_level(*tex) : bt.base;
             bt.seamless_cube = version() >= 2;

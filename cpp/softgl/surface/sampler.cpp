@@ -1546,7 +1546,9 @@ constexpr double kAnisotropyRatioSlack = 1.0 / 64;
 
 bool TextureUnitSampler::anisotropic(const glsl::TextureQuery& q) const {
     // Integer textures sample NEAREST only (ES 3.0 §3.8.14): nothing to filter.
-    if (q.kind != TextureKind::Sample || q.lod_mode == TextureLod::Explicit || q.result != BaseType::Float) return false;
+    if (!any_anisotropic || q.kind != TextureKind::Sample || q.lod_mode == TextureLod::Explicit ||
+        q.result != BaseType::Float)
+        return false;
     const int dim = dim_index(q.dim);
     int32_t unit;
     if (one_unit(q, unit)) {

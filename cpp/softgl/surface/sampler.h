@@ -34,6 +34,9 @@ class TextureUnitSampler : public glsl::TextureSampler {
 public:
     // units[unit][dim]: dim 0 = 2D, 1 = 3D, 2 = cube, 3 = 2D array.
     std::array<std::array<BoundTexture, 4>, kSamplerUnits> units;
+    // False when no unit's texture has TEXTURE_MAX_ANISOTROPY_EXT above 1 (set by the draw that
+    // fills `units`): queries then skip the per-lane anisotropy check.
+    bool any_anisotropic = true;
     void sample(const glsl::TextureQuery& query) override;
     bool lod_matters(const glsl::TextureQuery& query) const override;
 
