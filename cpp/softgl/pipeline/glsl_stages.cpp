@@ -54,6 +54,9 @@ GlslVertexShader::GlslVertexShader(std::shared_ptr<const glsl::LinkedProgram> pr
             layout_.read_by_fragment.push_back(v.fragment_slot >= 0);
         }
     }
+    written_word_.assign(size_t(layout_.words), 0);
+    for (int word : output_word_)
+        if (word >= 0) written_word_[size_t(word)] = 1;
 }
 
 void GlslVertexShader::prepare(const Tuning& tuning) const {
@@ -69,7 +72,7 @@ uint64_t GlslVertexShader::take_fast_texture_queries() const {
 }
 
 void GlslVertexShader::run(const std::array<AttributeStream, kMaxVertexAttribs>& attribs, size_t count,
-                           const uint32_t* vertex_ids, const uint32_t* instance_ids, VertexShaderOutputs& out) const {
+                           const uint32_t* vertex_ids, const uint32_t* instance_ids, const VertexDestination& out) const {
     const glsl::IrProgram& ir = program_->vertex;
     std::unique_ptr<Run> borrowed;
     {
@@ -79,26 +82,35 @@ void GlslVertexShader::run(const std::array<AttributeStream, kMaxVertexAttribs>&
     if (!borrowed) borrowed = std::make_unique<Run>(Run{std::make_unique<glsl::Executor>(ir), {}, {}, {}, {}, {}});
     Run& r = *borrowed;
     r.executor->set_simd_level(simd_);   // executors outlive draws; the level is the draw's
-    r.ids.resize(count);
-    r.instances.resize(count);
-    for (size_t v = 0; v < count; ++v)
-        r.ids[v].u = vertex_ids ? vertex_ids[v] : uint32_t(v), r.instances[v].u = instance_ids ? instance_ids[v] : 0u;
+    // gl_VertexID and gl_InstanceID read the caller's arrays (32-bit words, as attribute streams).
+    const Scalar* ids = reinterpret_cast<const Scalar*>(vertex_ids);
+    const Scalar* instances = reinterpret_cast<const Scalar*>(instance_ids);
+    if (!ids) {
+        r.ids.resize(count);
+        for (size_t v = 0; v < count; ++v) r.ids[v].u = uint32_t(v);
+        ids = r.ids.data();
+    }
+    if (!instances) {
+        r.instances.assign(count, Scalar{});
+        instances = r.instances.data();
+    }
     r.inputs.assign(ir.inputs.size(), nullptr);
     for (size_t i = 0; i < ir.inputs.size(); ++i) {
-        if (input_builtin_[i] == Builtin::VertexId) r.inputs[i] = r.ids.data();
-        else if (input_builtin_[i] == Builtin::InstanceId) r.inputs[i] = r.instances.data();
+        if (input_builtin_[i] == Builtin::VertexId) r.inputs[i] = ids;
+        else if (input_builtin_[i] == Builtin::InstanceId) r.inputs[i] = instances;
         else if (input_location_[i] >= 0 && input_location_[i] < kMaxVertexAttribs) {
             const auto& stream = attribs[size_t(input_location_[i])].comp[size_t(input_component_[i])];
             r.inputs[i] = reinterpret_cast<const Scalar*>(stream.data());
         }
     }
     // Output i at results[i * count ..], zero where the shader does not write it (the rest is
-    // written by the run: no fill; the array only grows).
+    // written by the run: no fill; the array only grows). gl_PointSize goes straight to `out`.
     if (r.results.size() < ir.outputs.size() * count) r.results.resize(ir.outputs.size() * count);
-    for (size_t i = 0; i < ir.outputs.size(); ++i)
-        if (unwritten_[i]) std::fill_n(r.results.data() + i * count, count, Scalar{});
     r.outputs.resize(ir.outputs.size());
-    for (size_t i = 0; i < r.outputs.size(); ++i) r.outputs[i] = r.results.data() + i * count;
+    for (size_t i = 0; i < r.outputs.size(); ++i) {
+        r.outputs[i] = int(i) == point_size_slot_ ? reinterpret_cast<Scalar*>(out.point_size) : r.results.data() + i * count;
+        if (unwritten_[i]) std::fill_n(r.outputs[i], count, Scalar{});
+    }
     glsl::StageRun run;
     run.lane_count = int(count);
     run.inputs = r.inputs.data();
@@ -110,19 +122,25 @@ void GlslVertexShader::run(const std::array<AttributeStream, kMaxVertexAttribs>&
     r.executor->run(run);
     const Scalar* const* const results = r.outputs.data();
 
-    out.count = count;
-    out.position.assign(count * 4, 0.0f);
-    for (int c = 0; c < 4; ++c)
-        if (position_slot_[c] >= 0)
-            for (size_t v = 0; v < count; ++v) out.position[v * 4 + size_t(c)] = results[size_t(position_slot_[c])][v].f;
-    out.point_size.assign(count, 1.0f);
-    if (point_size_slot_ >= 0)
-        for (size_t v = 0; v < count; ++v) out.point_size[v] = results[size_t(point_size_slot_)][v].f;
+    for (int c = 0; c < 4; ++c) {
+        float* const position = out.position + c;
+        if (position_slot_[c] < 0) {
+            for (size_t v = 0; v < count; ++v) position[4 * v] = 0.0f;
+            continue;
+        }
+        const Scalar* const from = results[size_t(position_slot_[c])];
+        for (size_t v = 0; v < count; ++v) position[4 * v] = from[v].f;
+    }
+    if (point_size_slot_ < 0) std::fill_n(out.point_size, count, 1.0f);
     const size_t words = size_t(layout_.words);
-    out.varyings.assign(count * words, 0);
+    for (size_t word = 0; word < words; ++word)
+        if (!written_word_[word])
+            for (size_t v = 0; v < count; ++v) out.varyings[v * words + word] = 0;
     for (size_t i = 0; i < output_word_.size(); ++i) {
         if (output_word_[i] < 0) continue;
-        for (size_t v = 0; v < count; ++v) out.varyings[v * words + size_t(output_word_[i])] = results[i][v].u;
+        uint32_t* const varying = out.varyings + size_t(output_word_[i]);
+        const Scalar* const from = results[i];
+        for (size_t v = 0; v < count; ++v) varying[v * words] = from[v].u;
     }
     std::lock_guard<std::mutex> lock(runs_mutex_);
     idle_runs_.push_back(std::move(borrowed));

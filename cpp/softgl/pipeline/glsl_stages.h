@@ -27,7 +27,7 @@ public:
     const VaryingLayout& varying_layout() const override { return layout_; }
     void prepare(const Tuning& tuning) const override;
     void run(const std::array<AttributeStream, kMaxVertexAttribs>& attribs, size_t count,
-             const uint32_t* vertex_ids, const uint32_t* instance_ids, VertexShaderOutputs& out) const override;
+             const uint32_t* vertex_ids, const uint32_t* instance_ids, const VertexDestination& out) const override;
     void set_uniforms(const glsl::Scalar* uniforms) { uniforms_ = uniforms; }
     // The bound textures for this draw (null: every lookup reads an incomplete texture).
     void set_sampler(glsl::TextureSampler* sampler) { textures_ = sampler; }
@@ -43,6 +43,7 @@ private:
     std::vector<int> input_component_;   // per vertex input slot: component of that location
     std::vector<int> output_word_;       // per vertex output slot: varying word, -1 otherwise
     std::vector<uint8_t> unwritten_;     // per vertex output slot: no instruction writes its register
+    std::vector<uint8_t> written_word_;  // per varying word: some output slot fills it (else 0)
     int position_slot_[4] = {-1, -1, -1, -1};
     int point_size_slot_ = -1;
     uint32_t used_ = 0;

@@ -171,9 +171,14 @@ void fetch_attribute(const VertexArray& vao, const CurrentAttrib& current, int l
         uint32_t* comp[4] = {out.comp[0].data(), out.comp[1].data(), out.comp[2].data(), out.comp[3].data()};
         for (int c = size; c < 4; ++c) std::fill_n(comp[c], count, c == 3 ? float_bits(1.0f) : 0u);
         if (a.divisor) {
+            // The lanes of one instance are consecutive: one division per instance, not per lane.
             const uint32_t divisor = a.divisor;
-            copy_floats(size, base, stride, count, comp,
-                        [&](size_t v) { return (instance_ids ? instance_ids[v] : 0u) / divisor; });
+            uint32_t instance = 0, element = 0;
+            copy_floats(size, base, stride, count, comp, [&](size_t v) {
+                const uint32_t i = instance_ids ? instance_ids[v] : 0u;
+                if (v == 0 || i != instance) instance = i, element = i / divisor;
+                return element;
+            });
         } else if (vertex_ids) {
             copy_floats(size, base, stride, count, comp, [&](size_t v) { return vertex_ids[v]; });
         } else {
