@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <type_traits>
 #include <utility>
 
 namespace softgl {
@@ -21,6 +22,36 @@ void IncompleteTextureSampler::sample(const glsl::TextureQuery& q) {
         }
     }
 }
+
+namespace {
+
+// out[v * N + k] = source[k][v] for the `count` vertices: components to vertices, N known at
+// compile time so each vertex's words are stored together from registers.
+template <size_t N, class Out>
+void interleave(const Scalar* const* source, size_t count, Out* out) {
+    const Scalar* s[N];
+    for (size_t k = 0; k < N; ++k) s[k] = source[k];
+    for (size_t v = 0; v < count; ++v)
+        for (size_t k = 0; k < N; ++k) {
+            if constexpr (std::is_same_v<Out, float>) out[v * N + k] = s[k][v].f;
+            else out[v * N + k] = s[k][v].u;
+        }
+}
+
+void interleave(const Scalar* const* source, size_t n, size_t count, uint32_t* out) {
+    switch (n) {
+        case 0: return;
+        case 1: return interleave<1>(source, count, out);
+        case 2: return interleave<2>(source, count, out);
+        case 3: return interleave<3>(source, count, out);
+        case 4: return interleave<4>(source, count, out);
+        default:
+            for (size_t v = 0; v < count; ++v)
+                for (size_t k = 0; k < n; ++k) out[v * n + k] = source[k][v].u;
+    }
+}
+
+}  // namespace
 
 GlslVertexShader::GlslVertexShader(std::shared_ptr<const glsl::LinkedProgram> program,
                                    const std::vector<int>& input_location, const std::vector<int>& input_component)
@@ -54,9 +85,6 @@ GlslVertexShader::GlslVertexShader(std::shared_ptr<const glsl::LinkedProgram> pr
             layout_.read_by_fragment.push_back(v.fragment_slot >= 0);
         }
     }
-    written_word_.assign(size_t(layout_.words), 0);
-    for (int word : output_word_)
-        if (word >= 0) written_word_[size_t(word)] = 1;
 }
 
 void GlslVertexShader::prepare(const Tuning& tuning) const {
@@ -79,7 +107,7 @@ void GlslVertexShader::run(const std::array<AttributeStream, kMaxVertexAttribs>&
         std::lock_guard<std::mutex> lock(runs_mutex_);
         if (!idle_runs_.empty()) borrowed = std::move(idle_runs_.back()), idle_runs_.pop_back();
     }
-    if (!borrowed) borrowed = std::make_unique<Run>(Run{std::make_unique<glsl::Executor>(ir), {}, {}, {}, {}, {}});
+    if (!borrowed) borrowed = std::make_unique<Run>(Run{std::make_unique<glsl::Executor>(ir), {}, {}, {}, {}, {}, {}, {}});
     Run& r = *borrowed;
     r.executor->set_simd_level(simd_);   // executors outlive draws; the level is the draw's
     // gl_VertexID and gl_InstanceID read the caller's arrays (32-bit words, as attribute streams).
@@ -122,26 +150,18 @@ void GlslVertexShader::run(const std::array<AttributeStream, kMaxVertexAttribs>&
     r.executor->run(run);
     const Scalar* const* const results = r.outputs.data();
 
-    for (int c = 0; c < 4; ++c) {
-        float* const position = out.position + c;
-        if (position_slot_[c] < 0) {
-            for (size_t v = 0; v < count; ++v) position[4 * v] = 0.0f;
-            continue;
-        }
-        const Scalar* const from = results[size_t(position_slot_[c])];
-        for (size_t v = 0; v < count; ++v) position[4 * v] = from[v].f;
-    }
+    // The results from components to vertices: one pass over the vertices per array, every
+    // component of a vertex written together (a component the shader leaves unwritten reads zeros).
+    r.zeros.resize(count);
+    const Scalar* position[4];
+    for (int c = 0; c < 4; ++c) position[c] = position_slot_[c] >= 0 ? results[size_t(position_slot_[c])] : r.zeros.data();
+    interleave<4>(position, count, out.position);
     if (point_size_slot_ < 0) std::fill_n(out.point_size, count, 1.0f);
     const size_t words = size_t(layout_.words);
-    for (size_t word = 0; word < words; ++word)
-        if (!written_word_[word])
-            for (size_t v = 0; v < count; ++v) out.varyings[v * words + word] = 0;
-    for (size_t i = 0; i < output_word_.size(); ++i) {
-        if (output_word_[i] < 0) continue;
-        uint32_t* const varying = out.varyings + size_t(output_word_[i]);
-        const Scalar* const from = results[i];
-        for (size_t v = 0; v < count; ++v) varying[v * words] = from[v].u;
-    }
+    r.word_source.assign(words, r.zeros.data());
+    for (size_t i = 0; i < output_word_.size(); ++i)
+        if (output_word_[i] >= 0) r.word_source[size_t(output_word_[i])] = results[i];
+    interleave(r.word_source.data(), words, count, out.varyings);
     std::lock_guard<std::mutex> lock(runs_mutex_);
     idle_runs_.push_back(std::move(borrowed));
 }

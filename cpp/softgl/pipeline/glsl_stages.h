@@ -43,7 +43,6 @@ private:
     std::vector<int> input_component_;   // per vertex input slot: component of that location
     std::vector<int> output_word_;       // per vertex output slot: varying word, -1 otherwise
     std::vector<uint8_t> unwritten_;     // per vertex output slot: no instruction writes its register
-    std::vector<uint8_t> written_word_;  // per varying word: some output slot fills it (else 0)
     int position_slot_[4] = {-1, -1, -1, -1};
     int point_size_slot_ = -1;
     uint32_t used_ = 0;
@@ -58,6 +57,8 @@ private:
         std::vector<glsl::Scalar> ids, instances, results;
         std::vector<const glsl::Scalar*> inputs;
         std::vector<glsl::Scalar*> outputs;
+        std::vector<glsl::Scalar> zeros;                 // an unwritten position component or varying word
+        std::vector<const glsl::Scalar*> word_source;    // per varying word: its results (or zeros)
         uint64_t fast_texture_queries = 0;
     };
     mutable std::mutex runs_mutex_;
