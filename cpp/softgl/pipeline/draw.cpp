@@ -62,7 +62,6 @@ constexpr size_t kSetupChunk = 2048;    // primitives per setup-and-binning job
 
 struct VertexWorker {
     std::array<AttributeStream, kMaxVertexAttribs> attribs;
-    VertexShaderOutputs shaded;
     std::vector<uint32_t> vertex_ids, instance_ids;   // per lane of the job
 };
 
@@ -257,12 +256,10 @@ private:
                 if (used & (1u << loc))
                     fetch_attribute(in_.vertex_array, in_.current_attribs[size_t(loc)], loc, w.vertex_ids.data(), 0,
                                     count, w.instance_ids.data(), w.attribs[size_t(loc)]);
-            in_.vertex_shader.run(w.attribs, count, w.vertex_ids.data(), w.instance_ids.data(), w.shaded);
             const size_t at = j * n + begin;
-            std::copy_n(w.shaded.position.data(), count * 4, all_position + at * 4);
-            std::copy_n(w.shaded.point_size.data(), count, all_point_size + at);
-            std::copy_n(w.shaded.varyings.data(), count * size_t(words_), all_varyings + at * size_t(words_));
-            if (project) Setup(rs_).project_vertices(w.shaded.position.data(), count, all_window + at, plan_.simd);
+            const VertexDestination to{all_position + at * 4, all_point_size + at, all_varyings + at * size_t(words_)};
+            in_.vertex_shader.run(w.attribs, count, w.vertex_ids.data(), w.instance_ids.data(), to);
+            if (project) Setup(rs_).project_vertices(to.position, count, all_window + at, plan_.simd);
         });
         st_.vertices_shaded += all.count;
     }

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cstring>
+#include <type_traits>
 #include <utility>
 
 namespace softgl {
@@ -21,6 +22,36 @@ void IncompleteTextureSampler::sample(const glsl::TextureQuery& q) {
         }
     }
 }
+
+namespace {
+
+// out[v * N + k] = source[k][v] for the `count` vertices: components to vertices, N known at
+// compile time so each vertex's words are stored together from registers.
+template <size_t N, class Out>
+void interleave(const Scalar* const* source, size_t count, Out* out) {
+    const Scalar* s[N];
+    for (size_t k = 0; k < N; ++k) s[k] = source[k];
+    for (size_t v = 0; v < count; ++v)
+        for (size_t k = 0; k < N; ++k) {
+            if constexpr (std::is_same_v<Out, float>) out[v * N + k] = s[k][v].f;
+            else out[v * N + k] = s[k][v].u;
+        }
+}
+
+void interleave(const Scalar* const* source, size_t n, size_t count, uint32_t* out) {
+    switch (n) {
+        case 0: return;
+        case 1: return interleave<1>(source, count, out);
+        case 2: return interleave<2>(source, count, out);
+        case 3: return interleave<3>(source, count, out);
+        case 4: return interleave<4>(source, count, out);
+        default:
+            for (size_t v = 0; v < count; ++v)
+                for (size_t k = 0; k < n; ++k) out[v * n + k] = source[k][v].u;
+    }
+}
+
+}  // namespace
 
 GlslVertexShader::GlslVertexShader(std::shared_ptr<const glsl::LinkedProgram> program,
                                    const std::vector<int>& input_location, const std::vector<int>& input_component)
@@ -69,36 +100,45 @@ uint64_t GlslVertexShader::take_fast_texture_queries() const {
 }
 
 void GlslVertexShader::run(const std::array<AttributeStream, kMaxVertexAttribs>& attribs, size_t count,
-                           const uint32_t* vertex_ids, const uint32_t* instance_ids, VertexShaderOutputs& out) const {
+                           const uint32_t* vertex_ids, const uint32_t* instance_ids, const VertexDestination& out) const {
     const glsl::IrProgram& ir = program_->vertex;
     std::unique_ptr<Run> borrowed;
     {
         std::lock_guard<std::mutex> lock(runs_mutex_);
         if (!idle_runs_.empty()) borrowed = std::move(idle_runs_.back()), idle_runs_.pop_back();
     }
-    if (!borrowed) borrowed = std::make_unique<Run>(Run{std::make_unique<glsl::Executor>(ir), {}, {}, {}, {}, {}});
+    if (!borrowed) borrowed = std::make_unique<Run>(Run{std::make_unique<glsl::Executor>(ir), {}, {}, {}, {}, {}, {}, {}});
     Run& r = *borrowed;
     r.executor->set_simd_level(simd_);   // executors outlive draws; the level is the draw's
-    r.ids.resize(count);
-    r.instances.resize(count);
-    for (size_t v = 0; v < count; ++v)
-        r.ids[v].u = vertex_ids ? vertex_ids[v] : uint32_t(v), r.instances[v].u = instance_ids ? instance_ids[v] : 0u;
+    // gl_VertexID and gl_InstanceID read the caller's arrays (32-bit words, as attribute streams).
+    const Scalar* ids = reinterpret_cast<const Scalar*>(vertex_ids);
+    const Scalar* instances = reinterpret_cast<const Scalar*>(instance_ids);
+    if (!ids) {
+        r.ids.resize(count);
+        for (size_t v = 0; v < count; ++v) r.ids[v].u = uint32_t(v);
+        ids = r.ids.data();
+    }
+    if (!instances) {
+        r.instances.assign(count, Scalar{});
+        instances = r.instances.data();
+    }
     r.inputs.assign(ir.inputs.size(), nullptr);
     for (size_t i = 0; i < ir.inputs.size(); ++i) {
-        if (input_builtin_[i] == Builtin::VertexId) r.inputs[i] = r.ids.data();
-        else if (input_builtin_[i] == Builtin::InstanceId) r.inputs[i] = r.instances.data();
+        if (input_builtin_[i] == Builtin::VertexId) r.inputs[i] = ids;
+        else if (input_builtin_[i] == Builtin::InstanceId) r.inputs[i] = instances;
         else if (input_location_[i] >= 0 && input_location_[i] < kMaxVertexAttribs) {
             const auto& stream = attribs[size_t(input_location_[i])].comp[size_t(input_component_[i])];
             r.inputs[i] = reinterpret_cast<const Scalar*>(stream.data());
         }
     }
     // Output i at results[i * count ..], zero where the shader does not write it (the rest is
-    // written by the run: no fill; the array only grows).
+    // written by the run: no fill; the array only grows). gl_PointSize goes straight to `out`.
     if (r.results.size() < ir.outputs.size() * count) r.results.resize(ir.outputs.size() * count);
-    for (size_t i = 0; i < ir.outputs.size(); ++i)
-        if (unwritten_[i]) std::fill_n(r.results.data() + i * count, count, Scalar{});
     r.outputs.resize(ir.outputs.size());
-    for (size_t i = 0; i < r.outputs.size(); ++i) r.outputs[i] = r.results.data() + i * count;
+    for (size_t i = 0; i < r.outputs.size(); ++i) {
+        r.outputs[i] = int(i) == point_size_slot_ ? reinterpret_cast<Scalar*>(out.point_size) : r.results.data() + i * count;
+        if (unwritten_[i]) std::fill_n(r.outputs[i], count, Scalar{});
+    }
     glsl::StageRun run;
     run.lane_count = int(count);
     run.inputs = r.inputs.data();
@@ -110,20 +150,18 @@ void GlslVertexShader::run(const std::array<AttributeStream, kMaxVertexAttribs>&
     r.executor->run(run);
     const Scalar* const* const results = r.outputs.data();
 
-    out.count = count;
-    out.position.assign(count * 4, 0.0f);
-    for (int c = 0; c < 4; ++c)
-        if (position_slot_[c] >= 0)
-            for (size_t v = 0; v < count; ++v) out.position[v * 4 + size_t(c)] = results[size_t(position_slot_[c])][v].f;
-    out.point_size.assign(count, 1.0f);
-    if (point_size_slot_ >= 0)
-        for (size_t v = 0; v < count; ++v) out.point_size[v] = results[size_t(point_size_slot_)][v].f;
+    // The results from components to vertices: one pass over the vertices per array, every
+    // component of a vertex written together (a component the shader leaves unwritten reads zeros).
+    r.zeros.resize(count);
+    const Scalar* position[4];
+    for (int c = 0; c < 4; ++c) position[c] = position_slot_[c] >= 0 ? results[size_t(position_slot_[c])] : r.zeros.data();
+    interleave<4>(position, count, out.position);
+    if (point_size_slot_ < 0) std::fill_n(out.point_size, count, 1.0f);
     const size_t words = size_t(layout_.words);
-    out.varyings.assign(count * words, 0);
-    for (size_t i = 0; i < output_word_.size(); ++i) {
-        if (output_word_[i] < 0) continue;
-        for (size_t v = 0; v < count; ++v) out.varyings[v * words + size_t(output_word_[i])] = results[i][v].u;
-    }
+    r.word_source.assign(words, r.zeros.data());
+    for (size_t i = 0; i < output_word_.size(); ++i)
+        if (output_word_[i] >= 0) r.word_source[size_t(output_word_[i])] = results[i];
+    interleave(r.word_source.data(), words, count, out.varyings);
     std::lock_guard<std::mutex> lock(runs_mutex_);
     idle_runs_.push_back(std::move(borrowed));
 }

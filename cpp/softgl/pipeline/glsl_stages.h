@@ -27,7 +27,7 @@ public:
     const VaryingLayout& varying_layout() const override { return layout_; }
     void prepare(const Tuning& tuning) const override;
     void run(const std::array<AttributeStream, kMaxVertexAttribs>& attribs, size_t count,
-             const uint32_t* vertex_ids, const uint32_t* instance_ids, VertexShaderOutputs& out) const override;
+             const uint32_t* vertex_ids, const uint32_t* instance_ids, const VertexDestination& out) const override;
     void set_uniforms(const glsl::Scalar* uniforms) { uniforms_ = uniforms; }
     // The bound textures for this draw (null: every lookup reads an incomplete texture).
     void set_sampler(glsl::TextureSampler* sampler) { textures_ = sampler; }
@@ -57,6 +57,8 @@ private:
         std::vector<glsl::Scalar> ids, instances, results;
         std::vector<const glsl::Scalar*> inputs;
         std::vector<glsl::Scalar*> outputs;
+        std::vector<glsl::Scalar> zeros;                 // an unwritten position component or varying word
+        std::vector<const glsl::Scalar*> word_source;    // per varying word: its results (or zeros)
         uint64_t fast_texture_queries = 0;
     };
     mutable std::mutex runs_mutex_;

@@ -1,5 +1,6 @@
 #include "softgl/pipeline/passthrough_shaders.h"
 
+#include <algorithm>
 #include <cstring>
 
 namespace softgl {
@@ -16,11 +17,8 @@ uint32_t PassthroughVertexShader::used_attributes() const {
 }
 
 void PassthroughVertexShader::run(const std::array<AttributeStream, kMaxVertexAttribs>& attribs,
-                                  size_t count, const uint32_t*, const uint32_t*, VertexShaderOutputs& out) const {
-    out.count = count;
-    out.position.resize(count * 4);
-    out.point_size.assign(count, 1.0f);
-    out.varyings.resize(count * 4);
+                                  size_t count, const uint32_t*, const uint32_t*, const VertexDestination& out) const {
+    std::fill_n(out.point_size, count, 1.0f);
     for (size_t v = 0; v < count; ++v)
         for (int c = 0; c < 4; ++c) {
             std::memcpy(&out.position[v * 4 + size_t(c)], &attribs[0].comp[size_t(c)][v], 4);

@@ -13,7 +13,7 @@ public:
     uint32_t used_attributes() const override;
     const VaryingLayout& varying_layout() const override { return layout_; }
     void run(const std::array<AttributeStream, kMaxVertexAttribs>& attribs, size_t count,
-             const uint32_t* vertex_ids, const uint32_t* instance_ids, VertexShaderOutputs& out) const override;
+             const uint32_t* vertex_ids, const uint32_t* instance_ids, const VertexDestination& out) const override;
 
 private:
     int point_size_location_;

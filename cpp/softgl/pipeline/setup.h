@@ -187,8 +187,8 @@ public:
     void triangle(const float* positions, const WindowPosition* window, const uint32_t vertex[3],
                   uint32_t primitive, std::vector<PrimitiveSetup>& out);
     // Projects positions[0 .. 4 * count) (clip coordinates) to out[0 .. count), vertex by vertex,
-    // exactly as triangle() does; every level gives the same bits (an AVX-512 kernel; the other
-    // levels run the scalar code: AVX2 has no exact double-to-int64 conversion).
+    // exactly as triangle() does; every level gives the same bits (AVX-512 and AVX2 kernels, 8 and
+    // 4 vertices at a time; SSE2 runs the scalar code).
     void project_vertices(const float* positions, size_t count, WindowPosition* out,
                           SimdLevel level = best_simd_level()) const;
     // A point of gl_PointSize `size` (clamped to the point size range), ES 3.0 §3.4.

@@ -27,6 +27,14 @@ struct VertexShaderOutputs {
     std::vector<uint32_t> varyings;   // layout.words words per vertex (float or int bit patterns)
 };
 
+// Where VertexShader::run writes its `count` vertices, in VertexShaderOutputs' layout: straight
+// into the batch's arrays at the job's place (no copy of the results per job).
+struct VertexDestination {
+    float* position;      // [4 * v + c]
+    float* point_size;    // [v]
+    uint32_t* varyings;   // [v * layout.words + word]
+};
+
 class VertexShader {
 public:
     virtual ~VertexShader() = default;
@@ -37,9 +45,10 @@ public:
     virtual void prepare(const Tuning& tuning) const { (void)tuning; }
     // Shades `count` vertices; attribs[loc] holds their attribute values for each used location;
     // vertex_ids[v] is gl_VertexID and instance_ids[v] gl_InstanceID (the vertices of several
-    // instances are shaded in one call). Must be safe to call from several threads at once.
+    // instances are shaded in one call). Writes every element of `out` for the `count` vertices.
+    // Must be safe to call from several threads at once.
     virtual void run(const std::array<AttributeStream, kMaxVertexAttribs>& attribs, size_t count,
-                     const uint32_t* vertex_ids, const uint32_t* instance_ids, VertexShaderOutputs& out) const = 0;
+                     const uint32_t* vertex_ids, const uint32_t* instance_ids, const VertexDestination& out) const = 0;
 };
 
 // Fragments of whole 2x2 quads: lane 4*q + j is pixel j (dx = j & 1, dy = j >> 1) of quad q, so

@@ -171,9 +171,21 @@ void fetch_attribute(const VertexArray& vao, const CurrentAttrib& current, int l
         uint32_t* comp[4] = {out.comp[0].data(), out.comp[1].data(), out.comp[2].data(), out.comp[3].data()};
         for (int c = size; c < 4; ++c) std::fill_n(comp[c], count, c == 3 ? float_bits(1.0f) : 0u);
         if (a.divisor) {
-            const uint32_t divisor = a.divisor;
-            copy_floats(size, base, stride, count, comp,
-                        [&](size_t v) { return (instance_ids ? instance_ids[v] : 0u) / divisor; });
+            // The lanes of one instance are consecutive (a vertex job packs whole instances): the
+            // element is read once per run of equal instances and broadcast over its lanes.
+            for (size_t v = 0; v < count;) {
+                const uint32_t instance = instance_ids ? instance_ids[v] : 0u;
+                size_t end = v + 1;
+                if (!instance_ids) end = count;
+                while (end < count && instance_ids[end] == instance) ++end;
+                const uint8_t* const p = base + uint64_t(instance / a.divisor) * stride;
+                for (int c = 0; c < size; ++c) {
+                    uint32_t bits;
+                    std::memcpy(&bits, p + 4 * c, 4);
+                    std::fill(comp[c] + v, comp[c] + end, bits);
+                }
+                v = end;
+            }
         } else if (vertex_ids) {
             copy_floats(size, base, stride, count, comp, [&](size_t v) { return vertex_ids[v]; });
         } else {
