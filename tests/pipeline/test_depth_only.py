@@ -4,15 +4,15 @@ attachment, drawBuffers all NONE) and the tests run before shading, the fragment
 run (a fragment shader has no other effect: GLSL ES 3.00 §3.8 ... no side effects), and the depth
 buffer holds the same words as when the shader runs and colour is written."""
 import numpy as np
+import pytest
 
 from softgl import _core
 from test_draw_plan import DISCARD_FS, SHADED_FS, SIZE, context, draw
 
 
-def depth_draw(fs=SHADED_FS, setup=None):
-    """12 random triangles (4 draws of the same 12 vertices would be hidden) with LESS depth
-    test; returns (gl, plan, stats)."""
-    gl, _ = context(fs, n=12)
+def depth_draw(fs=SHADED_FS, setup=None, antialias=False):
+    """4 random overlapping triangles with the LESS depth test; returns (gl, plan, stats)."""
+    gl, _ = context(fs, n=12, antialias=antialias)
     gl.enable(gl.DEPTH_TEST)
     gl.depthFunc(gl.LESS)
     if setup:
@@ -23,14 +23,15 @@ def depth_draw(fs=SHADED_FS, setup=None):
     return gl, plan, gl.stats()
 
 
-def test_colour_mask_off_takes_depth_only_and_keeps_the_depth():
-    gl, plan, stats = depth_draw()
+@pytest.mark.parametrize("antialias", [False, True])
+def test_colour_mask_off_takes_depth_only_and_keeps_the_depth(antialias):
+    gl, plan, stats = depth_draw(antialias=antialias)
     assert plan["writes_color"] and not plan["depth_only"] and plan["depth_only_why_not"] == "writes_color"
     assert stats["fragments_shaded"] > 0
     shaded = _core.testing.read_depth(gl)
     assert len(np.unique(shaded)) > 3   # several triangles' depths
 
-    gl2, plan2, stats2 = depth_draw(setup=lambda gl: gl.colorMask(False, False, False, False))
+    gl2, plan2, stats2 = depth_draw(setup=lambda gl: gl.colorMask(False, False, False, False), antialias=antialias)
     assert not plan2["writes_color"] and plan2["depth_only"] and plan2["depth_only_why_not"] is None
     assert stats2["fragments_shaded"] == 0 and stats2["quads"] > 0
     np.testing.assert_array_equal(_core.testing.read_depth(gl2), shaded)
