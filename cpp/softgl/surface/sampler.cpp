@@ -1044,8 +1044,12 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const LevelChoice 
 // cube_face and cube_coords' s, t of 8 lanes (without derivatives): the same comparisons
 // (ordered: a NaN fails them, as in cube_face), so the same face for ties on edges and corners
 // and for NaN, and the same float operations in the same order, so the same s, t bits.
+// With ddx, ddy (each component may be null: 0), also cube_coords' derivatives of s and t:
+// ds[0], dt[0] along x, ds[1], dt[1] along y.
 __attribute__((target("avx2"))) inline void cube_coords8(const float* x, const float* y, const float* z, int32_t face[8],
-                                                         float s[8], float t[8]) {
+                                                         float s[8], float t[8], const float* const* ddx = nullptr,
+                                                         const float* const* ddy = nullptr, float ds[2][8] = nullptr,
+                                                         float dt[2][8] = nullptr) {
     const __m256 sign = _mm256_set1_ps(-0.0f), zero = _mm256_setzero_ps();
     const __m256 rx = _mm256_loadu_ps(x), ry = _mm256_loadu_ps(y), rz = _mm256_loadu_ps(z);
     const __m256 ax = _mm256_andnot_ps(sign, rx), ay = _mm256_andnot_ps(sign, ry), az = _mm256_andnot_ps(sign, rz);
@@ -1068,6 +1072,21 @@ __attribute__((target("avx2"))) inline void cube_coords8(const float* x, const f
     const __m256 half = _mm256_set1_ps(0.5f), one = _mm256_set1_ps(1.0f);
     _mm256_storeu_ps(s, _mm256_mul_ps(half, _mm256_add_ps(_mm256_mul_ps(sc, inv), one)));
     _mm256_storeu_ps(t, _mm256_mul_ps(half, _mm256_add_ps(_mm256_mul_ps(tc, inv), one)));
+    if (!ddx) return;
+    // The quotient rule as cube_coords: dsc, dtc by the same table, dma = sign * d[major], then
+    // 0.5 (dsc ma - sc dma) inv inv (and the same for t).
+    const __m256 major_sign = _mm256_blendv_ps(one, _mm256_set1_ps(-1.0f), neg);
+    for (int n = 0; n < 2; ++n) {
+        const float* const* d = n ? ddy : ddx;
+        const __m256 d0 = d[0] ? _mm256_loadu_ps(d[0]) : zero, d1 = d[1] ? _mm256_loadu_ps(d[1]) : zero;
+        const __m256 d2 = d[2] ? _mm256_loadu_ps(d[2]) : zero;
+        const __m256 n0 = _mm256_xor_ps(d0, sign), n1 = _mm256_xor_ps(d1, sign), n2 = _mm256_xor_ps(d2, sign);
+        const __m256 dsc = _mm256_blendv_ps(_mm256_blendv_ps(_mm256_blendv_ps(d0, n0, neg), d0, is_y), _mm256_blendv_ps(n2, d2, neg), is_x);
+        const __m256 dtc = _mm256_blendv_ps(n1, _mm256_blendv_ps(d2, n2, neg), is_y);
+        const __m256 dma = _mm256_mul_ps(major_sign, _mm256_blendv_ps(_mm256_blendv_ps(d2, d1, is_y), d0, is_x));
+        _mm256_storeu_ps(ds[n], _mm256_mul_ps(_mm256_mul_ps(_mm256_mul_ps(half, _mm256_sub_ps(_mm256_mul_ps(dsc, ma), _mm256_mul_ps(sc, dma))), inv), inv));
+        _mm256_storeu_ps(dt[n], _mm256_mul_ps(_mm256_mul_ps(_mm256_mul_ps(half, _mm256_sub_ps(_mm256_mul_ps(dtc, ma), _mm256_mul_ps(tc, dma))), inv), inv));
+    }
 }
 
 // Fast2D::inside of one plane for 8 lanes: bit k set when lane k's texels lie inside the face.
@@ -1595,13 +1614,12 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
             l += n;
         }
     }
-    // Cube maps. Without a level choice: faces and face coordinates of 8 active lanes at once
-    // (cube_coords8), each face among them filtered by filter8 for the block and each lane's
-    // result taken from its own face; lanes whose footprint leaves the face with seamless
-    // filtering then go to sample_lane (as one_lane sends them). With a level choice: faces, face
-    // coordinates and derivatives lane by lane (cube_coords, as one_lane), then blocks of 8
-    // active lanes on one face, one level and inside the face filtered by filter8. Other blocks
-    // lane by lane.
+    // Cube maps: faces, face coordinates and their derivatives of 8 active lanes at once
+    // (cube_coords8), the levels lane by lane; a block whose lanes share their levels has each
+    // face among them filtered by filter8 for the block, each lane taking its own face's result,
+    // and lanes whose footprint leaves the face with seamless filtering then go to sample_lane
+    // (as one_lane sends them). Other blocks: faces lane by lane (cube_coords, as one_lane), and
+    // blocks on one face, one level and inside the face filtered by filter8, else lane by lane.
     if (simd != SimdBlocks::None && cube && q.coord[0] && q.coord[1] && q.coord[2]) {
         glsl::Scalar* const out[4] = {q.out[0], q.out[1], q.out[2], q.out[3]};
         const auto all_active = [&](int first) {
@@ -1610,36 +1628,54 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
                 if (!q.active[first + k]) return false;
             return true;
         };
-        const auto fixed_level_block = [&]() {
+        // Blocks of 8 active lanes whose lanes share their levels: false (nothing written) otherwise.
+        const auto cube_block = [&]() {
             alignas(32) int32_t face8[8];
-            alignas(32) float s8[8], t8[8];
-            cube_coords8(&q.coord[0][l].f, &q.coord[1][l].f, &q.coord[2][l].f, face8, s8, t8);
+            alignas(32) float s8[8], t8[8], ds[2][8], dt[2][8];
+            LevelChoice ch8[8];
+            if (!needs_lambda) {
+                cube_coords8(&q.coord[0][l].f, &q.coord[1][l].f, &q.coord[2][l].f, face8, s8, t8);
+                std::fill(ch8, ch8 + 8, fixed);
+            } else {
+                const float* ddx[3], *ddy[3];
+                for (int k = 0; k < 3; ++k) ddx[k] = q.ddx[k] ? &q.ddx[k][l].f : nullptr, ddy[k] = q.ddy[k] ? &q.ddy[k][l].f : nullptr;
+                cube_coords8(&q.coord[0][l].f, &q.coord[1][l].f, &q.coord[2][l].f, face8, s8, t8, ddx, ddy, ds, dt);
+                for (int k = 0; k < 8; ++k) {
+                    // As one_lane: the derivatives after cube_coords, third components +0.
+                    const float dx[3] = {ds[0][k], dt[0][k], 0.0f}, dy[3] = {ds[1][k], dt[1][k], 0.0f};
+                    ch8[k] = f.choose(lambda_of_derivatives(dx, dy, true, true, l + k));
+                    if (!ch8[k].same_levels(ch8[0])) return false;
+                }
+            }
             const float* ref = q.compare ? &q.compare[l].f : nullptr;
             uint32_t faces = 0;
             for (int k = 0; k < 8; ++k) faces |= 1u << face8[k];
             float result[8][4];
-            const auto plane_of = [&](int face) -> const Plane& { return f.planes[size_t(face) * size_t(f.face_stride)]; };
-            if ((faces & (faces - 1)) == 0) {
-                filter8(f, plane_of(face8[0]), fixed.linear, s8, t8, nullptr, result, ref);
-            } else {
-                for (uint32_t left = faces; left; left &= left - 1) {
-                    const int face = __builtin_ctz(left);
-                    float part[8][4];
-                    filter8(f, plane_of(face), fixed.linear, s8, t8, nullptr, part, ref);
-                    for (int k = 0; k < 8; ++k)
-                        if (face8[k] == face) std::memcpy(result[k], part[k], sizeof part[k]);
+            // Each face the block touches, filtered for all 8 lanes (its levels: face_f).
+            Fast2D face_f = f;
+            for (uint32_t left = faces; left; left &= left - 1) {
+                const int face = __builtin_ctz(left);
+                face_f.planes = f.planes + size_t(face) * size_t(f.face_stride);
+                if (left == faces && (faces & (faces - 1)) == 0) {
+                    filter8(face_f, ch8, s8, t8, nullptr, ref, result);
+                    break;
                 }
+                float part[8][4];
+                filter8(face_f, ch8, s8, t8, nullptr, ref, part);
+                for (int k = 0; k < 8; ++k)
+                    if (face8[k] == face) std::memcpy(result[k], part[k], sizeof part[k]);
             }
             store_lanes8(result, out, l);
             if (bt.seamless_cube) {
-                // Every face of a level has one size: face 0's plane tells for all.
-                const uint32_t outside = ~inside8(plane_of(0), fixed.linear, s8, t8) & 0xFFu;
-                for (uint32_t left = outside; left; left &= left - 1) sample_lane(q, l + __builtin_ctz(left));
+                // Every face of a level has one size: face 0's planes tell for all (Fast2D::inside).
+                uint32_t inside = inside8(f.planes[size_t(ch8[0].first)], ch8[0].linear, s8, t8);
+                if (ch8[0].second >= 0) inside &= inside8(f.planes[size_t(ch8[0].second)], ch8[0].linear, s8, t8);
+                for (uint32_t left = ~inside & 0xFFu; left; left &= left - 1) sample_lane(q, l + __builtin_ctz(left));
             }
+            return true;
         };
         while (l + 8 <= q.lane_count) {
-            if (!needs_lambda && all_active(l)) {
-                fixed_level_block();
+            if (all_active(l) && cube_block()) {
                 l += 8;
                 continue;
             }
