@@ -1635,7 +1635,7 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
             LevelChoice ch8[8];
             if (!needs_lambda) {
                 cube_coords8(&q.coord[0][l].f, &q.coord[1][l].f, &q.coord[2][l].f, face8, s8, t8);
-                std::fill(ch8, ch8 + 8, fixed);
+                ch8[0] = fixed;   // (one level: only ch8[0] is read)
             } else {
                 const float* ddx[3], *ddy[3];
                 for (int k = 0; k < 3; ++k) ddx[k] = q.ddx[k] ? &q.ddx[k][l].f : nullptr, ddy[k] = q.ddy[k] ? &q.ddy[k][l].f : nullptr;
@@ -1651,25 +1651,32 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
             uint32_t faces = 0;
             for (int k = 0; k < 8; ++k) faces |= 1u << face8[k];
             float result[8][4];
-            // Each face the block touches, filtered for all 8 lanes (its levels: face_f).
-            Fast2D face_f = f;
-            for (uint32_t left = faces; left; left &= left - 1) {
-                const int face = __builtin_ctz(left);
-                face_f.planes = f.planes + size_t(face) * size_t(f.face_stride);
-                if (left == faces && (faces & (faces - 1)) == 0) {
-                    filter8(face_f, ch8, s8, t8, nullptr, ref, result);
-                    break;
+            // Each face the block touches, filtered for all 8 lanes: one level's plane, or both
+            // levels blended (filter8(LevelChoice) over the face's levels).
+            const LevelChoice& ch = ch8[0];
+            const auto filter_face = [&](int face, float dst[8][4]) {
+                const Plane* levels = f.planes + size_t(face) * size_t(f.face_stride);
+                if (ch.second < 0) return filter8(f, levels[ch.first], ch.linear, s8, t8, nullptr, dst, ref);
+                Fast2D face_f = f;
+                face_f.planes = levels;
+                filter8(face_f, ch8, s8, t8, nullptr, ref, dst);
+            };
+            if ((faces & (faces - 1)) == 0) {
+                filter_face(face8[0], result);
+            } else {
+                for (uint32_t left = faces; left; left &= left - 1) {
+                    const int face = __builtin_ctz(left);
+                    float part[8][4];
+                    filter_face(face, part);
+                    for (int k = 0; k < 8; ++k)
+                        if (face8[k] == face) std::memcpy(result[k], part[k], sizeof part[k]);
                 }
-                float part[8][4];
-                filter8(face_f, ch8, s8, t8, nullptr, ref, part);
-                for (int k = 0; k < 8; ++k)
-                    if (face8[k] == face) std::memcpy(result[k], part[k], sizeof part[k]);
             }
             store_lanes8(result, out, l);
             if (bt.seamless_cube) {
                 // Every face of a level has one size: face 0's planes tell for all (Fast2D::inside).
-                uint32_t inside = inside8(f.planes[size_t(ch8[0].first)], ch8[0].linear, s8, t8);
-                if (ch8[0].second >= 0) inside &= inside8(f.planes[size_t(ch8[0].second)], ch8[0].linear, s8, t8);
+                uint32_t inside = inside8(f.planes[size_t(ch.first)], ch.linear, s8, t8);
+                if (ch.second >= 0) inside &= inside8(f.planes[size_t(ch.second)], ch.linear, s8, t8);
                 for (uint32_t left = ~inside & 0xFFu; left; left &= left - 1) sample_lane(q, l + __builtin_ctz(left));
             }
             return true;
