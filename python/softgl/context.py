@@ -388,7 +388,8 @@ class Context(_core.Context):
         'alpha_over', 'additive' or 'generic'). Each fast path (``tests_before_shading``,
         ``quad_depth``, ``depth_bounds``, ``hidden_surface_removal``, ``fragment_copies``,
         ``fused_copy``, ``constant_color``, ``blend_table``, ``whole_rect_blend``,
-        ``fragment_batches``, ``no_helper_lanes``, ``color_kernels``) is True when taken, and ``<path>_why_not`` names the first reason it
+        ``fragment_batches``, ``no_helper_lanes``, ``depth_only``,
+        ``color_kernels``) is True when taken, and ``<path>_why_not`` names the first reason it
         was not (e.g. 'stencil_test', 'blend_lab', 'tuning_off'), or is None. The fields under
         ``shaded`` (``uniform_only``, ``constant_color``, ``blend_table``, ``whole_rect_blend``)
         are decided when the draw's first tile pass starts, as the shader runs once; a draw that

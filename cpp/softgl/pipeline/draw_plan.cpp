@@ -16,9 +16,9 @@ constexpr const char* kPathNames[] = {
     "blend_lab", "framebuffer_object", "float_drawing_buffer", "smoothing", "multisampled", "no_color_write",
     "reads_destination", "fog", "not_uniform_only", "not_copy", "not_one_varying_vec4", "not_interpolated",
     "generic_kernel", "no_blending", "not_per_channel", "fused_copy", "constant_color", "quad_neighbours",
-    "depth_not_24_bit", "attachment_sizes_differ",
+    "depth_not_24_bit", "attachment_sizes_differ", "writes_color",
 };
-static_assert(sizeof(kPathNames) / sizeof(kPathNames[0]) == size_t(Path::AttachmentSizesDiffer) + 1, "a name per Path");
+static_assert(sizeof(kPathNames) / sizeof(kPathNames[0]) == size_t(Path::WritesColor) + 1, "a name per Path");
 
 constexpr const char* kSkipNames[] = {"no", "rasterizer_discard", "no_output"};
 constexpr const char* kTargetNames[] = {"drawing_buffer", "float_drawing_buffer", "framebuffer_object"};
@@ -110,7 +110,11 @@ DrawPlan plan_draw(const DrawInputs& in, const DrawCall& call, const FragmentOps
     plan.simd = std::min(in.tuning.simd, best_simd_level());
     plan.batch_primitives = in.tuning.batch_primitives;
     plan.blend_lab = in.sink && drawing_buffer;
-    plan.writes_color = blend.write[0] || blend.write[1] || blend.write[2] || blend.write[3];
+    // A colour is written when a channel is unmasked and a fragment output reaches a colour
+    // buffer (a framebuffer object may have none, or drawBuffers may map every output to NONE).
+    bool any_color_buffer = false;
+    for (int o = 0; o < RenderTarget::kMaxColors; ++o) any_color_buffer |= fb.has_color(o);
+    plan.writes_color = any_color_buffer && (blend.write[0] || blend.write[1] || blend.write[2] || blend.write[3]);
     plan.writes_depth_stencil = (ds.depth_test && ds.depth_write) || ds.stencil_test;
     // ES 3.0 §2.15: with RASTERIZER_DISCARD, primitives are dropped right after the vertex stage.
     // With no output possible, primitives are set up (and counted) but nothing is rasterised.
@@ -193,6 +197,10 @@ DrawPlan plan_draw(const DrawInputs& in, const DrawCall& call, const FragmentOps
     const Path not_yet = skipped ? Path::NotRasterized : Path::NotShaded;
     plan.constant_color = plan.blend_table = plan.whole_rect_blend = not_yet;
     plan_fragment_batches(plan, fs, in.tuning);
+    plan.depth_only = first_reason({{skipped, Path::NotRasterized},
+                                    {plan.writes_color, Path::WritesColor},
+                                    {!early, plan.tests_before_shading},
+                                    {plan.blend_lab, Path::BlendLab}});
     return plan;
 }
 
@@ -250,6 +258,7 @@ std::vector<DrawPlanField> DrawPlan::fields() const {
         path("shading", "whole_rect_blend", whole_rect_blend),
         path("shading", "fragment_batches", fragment_batches),
         path("shading", "no_helper_lanes", no_helper_lanes),
+        path("shading", "depth_only", depth_only),
         yes("color", "writes_color", writes_color),
         named("color", "kernel", int(kernel), kKernelNames[int(kernel)]),
         yes("color", "plain_write", plain_write),

@@ -58,6 +58,7 @@ enum class Path : uint8_t {
     QuadNeighbours,         // the shader takes derivatives or implicit-LOD lookups
     DepthNot24Bit,          // a DEPTH_COMPONENT16 or 32F attachment: its words are not the kernel's
     AttachmentSizesDiffer,  // the depth image is wider than the target: its rows are not the target's
+    WritesColor,            // a colour buffer receives the shader's colour
 };
 const char* path_name(Path p);
 
@@ -109,6 +110,10 @@ struct DrawPlan {
     // Decided in the first step, and again in the second (a constant colour needs no batch).
     Path fragment_batches = Path::Taken;
     Path no_helper_lanes = Path::Taken;
+    // Nothing reads the shader's results (no colour buffer written, tests before shading, no
+    // coverage operations, no blend lab): fragments are tested (and depth/stencil written), not
+    // shaded. ES 3.0 fragment shaders have no other effect (GLSL ES 3.00 §3.8: no side effects).
+    Path depth_only = Path::Taken;
     // ---- colour ----
     bool writes_color = false;
     ColorKernel kernel = ColorKernel::Plain;

@@ -589,6 +589,10 @@ SOFTGL_STEP void TilePass::draw_primitive(Tile& t, const PrimitiveSetup& p, size
                 std::min(kChunkQuads, w.quads.size() - c0), w.masks.data()};
         c.kept = early_tests<WithSink>(t, prim, c);
         if (c.kept == 0) continue;
+        if (plan_.depth_only == Path::Taken) {   // tested (depth/stencil written); nothing to shade
+            w.stats.quads += c.kept;
+            continue;
+        }
         if (!prepared) prepare_varyings(t, prim), prepared = true;
         w.stats.quads += c.kept;
         if constexpr (!WithSink) {   // the blend lab's draws are never gathered (plan_fragment_batches)

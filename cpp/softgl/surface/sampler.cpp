@@ -665,8 +665,6 @@ __attribute__((target("avx2"))) inline __m256 weight8x8(__m256 frac) {
     return _mm256_min_ps(_mm256_max_ps(w, _mm256_setzero_ps()), _mm256_set1_ps(256.0f));
 }
 
-// Fast2D::filter of one plane for 8 lanes (r: the layers of a 2D array, else null).
-// Depth planes (ref: the lanes' references, or null) read their texels through Fast2D::texel.
 // w00 t00 + w10 t10 + w01 t01 + w11 t11 of 8 lanes, in Fast2D::filter's order.
 __attribute__((target("avx2"))) inline __m256 weighted_sum8(__m256 w00, __m256 w10, __m256 w01, __m256 w11, __m256 t00,
                                                             __m256 t10, __m256 t01, __m256 t11) {
@@ -676,6 +674,86 @@ __attribute__((target("avx2"))) inline __m256 weighted_sum8(__m256 w00, __m256 w
     return _mm256_add_ps(sum, _mm256_mul_ps(w11, t11));
 }
 
+// ---- Depth texels of 8 lanes: Fast2D::texel's first channel (the depth, or the comparison's
+// 1 / 0), the same bits. Fixed-point words convert to double exactly, w / (2^n - 1) is correctly
+// rounded in double and rounded to float, as depth_value does; the comparisons are
+// compare_passes' (ordered, NOTEQUAL unordered: NaN fails all but NOTEQUAL).
+
+// Unsigned 32-bit words as doubles, exactly: the bits of 2^52 + w, less 2^52.
+__attribute__((target("avx2"))) inline __m256d words_as_double4(__m128i w) {
+    const __m256i bits = _mm256_or_si256(_mm256_cvtepu32_epi64(w), _mm256_set1_epi64x(0x4330000000000000LL));
+    return _mm256_sub_pd(_mm256_castsi256_pd(bits), _mm256_set1_pd(4503599627370496.0));
+}
+
+// depth_value of 8 words.
+__attribute__((target("avx2"))) inline __m256 depth_values8(Encoding e, __m256i words) {
+    if (e == Encoding::Depth32F) return _mm256_castsi256_ps(words);
+    const __m256d divisor = _mm256_set1_pd(e == Encoding::Depth16 ? 65535.0 : 16777215.0);
+    const __m128 lo = _mm256_cvtpd_ps(_mm256_div_pd(words_as_double4(_mm256_castsi256_si128(words)), divisor));
+    const __m128 hi = _mm256_cvtpd_ps(_mm256_div_pd(words_as_double4(_mm256_extracti128_si256(words, 1)), divisor));
+    return _mm256_set_m128(hi, lo);
+}
+
+// compare_passes(func, ref, d) of 8 lanes as 1.0f / 0.0f.
+__attribute__((target("avx2"))) inline __m256 compare8(GLenum func, __m256 ref, __m256 d) {
+    __m256 pass;
+    switch (func) {
+        case gl::LEQUAL: pass = _mm256_cmp_ps(ref, d, _CMP_LE_OQ); break;
+        case gl::GEQUAL: pass = _mm256_cmp_ps(ref, d, _CMP_GE_OQ); break;
+        case gl::LESS: pass = _mm256_cmp_ps(ref, d, _CMP_LT_OQ); break;
+        case gl::GREATER: pass = _mm256_cmp_ps(ref, d, _CMP_GT_OQ); break;
+        case gl::EQUAL: pass = _mm256_cmp_ps(ref, d, _CMP_EQ_OQ); break;
+        case gl::NOTEQUAL: pass = _mm256_cmp_ps(ref, d, _CMP_NEQ_UQ); break;
+        case gl::ALWAYS: return _mm256_set1_ps(1.0f);
+        default: return _mm256_setzero_ps();   // NEVER
+    }
+    return _mm256_and_ps(pass, _mm256_set1_ps(1.0f));
+}
+
+// The texels (i, j) of 8 lanes of a depth plane (each lane in its layer, layer_at) as
+// Fast2D::texel's first channel for the lanes' references.
+struct DepthTexels8 {
+    const Fast2D& f;
+    const Plane& p;
+    const size_t* layer_at;
+    bool indexable;   // every texel index of the plane fits an int32: one gather
+    __m256i base;     // layer_at as int32 (indexable)
+    __m256 ref;       // the references, clamped to [0, 1] for fixed-point formats (ES 3.0 §3.8.16)
+
+    __attribute__((target("avx2"))) DepthTexels8(const Fast2D& f_, const Plane& p_, const size_t layer_at_[8], const float* refs)
+        : f(f_), p(p_), layer_at(layer_at_) {
+        indexable = uint64_t(p.width) * uint64_t(p.height) * uint64_t(p.layers) <= uint64_t(INT32_MAX);
+        alignas(32) int32_t b[8];
+        for (int l = 0; l < 8; ++l) b[l] = indexable ? int32_t(layer_at[l]) : 0;
+        base = _mm256_load_si256(reinterpret_cast<const __m256i*>(b));
+        ref = refs ? _mm256_loadu_ps(refs) : _mm256_setzero_ps();
+        if (f.compare && p.depth_encoding != Encoding::Depth32F) {
+            // std::clamp(ref, 0, 1) = ref < 0 ? 0 : 1 < ref ? 1 : ref (NaN and -0 stay).
+            const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f);
+            ref = _mm256_blendv_ps(_mm256_blendv_ps(ref, one, _mm256_cmp_ps(one, ref, _CMP_LT_OQ)), zero,
+                                   _mm256_cmp_ps(ref, zero, _CMP_LT_OQ));
+        }
+    }
+    __attribute__((target("avx2"))) __m256 operator()(const int32_t i[8], const int32_t j[8]) const {
+        __m256i words;
+        if (indexable) {
+            const __m256i at = _mm256_add_epi32(
+                _mm256_add_epi32(base, _mm256_mullo_epi32(_mm256_load_si256(reinterpret_cast<const __m256i*>(j)),
+                                                          _mm256_set1_epi32(p.width))),
+                _mm256_load_si256(reinterpret_cast<const __m256i*>(i)));
+            words = _mm256_i32gather_epi32(reinterpret_cast<const int*>(p.depth), at, 4);
+        } else {
+            alignas(32) uint32_t w[8];
+            for (int l = 0; l < 8; ++l) w[l] = p.depth[layer_at[l] + size_t(j[l]) * size_t(p.width) + size_t(i[l])];
+            words = _mm256_load_si256(reinterpret_cast<const __m256i*>(w));
+        }
+        const __m256 d = depth_values8(p.depth_encoding, words);
+        return f.compare ? compare8(f.compare_func, ref, d) : d;
+    }
+};
+
+// Fast2D::filter of one plane for 8 lanes (r: the layers of a 2D array, else null).
+// Depth planes (ref: the lanes' references, or null) read their texels through DepthTexels8.
 __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bool linear, const float* s,
                                              const float* t, const float* r, float out[8][4], const float* ref = nullptr) {
     size_t layer_at[8] = {};   // the first texel of each lane's layer
@@ -692,8 +770,10 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bo
         wrap8(f.wrap_s, ifloor_floored8(_mm256_floor_ps(u)), p.width, p.width_pot, false, i0, i1);
         wrap8(f.wrap_t, ifloor_floored8(_mm256_floor_ps(v)), p.height, p.height_pot, false, j0, j1);
         if (p.depth) {
-            for (int l = 0; l < 8; ++l)
-                f.texel(p, layer_at[l] + size_t(j0[l]) * size_t(p.width) + size_t(i0[l]), ref ? ref[l] : 0.0f, out[l]);
+            alignas(32) float d[8];
+            _mm256_store_ps(d, DepthTexels8(f, p, layer_at, ref)(i0, j0));
+            const bool grey = f.compare || f.luminance;   // Fast2D::texel: (d, d or 0, d or 0, 1)
+            for (int l = 0; l < 8; ++l) out[l][0] = d[l], out[l][1] = out[l][2] = grey ? d[l] : 0.0f, out[l][3] = 1.0f;
             return;
         }
         for (int l = 0; l < 8; ++l)
@@ -769,24 +849,15 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bo
     _mm256_store_ps(w01, _mm256_mul_ps(na, b));
     _mm256_store_ps(w11, _mm256_mul_ps(a, b));
     if (p.depth) {
-        // The four texels' first channel per lane (Fast2D::texel: the depth, or the compare's 0 / 1),
-        // then the weighted sums of all 8 lanes at once: per lane the same products and sums, in the
-        // same order, as Fast2D::filter, so the same bits.
-        alignas(32) float d00[8], d10[8], d01[8], d11[8];
-        for (int l = 0; l < 8; ++l) {
-            const size_t row0 = layer_at[l] + size_t(j0[l]) * size_t(p.width), row1 = layer_at[l] + size_t(j1[l]) * size_t(p.width);
-            const float lane_ref = ref ? ref[l] : 0.0f;
-            float t[4];
-            f.texel(p, row0 + size_t(i0[l]), lane_ref, t); d00[l] = t[0];
-            f.texel(p, row0 + size_t(i1[l]), lane_ref, t); d10[l] = t[0];
-            f.texel(p, row1 + size_t(i0[l]), lane_ref, t); d01[l] = t[0];
-            f.texel(p, row1 + size_t(i1[l]), lane_ref, t); d11[l] = t[0];
-        }
+        // The four texels' first channel of 8 lanes (DepthTexels8), then the weighted sums of all
+        // 8 lanes at once: per lane the same products and sums, in the same order, as
+        // Fast2D::filter, so the same bits.
+        const DepthTexels8 texels(f, p, layer_at, ref);
+        const __m256 t00 = texels(i0, j0), t10 = texels(i1, j0), t01 = texels(i0, j1), t11 = texels(i1, j1);
         const __m256 a00 = _mm256_load_ps(w00), a10 = _mm256_load_ps(w10), a01 = _mm256_load_ps(w01), a11 = _mm256_load_ps(w11);
         const auto weighted = [&](__m256 t00, __m256 t10, __m256 t01, __m256 t11) {
             return weighted_sum8(a00, a10, a01, a11, t00, t10, t01, t11);
         };
-        const __m256 t00 = _mm256_load_ps(d00), t10 = _mm256_load_ps(d10), t01 = _mm256_load_ps(d01), t11 = _mm256_load_ps(d11);
         alignas(32) float c0[8], c1[8], c3[8];
         _mm256_store_ps(c0, weighted(t00, t10, t01, t11));
         const bool grey = f.compare || f.luminance;   // channels 1 and 2 repeat the depth, else 0
@@ -968,6 +1039,72 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const LevelChoice 
         const __m128 x = _mm_mul_ps(_mm_set1_ps(1 - ch[l].frac), _mm_loadu_ps(a));
         _mm_storeu_ps(out[l], _mm_add_ps(x, _mm_mul_ps(_mm_set1_ps(ch[l].frac), _mm_loadu_ps(b))));
     }
+}
+
+// cube_face and cube_coords' s, t of 8 lanes (without derivatives): the same comparisons
+// (ordered: a NaN fails them, as in cube_face), so the same face for ties on edges and corners
+// and for NaN, and the same float operations in the same order, so the same s, t bits.
+// With ddx, ddy (each component may be null: 0), also cube_coords' derivatives of s and t:
+// ds[0], dt[0] along x, ds[1], dt[1] along y.
+__attribute__((target("avx2"))) inline void cube_coords8(const float* x, const float* y, const float* z, int32_t face[8],
+                                                         float s[8], float t[8], const float* const* ddx = nullptr,
+                                                         const float* const* ddy = nullptr, float ds[2][8] = nullptr,
+                                                         float dt[2][8] = nullptr) {
+    const __m256 sign = _mm256_set1_ps(-0.0f), zero = _mm256_setzero_ps();
+    const __m256 rx = _mm256_loadu_ps(x), ry = _mm256_loadu_ps(y), rz = _mm256_loadu_ps(z);
+    const __m256 ax = _mm256_andnot_ps(sign, rx), ay = _mm256_andnot_ps(sign, ry), az = _mm256_andnot_ps(sign, rz);
+    const __m256 is_x = _mm256_and_ps(_mm256_cmp_ps(ax, ay, _CMP_GE_OQ), _mm256_cmp_ps(ax, az, _CMP_GE_OQ));
+    const __m256 is_y = _mm256_andnot_ps(is_x, _mm256_cmp_ps(ay, az, _CMP_GE_OQ));
+    // The negative face: not (r >= 0) on the major axis (a NaN rz gives face 5, as cube_face).
+    const __m256 neg = _mm256_blendv_ps(_mm256_blendv_ps(_mm256_cmp_ps(rz, zero, _CMP_NGE_UQ), _mm256_cmp_ps(ry, zero, _CMP_NGE_UQ), is_y),
+                                        _mm256_cmp_ps(rx, zero, _CMP_NGE_UQ), is_x);
+    const __m256 ma = _mm256_blendv_ps(_mm256_blendv_ps(az, ay, is_y), ax, is_x);
+    // Table 3.21: sc = -rz, rz, rx, rx, rx, -rx and tc = -ry, -ry, rz, -rz, -ry, -ry for faces 0..5.
+    const __m256 nx = _mm256_xor_ps(rx, sign), ny = _mm256_xor_ps(ry, sign), nz = _mm256_xor_ps(rz, sign);
+    const __m256 sc = _mm256_blendv_ps(_mm256_blendv_ps(_mm256_blendv_ps(rx, nx, neg), rx, is_y), _mm256_blendv_ps(nz, rz, neg), is_x);
+    const __m256 tc = _mm256_blendv_ps(ny, _mm256_blendv_ps(rz, nz, neg), is_y);
+    // face = 2 axis + negative, with the masks as -1: 2 axis = 4 + 4 is_x + 2 is_y.
+    const __m256i two_axis = _mm256_add_epi32(_mm256_set1_epi32(4),
+        _mm256_add_epi32(_mm256_slli_epi32(_mm256_castps_si256(is_x), 2), _mm256_slli_epi32(_mm256_castps_si256(is_y), 1)));
+    _mm256_storeu_si256(reinterpret_cast<__m256i*>(face), _mm256_sub_epi32(two_axis, _mm256_castps_si256(neg)));
+    // cube_coords: inv = ma > 0 ? 1 / ma : 0, then s = 0.5 (sc inv + 1), t = 0.5 (tc inv + 1).
+    const __m256 inv = _mm256_and_ps(_mm256_cmp_ps(ma, zero, _CMP_GT_OQ), _mm256_div_ps(_mm256_set1_ps(1.0f), ma));
+    const __m256 half = _mm256_set1_ps(0.5f), one = _mm256_set1_ps(1.0f);
+    _mm256_storeu_ps(s, _mm256_mul_ps(half, _mm256_add_ps(_mm256_mul_ps(sc, inv), one)));
+    _mm256_storeu_ps(t, _mm256_mul_ps(half, _mm256_add_ps(_mm256_mul_ps(tc, inv), one)));
+    if (!ddx) return;
+    // The quotient rule as cube_coords: dsc, dtc by the same table, dma = sign * d[major], then
+    // 0.5 (dsc ma - sc dma) inv inv (and the same for t).
+    const __m256 major_sign = _mm256_blendv_ps(one, _mm256_set1_ps(-1.0f), neg);
+    for (int n = 0; n < 2; ++n) {
+        const float* const* d = n ? ddy : ddx;
+        const __m256 d0 = d[0] ? _mm256_loadu_ps(d[0]) : zero, d1 = d[1] ? _mm256_loadu_ps(d[1]) : zero;
+        const __m256 d2 = d[2] ? _mm256_loadu_ps(d[2]) : zero;
+        const __m256 n0 = _mm256_xor_ps(d0, sign), n1 = _mm256_xor_ps(d1, sign), n2 = _mm256_xor_ps(d2, sign);
+        const __m256 dsc = _mm256_blendv_ps(_mm256_blendv_ps(_mm256_blendv_ps(d0, n0, neg), d0, is_y), _mm256_blendv_ps(n2, d2, neg), is_x);
+        const __m256 dtc = _mm256_blendv_ps(n1, _mm256_blendv_ps(d2, n2, neg), is_y);
+        const __m256 dma = _mm256_mul_ps(major_sign, _mm256_blendv_ps(_mm256_blendv_ps(d2, d1, is_y), d0, is_x));
+        _mm256_storeu_ps(ds[n], _mm256_mul_ps(_mm256_mul_ps(_mm256_mul_ps(half, _mm256_sub_ps(_mm256_mul_ps(dsc, ma), _mm256_mul_ps(sc, dma))), inv), inv));
+        _mm256_storeu_ps(dt[n], _mm256_mul_ps(_mm256_mul_ps(_mm256_mul_ps(half, _mm256_sub_ps(_mm256_mul_ps(dtc, ma), _mm256_mul_ps(tc, dma))), inv), inv));
+    }
+}
+
+// Fast2D::inside of one plane for 8 lanes: bit k set when lane k's texels lie inside the face.
+__attribute__((target("avx2"))) inline uint32_t inside8(const Plane& p, bool linear, const float* s, const float* t) {
+    __m256 u = _mm256_mul_ps(_mm256_loadu_ps(s), _mm256_set1_ps(float(p.width)));
+    __m256 v = _mm256_mul_ps(_mm256_loadu_ps(t), _mm256_set1_ps(float(p.height)));
+    int32_t w = p.width, h = p.height;
+    if (linear) {
+        const __m256 half = _mm256_set1_ps(0.5f);
+        u = _mm256_sub_ps(u, half), v = _mm256_sub_ps(v, half);
+        --w, --h;
+    }
+    const __m256i i = ifloor_floored8(_mm256_floor_ps(u)), j = ifloor_floored8(_mm256_floor_ps(v));
+    const __m256i minus_one = _mm256_set1_epi32(-1);
+    const __m256i ok = _mm256_and_si256(
+        _mm256_and_si256(_mm256_cmpgt_epi32(i, minus_one), _mm256_cmpgt_epi32(_mm256_set1_epi32(w), i)),
+        _mm256_and_si256(_mm256_cmpgt_epi32(j, minus_one), _mm256_cmpgt_epi32(_mm256_set1_epi32(h), j)));
+    return uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(ok)));
 }
 
 // ---- AVX-512: blocks of 16 lanes, results straight into the structure-of-arrays outputs.
@@ -1478,11 +1615,78 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
             l += n;
         }
     }
-    // Cube maps: face and face coordinates lane by lane (cube_coords, as one_lane), then blocks of
-    // 8 active lanes on one face, one level and inside the face filtered by filter8; other
-    // blocks lane by lane.
+    // Cube maps: faces, face coordinates and their derivatives of 8 active lanes at once
+    // (cube_coords8), the levels lane by lane; a block whose lanes share their levels has each
+    // face among them filtered by filter8 for the block, each lane taking its own face's result,
+    // and lanes whose footprint leaves the face with seamless filtering then go to sample_lane
+    // (as one_lane sends them). Other blocks: faces lane by lane (cube_coords, as one_lane), and
+    // blocks on one face, one level and inside the face filtered by filter8, else lane by lane.
     if (simd != SimdBlocks::None && cube && q.coord[0] && q.coord[1] && q.coord[2]) {
+        glsl::Scalar* const out[4] = {q.out[0], q.out[1], q.out[2], q.out[3]};
+        const auto all_active = [&](int first) {
+            if (!q.active) return true;
+            for (int k = 0; k < 8; ++k)
+                if (!q.active[first + k]) return false;
+            return true;
+        };
+        // Blocks of 8 active lanes whose lanes share their levels: false (nothing written) otherwise.
+        const auto cube_block = [&]() {
+            alignas(32) int32_t face8[8];
+            alignas(32) float s8[8], t8[8], ds[2][8], dt[2][8];
+            LevelChoice ch8[8];
+            if (!needs_lambda) {
+                cube_coords8(&q.coord[0][l].f, &q.coord[1][l].f, &q.coord[2][l].f, face8, s8, t8);
+                ch8[0] = fixed;   // (one level: only ch8[0] is read)
+            } else {
+                const float* ddx[3], *ddy[3];
+                for (int k = 0; k < 3; ++k) ddx[k] = q.ddx[k] ? &q.ddx[k][l].f : nullptr, ddy[k] = q.ddy[k] ? &q.ddy[k][l].f : nullptr;
+                cube_coords8(&q.coord[0][l].f, &q.coord[1][l].f, &q.coord[2][l].f, face8, s8, t8, ddx, ddy, ds, dt);
+                for (int k = 0; k < 8; ++k) {
+                    // As one_lane: the derivatives after cube_coords, third components +0.
+                    const float dx[3] = {ds[0][k], dt[0][k], 0.0f}, dy[3] = {ds[1][k], dt[1][k], 0.0f};
+                    ch8[k] = f.choose(lambda_of_derivatives(dx, dy, true, true, l + k));
+                    if (!ch8[k].same_levels(ch8[0])) return false;
+                }
+            }
+            const float* ref = q.compare ? &q.compare[l].f : nullptr;
+            uint32_t faces = 0;
+            for (int k = 0; k < 8; ++k) faces |= 1u << face8[k];
+            float result[8][4];
+            // Each face the block touches, filtered for all 8 lanes: one level's plane, or both
+            // levels blended (filter8(LevelChoice) over the face's levels).
+            const LevelChoice& ch = ch8[0];
+            const auto filter_face = [&](int face, float dst[8][4]) {
+                const Plane* levels = f.planes + size_t(face) * size_t(f.face_stride);
+                if (ch.second < 0) return filter8(f, levels[ch.first], ch.linear, s8, t8, nullptr, dst, ref);
+                Fast2D face_f = f;
+                face_f.planes = levels;
+                filter8(face_f, ch8, s8, t8, nullptr, ref, dst);
+            };
+            if ((faces & (faces - 1)) == 0) {
+                filter_face(face8[0], result);
+            } else {
+                for (uint32_t left = faces; left; left &= left - 1) {
+                    const int face = __builtin_ctz(left);
+                    float part[8][4];
+                    filter_face(face, part);
+                    for (int k = 0; k < 8; ++k)
+                        if (face8[k] == face) std::memcpy(result[k], part[k], sizeof part[k]);
+                }
+            }
+            store_lanes8(result, out, l);
+            if (bt.seamless_cube) {
+                // Every face of a level has one size: face 0's planes tell for all (Fast2D::inside).
+                uint32_t inside = inside8(f.planes[size_t(ch.first)], ch.linear, s8, t8);
+                if (ch.second >= 0) inside &= inside8(f.planes[size_t(ch.second)], ch.linear, s8, t8);
+                for (uint32_t left = ~inside & 0xFFu; left; left &= left - 1) sample_lane(q, l + __builtin_ctz(left));
+            }
+            return true;
+        };
         while (l + 8 <= q.lane_count) {
+            if (all_active(l) && cube_block()) {
+                l += 8;
+                continue;
+            }
             alignas(32) float s8[8], t8[8], ref8[8];
             LevelChoice ch8[8];
             int face0 = -1;
@@ -1508,7 +1712,6 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
                 float result[8][4];
                 const Plane& plane = f.planes[size_t(face0) * size_t(f.face_stride) + size_t(ch8[0].first)];
                 filter8(f, plane, ch8[0].linear, s8, t8, nullptr, result, q.compare ? ref8 : nullptr);
-                glsl::Scalar* const out[4] = {q.out[0], q.out[1], q.out[2], q.out[3]};
                 store_lanes8(result, out, l);
             }
             l += 8;
