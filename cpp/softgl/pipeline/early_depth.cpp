@@ -47,6 +47,10 @@ size_t early_depth_scalar(const EarlyDepth& t, const Quad* quads, size_t n, uint
 }
 
 #if defined(SOFTGL_HAVE_AVX2_EARLY_DEPTH)
+// Bits 0-3 of b moved to bits 0, 16, 32, 48: the partial products land in disjoint bit ranges
+// [15j, 15j + 4), so nothing carries.
+inline uint64_t spread_pixel_bits(uint64_t b) { return (b * 0x0000200040008001ull) & 0x0001000100010001ull; }
+
 // Four depths at a time as depth_at computes them (plane at the sample, + offset), then
 // depth_word's clamp (NaN -> 0; depth_at's own clamp changes nothing after it) and
 // floor(d * (2^24 - 1) + 0.5) as truncation (the same for these non-negative values); the
@@ -92,10 +96,11 @@ __attribute__((target("avx2"))) size_t early_depth_avx2(const EarlyDepth& t, con
         const double fy0 = double(Y) * (1.0 / kSubPixel), fy1 = double(Y + kSubPixel) * (1.0 / kSubPixel);
         const __m256d fx = _mm256_setr_pd(fx0, fx1, fx0, fx1), fy = _mm256_setr_pd(fy0, fy0, fy1, fy1);
         const __m128i word = depth.words(fx, fy);
-        // Covered pixels (sample 0 of each 16-bit pixel mask) as lane masks.
+        // Covered pixels (sample 0 of each 16-bit pixel mask) as lane masks: the four masks
+        // widened to 32-bit lanes, their bit 0 moved to the sign and spread over the lane.
         const uint64_t cov = quad.coverage;
-        const __m128i covered = _mm_setr_epi32(cov & 1 ? -1 : 0, (cov >> 16) & 1 ? -1 : 0, (cov >> 32) & 1 ? -1 : 0,
-                                               (cov >> 48) & 1 ? -1 : 0);
+        const __m128i covered =
+            _mm_srai_epi32(_mm_slli_epi32(_mm_cvtepu16_epi32(_mm_cvtsi64_si128(int64_t(cov))), 31), 31);
         const int tested = _mm_movemask_ps(_mm_castsi128_ps(covered));
         uint32_t* row0 = &t.depth[size_t(quad.y) * t.pitch + size_t(quad.x)];
         const bool upper = (cov >> 32) & 0x10001u;
@@ -127,7 +132,9 @@ __attribute__((target("avx2"))) size_t early_depth_avx2(const EarlyDepth& t, con
                                     _mm_unpackhi_epi64(word, word));
             }
         }
-        for (int j = 0; j < 4; ++j) survived[4 * i + size_t(j)] = uint16_t((passed >> j) & 1);
+        // Pixel j's mask (0 or 1) in bits 16j: the four survived words in one store.
+        const uint64_t masks = spread_pixel_bits(uint64_t(passed));
+        std::memcpy(survived + 4 * i, &masks, 8);
         killed += size_t(__builtin_popcount(unsigned(tested & ~passed)));
     }
     return killed;
