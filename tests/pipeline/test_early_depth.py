@@ -154,6 +154,24 @@ def test_every_run_length(func):
             check(rng, func, True, plane, quads=raster_quads(rng, n, start))
 
 
+@pytest.mark.parametrize("func", ["LESS", "GEQUAL"])
+def test_rows_left_and_revisited(func):
+    # Runs of quads on one row, then another row, then the first again (as a block's quad rows and
+    # the next block's follow each other): a kernel that keeps a row's terms between quads must
+    # take them afresh whenever the row changes, including back to an earlier one.
+    rng = np.random.default_rng(90 + FUNCS.index(func))
+    for _ in range(8):
+        rows = [int(y) for y in 2 * rng.integers(0, (H + 1) // 2, 4)]
+        quads = []
+        for y in (rows[0], rows[1], rows[0], rows[2], rows[3], rows[2], rows[0]):
+            for x in 2 * rng.choice((W + 1) // 2, int(rng.integers(1, 6)), replace=False):
+                cov = sum(1 << (16 * j) for j in range(4)
+                          if x + (j & 1) < W and y + (j >> 1) < H and rng.random() < 0.9)
+                quads.append((int(x), y, cov))
+        plane = (rng.normal(0, 0.05), rng.normal(0, 0.05), rng.uniform(0, 1))
+        check(rng, func, True, plane, quads=np.array(quads, np.int64).reshape(-1, 3))
+
+
 @pytest.mark.parametrize("func", ["LESS", "ALWAYS", "NOTEQUAL"])
 def test_repeated_quads(func):
     # Not from one primitive, but allowed: a quad tested again right after itself sees its own

@@ -14,19 +14,6 @@ DepthStencilOp DepthStencilOp::from_state(const State& s, bool has_depth, bool h
     return op;
 }
 
-bool compare(GLenum func, uint32_t incoming, uint32_t stored) {
-    switch (func) {
-        case gl::NEVER: return false;
-        case gl::LESS: return incoming < stored;
-        case gl::EQUAL: return incoming == stored;
-        case gl::LEQUAL: return incoming <= stored;
-        case gl::GREATER: return incoming > stored;
-        case gl::NOTEQUAL: return incoming != stored;
-        case gl::GEQUAL: return incoming >= stored;
-        default: return true;   // ALWAYS
-    }
-}
-
 namespace {
 
 uint8_t stencil_result(GLenum op, uint8_t value, uint8_t ref) {

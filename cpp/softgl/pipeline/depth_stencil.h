@@ -17,7 +17,20 @@ struct DepthStencilOp {
     bool touches_depth() const { return depth_test; }
 };
 
-bool compare(GLenum func, uint32_t incoming, uint32_t stored);
+// Whether `incoming` passes the comparison `func` against `stored` (ES 3.0 §4.1.5, §4.1.6). Inline:
+// the early depth kernels ask it at every call and the per-lane tests at every sample.
+inline bool compare(GLenum func, uint32_t incoming, uint32_t stored) {
+    switch (func) {
+        case gl::NEVER: return false;
+        case gl::LESS: return incoming < stored;
+        case gl::EQUAL: return incoming == stored;
+        case gl::LEQUAL: return incoming <= stored;
+        case gl::GREATER: return incoming > stored;
+        case gl::NOTEQUAL: return incoming != stored;
+        case gl::GEQUAL: return incoming >= stored;
+        default: return true;   // ALWAYS
+    }
+}
 
 // Runs the stencil then depth test for one sample. `depth` is the fragment's 24-bit depth;
 // `depth_buffer`/`stencil_buffer` point at the sample's stored values (may be null when the

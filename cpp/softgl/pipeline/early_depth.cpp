@@ -47,6 +47,10 @@ size_t early_depth_scalar(const EarlyDepth& t, const Quad* quads, size_t n, uint
 }
 
 #if defined(SOFTGL_HAVE_AVX2_EARLY_DEPTH)
+// Bits 0-3 of b moved to bits 0, 16, 32, 48: the partial products land in disjoint bit ranges
+// [15j, 15j + 4), so nothing carries.
+inline uint64_t spread_pixel_bits(uint64_t b) { return (b * 0x0000200040008001ull) & 0x0001000100010001ull; }
+
 // Four depths at a time as depth_at computes them (plane at the sample, + offset), then
 // depth_word's clamp (NaN -> 0; depth_at's own clamp changes nothing after it) and
 // floor(d * (2^24 - 1) + 0.5) as truncation (the same for these non-negative values); the
@@ -62,8 +66,10 @@ struct DepthWordsAvx2 {
           less(_mm_set1_epi32(compare(t.func, 0, 1) ? -1 : 0)), equal(_mm_set1_epi32(compare(t.func, 1, 1) ? -1 : 0)),
           greater(_mm_set1_epi32(compare(t.func, 1, 0) ? -1 : 0)), sign(_mm_set1_epi32(int32_t(0x80000000u))) {}
     // The words at plane offsets (fx, fy).
-    __attribute__((target("avx2"))) __m128i words(__m256d fx, __m256d fy) const {
-        const __m256d z = _mm256_add_pd(_mm256_add_pd(_mm256_add_pd(c, _mm256_mul_pd(a, fx)), _mm256_mul_pd(b, fy)), offset);
+    __attribute__((target("avx2"))) __m128i words(__m256d fx, __m256d fy) const { return words_by(fx, _mm256_mul_pd(b, fy)); }
+    // The same with the product b * fy given (the quads of a row share it).
+    __attribute__((target("avx2"))) __m128i words_by(__m256d fx, __m256d b_fy) const {
+        const __m256d z = _mm256_add_pd(_mm256_add_pd(_mm256_add_pd(c, _mm256_mul_pd(a, fx)), b_fy), offset);
         const __m256d d = _mm256_and_pd(_mm256_blendv_pd(one, z, _mm256_cmp_pd(z, one, _CMP_LT_OQ)),
                                         _mm256_cmp_pd(z, zero, _CMP_GT_OQ));
         return _mm256_cvttpd_epi32(_mm256_add_pd(_mm256_mul_pd(d, scale), half));
@@ -83,23 +89,36 @@ __attribute__((target("avx2"))) size_t early_depth_avx2(const EarlyDepth& t, con
                                                        uint16_t* survived) {
     const PrimitiveSetup& p = *t.prim;
     const DepthWordsAvx2 depth(t);
+    // In locals: the stores below may alias anything as far as the compiler knows.
+    const int64_t x_origin = t.pattern->x[0] - p.origin_x, y_origin = t.pattern->y[0] - p.origin_y;
+    uint32_t* const buffer = t.depth;
+    const size_t pitch = t.pitch;
+    const bool write = t.write;
+    // b * fy of the current row of quads (the rasterizer emits a block's quads row by row): the
+    // product words() forms, once per row.
+    int64_t row_y = int64_t(INT32_MIN) - 1;   // none yet
+    __m256d b_fy = _mm256_setzero_pd();
     size_t killed = 0;
     for (size_t i = 0; i < n; ++i) {
         const Quad& quad = quads[i];
-        const int64_t X = int64_t(quad.x) * kSubPixel + t.pattern->x[0] - p.origin_x;
-        const int64_t Y = int64_t(quad.y) * kSubPixel + t.pattern->y[0] - p.origin_y;
+        if (quad.y != row_y) {
+            const int64_t Y = int64_t(quad.y) * kSubPixel + y_origin;
+            const double fy0 = double(Y) * (1.0 / kSubPixel), fy1 = double(Y + kSubPixel) * (1.0 / kSubPixel);
+            b_fy = _mm256_mul_pd(depth.b, _mm256_setr_pd(fy0, fy0, fy1, fy1));
+            row_y = quad.y;
+        }
+        const int64_t X = int64_t(quad.x) * kSubPixel + x_origin;
         const double fx0 = double(X) * (1.0 / kSubPixel), fx1 = double(X + kSubPixel) * (1.0 / kSubPixel);
-        const double fy0 = double(Y) * (1.0 / kSubPixel), fy1 = double(Y + kSubPixel) * (1.0 / kSubPixel);
-        const __m256d fx = _mm256_setr_pd(fx0, fx1, fx0, fx1), fy = _mm256_setr_pd(fy0, fy0, fy1, fy1);
-        const __m128i word = depth.words(fx, fy);
-        // Covered pixels (sample 0 of each 16-bit pixel mask) as lane masks.
+        const __m128i word = depth.words_by(_mm256_setr_pd(fx0, fx1, fx0, fx1), b_fy);
+        // Covered pixels (sample 0 of each 16-bit pixel mask) as lane masks: the four masks
+        // widened to 32-bit lanes, their bit 0 moved to the sign and spread over the lane.
         const uint64_t cov = quad.coverage;
-        const __m128i covered = _mm_setr_epi32(cov & 1 ? -1 : 0, (cov >> 16) & 1 ? -1 : 0, (cov >> 32) & 1 ? -1 : 0,
-                                               (cov >> 48) & 1 ? -1 : 0);
+        const __m128i covered =
+            _mm_srai_epi32(_mm_slli_epi32(_mm_cvtepu16_epi32(_mm_cvtsi64_si128(int64_t(cov))), 31), 31);
         const int tested = _mm_movemask_ps(_mm_castsi128_ps(covered));
-        uint32_t* row0 = &t.depth[size_t(quad.y) * t.pitch + size_t(quad.x)];
+        uint32_t* row0 = &buffer[size_t(quad.y) * pitch + size_t(quad.x)];
         const bool upper = (cov >> 32) & 0x10001u;
-        uint32_t* row1 = upper ? row0 + t.pitch : row0;   // a pointer into the buffer either way
+        uint32_t* row1 = upper ? row0 + pitch : row0;   // a pointer into the buffer either way
         // A fully covered quad (most quads of large primitives) is four pixels of this tile:
         // plain 8-byte row loads and stores, which are much cheaper than masked ones. Otherwise
         // masked accesses, because uncovered pixels may lie outside the buffer or the tile.
@@ -116,7 +135,7 @@ __attribute__((target("avx2"))) size_t early_depth_avx2(const EarlyDepth& t, con
         }
         const __m128i pass = depth.pass(word, stored, covered);
         const int passed = _mm_movemask_ps(_mm_castsi128_ps(pass));
-        if (t.write && passed) {
+        if (write && passed) {
             if (full) {   // failed pixels get their stored word back
                 const __m128i out = _mm_blendv_epi8(stored, word, pass);
                 _mm_storel_epi64(reinterpret_cast<__m128i*>(row0), out);
@@ -127,7 +146,9 @@ __attribute__((target("avx2"))) size_t early_depth_avx2(const EarlyDepth& t, con
                                     _mm_unpackhi_epi64(word, word));
             }
         }
-        for (int j = 0; j < 4; ++j) survived[4 * i + size_t(j)] = uint16_t((passed >> j) & 1);
+        // Pixel j's mask (0 or 1) in bits 16j: the four survived words in one store.
+        const uint64_t masks = spread_pixel_bits(uint64_t(passed));
+        std::memcpy(survived + 4 * i, &masks, 8);
         killed += size_t(__builtin_popcount(unsigned(tested & ~passed)));
     }
     return killed;

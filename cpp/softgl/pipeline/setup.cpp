@@ -620,8 +620,12 @@ bool diamond_exit_in(int64_t ax, int64_t ay, int64_t bx, int64_t by, bool x_majo
 // test; for long lines each scan stops after at most three columns. False: no fragment at all.
 bool diamond_exit_span(int64_t ax, int64_t ay, int64_t bx, int64_t by, bool x_major,
                        int64_t& first, int64_t& last) {
-    const int64_t lo = floor_pixel(std::min(x_major ? ax : ay, x_major ? bx : by)) - 1;
-    const int64_t hi = floor_pixel(std::max(x_major ? ax : ay, x_major ? bx : by)) + 1;
+    // Only columns whose diamonds reach the segment's major range [mn, mx] can have a fragment
+    // (diamond_exit_in's first test): m * 256 <= mx and (m + 1) * 256 >= mn, i.e. from
+    // ceil(mn / 256) - 1 to floor(mx / 256). The scans start there, not one column further out.
+    const int64_t mn = std::min(x_major ? ax : ay, x_major ? bx : by), mx = std::max(x_major ? ax : ay, x_major ? bx : by);
+    const int64_t lo = floor_pixel(mn + kSubPixel - 1) - 1;
+    const int64_t hi = floor_pixel(mx);
     first = lo;
     while (first <= hi && !diamond_exit_in(ax, ay, bx, by, x_major, first)) ++first;
     if (first > hi) return false;
