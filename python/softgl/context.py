@@ -37,7 +37,12 @@ def _check_argument(name: str, value, kind: type):
 def _caller_level() -> int:
     # The warning points at the user's line: past the listener and this module's wrappers
     # (bufferData, texImage2D, ... below), so it shows once per call site.
-    level, frame = 2, sys._getframe(2)
+    # A draw, compile or link on the main thread reports from the thread that runs it while the
+    # main thread watches for Ctrl-C (cpp/bindings/interruptible.h): no Python frames there.
+    try:
+        level, frame = 2, sys._getframe(2)
+    except ValueError:
+        return 1
     while frame is not None and frame.f_code.co_filename == __file__:
         level, frame = level + 1, frame.f_back
     return level
@@ -331,6 +336,20 @@ class Context(_core.Context):
         self._extensions[name] = self._extensions[canonical] = ext
         return ext
 
+    def set_work_budget(self, draw: int | None = None, compile: int | None = None) -> None:
+        """Sets the work budget of each draw and of each compile or link, in units of about one
+        GLSL instruction on one vertex or fragment (docs/reliability.md, "Work budget and
+        Ctrl-C"). A call that exceeds it stops, changes nothing and records OUT_OF_MEMORY."""
+        for name, value in (("draw", draw), ("compile", compile)):
+            if value is not None and (not isinstance(value, int) or isinstance(value, bool) or not 1 <= value < 2**64):
+                raise ValueError(f"set_work_budget: {name} must be an int from 1 to 2**64 - 1, got {value!r}")
+        self._set_work_budget(draw or 0, compile or 0)
+
+    def work_budget(self) -> dict:
+        """The work budgets (set_work_budget) and the units the last draw, compile or link used."""
+        draw, compile, used = self._work_budget()
+        return {"draw": draw, "compile": compile, "last_call_used": used}
+
     def stats(self, reset: bool = False) -> dict:
         """softgl's counters since the context was made (or last reset): what the draws did and
         what they skipped (docs/architecture.md, "Fast paths"), with seconds per stage.
@@ -345,8 +364,8 @@ class Context(_core.Context):
         ``fragments_hidden`` counts fragments that passed the tests but were not shaded, because
         a later primitive of the same draw covers their pixel and nothing blends (hidden-surface
         removal, single-sampled targets, in tiles where primitives pile up): the bytes are the
-        same as when every fragment is shaded. A shader's loop-limit abort can then only come
-        from a fragment that is shaded.
+        same as when every fragment is shaded. Hidden fragments are not charged to the draw's work
+        budget (set_work_budget).
 
         ``primitives_depth_hidden`` counts (primitive, tile) pairs that were neither rasterized
         nor tested, because the tile's stored depth words show that every fragment of the

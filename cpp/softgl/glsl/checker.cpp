@@ -1,4 +1,5 @@
 #include "softgl/glsl/checker.h"
+#include "softgl/core/work_budget.h"
 
 #include <cmath>
 #include <cstring>
@@ -681,6 +682,7 @@ private:
     }
 
     void statement(Stmt& s) {
+        WorkBudget::charge_current(1);   // the compile's work budget (core/work_budget.h)
         switch (s.kind) {
         case StmtKind::Block: block(s); break;
         case StmtKind::Declaration: {

@@ -7,6 +7,7 @@
 
 #include "softgl/pipeline/assemble.h"
 #include "softgl/pipeline/bin.h"
+#include "softgl/pipeline/draw_rollback.h"
 #include "softgl/pipeline/fragment_sink.h"
 #include "softgl/pipeline/setup.h"
 #include "softgl/pipeline/tile_pass.h"
@@ -100,8 +101,9 @@ T* at_least(std::vector<T>& v, size_t n) {
     return v.data();
 }
 
-// Runs job(chunk, worker) for chunks [0, count) on the pool. After the first exception (a shader's
-// loop limit) the remaining chunks are skipped; parallel_for rethrows it.
+// Runs job(chunk, worker) for chunks [0, count) on the pool. After the first exception (the work
+// budget ran out or Ctrl-C: core/work_budget.h) the remaining chunks are skipped; parallel_for
+// rethrows it.
 template <class Job>
 void for_chunks(ThreadPool& pool, size_t count, const Job& job) {
     std::atomic<bool> failed{false};
@@ -137,6 +139,7 @@ public:
         if (whole_instances_) list_vertices(0, per_instance_);
         for (uint32_t instance = 0; instance < call_.instance_count; instance += instances_per_batch) {
             const uint32_t instances = std::min(instances_per_batch, call_.instance_count - instance);
+            if (in_.budget) in_.budget->check();
             uint32_t p0 = 0;
             do {
                 const uint32_t p1 = uint32_t(std::min<uint64_t>(per_instance_, uint64_t(p0) + step));
@@ -157,6 +160,8 @@ public:
         st_.primitives_rasterized = setup_stats_.emitted;
         tile_pass_.add_counters(st_);
     }
+
+    void set_rollback(DrawRollback* rollback) { tile_pass_.set_rollback(rollback); }
 
 private:
     // Instances [instance, instance + instances), primitives [p0, p1) of each.
@@ -246,6 +251,7 @@ private:
             const size_t j = (job / vertex_chunks) * per_job, k = std::min(per_job, size_t(instances) - j);
             const size_t begin = (job % vertex_chunks) * kVertexChunk, per = std::min(kVertexChunk, n - begin);
             const size_t count = k * per;   // k > 1 only when per == n: the lanes are contiguous
+            if (in_.budget) in_.budget->charge(count * kVertexWorkUnits);
             VertexWorker& w = s_.vertex_workers[worker];
             w.vertex_ids.resize(count);
             w.instance_ids.resize(count);
@@ -287,6 +293,7 @@ private:
             chunk.prims.clear();
             Setup setup(rs_);
             const size_t begin = c * kSetupChunk, end = std::min(batch_total, begin + kSetupChunk);
+            if (in_.budget) in_.budget->charge((end - begin) * kPrimitiveWorkUnits);
             uint32_t j = uint32_t(begin / span), p = p0 + uint32_t(begin % span);
             for (size_t k = begin; k < end; ++k, ++p) {
                 if (p == p1) p = p0, ++j;
@@ -380,7 +387,16 @@ DrawPlan draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
     if (plan.blend_lab) in.sink->begin_draw(in.state, *in.target.default_framebuffer());
     in.vertex_shader.prepare(in.tuning);   // the executors' SIMD level and sampler path
     Batches batches(in, call, ops, plan, st);
-    batches.run_all();
+    // A draw that stops part-way (its work budget ran out, Ctrl-C, no memory) leaves every pixel
+    // as it was: the tiles it wrote are put back (pipeline/draw_rollback.h).
+    DrawRollback rollback(in.target, TileGrid(in.target.width(), in.target.height()));
+    batches.set_rollback(&rollback);
+    try {
+        batches.run_all();
+    } catch (...) {
+        rollback.restore();
+        throw;
+    }
     batches.add_counters();
     total.add(st);
     return plan;

@@ -10,6 +10,7 @@
 #endif
 
 #include "softgl/pipeline/coverage.h"
+#include "softgl/pipeline/draw_rollback.h"
 #include "softgl/pipeline/fragment_sink.h"
 #include "softgl/pipeline/interpolate.h"
 #include "softgl/pipeline/raster.h"
@@ -423,6 +424,10 @@ void TilePass::tile(size_t index, unsigned worker) {
     const size_t tile = (*tiles_)[index];
     Scratch& w = scratch_[worker];
     Tile t{w, worker, grid_.rect(tile), bins_->tile(tile)};
+    // Work budget and rollback (core/work_budget.h, pipeline/draw_rollback.h): the tile's pixels
+    // are kept before its first write of the draw; its primitives are charged up front.
+    if (rollback_) rollback_->save(tile, t.rect);
+    if (in_.budget) in_.budget->charge(uint64_t(t.list.size()) * kTilePrimitiveWorkUnits);
     const bool depth_bounds = plan_.depth_bounds == Path::Taken;
     if (depth_bounds)
         w.depth_bounds.begin_tile(quad_depth_test_, t.rect,
@@ -452,6 +457,7 @@ void TilePass::tile(size_t index, unsigned worker) {
     const std::vector<uint32_t>& list = t.list;
     for (size_t li = 0; li < list.size(); ++li) {
         prefetch_ahead(t, li);
+        if (in_.budget) in_.budget->check();   // a stop (Ctrl-C) between primitives
         if (t.hide && !w.owns[li]) continue;   // hidden everywhere in this tile
         const PrimitiveSetup& p = (*prims_)[list[li]];
         if (!t.hide && depth_bounds && w.depth_bounds.hides(p)) {
