@@ -12,15 +12,7 @@
 
 namespace softgl::bindings {
 
-// The thread a call runs for: its own, or, on the thread that runs calls for the main thread
-// while the main thread watches for Ctrl-C (bindings/interruptible.h), the main thread's.
-inline uint64_t& acting_thread_tag() {
-    thread_local uint64_t tag = 0;
-    return tag;
-}
-
 inline uint64_t current_thread_tag() {   // never 0 (0 = not busy)
-    if (const uint64_t acting = acting_thread_tag()) return acting;
     return uint64_t(std::hash<std::thread::id>{}(std::this_thread::get_id())) | 1u;
 }
 

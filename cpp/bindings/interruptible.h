@@ -1,92 +1,54 @@
 // Calls that can run long (draws, compiles, links) stop on Ctrl-C (docs/reliability.md, "Work
-// budget and Ctrl-C"). Python's SIGINT handler only sets a flag that the main thread acts on
-// when it runs Python code, and the main thread would be inside the call. So on the main thread
-// the call runs on a helper thread (one per process, kept between calls) while the main thread
-// waits with the GIL released and, every kPollSeconds, takes the GIL and calls
-// PyErr_CheckSignals. When that raises (KeyboardInterrupt, or whatever the SIGINT handler
-// raises), the call's work budget is asked to stop: the call puts back what it changed, records
-// OUT_OF_MEMORY with a warning naming the call, and the main thread raises the handler's
-// exception (KeyboardInterrupt wins over a strict context's GLError).
+// budget and Ctrl-C"). Python's SIGINT handler only sets a flag that the main thread acts on when
+// it runs Python code, and the main thread is inside the call with the GIL released. So the call
+// runs on the calling thread as any other (no hand-off), and on the main thread a SignalPoller is
+// installed for its duration: at the call's natural points (core/work_budget.h: charges, tiles,
+// the thread pool's wait) it takes the GIL at most every 10 ms and calls PyErr_CheckSignals. When
+// that raises (KeyboardInterrupt, or whatever the SIGINT handler raises), the exception is kept
+// and the call's budget is asked to stop; after the call the exception is raised (it wins over a
+// strict context's GLError for the stop).
 //
-// Other threads run the call themselves (signals go to the main thread only); a call re-entered
-// from an error handler runs on the thread of the call it re-enters.
+// Other threads get no poller (signals are acted on by the main thread only); a call re-entered
+// from an error handler uses the poller of the call it re-enters.
 #pragma once
 #include <pybind11/pybind11.h>
 
-#include <chrono>
-#include <condition_variable>
 #include <exception>
-#include <functional>
-#include <mutex>
-#include <thread>
 
 #include "exclusive.h"
 
 namespace softgl::bindings {
 
-inline constexpr double kPollSeconds = 0.02;
-
-class CallRunner {
+class SignalPoller final : public InterruptPoller {
 public:
-    // The process's runner; its thread lives until the process ends (never joined: it may be
-    // waiting when the interpreter shuts down).
-    static CallRunner& instance() {
-        static CallRunner* runner = new CallRunner();
-        return *runner;
+    explicit SignalPoller(WorkBudget& budget) : budget_(budget), saved_(InterruptPoller::current()) {
+        InterruptPoller::current() = this;
+    }
+    ~SignalPoller() override { InterruptPoller::current() = saved_; }
+    SignalPoller(const SignalPoller&) = delete;
+    SignalPoller& operator=(const SignalPoller&) = delete;
+
+    // With the GIL held, after the call: raises the kept exception, if any.
+    bool interrupted() const { return type_ != nullptr; }
+    [[noreturn]] void raise() {
+        PyErr_Restore(type_, value_, traceback_);
+        type_ = value_ = traceback_ = nullptr;
+        throw pybind11::error_already_set();
     }
 
-    // Runs `job` on the runner thread as thread `acting` (exclusive.h) and returns its exception,
-    // if any. Meanwhile calls poll() every kPollSeconds until it returns true (then no more).
-    std::exception_ptr run(const std::function<void()>& job, uint64_t acting, const std::function<bool()>& poll) {
-        std::unique_lock<std::mutex> lock(mutex_);
-        job_ = &job;
-        acting_ = acting;
-        done_ = false;
-        error_ = nullptr;
-        wake_.notify_one();
-        bool polling = true;
-        const auto period = std::chrono::duration<double>(kPollSeconds);
-        while (!done_) {
-            if (!finished_.wait_for(lock, period, [&] { return done_; }) && polling) {
-                lock.unlock();
-                polling = !poll();
-                lock.lock();
-            }
-        }
-        job_ = nullptr;
-        return error_;
+protected:
+    void poll() override {
+        if (type_) return;   // already asked to stop
+        pybind11::gil_scoped_acquire gil;
+        if (PyErr_CheckSignals() == 0) return;
+        PyErr_Fetch(&type_, &value_, &traceback_);
+        budget_.request_stop(StopReason::Interrupted);
     }
 
 private:
-    CallRunner() { std::thread([this] { loop(); }).detach(); }
-
-    void loop() {
-        std::unique_lock<std::mutex> lock(mutex_);
-        for (;;) {
-            wake_.wait(lock, [&] { return job_ != nullptr && !done_; });
-            const std::function<void()>* job = job_;
-            acting_thread_tag() = acting_;
-            lock.unlock();
-            std::exception_ptr error;
-            try {
-                (*job)();
-            } catch (...) {
-                error = std::current_exception();
-            }
-            lock.lock();
-            acting_thread_tag() = 0;
-            error_ = error;
-            done_ = true;
-            finished_.notify_one();
-        }
-    }
-
-    std::mutex mutex_;
-    std::condition_variable wake_, finished_;
-    const std::function<void()>* job_ = nullptr;
-    uint64_t acting_ = 0;
-    bool done_ = false;
-    std::exception_ptr error_;
+    WorkBudget& budget_;
+    InterruptPoller* saved_;
+    PyObject *type_ = nullptr, *value_ = nullptr, *traceback_ = nullptr;
 };
 
 inline bool on_main_thread() {   // with the GIL held
@@ -100,29 +62,25 @@ inline bool on_main_thread() {   // with the GIL held
 template <class Call>
 void run_interruptible(Context& context, Call&& call) {
     const bool main = on_main_thread();
-    PyObject *type = nullptr, *value = nullptr, *traceback = nullptr;   // the interrupt's exception
     std::exception_ptr error;
+    std::optional<SignalPoller> poller;
     {
         ExclusiveWithoutGil release(context);
-        if (release.nested() || !main) {
-            if (!release.nested()) context.work_budget().clear_interrupt();
+        if (release.nested()) {   // inside a call on this thread: its budget and poller
             call();
             return;
         }
         context.work_budget().clear_interrupt();
-        const std::function<void()> job = [&] { call(); };
-        error = CallRunner::instance().run(job, current_thread_tag(), [&] {
-            pybind11::gil_scoped_acquire gil;
-            if (PyErr_CheckSignals() == 0) return false;
-            PyErr_Fetch(&type, &value, &traceback);
-            context.work_budget().request_stop(StopReason::Interrupted);
-            return true;
-        });
-    }
-    if (type) {
-        PyErr_Restore(type, value, traceback);
+        if (main) poller.emplace(context.work_budget());
+        try {
+            call();
+        } catch (...) {
+            error = std::current_exception();
+        }
+    }   // the GIL is held again
+    if (poller && poller->interrupted()) {
         error = nullptr;   // a strict context's GLError for the stop: the interrupt wins
-        throw pybind11::error_already_set();
+        poller->raise();
     }
     if (error) std::rethrow_exception(error);
 }

@@ -37,12 +37,7 @@ def _check_argument(name: str, value, kind: type):
 def _caller_level() -> int:
     # The warning points at the user's line: past the listener and this module's wrappers
     # (bufferData, texImage2D, ... below), so it shows once per call site.
-    # A draw, compile or link on the main thread reports from the thread that runs it while the
-    # main thread watches for Ctrl-C (cpp/bindings/interruptible.h): no Python frames there.
-    try:
-        level, frame = 2, sys._getframe(2)
-    except ValueError:
-        return 1
+    level, frame = 2, sys._getframe(2)
     while frame is not None and frame.f_code.co_filename == __file__:
         level, frame = level + 1, frame.f_back
     return level
@@ -388,7 +383,10 @@ class Context(_core.Context):
         reached their first tile pass, ``draws_constant_color`` (a uniform-only shader run once,
         its colour straight to the colour kernels), ``draws_blend_table`` (that colour blended by
         table lookup) and ``draws_copied_varying`` (a shader that only copies varyings or
-        constants to its colours, not run)."""
+        constants to its colours, not run). ``draws_with_rollback`` counts draws that kept a copy
+        of each tile they wrote, to put it back if stopped (docs/reliability.md, "Work budget
+        and Ctrl-C": draws in several batches, with a fragment loop of unknown length, or with
+        much fragment work)."""
         if not isinstance(reset, (bool, np.bool_, int)):
             raise TypeError(f"stats: reset must be a bool; got {type(reset).__name__} {reset!r:.40}")
         return self._stats(reset)

@@ -1,17 +1,25 @@
 // One work budget per call (a draw, a compile, a link): every stage charges the work it does to the
-// call's budget, and the call stops when the budget runs out or when someone (Ctrl-C, through the
-// bindings) asks it to. docs/reliability.md, "Work budget and Ctrl-C", states the rules.
+// call's budget, and the call stops when the budget runs out or when Ctrl-C asks it to.
+// docs/reliability.md, "Work budget and Ctrl-C", states the rules.
 //
-// Units: one unit is roughly one GLSL instruction on one lane (executor: lanes x instructions per
-// run, lanes x loop body per loop iteration); the other stages charge a fixed cost per vertex,
-// primitive and (primitive, tile) pair, and the compiler per token and per IR instruction. The
-// charges of a call do not depend on the thread count or on scheduling, so whether a call fits
-// in its budget does not either: it stops exactly when its total exceeds the limit.
+// Units: one unit is roughly one GLSL instruction on one lane. The executor charges lanes x loop
+// body at every loop back edge (straight-line code is bounded by the geometry and is not charged);
+// the other stages charge a fixed cost per vertex, primitive and (primitive, tile) pair, and the
+// compiler per token and per IR instruction. The charges of a call do not depend on the thread
+// count or on scheduling, so whether a call fits in its budget does not either: it stops exactly
+// when its total exceeds the limit.
 //
-// Threads charge a shared atomic counter; the executor adds up its charges locally and passes
-// them on every kFlushUnits (so the abort flag is seen within a fraction of a millisecond).
+// Threads charge a shared atomic counter; the executor adds up its loop charges locally and passes
+// them on every kFlushUnits and at the end of a run.
+//
+// Ctrl-C: Python's SIGINT handler only sets a flag that the main thread acts on when it runs
+// Python code. The bindings install an InterruptPoller on the thread that makes the call (the main
+// Python thread only); that thread polls it at natural points (every charge, between tiles and
+// chunks, in the thread pool's wait for its workers), at most every kInterruptPollNanoseconds,
+// and the poller asks the budget to stop. Workers only read the stop flag.
 #pragma once
 #include <atomic>
+#include <chrono>
 #include <cstdint>
 #include <exception>
 
@@ -29,6 +37,38 @@ struct WorkStopped : std::exception {
     }
 };
 
+// Installed by the bindings on the thread that makes a call (cpp/bindings/interruptible.h).
+class InterruptPoller {
+public:
+    static constexpr int64_t kInterruptPollNanoseconds = 10'000'000;   // 10 ms
+    virtual ~InterruptPoller() = default;
+    // The poller of this thread; null on workers and outside a call.
+    static InterruptPoller*& current() {
+        thread_local InterruptPoller* poller = nullptr;
+        return poller;
+    }
+    // Polls when kInterruptPollNanoseconds have passed since the last poll.
+    void maybe_poll() {
+        const int64_t now = std::chrono::duration_cast<std::chrono::nanoseconds>(
+            std::chrono::steady_clock::now().time_since_epoch()).count();
+        if (now < next_) return;
+        next_ = now + kInterruptPollNanoseconds;
+        poll();
+    }
+
+protected:
+    // Checks for an interrupt (and, when there is one, asks the call's budget to stop).
+    virtual void poll() = 0;
+
+private:
+    int64_t next_ = 0;
+};
+
+// At a natural point of a call: polls for Ctrl-C if this thread made the call.
+inline void poll_interrupt() {
+    if (InterruptPoller* p = InterruptPoller::current()) p->maybe_poll();
+}
+
 class WorkBudget {
 public:
     static constexpr uint64_t kFlushUnits = uint64_t(1) << 16;
@@ -41,19 +81,32 @@ public:
         used_.store(0, std::memory_order_relaxed);
         uint8_t exhausted = uint8_t(StopReason::BudgetExhausted);
         stop_.compare_exchange_strong(exhausted, uint8_t(StopReason::None), std::memory_order_relaxed);
+        deferred_.store(false, std::memory_order_relaxed);
     }
     void clear_interrupt() { stop_.store(uint8_t(StopReason::None), std::memory_order_relaxed); }
-    // Adds `units`; throws WorkStopped when the total passes the limit or a stop was requested.
+    // Adds `units`; throws WorkStopped when the total passes the limit or a stop was requested
+    // (unless stops are deferred).
     void charge(uint64_t units) {
+        poll_interrupt();
         const uint64_t total = used_.fetch_add(units, std::memory_order_relaxed) + units;
         if (total > limit_) request_stop(StopReason::BudgetExhausted);
-        const uint8_t s = stop_.load(std::memory_order_relaxed);
-        if (s != uint8_t(StopReason::None)) throw WorkStopped(StopReason(s));
+        throw_if_stopped();
     }
     // Throws WorkStopped if the call must stop (a check without work to charge).
-    void check() const {
-        const uint8_t s = stop_.load(std::memory_order_relaxed);
-        if (s != uint8_t(StopReason::None)) throw WorkStopped(StopReason(s));
+    void check() {
+        poll_interrupt();
+        throw_if_stopped();
+    }
+    // The flag alone, for the workers' checks between primitives (no poll).
+    bool stop_requested() const { return stop_.load(std::memory_order_relaxed) != uint8_t(StopReason::None); }
+    // While deferred, a stop request does not throw: a draw that writes pixels it could not put
+    // back runs to its end, and the caller acts on the request after it (pipeline/draw.cpp).
+    // Set by the calling thread between parallel sections (the pool's lock orders it).
+    void defer_stops(bool deferred) { deferred_.store(deferred, std::memory_order_relaxed); }
+    // The units left before the budget runs out.
+    uint64_t remaining() const {
+        const uint64_t u = used();
+        return u >= limit_ ? 0 : limit_ - u;
     }
     // Any thread (the bindings' Ctrl-C poll): the call stops at its next charge. The first reason
     // wins, so an interrupt that arrives after the budget ran out does not change the outcome.
@@ -77,9 +130,15 @@ public:
     }
 
 private:
+    void throw_if_stopped() const {
+        const uint8_t s = stop_.load(std::memory_order_relaxed);
+        if (s != uint8_t(StopReason::None) && !deferred_.load(std::memory_order_relaxed)) throw WorkStopped(StopReason(s));
+    }
+
     uint64_t limit_ = ~uint64_t(0);
     std::atomic<uint64_t> used_{0};
     std::atomic<uint8_t> stop_{uint8_t(StopReason::None)};
+    std::atomic<bool> deferred_{false};
 };
 
 // Sets WorkBudget::current() for a scope (a compile or link on this thread).

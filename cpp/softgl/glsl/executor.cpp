@@ -193,15 +193,13 @@ void Executor::run(const StageRun& run) {
         budget_ = &own_budget_;
     }
     unflushed_ = 0;
-    // Straight-line cost of the run; loops add their bodies at each back edge (execute()).
-    budget_->charge(uint64_t(run.lane_count) * (code_.size() + 1));
     const int lanes = std::min(batch_, run.lane_count);
     for (size_t pc = 0; pc < prologue_end_; ++pc) {
         const Instruction& i = code_[pc];
         fill(own(i.dst), lanes, run.uniforms ? run.uniforms[i.imm[0]] : Scalar{});
     }
     for (int first = 0; first < run.lane_count; first += batch_) run_batch(run, first, std::min(batch_, run.lane_count - first));
-    flush_charges();
+    if (unflushed_) flush_charges();   // loops ran: their last iterations (straight-line code is not charged)
 }
 
 void Executor::run_batch(const StageRun& run, int first, int lanes) {

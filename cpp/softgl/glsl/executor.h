@@ -79,8 +79,8 @@ struct StageRun {
     uint8_t* discarded = nullptr;      // fragment: set to 1 for lanes that executed discard
     SamplerPath sampler_path = SamplerPath::Best;   // TextureQuery::path of every lookup
     uint64_t* fast_texture_queries = nullptr;       // TextureQuery::fast_queries of every lookup
-    // The call's work budget (core/work_budget.h), charged lanes x instructions per batch and
-    // lanes x loop body per loop iteration; WorkStopped ends the run. Null: the executor's own
+    // The call's work budget (core/work_budget.h), charged lanes x loop body per loop iteration
+    // (straight-line code is not charged); WorkStopped ends the run. Null: the executor's own
     // budget of kExecutorRunBudgetDefault per run (tests, constant folding).
     WorkBudget* budget = nullptr;
 };

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <optional>
 #include <unordered_map>
 
 #include "softgl/pipeline/assemble.h"
@@ -137,6 +138,7 @@ public:
             ? uint32_t(std::min<uint64_t>(call_.instance_count, limit / std::max<uint32_t>(per_instance_, 1))) : 1;
         const uint32_t step = whole_instances_ ? std::max<uint32_t>(per_instance_, 1) : limit;
         if (whole_instances_) list_vertices(0, per_instance_);
+        several_batches_ = call_.instance_count > instances_per_batch || per_instance_ > step;
         for (uint32_t instance = 0; instance < call_.instance_count; instance += instances_per_batch) {
             const uint32_t instances = std::min(instances_per_batch, call_.instance_count - instance);
             if (in_.budget) in_.budget->check();
@@ -161,7 +163,11 @@ public:
         tile_pass_.add_counters(st_);
     }
 
-    void set_rollback(DrawRollback* rollback) { tile_pass_.set_rollback(rollback); }
+    // After run_all, or when it threw: whether the draw kept copies, and putting them back.
+    bool keeps_copies() const { return rollback_.has_value(); }
+    void roll_back() {
+        if (rollback_) rollback_->restore();
+    }
 
 private:
     // Instances [instance, instance + instances), primitives [p0, p1) of each.
@@ -173,8 +179,31 @@ private:
         const bool binned = set_up_and_bin(instance, instances, p0, p1);
         st_.seconds_setup += lap(t0);
         if (!binned) return;
+        if (!decided_) decide_rollback();
         tile_pass_.run(TileBatch{*bins_, s_.prims, s_.all, s_.tiles}, st_);
         st_.seconds_fragment += since(t0);
+    }
+
+    // Before the draw's first tile pass (pipeline/draw_rollback.h): a draw that can be stopped after
+    // writing pixels keeps copies to put them back; any other defers a stop to its end (the vertex
+    // stage and setup before this point write no pixel and stop at once).
+    void decide_rollback() {
+        decided_ = true;
+        if (!in_.budget) return;   // unbudgeted (test harnesses): nothing stops it
+        uint64_t pairs = 0, pixel_pairs = 0;
+        for (uint32_t tile : s_.tiles) {
+            const uint64_t n = bins_->tile(tile).size();
+            const TileRect r = grid_.rect(tile);
+            pairs += n;
+            pixel_pairs += n * uint64_t(r.x1 - r.x0) * uint64_t(r.y1 - r.y0);
+        }
+        const uint64_t estimate = fragment_work_estimate(pairs, pixel_pairs, in_.fragment_shader.instructions_bound());
+        if (rollback_needed(several_batches_, estimate, in_.budget->remaining())) {
+            rollback_.emplace(in_.target, grid_);
+            tile_pass_.set_rollback(&*rollback_);
+        } else {
+            in_.budget->defer_stops(true);
+        }
     }
 
     // The batch's vertices: `ids` (distinct, in first-use order) and, for the vertex numbers in
@@ -367,6 +396,9 @@ private:
     SetupStats setup_stats_;
     const Bins* bins_ = nullptr;
     TilePass tile_pass_;
+    bool several_batches_ = false;
+    bool decided_ = false;
+    std::optional<DrawRollback> rollback_;
 };
 
 }  // namespace
@@ -387,16 +419,18 @@ DrawPlan draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
     if (plan.blend_lab) in.sink->begin_draw(in.state, *in.target.default_framebuffer());
     in.vertex_shader.prepare(in.tuning);   // the executors' SIMD level and sampler path
     Batches batches(in, call, ops, plan, st);
-    // A draw that stops part-way (its work budget ran out, Ctrl-C, no memory) leaves every pixel
-    // as it was: the tiles it wrote are put back (pipeline/draw_rollback.h).
-    DrawRollback rollback(in.target, TileGrid(in.target.width(), in.target.height()));
-    batches.set_rollback(&rollback);
+    // A draw that stops part-way (its work budget ran out, Ctrl-C, no memory) after writing pixels
+    // leaves every pixel as it was: the tiles it wrote are put back (pipeline/draw_rollback.h).
     try {
         batches.run_all();
     } catch (...) {
-        rollback.restore();
+        batches.roll_back();
+        if (in.budget) in.budget->defer_stops(false);
         throw;
     }
+    // A stop deferred to the end of the draw (Ctrl-C): the bindings raise it now; the draw is whole.
+    if (in.budget) in.budget->defer_stops(false);
+    st.draws_with_rollback = batches.keeps_copies();
     batches.add_counters();
     total.add(st);
     return plan;

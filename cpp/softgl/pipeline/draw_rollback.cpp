@@ -1,5 +1,6 @@
 #include "softgl/pipeline/draw_rollback.h"
 
+#include <algorithm>
 #include <cstring>
 
 namespace softgl {
@@ -20,6 +21,19 @@ RollbackScratch& rollback_scratch() {
 }
 
 }  // namespace
+
+uint64_t fragment_work_estimate(uint64_t pairs, uint64_t pixel_pairs, uint64_t instructions_bound) {
+    constexpr uint64_t kMax = ~uint64_t(0);
+    const uint64_t per_pixel = instructions_bound > kMax - kFragmentWorkUnits ? kMax : instructions_bound + kFragmentWorkUnits;
+    if (pixel_pairs && per_pixel > kMax / pixel_pairs) return kMax;
+    const uint64_t pixels = pixel_pairs * per_pixel;
+    if (pairs > (kMax - pixels) / kTilePrimitiveWorkUnits) return kMax;
+    return pixels + pairs * kTilePrimitiveWorkUnits;
+}
+
+bool rollback_needed(bool several_batches, uint64_t fragment_work_estimate, uint64_t budget_left) {
+    return several_batches || fragment_work_estimate > std::min(kRollbackWorkThreshold, budget_left);
+}
 
 template <class T>
 void DrawRollback::add_image_plane(std::vector<T>& storage, const Image& img, size_t offset, size_t per_texel) {

@@ -4,18 +4,38 @@
 //
 // The mechanism is a first-touch copy per tile: the tile pass calls save() as it starts a tile
 // (the worker that owns the tile, so no two threads save one tile), and the first call for a tile
-// in the draw copies the tile's pixels of every attachment. A draw that completes only pays that
-// copy for the tiles it touches (once per draw, not per batch); a stopped draw copies them back.
+// in the draw copies the tile's pixels of every attachment. A stopped draw copies them back.
+//
+// Only draws that can be stopped after writing pixels keep copies (rollback_needed below); the
+// others defer a stop (Ctrl-C) to their end, which comes soon, and cannot run out of budget.
 #pragma once
 #include <cstddef>
 #include <cstdint>
 #include <vector>
 
+#include "softgl/core/work_budget.h"
 #include "softgl/pipeline/bin.h"
 #include "softgl/pipeline/raster.h"
 #include "softgl/surface/render_target.h"
 
 namespace softgl {
+
+// A draw's fragment work is estimated, before its first tile pass, as the (primitive, tile) pairs
+// of its first batch times (the tile's pixels x (the fragment shader's instruction bound +
+// kFragmentWorkUnits) + kTilePrimitiveWorkUnits): an upper bound of what the tile pass charges
+// the budget, and a measure of its time. Past kRollbackWorkThreshold (2^26 units: about 0.1 s of
+// fragment work on this machine's interpreter) a Ctrl-C mid-draw matters, so the draw keeps copies.
+inline constexpr uint64_t kFragmentWorkUnits = 16;   // interpolation, tests and the store per pixel
+inline constexpr uint64_t kRollbackWorkThreshold = uint64_t(1) << 26;
+
+// Whether a draw keeps copies of the pixels it writes: when it runs in more than one batch (a
+// later batch can stop after an earlier one wrote), when its fragment shader has a loop with no
+// counted bound (glsl::instructions_bound), or when its estimated fragment work passes
+// kRollbackWorkThreshold or what is left of its budget.
+bool rollback_needed(bool several_batches, uint64_t fragment_work_estimate, uint64_t budget_left);
+
+// The estimate above, saturating: `pixel_pairs` sums each pair's tile pixels.
+uint64_t fragment_work_estimate(uint64_t pairs, uint64_t pixel_pairs, uint64_t instructions_bound);
 
 class DrawRollback {
 public:

@@ -132,6 +132,7 @@ void GlslVertexShader::run(const std::array<AttributeStream, kMaxVertexAttribs>&
 GlslFragmentShader::GlslFragmentShader(std::shared_ptr<const glsl::LinkedProgram> program, const VaryingLayout&)
     : program_(std::move(program)) {
     const glsl::IrProgram& ir = program_->fragment;
+    instructions_bound_ = glsl::instructions_bound(ir);
     input_word_.assign(ir.inputs.size(), -1);
     input_builtin_.assign(ir.inputs.size(), -1);
     int word = 0;

@@ -33,7 +33,7 @@ public:
     void set_sampler(glsl::TextureSampler* sampler) { textures_ = sampler; }
     // The lookups the sampler's fast path served since the last call (DrawStats::texture_queries_fast).
     uint64_t take_fast_texture_queries() const;
-    // The draw's work budget (core/work_budget.h), charged by every executor run.
+    // The draw's work budget (core/work_budget.h), charged by the executors' loops.
     void set_budget(WorkBudget* budget) { budget_ = budget; }
 
 private:
@@ -84,10 +84,12 @@ public:
     void set_sampler(glsl::TextureSampler* sampler) { textures_ = sampler; }
     // The lookups the sampler's fast path served since the last call (DrawStats::texture_queries_fast).
     uint64_t take_fast_texture_queries() const;
-    // The draw's work budget (core/work_budget.h), charged by every executor run.
+    uint64_t instructions_bound() const override { return instructions_bound_; }
+    // The draw's work budget (core/work_budget.h), charged by the executors' loops.
     void set_budget(WorkBudget* budget) { budget_ = budget; }
 
 private:
+    uint64_t instructions_bound_ = ~uint64_t(0);   // glsl::instructions_bound of the program
     WorkBudget* budget_ = nullptr;
     bool find_copies();
     glsl::TextureSampler* textures_ = nullptr;

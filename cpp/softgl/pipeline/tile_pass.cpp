@@ -424,8 +424,9 @@ void TilePass::tile(size_t index, unsigned worker) {
     const size_t tile = (*tiles_)[index];
     Scratch& w = scratch_[worker];
     Tile t{w, worker, grid_.rect(tile), bins_->tile(tile)};
-    // Work budget and rollback (core/work_budget.h, pipeline/draw_rollback.h): the tile's pixels
-    // are kept before its first write of the draw; its primitives are charged up front.
+    // Work budget and rollback (core/work_budget.h, pipeline/draw_rollback.h): when the draw can
+    // be stopped after writing pixels, the tile's pixels are kept before its first write of the
+    // draw; its primitives are charged up front.
     if (rollback_) rollback_->save(tile, t.rect);
     if (in_.budget) in_.budget->charge(uint64_t(t.list.size()) * kTilePrimitiveWorkUnits);
     const bool depth_bounds = plan_.depth_bounds == Path::Taken;
@@ -457,7 +458,8 @@ void TilePass::tile(size_t index, unsigned worker) {
     const std::vector<uint32_t>& list = t.list;
     for (size_t li = 0; li < list.size(); ++li) {
         prefetch_ahead(t, li);
-        if (in_.budget) in_.budget->check();   // a stop (Ctrl-C) between primitives
+        // A stop (Ctrl-C, budget) between primitives, when the draw can put its pixels back.
+        if (rollback_ && in_.budget->stop_requested()) in_.budget->check();
         if (t.hide && !w.owns[li]) continue;   // hidden everywhere in this tile
         const PrimitiveSetup& p = (*prims_)[list[li]];
         if (!t.hide && depth_bounds && w.depth_bounds.hides(p)) {
