@@ -155,11 +155,12 @@ private:
 
 // What the pipeline charges besides the executor's lane-instructions (pipeline/draw.cpp,
 // pipeline/tile_pass.cpp): per vertex fetched and stored, per primitive assembled and set up, per
-// (primitive, tile) pair rasterized. Calibrated to cost about as much time as that many
+// (primitive, tile) pair rasterized and per fragment shaded. Calibrated to cost about as much time as that many
 // executor units (docs/reliability.md, "Work budget and Ctrl-C").
 inline constexpr uint64_t kVertexWorkUnits = 32;
 inline constexpr uint64_t kPrimitiveWorkUnits = 64;
 inline constexpr uint64_t kTilePrimitiveWorkUnits = 64;
+inline constexpr uint64_t kFragmentWorkUnits = 16;   // per fragment shaded: interpolation, tests, store
 
 // Default limits (docs/reliability.md, "Work budget and Ctrl-C"); a context's are settable.
 inline constexpr uint64_t kDrawWorkBudgetDefault = uint64_t(1) << 36;     // ~6.9e10 lane-instructions

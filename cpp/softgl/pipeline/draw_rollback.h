@@ -25,7 +25,6 @@ namespace softgl {
 // kFragmentWorkUnits) + kTilePrimitiveWorkUnits): an upper bound of what the tile pass charges
 // the budget, and a measure of its time. Past kRollbackWorkThreshold (2^26 units: about 0.1 s of
 // fragment work on this machine's interpreter) a Ctrl-C mid-draw matters, so the draw keeps copies.
-inline constexpr uint64_t kFragmentWorkUnits = 16;   // interpolation, tests and the store per pixel
 inline constexpr uint64_t kRollbackWorkThreshold = uint64_t(1) << 26;
 
 // Whether a draw keeps copies of the pixels it writes: when it runs in more than one batch (a

@@ -429,6 +429,7 @@ void TilePass::tile(size_t index, unsigned worker) {
     // draw; its primitives are charged up front.
     if (rollback_) rollback_->save(tile, t.rect);
     if (in_.budget) in_.budget->charge(uint64_t(t.list.size()) * kTilePrimitiveWorkUnits);
+    const uint64_t shaded_before = w.stats.fragments_shaded;
     const bool depth_bounds = plan_.depth_bounds == Path::Taken;
     if (depth_bounds)
         w.depth_bounds.begin_tile(quad_depth_test_, t.rect,
@@ -479,6 +480,9 @@ void TilePass::tile(size_t index, unsigned worker) {
     }
     if constexpr (!WithSink)
         if (gather_) flush(t);   // the rest of the tile's fragments
+    // The tile's fragments (helpers included), charged when done: a draw of many large primitives
+    // without loops (finding 5's instances) runs out of budget too.
+    if (in_.budget) in_.budget->charge((w.stats.fragments_shaded - shaded_before) * kFragmentWorkUnits);
 }
 
 // Every primitive's raster and early tests; per pixel, the list entry of the last survivor.
