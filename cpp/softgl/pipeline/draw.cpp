@@ -190,14 +190,10 @@ private:
     void decide_rollback() {
         decided_ = true;
         if (!in_.budget) return;   // unbudgeted (test harnesses): nothing stops it
-        uint64_t pairs = 0, pixel_pairs = 0;
-        for (uint32_t tile : s_.tiles) {
-            const uint64_t n = bins_->tile(tile).size();
-            const TileRect r = grid_.rect(tile);
-            pairs += n;
-            pixel_pairs += n * uint64_t(r.x1 - r.x0) * uint64_t(r.y1 - r.y0);
-        }
-        const uint64_t estimate = fragment_work_estimate(pairs, pixel_pairs, in_.fragment_shader.instructions_bound());
+        uint64_t pairs = 0, pixels = 0;
+        for (uint32_t tile : s_.tiles) pairs += bins_->tile(tile).size();
+        for (size_t c = 0; c < setup_chunks_; ++c) pixels += s_.chunk_bins[c].quad_pixels_bound;
+        const uint64_t estimate = fragment_work_estimate(pairs, pixels, in_.fragment_shader.instructions_bound());
         if (rollback_needed(several_batches_, estimate, in_.budget->remaining())) {
             rollback_.emplace(in_.target, grid_);
             tile_pass_.set_rollback(&*rollback_);
@@ -344,6 +340,7 @@ private:
             chunk_bins[c].reset(grid_);
             chunk_bins[c].add(chunk.prims.data(), chunk.prims.size(), 0);
         });
+        setup_chunks_ = setup_chunks;
         uint64_t emitted = 0;
         for (size_t c = 0; c < setup_chunks; ++c) setup_stats_.add(s_.chunks[c].stats), emitted += s_.chunks[c].stats.emitted;
         if (!plan_.rasterizes() || emitted == 0) return false;
@@ -397,6 +394,7 @@ private:
     const Bins* bins_ = nullptr;
     TilePass tile_pass_;
     bool several_batches_ = false;
+    size_t setup_chunks_ = 0;   // the last batch's
     bool decided_ = false;
     std::optional<DrawRollback> rollback_;
 };

@@ -22,13 +22,13 @@ RollbackScratch& rollback_scratch() {
 
 }  // namespace
 
-uint64_t fragment_work_estimate(uint64_t pairs, uint64_t pixel_pairs, uint64_t instructions_bound) {
+uint64_t fragment_work_estimate(uint64_t pairs, uint64_t pixels, uint64_t instructions_bound) {
     constexpr uint64_t kMax = ~uint64_t(0);
     const uint64_t per_pixel = instructions_bound > kMax - kFragmentWorkUnits ? kMax : instructions_bound + kFragmentWorkUnits;
-    if (pixel_pairs && per_pixel > kMax / pixel_pairs) return kMax;
-    const uint64_t pixels = pixel_pairs * per_pixel;
-    if (pairs > (kMax - pixels) / kTilePrimitiveWorkUnits) return kMax;
-    return pixels + pairs * kTilePrimitiveWorkUnits;
+    if (pixels && per_pixel > kMax / pixels) return kMax;
+    const uint64_t fragments = pixels * per_pixel;
+    if (pairs > (kMax - fragments) / kTilePrimitiveWorkUnits) return kMax;
+    return fragments + pairs * kTilePrimitiveWorkUnits;
 }
 
 bool rollback_needed(bool several_batches, uint64_t fragment_work_estimate, uint64_t budget_left) {

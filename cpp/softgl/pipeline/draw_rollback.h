@@ -20,11 +20,12 @@
 
 namespace softgl {
 
-// A draw's fragment work is estimated, before its first tile pass, as the (primitive, tile) pairs
-// of its first batch times (the tile's pixels x (the fragment shader's instruction bound +
-// kFragmentWorkUnits) + kTilePrimitiveWorkUnits): an upper bound of what the tile pass charges
-// the budget, and a measure of its time. Past kRollbackWorkThreshold (2^26 units: about 0.1 s of
-// fragment work on this machine's interpreter) a Ctrl-C mid-draw matters, so the draw keeps copies.
+// A draw's fragment work is estimated, before its first tile pass, from its first batch: the sum
+// over its primitives of (bounding box width + 2) x (height + 2) pixels (Bins::quad_pixels_bound)
+// times (the fragment shader's instruction bound + kFragmentWorkUnits), plus kTilePrimitiveWorkUnits
+// per (primitive, tile) pair: an upper bound of what the tile pass charges the budget, and a
+// measure of its time. Past kRollbackWorkThreshold (2^26 units: about 0.1-0.3 s of work here) a
+// Ctrl-C mid-draw matters, so the draw keeps copies.
 inline constexpr uint64_t kRollbackWorkThreshold = uint64_t(1) << 26;
 
 // Whether a draw keeps copies of the pixels it writes: when it runs in more than one batch (a
@@ -33,8 +34,8 @@ inline constexpr uint64_t kRollbackWorkThreshold = uint64_t(1) << 26;
 // kRollbackWorkThreshold or what is left of its budget.
 bool rollback_needed(bool several_batches, uint64_t fragment_work_estimate, uint64_t budget_left);
 
-// The estimate above, saturating: `pixel_pairs` sums each pair's tile pixels.
-uint64_t fragment_work_estimate(uint64_t pairs, uint64_t pixel_pairs, uint64_t instructions_bound);
+// The estimate above, saturating.
+uint64_t fragment_work_estimate(uint64_t pairs, uint64_t pixels, uint64_t instructions_bound);
 
 class DrawRollback {
 public:
