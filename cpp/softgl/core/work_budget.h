@@ -47,13 +47,14 @@ public:
         thread_local InterruptPoller* poller = nullptr;
         return poller;
     }
-    // Polls when kInterruptPollNanoseconds have passed since the last poll.
+    // Polls when kInterruptPollNanoseconds have passed since the last poll (or the first call).
     void maybe_poll() {
         const int64_t now = std::chrono::duration_cast<std::chrono::nanoseconds>(
             std::chrono::steady_clock::now().time_since_epoch()).count();
         if (now < next_) return;
-        next_ = now + kInterruptPollNanoseconds;
-        poll();
+        const bool first = next_ == 0;   // a call's first poll only starts the clock: short calls
+        next_ = now + kInterruptPollNanoseconds;   // never take the GIL (Python sees Ctrl-C after them)
+        if (!first) poll();
     }
 
 protected:
