@@ -24,9 +24,9 @@ namespace softgl {
 // over its primitives of (bounding box width + 2) x (height + 2) pixels (Bins::quad_pixels_bound)
 // times (the fragment shader's instruction bound + kFragmentWorkUnits), plus kTilePrimitiveWorkUnits
 // per (primitive, tile) pair: an upper bound of what the tile pass charges the budget, and a
-// measure of its time. Past kRollbackWorkThreshold (2^26 units: about 0.1-0.3 s of work here) a
+// measure of its time. Past kRollbackWorkThreshold (2^28 units: about 0.3-1 s of work here) a
 // Ctrl-C mid-draw matters, so the draw keeps copies.
-inline constexpr uint64_t kRollbackWorkThreshold = uint64_t(1) << 26;
+inline constexpr uint64_t kRollbackWorkThreshold = uint64_t(1) << 28;
 
 // Whether a draw keeps copies of the pixels it writes: when it runs in more than one batch (a
 // later batch can stop after an earlier one wrote), when its fragment shader has a loop with no
