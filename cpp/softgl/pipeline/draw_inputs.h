@@ -37,7 +37,7 @@ struct DrawInputs {
     const Tuning& tuning;             // the context's speed-path switches (core/tuning.h)
     FragmentSink* sink = nullptr;   // blend lab hooks (pipeline/fragment_sink.h); null = off
     // The call's work budget (core/work_budget.h); null: unbudgeted. The draw charges it per
-    // vertex, primitive and (primitive, tile) pair, the shaders' executors per instruction.
+    // vertex, primitive, (primitive, tile) pair and fragment, the shaders' executors per loop iteration.
     WorkBudget* budget = nullptr;
 };
 
