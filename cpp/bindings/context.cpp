@@ -1,4 +1,5 @@
 #include <cstring>
+#include <optional>
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <pybind11/stl.h>
@@ -7,6 +8,7 @@
 #include "softgl/api/context.h"
 #include "array_intake.h"
 #include "exclusive.h"
+#include "interruptible.h"
 #include "convert.h"
 #include "signatures.h"
 #include "webidl.h"
@@ -173,6 +175,16 @@ void bind_state(ContextClass& cls) {
                      f(code, call, why);
                  });
              })
+        // set_work_budget / work_budget (python/softgl/context.py): 0 leaves a limit unchanged.
+        .def("_set_work_budget",
+             [](Context& c, uint64_t draw, uint64_t compile) {
+                 if (draw) c.work_limits().draw = draw;
+                 if (compile) c.work_limits().compile = compile;
+             })
+        .def("_work_budget",
+             [](Context& c) {
+                 return py::make_tuple(c.work_limits().draw, c.work_limits().compile, c.work_budget().used());
+             })
         .def("_attributes", [](const Context& c) { return c.attributes(); })
         .def("_present", &Context::present)
         .def("getError", webidl(&Context::get_error))
@@ -310,8 +322,7 @@ void bind_shaders_and_programs(ContextClass& cls) {
             return (s && s->owner == c.identity() && !s->deleted) ? py::object(py::str(src)) : py::object(py::none());
         })
         .def("compileShader", [](Context& c, const std::shared_ptr<softgl::Shader>& s) {
-            softgl::bindings::ExclusiveWithoutGil release(c);
-            c.compile_shader(s);
+            softgl::bindings::run_interruptible(c, [&] { c.compile_shader(s); });
         })
         .def("getShaderParameter", [](Context& c, const std::shared_ptr<softgl::Shader>& s, IdlUint32 pname) {
             return to_python(c.get_shader_parameter(s, pname.value));
@@ -335,8 +346,7 @@ void bind_shaders_and_programs(ContextClass& cls) {
             c.bind_attrib_location(p, index.value, name);
         })
         .def("linkProgram", [](Context& c, const std::shared_ptr<softgl::Program>& p) {
-            softgl::bindings::ExclusiveWithoutGil release(c);
-            c.link_program(p);
+            softgl::bindings::run_interruptible(c, [&] { c.link_program(p); });
         })
         .def("validateProgram", &Context::validate_program)
         .def("useProgram", &Context::use_program)
@@ -378,24 +388,19 @@ void bind_uniforms(ContextClass& cls) {
 // Draw calls, the fog extension, draw statistics and readPixels.
 void bind_drawing(ContextClass& cls) {
     cls.def("drawArrays", [](Context& c, IdlUint32 mode, IdlInt32 first, IdlInt32 count) {
-            softgl::bindings::ExclusiveWithoutGil release(c);
-            c.draw_arrays(mode.value, first.value, count.value, 1, "drawArrays");
+            softgl::bindings::run_interruptible(c, [&] { c.draw_arrays(mode.value, first.value, count.value, 1, "drawArrays"); });
         })
         .def("drawElements", [](Context& c, IdlUint32 mode, IdlInt32 count, IdlUint32 type, int64_t offset) {
-            softgl::bindings::ExclusiveWithoutGil release(c);
-            c.draw_elements(mode.value, count.value, type.value, offset, 1, "drawElements");
+            softgl::bindings::run_interruptible(c, [&] { c.draw_elements(mode.value, count.value, type.value, offset, 1, "drawElements"); });
         })
         .def("drawArraysInstanced", [](Context& c, IdlUint32 mode, IdlInt32 first, IdlInt32 count, IdlInt32 instances) {
-            softgl::bindings::ExclusiveWithoutGil release(c);
-            c.draw_arrays(mode.value, first.value, count.value, instances.value, "drawArraysInstanced");
+            softgl::bindings::run_interruptible(c, [&] { c.draw_arrays(mode.value, first.value, count.value, instances.value, "drawArraysInstanced"); });
         })
         .def("drawElementsInstanced", [](Context& c, IdlUint32 mode, IdlInt32 count, IdlUint32 type, int64_t offset, IdlInt32 instances) {
-            softgl::bindings::ExclusiveWithoutGil release(c);
-            c.draw_elements(mode.value, count.value, type.value, offset, instances.value, "drawElementsInstanced");
+            softgl::bindings::run_interruptible(c, [&] { c.draw_elements(mode.value, count.value, type.value, offset, instances.value, "drawElementsInstanced"); });
         })
         .def("drawRangeElements", [](Context& c, IdlUint32 mode, IdlUint32 start, IdlUint32 end, IdlInt32 count, IdlUint32 type, int64_t offset) {
-            softgl::bindings::ExclusiveWithoutGil release(c);
-            c.draw_range_elements(mode.value, start.value, end.value, count.value, type.value, offset);
+            softgl::bindings::run_interruptible(c, [&] { c.draw_range_elements(mode.value, start.value, end.value, count.value, type.value, offset); });
         })
         .def("_fog", [](Context& c, const std::string& call, IdlUint32 pname, Arg<softgl::bindings::Floats> given) {
             static thread_local std::string name;
@@ -418,7 +423,7 @@ void bind_drawing(ContextClass& cls) {
             SOFTGL_STAT(draws_early_depth) SOFTGL_STAT(draws_plain_write) SOFTGL_STAT(draws_blend_table)
             SOFTGL_STAT(texture_queries_fast)
             SOFTGL_STAT(draws_late_tests) SOFTGL_STAT(draws_per_lane_color) SOFTGL_STAT(draws_constant_color)
-            SOFTGL_STAT(draws_copied_varying)
+            SOFTGL_STAT(draws_copied_varying) SOFTGL_STAT(draws_with_rollback)
             SOFTGL_STAT(seconds_vertex)
             SOFTGL_STAT(seconds_setup) SOFTGL_STAT(seconds_fragment)
 #undef SOFTGL_STAT

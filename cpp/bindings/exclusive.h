@@ -37,6 +37,7 @@ public:
         release_.reset();              // take the GIL back first
         if (!nested_) context_.busy() = 0;
     }
+    bool nested() const { return nested_; }   // re-entered from an error handler inside a call
     ExclusiveWithoutGil(const ExclusiveWithoutGil&) = delete;
     ExclusiveWithoutGil& operator=(const ExclusiveWithoutGil&) = delete;
 

@@ -334,6 +334,20 @@ class Context(_core.Context):
         self._extensions[name] = self._extensions[canonical] = ext
         return ext
 
+    def set_work_budget(self, draw: int | None = None, compile: int | None = None) -> None:
+        """Sets the work budget of each draw and of each compile or link, in units of about one
+        GLSL instruction on one vertex or fragment (docs/reliability.md, "Work budget and
+        Ctrl-C"). A call that exceeds it stops, changes nothing and records OUT_OF_MEMORY."""
+        for name, value in (("draw", draw), ("compile", compile)):
+            if value is not None and (not isinstance(value, int) or isinstance(value, bool) or not 1 <= value < 2**64):
+                raise ValueError(f"set_work_budget: {name} must be an int from 1 to 2**64 - 1, got {value!r}")
+        self._set_work_budget(draw or 0, compile or 0)
+
+    def work_budget(self) -> dict:
+        """The work budgets (set_work_budget) and the units the last draw, compile or link used."""
+        draw, compile, used = self._work_budget()
+        return {"draw": draw, "compile": compile, "last_call_used": used}
+
     def stats(self, reset: bool = False) -> dict:
         """softgl's counters since the context was made (or last reset): what the draws did and
         what they skipped (docs/architecture.md, "Fast paths"), with seconds per stage.
@@ -348,8 +362,8 @@ class Context(_core.Context):
         ``fragments_hidden`` counts fragments that passed the tests but were not shaded, because
         a later primitive of the same draw covers their pixel and nothing blends (hidden-surface
         removal, single-sampled targets, in tiles where primitives pile up): the bytes are the
-        same as when every fragment is shaded. A shader's loop-limit abort can then only come
-        from a fragment that is shaded.
+        same as when every fragment is shaded. Hidden fragments are not charged to the draw's work
+        budget (set_work_budget).
 
         ``primitives_depth_hidden`` counts (primitive, tile) pairs that were neither rasterized
         nor tested, because the tile's stored depth words show that every fragment of the
@@ -372,7 +386,10 @@ class Context(_core.Context):
         reached their first tile pass, ``draws_constant_color`` (a uniform-only shader run once,
         its colour straight to the colour kernels), ``draws_blend_table`` (that colour blended by
         table lookup) and ``draws_copied_varying`` (a shader that only copies varyings or
-        constants to its colours, not run)."""
+        constants to its colours, not run). ``draws_with_rollback`` counts draws that kept a copy
+        of each tile they wrote, to put it back if stopped (docs/reliability.md, "Work budget
+        and Ctrl-C": draws in several batches, with a fragment loop of unknown length, or with
+        much fragment work)."""
         if not isinstance(reset, (bool, np.bool_, int)):
             raise TypeError(f"stats: reset must be a bool; got {type(reset).__name__} {reset!r:.40}")
         return self._stats(reset)

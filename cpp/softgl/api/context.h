@@ -12,6 +12,7 @@
 #include "softgl/core/objects.h"
 #include "softgl/api/programs.h"
 #include "softgl/core/state.h"
+#include "softgl/core/work_budget.h"
 #include "softgl/api/textures.h"
 #include "softgl/api/value.h"
 #include "softgl/pipeline/draw.h"
@@ -79,6 +80,14 @@ public:
     ThreadPool& pool();
     // The speed-path switches of this context's draws (core/tuning.h), from the process default.
     Tuning& tuning() { return tuning_; }
+    // The work budget of the call running on this context (core/work_budget.h): the bindings ask
+    // it to stop on Ctrl-C. Its limits per draw and per compile or link are settable.
+    WorkBudget& work_budget() { return work_budget_; }
+    struct WorkLimits {
+        uint64_t draw = kDrawWorkBudgetDefault;
+        uint64_t compile = kCompileWorkBudgetDefault;   // each compile and each link
+    };
+    WorkLimits& work_limits() { return work_limits_; }
     DrawStats& stats() { return stats_; }
     // The plan of the last draw that reached the pipeline (pipeline/draw_plan.h); null before one.
     const DrawPlan* last_draw_plan() const { return last_draw_plan_ ? &*last_draw_plan_ : nullptr; }
@@ -363,7 +372,10 @@ private:
     bool check_name_length(const char* call, const std::string& name);
     void release_shader(const std::shared_ptr<Shader>& shader);
     bool validate_draw_state(const char* call);
-    void run_draw(const DrawCall& call);
+    void run_draw(const DrawCall& call, const char* call_name);
+    // A call stopped by its work budget or Ctrl-C: records OUT_OF_MEMORY naming the call
+    // (docs/reliability.md, "Work budget and Ctrl-C"); `what` says what was left unchanged.
+    void report_stopped(const char* call, StopReason reason, uint64_t limit, const char* what);
 
     // ---- Textures and framebuffers (textures.cpp, framebuffers.cpp) --------------------------
     struct TextureUnit {
@@ -398,6 +410,8 @@ private:
 
     std::unique_ptr<ThreadPool> pool_;   // created at the first draw
     Tuning tuning_ = Tuning::process_default();
+    WorkBudget work_budget_;
+    WorkLimits work_limits_;
     DrawStats stats_;
     std::optional<DrawPlan> last_draw_plan_;
 };

@@ -43,7 +43,19 @@ bool Context::validate_draw_state(const char* call) {
     return prepare_textures_and_targets(call);   // textures.cpp: units, completeness, framebuffer
 }
 
-void Context::run_draw(const DrawCall& call) {
+void Context::report_stopped(const char* call, StopReason reason, uint64_t limit, const char* what) {
+    // OUT_OF_MEMORY: the call ran out of a resource, here its work budget (ES 3.0 §2.5: "not
+    // enough memory left to execute the command"), and the context stays usable; softgl
+    // guarantees more than GL does after it: nothing changed. docs/reliability.md, "Work budget
+    // and Ctrl-C", says why not CONTEXT_LOST_WEBGL or INVALID_OPERATION.
+    if (reason == StopReason::Interrupted)
+        return error(gl::OUT_OF_MEMORY, call, std::string("interrupted (Ctrl-C); ") + what);
+    error(gl::OUT_OF_MEMORY, call,
+          "stopped: the work budget of " + std::to_string(limit) + " units ran out (a loop that never ends, or more work "
+          "than the budget allows: see set_work_budget); " + what);
+}
+
+void Context::run_draw(const DrawCall& call, const char* call_name) {
     Program& p = *current_program_;
     // gl_DepthRange is a built-in uniform: (near, far, far - near) from the current state.
     for (const auto& u : p.linked->reflection.uniforms) {
@@ -66,7 +78,18 @@ void Context::run_draw(const DrawCall& call) {
     }
     DrawInputs in{*state, *vertex_array_, current_attribs_, *p.vertex_stage, *p.fragment_stage, target, pool(), tuning_};
     in.sink = blendlab_sink();                  // blend lab hooks; null unless enabled
-    last_draw_plan_ = draw(in, call, stats_);
+    in.budget = &work_budget_;
+    work_budget_.begin(work_limits_.draw);
+    p.vertex_stage->set_budget(&work_budget_);
+    p.fragment_stage->set_budget(&work_budget_);
+    try {
+        last_draw_plan_ = draw(in, call, stats_);
+    } catch (const WorkStopped& stopped) {
+        // The pipeline put back every pixel, depth and stencil value it wrote (pipeline/draw_rollback.h).
+        if (in.sink) blendlab().end_draw();
+        return report_stopped(call_name, stopped.reason, work_limits_.draw,
+                              "nothing was drawn: every pixel, depth and stencil value is as before the call");
+    }
     // Counted per worker by the stages (no shared writes while drawing); summed here, per draw.
     stats_.texture_queries_fast +=
         p.vertex_stage->take_fast_texture_queries() + p.fragment_stage->take_fast_texture_queries();
@@ -87,7 +110,7 @@ void Context::draw_arrays(GLenum mode, int32_t first, int32_t count, int32_t ins
     dc.first = uint32_t(first);
     dc.count = uint32_t(count);
     dc.instance_count = uint32_t(instances);
-    run_draw(dc);
+    run_draw(dc, call);
 }
 
 void Context::draw_elements(GLenum mode, int32_t count, GLenum type, int64_t offset, int32_t instances,
@@ -161,7 +184,7 @@ void Context::draw_elements(GLenum mode, int32_t count, GLenum type, int64_t off
     dc.count = uint32_t(indices.size());
     dc.indices = indices.data();
     dc.instance_count = uint32_t(instances);
-    run_draw(dc);
+    run_draw(dc, call);
 }
 
 void Context::draw_range_elements(GLenum mode, uint32_t start, uint32_t end, int32_t count, GLenum type, int64_t offset) {

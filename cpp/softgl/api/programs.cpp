@@ -113,7 +113,16 @@ void Context::compile_shader(const std::shared_ptr<Shader>& shader) {
                                         {"WEBGL_draw_buffers", "GL_EXT_draw_buffers"}})
             if (extension_enabled(webgl)) enabled.insert(glsl_name);
     }
-    glsl::CompileResult result = glsl::compile(shader->source, stage, version(), version() == 1 ? &enabled : nullptr);
+    glsl::CompileResult result;
+    try {
+        // The compile's work budget (core/work_budget.h): the compiler charges the current one.
+        work_budget_.begin(work_limits_.compile);
+        CurrentWorkBudget budget(&work_budget_);
+        result = glsl::compile(shader->source, stage, version(), version() == 1 ? &enabled : nullptr);
+    } catch (const WorkStopped& stopped) {
+        return report_stopped("compileShader", stopped.reason, work_limits_.compile,
+                              "the shader is as before the call (its status, info log and compiled code)");
+    }
     shader->compile_status = result.ok;
     shader->info_log = result.info_log;
     shader->compiled = result.ok ? result.shader : nullptr;
@@ -199,6 +208,7 @@ void Context::bind_attrib_location(const std::shared_ptr<Program>& program, uint
 void Context::link_program(const std::shared_ptr<Program>& program) {
     if (!check_program("linkProgram", program.get())) return;
     Program& p = *program;
+    const bool was_linked = p.link_status, was_validated = p.validate_status;
     p.link_status = false;
     p.validate_status = false;
     std::string log;
@@ -215,7 +225,16 @@ void Context::link_program(const std::shared_ptr<Program>& program) {
         link_limits.max_vertex_texture_image_units = limits::kMaxVertexTextureImageUnits;
         link_limits.max_texture_image_units = limits::kMaxTextureImageUnits;
         link_limits.max_combined_texture_image_units = limits::kMaxCombinedTextureImageUnits;
-        result = glsl::link(*p.vertex->compiled, *p.fragment->compiled, link_limits, p.attribute_bindings);
+        try {
+            work_budget_.begin(work_limits_.compile);   // a link's work budget (core/work_budget.h)
+            CurrentWorkBudget budget(&work_budget_);
+            result = glsl::link(*p.vertex->compiled, *p.fragment->compiled, link_limits, p.attribute_bindings);
+        } catch (const WorkStopped& stopped) {
+            p.link_status = was_linked;
+            p.validate_status = was_validated;
+            return report_stopped("linkProgram", stopped.reason, work_limits_.compile,
+                                  "the program is as before the call (its status, info log and executable)");
+        }
         log = result.info_log;
     }
     p.info_log = log;

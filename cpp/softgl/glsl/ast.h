@@ -80,6 +80,7 @@ struct Symbol {
     ConstantValue constant_value;  // for const variables with constant initializers
     bool statically_used = false;  // referenced by code reachable from main (set during lowering)
     bool written = false;
+    uint32_t writes = 0;         // l-values naming it checked so far (a loop body's writes: checker)
     int id = 0;
 };
 
@@ -153,6 +154,9 @@ struct Stmt {
     std::unique_ptr<TypeSpec> decl_type;  // Declaration
     std::vector<VarDecl> decls;
     bool new_scope = true;         // a Block that is a function body shares the parameters' scope
+    // For: the most iterations it can run when it is a counted loop (constant start, bound and
+    // step; the body never writes the index), else -1. Set by the checker; bounds a shader's work.
+    int64_t max_trips = -1;
 
     Stmt(StmtKind k, int l) : kind(k), line(l) {}
 };

@@ -1,4 +1,5 @@
 #include "softgl/glsl/checker.h"
+#include "softgl/core/work_budget.h"
 
 #include <cmath>
 #include <cstring>
@@ -681,6 +682,7 @@ private:
     }
 
     void statement(Stmt& s) {
+        WorkBudget::charge_current(1);   // the compile's work budget (core/work_budget.h)
         switch (s.kind) {
         case StmtKind::Block: block(s); break;
         case StmtKind::Declaration: {
@@ -714,9 +716,13 @@ private:
             if (s.condition) condition(*s.condition, "for");
             if (s.expression) expression(*s.expression);
             if (!es3()) check_appendix_a_loop(s);
+            Symbol* index = nullptr;
+            const int64_t trips = counted_loop_trips(s, index);
+            const uint32_t index_writes = index ? index->writes : 0;
             ++loop_depth_;
             sub_statement(*s.body[1]);
             --loop_depth_;
+            if (trips >= 0 && index->writes == index_writes) s.max_trips = trips;
             if (!es3() && !loop_indices_.empty()) loop_indices_.pop_back();
             scopes_.pop_back();
             break;
@@ -794,6 +800,55 @@ private:
             error(body.body.back()->line, "'switch' : a label must be followed by a statement");
         scopes_.pop_back();
         --switch_depth_;
+    }
+
+    // The iterations of a counted for loop, `for (int|float i = c0; i relop c1; i++ | i-- | ++i |
+    // --i | i += c | i -= c)` with constants, counted by running its index in the index's own
+    // arithmetic; -1 for any other loop or beyond kMaxCountedTrips. `index` is set for a counted
+    // loop: the caller checks that the body does not write it. The pipeline uses the count to bound
+    // a fragment shader's work (docs/reliability.md, "Work budget and Ctrl-C").
+    static constexpr int64_t kMaxCountedTrips = 1 << 16;
+    static int64_t counted_loop_trips(const Stmt& s, Symbol*& index) {
+        index = nullptr;
+        const Stmt& init = *s.body[0];
+        if (init.kind != StmtKind::Declaration || init.decls.size() != 1 || !init.decls[0].symbol) return -1;
+        const VarDecl& d = init.decls[0];
+        if (!d.initializer || !d.initializer->is_constant || d.initializer->constant.size() != 1) return -1;
+        Symbol* sym = d.symbol;
+        const bool is_int = sym->type == Type::scalar(BaseType::Int);
+        if (!is_int && !(sym->type == Type::scalar(BaseType::Float))) return -1;
+        const Expr* c = s.condition.get();
+        if (!c || c->kind != ExprKind::Binary || c->kids[0]->kind != ExprKind::Identifier || c->kids[0]->symbol != sym ||
+            !c->kids[1]->is_constant || c->kids[1]->constant.size() != 1 || !(c->kids[1]->type == sym->type))
+            return -1;
+        const std::string& op = c->op;
+        if (op != "<" && op != "<=" && op != ">" && op != ">=" && op != "!=") return -1;
+        const Expr* e = s.expression.get();
+        if (!e || e->kids.empty() || e->kids[0]->kind != ExprKind::Identifier || e->kids[0]->symbol != sym) return -1;
+        double step;
+        if ((e->kind == ExprKind::Postfix || e->kind == ExprKind::Unary) && (e->op == "++" || e->op == "--")) {
+            step = e->op == "++" ? 1 : -1;
+        } else if (e->kind == ExprKind::Assign && (e->op == "+=" || e->op == "-=") && e->kids[1]->is_constant &&
+                   e->kids[1]->constant.size() == 1 && e->kids[1]->type == sym->type) {
+            const Scalar k = e->kids[1]->constant[0];
+            step = (is_int ? double(k.i) : double(k.f)) * (e->op == "+=" ? 1 : -1);
+        } else {
+            return -1;
+        }
+        const Scalar start = d.initializer->constant[0], bound = c->kids[1]->constant[0];
+        auto holds = [&](auto i, auto b) {
+            return op == "<" ? i < b : op == "<=" ? i <= b : op == ">" ? i > b : op == ">=" ? i >= b : i != b;
+        };
+        int64_t trips = 0;
+        if (is_int) {   // int64: no wrap-around within kMaxCountedTrips steps of an int32 step
+            for (int64_t i = start.i; holds(i, int64_t(bound.i)); i += int64_t(step))
+                if (++trips > kMaxCountedTrips || i < INT32_MIN || i > INT32_MAX) return -1;
+        } else {
+            for (float i = start.f; holds(i, bound.f); i += float(step))
+                if (++trips > kMaxCountedTrips) return -1;
+        }
+        index = sym;
+        return trips;
     }
 
     // ES 1.00 Appendix A §4: for (type-specifier identifier = constant-expression;
@@ -937,6 +992,7 @@ private:
                 return false;
             }
             sym->written = true;
+            ++sym->writes;
             return true;
         }
         case ExprKind::Index: return check_lvalue(*e.kids[0], op, true);

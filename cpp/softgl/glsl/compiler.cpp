@@ -1,4 +1,5 @@
 #include "softgl/glsl/compiler.h"
+#include "softgl/core/work_budget.h"
 
 #include <algorithm>
 #include <set>
@@ -204,6 +205,8 @@ CompileResult compile(const std::string& source, Stage stage, int webgl_version,
             }
             shader->program = std::move(program);
         }
+    } catch (const WorkStopped&) {
+        throw;   // the call stops (api/ reports it); not a compile error
     } catch (const std::exception& e) {
         diagnostics.error(0, std::string("internal compiler error: ") + e.what());
     }

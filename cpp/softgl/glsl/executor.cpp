@@ -51,7 +51,6 @@ struct ExecutorFrame {
     uint32_t* other;  // If: lanes for the else branch; Loop: lanes still looping
     int begin;        // index of the opening instruction
     bool in_else = false;
-    uint64_t iterations = 0;
 };
 using Frame = ExecutorFrame;
 
@@ -188,12 +187,19 @@ void Executor::fuse_products(const IrProgram& program, const std::vector<uint8_t
 Executor::~Executor() = default;
 
 void Executor::run(const StageRun& run) {
+    budget_ = run.budget;
+    if (!budget_) {
+        own_budget_.begin(kExecutorRunBudgetDefault);
+        budget_ = &own_budget_;
+    }
+    unflushed_ = 0;
     const int lanes = std::min(batch_, run.lane_count);
     for (size_t pc = 0; pc < prologue_end_; ++pc) {
         const Instruction& i = code_[pc];
         fill(own(i.dst), lanes, run.uniforms ? run.uniforms[i.imm[0]] : Scalar{});
     }
     for (int first = 0; first < run.lane_count; first += batch_) run_batch(run, first, std::min(batch_, run.lane_count - first));
+    if (unflushed_) flush_charges();   // loops ran: their last iterations (straight-line code is not charged)
 }
 
 void Executor::run_batch(const StageRun& run, int first, int lanes) {
@@ -570,7 +576,7 @@ __attribute__((always_inline)) inline void Executor::execute(const int n, const 
         case Op::LoopEnd: {
             Frame& f = frames.back();
             if (any_set(f.other, n)) {
-                if (++f.iterations > max_loop_iterations) throw ExecutionError("loop iteration limit exceeded");
+                charge(uint64_t(n) * uint64_t(pc - f.begin + 1));   // the call's work budget
                 set_mask(f.other);
                 pc = f.begin;  // continue after LoopBegin
             } else {

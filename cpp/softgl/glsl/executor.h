@@ -19,6 +19,7 @@
 
 #include "softgl/core/simd.h"
 #include "softgl/core/tuning.h"
+#include "softgl/core/work_budget.h"
 #include "softgl/glsl/ir.h"
 
 namespace softgl::glsl {
@@ -78,6 +79,10 @@ struct StageRun {
     uint8_t* discarded = nullptr;      // fragment: set to 1 for lanes that executed discard
     SamplerPath sampler_path = SamplerPath::Best;   // TextureQuery::path of every lookup
     uint64_t* fast_texture_queries = nullptr;       // TextureQuery::fast_queries of every lookup
+    // The call's work budget (core/work_budget.h), charged lanes x loop body per loop iteration
+    // (straight-line code is not charged); WorkStopped ends the run. Null: the executor's own
+    // budget of kExecutorRunBudgetDefault per run (tests, constant folding).
+    WorkBudget* budget = nullptr;
 };
 
 struct ExecutorFrame;
@@ -98,11 +103,6 @@ public:
     Executor(const Executor&) = delete;
     Executor& operator=(const Executor&) = delete;
     void run(const StageRun& run);
-
-    // Loops that run longer than this many iterations abort the draw (a GPU would hang or
-    // lose the context; softgl reports it). Only fragments that are shaded can abort: those
-    // hidden by hidden-surface removal (pipeline/tile_pass.cpp OwnerMap) are not run.
-    uint64_t max_loop_iterations = 1u << 24;
 
     // The level the lane loops (and the sampler's, TextureQuery::simd) run at: best_simd_level()
     // unless lowered, e.g. to a draw's Tuning::simd; capped at best_simd_level().
@@ -148,6 +148,20 @@ private:
     bool skip_inactive_lanes_ = false;   // libm calls only in active lanes (see the constructor)
     int max_depth_ = 0;
     std::vector<Scalar> scratch_;  // derivatives for texture lookups
+    // The run's budget and the units not yet passed on to it (every WorkBudget::kFlushUnits, and
+    // at the end of the run): one shared atomic add per 65,536 units, not per loop iteration.
+    WorkBudget* budget_ = nullptr;
+    WorkBudget own_budget_;
+    uint64_t unflushed_ = 0;
+    void charge(uint64_t units) {
+        unflushed_ += units;
+        if (unflushed_ >= WorkBudget::kFlushUnits) flush_charges();
+    }
+    void flush_charges() {
+        const uint64_t u = unflushed_;
+        unflushed_ = 0;
+        budget_->charge(u);
+    }
 };
 
 }  // namespace softgl::glsl

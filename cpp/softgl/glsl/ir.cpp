@@ -105,4 +105,21 @@ std::string IrProgram::dump() const {
     return out.str();
 }
 
+uint64_t instructions_bound(const IrProgram& program) {
+    constexpr uint64_t kUnbounded = ~uint64_t(0);
+    auto saturating_add = [](uint64_t a, uint64_t b) { return a > kUnbounded - b ? kUnbounded : a + b; };
+    std::vector<uint64_t> times{1};   // how often the current instruction can run
+    uint64_t total = 0;
+    for (const Instruction& i : program.code) {
+        if (i.op == Op::LoopBegin) {
+            if (i.imm[1] <= 0) return kUnbounded;
+            const uint64_t outer = times.back(), n = uint64_t(i.imm[1]);
+            times.push_back(outer > kUnbounded / n ? kUnbounded : outer * n);
+        }
+        total = saturating_add(total, times.back());
+        if (i.op == Op::LoopEnd && times.size() > 1) times.pop_back();
+    }
+    return total;
+}
+
 }  // namespace softgl::glsl

@@ -58,7 +58,8 @@ enum class Op : uint8_t {
     Texture,       // see TextureInstruction (extra operands)
     // Structured control flow
     IfBegin, Else, IfEnd,
-    LoopBegin, LoopBreakUnless, LoopContinuePoint, LoopEnd,
+    LoopBegin,     // imm[1]: the most times the loop's condition runs (counted for loops), 0: unknown
+    LoopBreakUnless, LoopContinuePoint, LoopEnd,
     SwitchBegin, SwitchEnd,
     FunctionBegin, FunctionEnd,
     Break, Continue, Return, Discard,
@@ -190,6 +191,11 @@ std::vector<int32_t> region_ends(const IrProgram& program);
 // LOD of fragment texture lookups. Only then can a lane observe values computed in lanes that
 // were inactive.
 bool reads_quad_neighbours(const IrProgram& program);
+
+// The most instructions one invocation can execute (each loop's body counted as often as its
+// condition can run); UINT64_MAX when a loop has no known bound. The draw uses it to decide whether
+// it must be able to put pixels back when stopped (docs/reliability.md, "Work budget and Ctrl-C").
+uint64_t instructions_bound(const IrProgram& program);
 
 // Sets `target` of every control instruction (and LoopBegin.imm[0] = its continue point).
 // Returns false if the structure is malformed.

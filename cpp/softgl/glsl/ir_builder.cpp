@@ -1,4 +1,5 @@
 #include "softgl/glsl/ir_builder.h"
+#include "softgl/core/work_budget.h"
 
 namespace softgl::glsl {
 
@@ -23,6 +24,7 @@ Reg IrBuilder::constant(BaseType type, Scalar value) {
     return r;
 }
 Instruction& IrBuilder::emit(Op op) {
+    WorkBudget::charge_current(1);   // the compile's work budget (core/work_budget.h)
     Instruction i;
     i.op = op;
     i.line = current_line;

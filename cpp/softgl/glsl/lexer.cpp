@@ -1,4 +1,5 @@
 #include "softgl/glsl/lexer.h"
+#include "softgl/core/work_budget.h"
 
 #include <cctype>
 #include <cstring>
@@ -126,6 +127,9 @@ private:
         t.line = line_;
         t.leading_space = space;
         tokens.push_back(std::move(t));
+        // The compile's work budget and Ctrl-C (core/work_budget.h): lexing a huge source takes
+        // seconds, so it charges every 4,096 tokens.
+        if ((tokens.size() & 4095) == 0) WorkBudget::charge_current(4096);
     }
 
     Diagnostics& diagnostics_;

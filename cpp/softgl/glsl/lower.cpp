@@ -839,7 +839,8 @@ private:
         case StmtKind::For: {
             frames_.emplace_back();
             statement(*s.body[0]);
-            b_.emit(Op::LoopBegin);
+            // imm[1]: the most times the condition runs, when the checker counted the loop (ir.h).
+            b_.emit(Op::LoopBegin).imm[1] = s.max_trips >= 0 ? int32_t(s.max_trips + 1) : 0;
             if (s.condition) {
                 Value c = rvalue(*s.condition);
                 b_.emit(Op::LoopBreakUnless).a = c.regs[0];

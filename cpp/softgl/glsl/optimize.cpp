@@ -1,4 +1,5 @@
 #include "softgl/glsl/optimize.h"
+#include "softgl/core/work_budget.h"
 
 #include <algorithm>
 #include <limits>
@@ -209,9 +210,13 @@ bool outputs_depend_only_on_uniforms(const IrProgram& p) {
 
 OptimizeReport optimize(IrProgram& program) {
     OptimizeReport report;
+    // The compile's or link's work budget (core/work_budget.h): each pass reads the whole code.
+    WorkBudget::charge_current(program.code.size());
     report.folded = fold_constants(program);
+    WorkBudget::charge_current(program.code.size());
     report.propagated = propagate_copies(program);
     if (report.propagated) report.folded += fold_constants(program);   // copies of constants fold further
+    WorkBudget::charge_current(program.code.size());
     report.removed = eliminate_dead_code(program);
     link_control_flow(program);
     return report;

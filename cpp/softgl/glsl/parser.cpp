@@ -1,4 +1,5 @@
 #include "softgl/glsl/parser.h"
+#include "softgl/core/work_budget.h"
 
 #include <set>
 #include <unordered_set>
@@ -409,6 +410,7 @@ private:
 
     StmtPtr statement() {
         DepthGuard guard(*this);
+        WorkBudget::charge_current(1);   // the compile's work budget (core/work_budget.h)
         const Token& t = tok();
         int line = t.line;
         if (at("{")) return compound_statement(true);

@@ -1,4 +1,5 @@
 #include "softgl/glsl/preprocessor.h"
+#include "softgl/core/work_budget.h"
 
 #include <cstdint>
 #include <cstdlib>
@@ -78,6 +79,7 @@ private:
             line_tokens.push_back(input_[pos_++]);
         if (pos_ < input_.size() && input_[pos_].kind == TokenKind::Newline) ++pos_;
         for (Token& t : line_tokens) t.line = line(t);
+        WorkBudget::charge_current(line_tokens.size() + 1);   // the compile's work budget
         return line_tokens;
     }
 

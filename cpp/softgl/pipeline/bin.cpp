@@ -24,6 +24,7 @@ void Bins::reset(const TileGrid& grid) {
     grid_ = grid;
     lists_.resize(grid.count());
     tiles_skipped = 0;
+    quad_pixels_bound = 0;
 }
 
 void Bins::begin_gather(const TileGrid& grid, const Bins* parts, size_t count) {
@@ -74,6 +75,7 @@ void Bins::add(const PrimitiveSetup* prims, size_t count, uint32_t index_base) {
     for (size_t i = 0; i < count; ++i) {
         const PrimitiveSetup& p = prims[i];
         const uint32_t n = index_base + uint32_t(i);
+        quad_pixels_bound += uint64_t(p.x1 - p.x0 + 2) * uint64_t(p.y1 - p.y0 + 2);
         const int32_t tx0 = p.x0 / kTileSize, tx1 = (p.x1 - 1) / kTileSize;
         const int32_t ty0 = p.y0 / kTileSize, ty1 = (p.y1 - 1) / kTileSize;
         if (tx0 == tx1 && ty0 == ty1) {   // the common case: a small primitive in one tile

@@ -49,6 +49,9 @@ public:
     // instead of 1.9x from 1 to 2 threads).
     void checkerboard_order(std::vector<uint32_t>& out) const;
     uint64_t tiles_skipped = 0;              // (primitive, tile) pairs rejected by the edge test
+    // Sum over the added primitives of (bounding box width + 2) x (height + 2): at least the lanes
+    // their 2x2 quads can shade (the draw's work estimate, pipeline/draw_rollback.h).
+    uint64_t quad_pixels_bound = 0;
 
 private:
     // A tile's first primitive: the list joins occupied_.

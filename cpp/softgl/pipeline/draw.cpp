@@ -3,10 +3,12 @@
 #include <algorithm>
 #include <atomic>
 #include <chrono>
+#include <optional>
 #include <unordered_map>
 
 #include "softgl/pipeline/assemble.h"
 #include "softgl/pipeline/bin.h"
+#include "softgl/pipeline/draw_rollback.h"
 #include "softgl/pipeline/fragment_sink.h"
 #include "softgl/pipeline/setup.h"
 #include "softgl/pipeline/tile_pass.h"
@@ -99,8 +101,9 @@ T* at_least(std::vector<T>& v, size_t n) {
     return v.data();
 }
 
-// Runs job(chunk, worker) for chunks [0, count) on the pool. After the first exception (a shader's
-// loop limit) the remaining chunks are skipped; parallel_for rethrows it.
+// Runs job(chunk, worker) for chunks [0, count) on the pool. After the first exception (the work
+// budget ran out or Ctrl-C: core/work_budget.h) the remaining chunks are skipped; parallel_for
+// rethrows it.
 template <class Job>
 void for_chunks(ThreadPool& pool, size_t count, const Job& job) {
     std::atomic<bool> failed{false};
@@ -134,8 +137,10 @@ public:
             ? uint32_t(std::min<uint64_t>(call_.instance_count, limit / std::max<uint32_t>(per_instance_, 1))) : 1;
         const uint32_t step = whole_instances_ ? std::max<uint32_t>(per_instance_, 1) : limit;
         if (whole_instances_) list_vertices(0, per_instance_);
+        several_batches_ = call_.instance_count > instances_per_batch || per_instance_ > step;
         for (uint32_t instance = 0; instance < call_.instance_count; instance += instances_per_batch) {
             const uint32_t instances = std::min(instances_per_batch, call_.instance_count - instance);
+            if (in_.budget) in_.budget->check();
             uint32_t p0 = 0;
             do {
                 const uint32_t p1 = uint32_t(std::min<uint64_t>(per_instance_, uint64_t(p0) + step));
@@ -157,6 +162,12 @@ public:
         tile_pass_.add_counters(st_);
     }
 
+    // After run_all, or when it threw: whether the draw kept copies, and putting them back.
+    bool keeps_copies() const { return rollback_.has_value(); }
+    void roll_back() {
+        if (rollback_) rollback_->restore();
+    }
+
 private:
     // Instances [instance, instance + instances), primitives [p0, p1) of each.
     void run(uint32_t instance, uint32_t instances, uint32_t p0, uint32_t p1) {
@@ -167,8 +178,27 @@ private:
         const bool binned = set_up_and_bin(instance, instances, p0, p1);
         st_.seconds_setup += lap(t0);
         if (!binned) return;
+        if (!decided_) decide_rollback();
         tile_pass_.run(TileBatch{*bins_, s_.prims, s_.all, s_.tiles}, st_);
         st_.seconds_fragment += since(t0);
+    }
+
+    // Before the draw's first tile pass (pipeline/draw_rollback.h): a draw that can be stopped after
+    // writing pixels keeps copies to put them back; any other defers a stop to its end (the vertex
+    // stage and setup before this point write no pixel and stop at once).
+    void decide_rollback() {
+        decided_ = true;
+        if (!in_.budget) return;   // unbudgeted (test harnesses): nothing stops it
+        uint64_t pairs = 0, pixels = 0;
+        for (uint32_t tile : s_.tiles) pairs += bins_->tile(tile).size();
+        for (size_t c = 0; c < setup_chunks_; ++c) pixels += s_.chunk_bins[c].quad_pixels_bound;
+        const uint64_t estimate = fragment_work_estimate(pairs, pixels, in_.fragment_shader.instructions_bound());
+        if (rollback_needed(several_batches_, estimate, in_.budget->remaining())) {
+            rollback_.emplace(in_.target, grid_);
+            tile_pass_.set_rollback(&*rollback_);
+        } else {
+            in_.budget->defer_stops(true);
+        }
     }
 
     // The batch's vertices: `ids` (distinct, in first-use order) and, for the vertex numbers in
@@ -245,6 +275,7 @@ private:
             const size_t j = (job / vertex_chunks) * per_job, k = std::min(per_job, size_t(instances) - j);
             const size_t begin = (job % vertex_chunks) * kVertexChunk, per = std::min(kVertexChunk, n - begin);
             const size_t count = k * per;   // k > 1 only when per == n: the lanes are contiguous
+            if (in_.budget) in_.budget->charge(count * kVertexWorkUnits);
             VertexWorker& w = s_.vertex_workers[worker];
             w.vertex_ids.resize(count);
             w.instance_ids.resize(count);
@@ -284,6 +315,7 @@ private:
             chunk.prims.clear();
             Setup setup(rs_);
             const size_t begin = c * kSetupChunk, end = std::min(batch_total, begin + kSetupChunk);
+            if (in_.budget) in_.budget->charge((end - begin) * kPrimitiveWorkUnits);
             uint32_t j = uint32_t(begin / span), p = p0 + uint32_t(begin % span);
             for (size_t k = begin; k < end; ++k, ++p) {
                 if (p == p1) p = p0, ++j;
@@ -305,6 +337,7 @@ private:
             chunk_bins[c].reset(grid_);
             chunk_bins[c].add(chunk.prims.data(), chunk.prims.size(), 0);
         });
+        setup_chunks_ = setup_chunks;
         uint64_t emitted = 0;
         for (size_t c = 0; c < setup_chunks; ++c) setup_stats_.add(s_.chunks[c].stats), emitted += s_.chunks[c].stats.emitted;
         if (!plan_.rasterizes() || emitted == 0) return false;
@@ -357,6 +390,10 @@ private:
     SetupStats setup_stats_;
     const Bins* bins_ = nullptr;
     TilePass tile_pass_;
+    bool several_batches_ = false;
+    size_t setup_chunks_ = 0;   // the last batch's
+    bool decided_ = false;
+    std::optional<DrawRollback> rollback_;
 };
 
 }  // namespace
@@ -377,7 +414,18 @@ DrawPlan draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
     if (plan.blend_lab) in.sink->begin_draw(in.state, *in.target.default_framebuffer());
     in.vertex_shader.prepare(in.tuning);   // the executors' SIMD level and sampler path
     Batches batches(in, call, ops, plan, st);
-    batches.run_all();
+    // A draw that stops part-way (its work budget ran out, Ctrl-C, no memory) after writing pixels
+    // leaves every pixel as it was: the tiles it wrote are put back (pipeline/draw_rollback.h).
+    try {
+        batches.run_all();
+    } catch (...) {
+        batches.roll_back();
+        if (in.budget) in.budget->defer_stops(false);
+        throw;
+    }
+    // A stop deferred to the end of the draw (Ctrl-C): the bindings raise it now; the draw is whole.
+    if (in.budget) in.budget->defer_stops(false);
+    st.draws_with_rollback = batches.keeps_copies();
     batches.add_counters();
     total.add(st);
     return plan;

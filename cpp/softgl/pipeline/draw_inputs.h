@@ -9,6 +9,7 @@
 #include "softgl/core/objects.h"
 #include "softgl/core/state.h"
 #include "softgl/core/tuning.h"
+#include "softgl/core/work_budget.h"
 #include "softgl/pipeline/shader_stage.h"
 #include "softgl/runtime/thread_pool.h"
 #include "softgl/surface/render_target.h"
@@ -35,6 +36,9 @@ struct DrawInputs {
     ThreadPool& pool;
     const Tuning& tuning;             // the context's speed-path switches (core/tuning.h)
     FragmentSink* sink = nullptr;   // blend lab hooks (pipeline/fragment_sink.h); null = off
+    // The call's work budget (core/work_budget.h); null: unbudgeted. The draw charges it per
+    // vertex, primitive, (primitive, tile) pair and fragment, the shaders' executors per loop iteration.
+    WorkBudget* budget = nullptr;
 };
 
 }  // namespace softgl

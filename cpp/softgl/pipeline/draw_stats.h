@@ -29,6 +29,7 @@ struct DrawStats {
     uint64_t draws_per_lane_color = 0;     // colour blended lane by lane, not by the colour kernels
     uint64_t draws_constant_color = 0;     // a uniform-only shader's colour, computed once, to the colour kernels
     uint64_t draws_copied_varying = 0;     // a shader that only copies varyings or constants: not run
+    uint64_t draws_with_rollback = 0;      // kept copies of the pixels they wrote (pipeline/draw_rollback.h)
     uint64_t texture_queries_fast = 0;     // lookups (per instruction and batch of lanes) served by the 2D fast path
     double seconds_vertex = 0, seconds_setup = 0, seconds_fragment = 0;
     void add(const DrawStats& o);

@@ -147,6 +147,7 @@ void GlslVertexShader::run(const std::array<AttributeStream, kMaxVertexAttribs>&
     run.sampler = textures_ ? textures_ : &sampler_;
     run.sampler_path = sampler_path_;
     run.fast_texture_queries = &r.fast_texture_queries;
+    run.budget = budget_;
     r.executor->run(run);
     const Scalar* const* const results = r.outputs.data();
 
@@ -169,6 +170,7 @@ void GlslVertexShader::run(const std::array<AttributeStream, kMaxVertexAttribs>&
 GlslFragmentShader::GlslFragmentShader(std::shared_ptr<const glsl::LinkedProgram> program, const VaryingLayout&)
     : program_(std::move(program)) {
     const glsl::IrProgram& ir = program_->fragment;
+    instructions_bound_ = glsl::instructions_bound(ir);
     input_word_.assign(ir.inputs.size(), -1);
     input_builtin_.assign(ir.inputs.size(), -1);
     int word = 0;
@@ -321,6 +323,7 @@ void GlslFragmentShader::run(const FragmentBatch& b, FragmentResults& out, unsig
     run.sampler_path = sampler_path_;
     run.fast_texture_queries = &w.fast_texture_queries;
     run.discarded = may_discard() ? out.killed.data() : nullptr;
+    run.budget = budget_;
     w.executor->run(run);
     if (R < L) {
         for (size_t k = 0; k < 4 * written; ++k) {

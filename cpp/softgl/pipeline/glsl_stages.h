@@ -33,8 +33,11 @@ public:
     void set_sampler(glsl::TextureSampler* sampler) { textures_ = sampler; }
     // The lookups the sampler's fast path served since the last call (DrawStats::texture_queries_fast).
     uint64_t take_fast_texture_queries() const;
+    // The draw's work budget (core/work_budget.h), charged by the executors' loops.
+    void set_budget(WorkBudget* budget) { budget_ = budget; }
 
 private:
+    WorkBudget* budget_ = nullptr;
     glsl::TextureSampler* textures_ = nullptr;
     mutable SimdLevel simd_ = best_simd_level();             // the draw's (prepare)
     mutable SamplerPath sampler_path_ = SamplerPath::Best;   // the draw's (prepare)
@@ -83,8 +86,13 @@ public:
     void set_sampler(glsl::TextureSampler* sampler) { textures_ = sampler; }
     // The lookups the sampler's fast path served since the last call (DrawStats::texture_queries_fast).
     uint64_t take_fast_texture_queries() const;
+    uint64_t instructions_bound() const override { return instructions_bound_; }
+    // The draw's work budget (core/work_budget.h), charged by the executors' loops.
+    void set_budget(WorkBudget* budget) { budget_ = budget; }
 
 private:
+    uint64_t instructions_bound_ = ~uint64_t(0);   // glsl::instructions_bound of the program
+    WorkBudget* budget_ = nullptr;
     bool find_copies();
     glsl::TextureSampler* textures_ = nullptr;
     mutable SamplerPath sampler_path_ = SamplerPath::Best;   // the draw's (prepare)

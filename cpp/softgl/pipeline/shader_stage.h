@@ -118,6 +118,10 @@ public:
     // copies the colours from the batch, or reads them there, instead of calling run() (unless the
     // context's Tuning turns fragment_copies off; run() always runs the program).
     virtual const FragmentCopies* copies() const { return nullptr; }
+    // The most instructions one invocation can run (glsl::instructions_bound); UINT64_MAX when
+    // unknown. A draw whose fragment work has no small bound can be stopped after writing pixels,
+    // so it keeps copies to put them back (pipeline/draw_rollback.h).
+    virtual uint64_t instructions_bound() const { return ~uint64_t(0); }
 };
 
 }  // namespace softgl

@@ -10,6 +10,7 @@
 #endif
 
 #include "softgl/pipeline/coverage.h"
+#include "softgl/pipeline/draw_rollback.h"
 #include "softgl/pipeline/fragment_sink.h"
 #include "softgl/pipeline/interpolate.h"
 #include "softgl/pipeline/raster.h"
@@ -423,6 +424,12 @@ void TilePass::tile(size_t index, unsigned worker) {
     const size_t tile = (*tiles_)[index];
     Scratch& w = scratch_[worker];
     Tile t{w, worker, grid_.rect(tile), bins_->tile(tile)};
+    // Work budget and rollback (core/work_budget.h, pipeline/draw_rollback.h): when the draw can
+    // be stopped after writing pixels, the tile's pixels are kept before its first write of the
+    // draw; its primitives are charged up front.
+    if (rollback_) rollback_->save(tile, t.rect);
+    if (in_.budget) in_.budget->charge(uint64_t(t.list.size()) * kTilePrimitiveWorkUnits);
+    const uint64_t shaded_before = w.stats.fragments_shaded;
     const bool depth_bounds = plan_.depth_bounds == Path::Taken;
     if (depth_bounds)
         w.depth_bounds.begin_tile(quad_depth_test_, t.rect,
@@ -452,6 +459,8 @@ void TilePass::tile(size_t index, unsigned worker) {
     const std::vector<uint32_t>& list = t.list;
     for (size_t li = 0; li < list.size(); ++li) {
         prefetch_ahead(t, li);
+        // A stop (Ctrl-C, budget) between primitives, when the draw can put its pixels back.
+        if (rollback_ && in_.budget->stop_requested()) in_.budget->check();
         if (t.hide && !w.owns[li]) continue;   // hidden everywhere in this tile
         const PrimitiveSetup& p = (*prims_)[list[li]];
         if (!t.hide && depth_bounds && w.depth_bounds.hides(p)) {
@@ -471,6 +480,9 @@ void TilePass::tile(size_t index, unsigned worker) {
     }
     if constexpr (!WithSink)
         if (gather_) flush(t);   // the rest of the tile's fragments
+    // The tile's fragments (helpers included), charged when done: a draw of many large primitives
+    // without loops (finding 5's instances) runs out of budget too.
+    if (in_.budget) in_.budget->charge((w.stats.fragments_shaded - shaded_before) * kFragmentWorkUnits);
 }
 
 // Every primitive's raster and early tests; per pixel, the list entry of the last survivor.

@@ -32,6 +32,7 @@
 namespace softgl {
 
 class FragmentSink;
+class DrawRollback;
 
 // The batch's set-up primitives: number k is record k & mask of chunk k >> shift (no per-primitive
 // table: the chunk's base address is in a few hot cache lines).
@@ -58,6 +59,8 @@ public:
     void run(const TileBatch& batch, DrawStats& stats);
     // Once at the end of the draw: the workers' counters.
     void add_counters(DrawStats& stats) const;
+    // Each tile's pixels are kept here before the draw first writes them (pipeline/draw_rollback).
+    void set_rollback(DrawRollback* rollback) { rollback_ = rollback; }
 
     struct Scratch;   // per worker (tile_pass.cpp)
 
@@ -99,6 +102,7 @@ private:
                const float (*colors)[4]);
 
     const DrawInputs& in_;
+    DrawRollback* rollback_ = nullptr;
     DrawPlan& plan_;
     const State& state_;
     RenderTarget& fb_;

@@ -1,5 +1,9 @@
 #include "softgl/runtime/thread_pool.h"
 
+#include <chrono>
+
+#include "softgl/core/work_budget.h"
+
 namespace softgl {
 
 unsigned ThreadPool::default_threads() {
@@ -76,7 +80,18 @@ void ThreadPool::parallel_for(size_t count, const Job& job) {
     {
         std::unique_lock<std::mutex> lock(mutex_);
         // Every index has been taken (run_items returned); wait for the workers still running one.
-        done_.wait(lock, [&] { return active_ == 0; });
+        // The thread that made a call polls for Ctrl-C meanwhile (core/work_budget.h): a worker
+        // may be inside a long tile.
+        if (InterruptPoller::current()) {
+            const auto period = std::chrono::nanoseconds(InterruptPoller::kInterruptPollNanoseconds);
+            while (!done_.wait_for(lock, period, [&] { return active_ == 0; })) {
+                lock.unlock();
+                poll_interrupt();
+                lock.lock();
+            }
+        } else {
+            done_.wait(lock, [&] { return active_ == 0; });
+        }
         job_ = nullptr;
         error = error_;
         error_ = nullptr;

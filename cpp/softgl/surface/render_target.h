@@ -41,6 +41,8 @@ public:
     uint8_t* stencil_samples(int32_t x, int32_t y);
     // A framebuffer object's depth and stencil images (null for the drawing buffer or when absent)
     // and where the attached layer starts.
+    // Colour buffer i of a framebuffer object (image null: none; always none for the drawing buffer).
+    const Color& color_attachment(int i) const { return colors_[size_t(i)]; }
     Image* depth_image() const { return depth_; }
     Image* stencil_image() const { return stencil_; }
     size_t depth_offset() const { return depth_offset_; }
