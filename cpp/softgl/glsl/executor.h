@@ -33,6 +33,7 @@ struct TextureQuery {
     int lane_count = 0;
     const uint32_t* active = nullptr;    // per lane: all ones if the lane's result is needed
     const Scalar* unit = nullptr;        // per lane: texture unit (.i) from the sampler uniform
+    bool uniform_unit = false;           // every lane's unit is the same (a sampler uniform loaded once per run)
     const Scalar* coord[3] = {nullptr, nullptr, nullptr};  // s, t, r/layer (.f; .i for Fetch)
     const Scalar* compare = nullptr;     // shadow reference (.f)
     const Scalar* lod = nullptr;         // bias (Bias), level (Explicit, Fetch, Size)
@@ -148,6 +149,9 @@ private:
     bool skip_inactive_lanes_ = false;   // libm calls only in active lanes (see the constructor)
     int max_depth_ = 0;
     std::vector<Scalar> scratch_;  // derivatives for texture lookups
+    // Registers only the prologue's uniform loads write: the same value in every lane
+    // (TextureQuery::uniform_unit).
+    std::vector<uint8_t> uniform_register_;
 };
 
 }  // namespace softgl::glsl

@@ -1619,6 +1619,7 @@ bool one_unit(const glsl::TextureQuery& q, int32_t& unit) {
     while (first < q.lane_count && q.active && !q.active[first]) ++first;
     if (first == q.lane_count) return false;
     unit = q.unit[first].i;
+    if (q.uniform_unit) return true;
     // Branch-free loops over all lanes (lane `first` adds nothing), so that they vectorize:
     // this runs twice per query over the whole batch.
     const int32_t u = unit;
