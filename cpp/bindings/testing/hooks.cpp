@@ -40,4 +40,5 @@ void bind_testing(py::module_& m) {
     bind_testing_early_depth(t);
     bind_testing_raster(t);
     bind_testing_clip(t);
+    bind_testing_sampler(t);
 }

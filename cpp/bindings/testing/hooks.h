@@ -28,6 +28,7 @@ void bind_testing_early_depth(py::module_& t);
 void bind_testing_interpolate(py::module_& t);
 void bind_testing_fragment_ops(py::module_& t);
 void bind_testing_blend_table(py::module_& t);
+void bind_testing_sampler(py::module_& t);
 
 namespace softgl::bindings {
 

@@ -109,6 +109,10 @@ Executor::Executor(const IrProgram& program, int batch_lanes) : program_(program
         if (i.op != Op::LoadUniform || is_slot[i.dst] || program.is_variable[i.dst]) break;
         ++prologue_end_;
     }
+    uniform_register_.assign(R, 0);
+    for (size_t pc = 0; pc < prologue_end_; ++pc) uniform_register_[program.code[pc].dst] = 1;
+    for (size_t pc = prologue_end_; pc < program.code.size(); ++pc)
+        for_each_write(program, program.code[pc], [&](Reg r) { uniform_register_[r] = 0; });
     // Lanes that are inactive compute values nobody reads: a libm call (tan, asin, sinh...) or
     // a vector_math op (pow, exp2, sin...) can skip them when provably nothing does. Readers of inactive lanes would be quad neighbours
     // (derivatives, implicit LOD), or a temporary read where more lanes are active than where
@@ -645,6 +649,7 @@ void Executor::texture(const Instruction& ins, int n, const StageRun& run) {
     q.lane_count = n;
     q.active = mask_storage_.data();
     q.unit = reg(t.unit);
+    q.uniform_unit = uniform_register_[t.unit] != 0;
     for (int k = 0; k < 3; ++k) q.coord[k] = t.coord[k] != kNoReg ? reg(t.coord[k]) : nullptr;
     q.compare = t.compare != kNoReg ? reg(t.compare) : nullptr;
     q.lod = t.lod != kNoReg ? reg(t.lod) : nullptr;

@@ -34,6 +34,7 @@ struct TextureQuery {
     int lane_count = 0;
     const uint32_t* active = nullptr;    // per lane: all ones if the lane's result is needed
     const Scalar* unit = nullptr;        // per lane: texture unit (.i) from the sampler uniform
+    bool uniform_unit = false;           // every lane's unit is the same (a sampler uniform loaded once per run)
     const Scalar* coord[3] = {nullptr, nullptr, nullptr};  // s, t, r/layer (.f; .i for Fetch)
     const Scalar* compare = nullptr;     // shadow reference (.f)
     const Scalar* lod = nullptr;         // bias (Bias), level (Explicit, Fetch, Size)
@@ -162,6 +163,9 @@ private:
         unflushed_ = 0;
         budget_->charge(u);
     }
+    // Registers only the prologue's uniform loads write: the same value in every lane
+    // (TextureQuery::uniform_unit).
+    std::vector<uint8_t> uniform_register_;
 };
 
 }  // namespace softgl::glsl

@@ -1107,6 +1107,317 @@ __attribute__((target("avx2"))) inline uint32_t inside8(const Plane& p, bool lin
     return uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(ok)));
 }
 
+// ---- Colour lookups in blocks of 8 (AVX2), channel-major: out[c] holds channel c of the
+// block's 8 lanes (vector lane k: query lane l + k), the layout of the executor's registers, so
+// results go straight there (no per-lane results, no transposes). Per lane the same operations
+// in the same order as Fast2D::filter (no FMA), so the same bits.
+
+// Whether every texel number of p fits an int32 (gathers take int32 indices); larger 2D arrays
+// are filtered lane by lane (filter8_lanes).
+inline bool int32_indices(const Plane& p) {
+    return uint64_t(p.width) * uint64_t(p.height) * uint64_t(p.layers) <= uint64_t(INT32_MAX);
+}
+
+// What filter8_color reads of one plane, broadcast once per plane and query.
+struct Plane8 {
+    const Plane* p;
+    __m256 width_f, height_f, off_s, off_t;
+    __m256i width, last_i, last_j, last_layer, layer_texels;
+    bool fits;   // int32_indices
+};
+
+__attribute__((target("avx2"))) inline Plane8 plane8(const Fast2D& f, const Plane& p) {
+    const bool fits = int32_indices(p);
+    return {&p,
+            _mm256_set1_ps(float(p.width)), _mm256_set1_ps(float(p.height)),
+            _mm256_set1_ps(float(f.off_s)), _mm256_set1_ps(float(f.off_t)),
+            _mm256_set1_epi32(p.width), _mm256_set1_epi32(p.width - 1), _mm256_set1_epi32(p.height - 1),
+            _mm256_set1_epi32(p.layers - 1), _mm256_set1_epi32(fits ? p.width * p.height : 0), fits};
+}
+
+// wrap_pair / wrap_one of 8 lanes as vectors (last = size - 1): REPEAT of a power of two and
+// CLAMP_TO_EDGE here, the rest lane by lane.
+__attribute__((target("avx2"), always_inline)) inline void wrap8v(GLenum mode, __m256i i, __m256i last, int32_t size,
+                                                                  bool pot, bool pair, __m256i& a, __m256i& b) {
+    const __m256i one = _mm256_set1_epi32(1);
+    if (mode == gl::REPEAT && pot) {
+        a = _mm256_and_si256(i, last);
+        if (pair) b = _mm256_and_si256(_mm256_add_epi32(i, one), last);
+    } else if (mode == gl::CLAMP_TO_EDGE) {
+        const __m256i zero = _mm256_setzero_si256();
+        a = _mm256_max_epi32(_mm256_min_epi32(i, last), zero);
+        if (pair) b = _mm256_max_epi32(_mm256_min_epi32(_mm256_add_epi32(i, one), last), zero);
+    } else {
+        alignas(32) int32_t raw[8], wa[8], wb[8] = {};
+        _mm256_store_si256(reinterpret_cast<__m256i*>(raw), i);
+        for (int k = 0; k < 8; ++k) {
+            if (pair) wrap_pair(mode, raw[k], size, pot, wa[k], wb[k]);
+            else wa[k] = wrap_one(mode, raw[k], size, pot);
+        }
+        a = _mm256_load_si256(reinterpret_cast<const __m256i*>(wa));
+        b = _mm256_load_si256(reinterpret_cast<const __m256i*>(wb));
+    }
+}
+
+// The first texel of each lane's layer (Fast2D::filter: clamp(ifloor(r + 1/2), 0, layers - 1)).
+__attribute__((target("avx2"), always_inline)) inline __m256i layer_start8(const Plane8& P, const float* r) {
+    if (!r || P.p->layers == 1) return _mm256_setzero_si256();
+    const __m256 fl = _mm256_floor_ps(_mm256_add_ps(_mm256_loadu_ps(r), _mm256_set1_ps(0.5f)));
+    const __m256i layer = _mm256_max_epi32(_mm256_min_epi32(ifloor_floored8(fl), P.last_layer), _mm256_setzero_si256());
+    return _mm256_mullo_epi32(layer, P.layer_texels);
+}
+
+// The channels of 8 packed texels: k (bytes) or k / 255, unorm(k, 8) as the float storage holds
+// it (a correctly rounded division: the same float).
+__attribute__((target("avx2"), always_inline)) inline void unpack8(__m256i t, __m256 out[4], bool bytes) {
+    const __m256i byte = _mm256_set1_epi32(255);
+    const __m256 k255 = _mm256_set1_ps(255.0f);
+    for (int c = 0; c < 4; ++c) {
+        const __m256i k = c == 3 ? _mm256_srli_epi32(t, 24) : _mm256_and_si256(c ? _mm256_srli_epi32(t, 8 * c) : t, byte);
+        const __m256 kf = _mm256_cvtepi32_ps(k);
+        out[c] = bytes ? kf : _mm256_div_ps(kf, k255);
+    }
+}
+
+// The texels numbered `index` of 8 lanes as channel vectors: from the bytes by one gather, or
+// from the floats (4 per texel) by 8 loads and a 4x4 transpose in each half. bytes: as k = 255 v
+// (exact for the unorm8 fixed-point rule), else as the floats v.
+__attribute__((target("avx2"), always_inline)) inline void texels8(const Plane& p, __m256i index, bool bytes, __m256 out[4]) {
+    if (p.rgba8) {
+        unpack8(_mm256_i32gather_epi32(reinterpret_cast<const int*>(p.rgba8), index, 4), out, bytes);
+        return;
+    }
+    alignas(32) int32_t at[8];
+    _mm256_store_si256(reinterpret_cast<__m256i*>(at), index);
+    // Register k: lane k's texel in the low half, lane k + 4's in the high half.
+    __m256 r[4];
+    for (int k = 0; k < 4; ++k)
+        r[k] = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(p.color + size_t(at[k]) * 4)),
+                                    _mm_loadu_ps(p.color + size_t(at[k + 4]) * 4), 1);
+    const __m256 t0 = _mm256_unpacklo_ps(r[0], r[1]), t1 = _mm256_unpackhi_ps(r[0], r[1]);
+    const __m256 t2 = _mm256_unpacklo_ps(r[2], r[3]), t3 = _mm256_unpackhi_ps(r[2], r[3]);
+    out[0] = _mm256_shuffle_ps(t0, t2, 0x44);
+    out[1] = _mm256_shuffle_ps(t0, t2, 0xEE);
+    out[2] = _mm256_shuffle_ps(t1, t3, 0x44);
+    out[3] = _mm256_shuffle_ps(t1, t3, 0xEE);
+    if (bytes)
+        for (int c = 0; c < 4; ++c) out[c] = _mm256_mul_ps(out[c], _mm256_set1_ps(255.0f));
+}
+
+// Fast2D::filter lane by lane, as channel vectors (planes whose texel numbers exceed int32).
+__attribute__((target("avx2"), noinline)) void filter8_lanes(const Fast2D& f, const Plane& p, bool linear, const float* s,
+                                                             const float* t, const float* r, __m256 out[4]) {
+    alignas(32) float lanes[4][8];
+    for (int k = 0; k < 8; ++k) {
+        float v[4];
+        f.filter(p, linear, s[k], t[k], r ? r[k] : 0.0f, 0.0f, v);
+        for (int c = 0; c < 4; ++c) lanes[c][k] = v[c];
+    }
+    for (int c = 0; c < 4; ++c) out[c] = _mm256_load_ps(lanes[c]);
+}
+
+// Fast2D::filter of one colour plane (p.rgba8 when set, else p.color) for 8 lanes (r: the
+// layers of a 2D array, else null).
+__attribute__((target("avx2"), always_inline)) inline void filter8_color(const Fast2D& f, const Plane8& P, bool linear,
+                                                                         const float* s, const float* t, const float* r,
+                                                                         __m256 out[4]) {
+    const Plane& p = *P.p;
+    if (!P.fits) return filter8_lanes(f, p, linear, s, t, r, out);
+    const __m256i layer = layer_start8(P, r);
+    const __m256 u = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(s), P.width_f), P.off_s);
+    const __m256 v = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(t), P.height_f), P.off_t);
+    __m256i i0, i1, j0, j1;
+    if (!linear) {
+        wrap8v(f.wrap_s, ifloor_floored8(_mm256_floor_ps(u)), P.last_i, p.width, p.width_pot, false, i0, i1);
+        wrap8v(f.wrap_t, ifloor_floored8(_mm256_floor_ps(v)), P.last_j, p.height, p.height_pot, false, j0, j1);
+        texels8(p, _mm256_add_epi32(_mm256_add_epi32(layer, _mm256_mullo_epi32(j0, P.width)), i0), false, out);
+        return;
+    }
+    const __m256 half = _mm256_set1_ps(0.5f);
+    const __m256 u0 = _mm256_sub_ps(u, half), v0 = _mm256_sub_ps(v, half);
+    const __m256 fu = _mm256_floor_ps(u0), fv = _mm256_floor_ps(v0);
+    wrap8v(f.wrap_s, ifloor_floored8(fu), P.last_i, p.width, p.width_pot, true, i0, i1);
+    wrap8v(f.wrap_t, ifloor_floored8(fv), P.last_j, p.height, p.height_pot, true, j0, j1);
+    const __m256 a = _mm256_sub_ps(u0, fu), b = _mm256_sub_ps(v0, fv);
+    const __m256i row0 = _mm256_add_epi32(layer, _mm256_mullo_epi32(j0, P.width));
+    const __m256i row1 = _mm256_add_epi32(layer, _mm256_mullo_epi32(j1, P.width));
+    const __m256i at[4] = {_mm256_add_epi32(row0, i0), _mm256_add_epi32(row0, i1), _mm256_add_epi32(row1, i0),
+                           _mm256_add_epi32(row1, i1)};
+    __m256 w[4];
+    if (p.unorm8) {
+        // The fixed-point rule (Level::filter): 8-bit weights, texels as bytes k, exact integer
+        // sums (any order), one correctly rounded division.
+        const __m256 k256 = _mm256_set1_ps(256.0f), A = weight8x8(a), B = weight8x8(b);
+        const __m256 nA = _mm256_sub_ps(k256, A), nB = _mm256_sub_ps(k256, B);
+        w[0] = _mm256_mul_ps(nA, nB), w[1] = _mm256_mul_ps(A, nB), w[2] = _mm256_mul_ps(nA, B), w[3] = _mm256_mul_ps(A, B);
+    } else {
+        const __m256 one = _mm256_set1_ps(1.0f), na = _mm256_sub_ps(one, a), nb = _mm256_sub_ps(one, b);
+        w[0] = _mm256_mul_ps(na, nb), w[1] = _mm256_mul_ps(a, nb), w[2] = _mm256_mul_ps(na, b), w[3] = _mm256_mul_ps(a, b);
+    }
+    // w00 t00 + w10 t10 + w01 t01 + w11 t11, left to right as Fast2D::filter.
+    for (int n = 0; n < 4; ++n) {
+        __m256 texel[4];
+        texels8(p, at[n], p.unorm8, texel);
+        for (int c = 0; c < 4; ++c) out[c] = n ? _mm256_add_ps(out[c], _mm256_mul_ps(w[n], texel[c])) : _mm256_mul_ps(w[n], texel[c]);
+    }
+    if (p.unorm8) {
+        const __m256 divisor = _mm256_set1_ps(kUnorm8Divisor);
+        for (int c = 0; c < 4; ++c) out[c] = _mm256_div_ps(out[c], divisor);
+    }
+}
+
+// The lanes' fractions between their two levels (LevelChoice::frac).
+__attribute__((target("avx2"), always_inline)) inline __m256 fractions8(const LevelChoice ch[8]) {
+    alignas(32) float frac[8];
+    for (int k = 0; k < 8; ++k) frac[k] = ch[k].frac;
+    return _mm256_load_ps(frac);
+}
+
+// Fast2D::filter(LevelChoice) of 8 lanes that share the levels (frac per lane):
+// (1 - frac) a + frac b per channel.
+__attribute__((target("avx2"))) void filter8_color(const Fast2D& f, const LevelChoice ch[8], const float* s, const float* t,
+                                                   const float* r, __m256 out[4]) {
+    filter8_color(f, plane8(f, f.planes[size_t(ch[0].first)]), ch[0].linear, s, t, r, out);
+    if (ch[0].second < 0) return;
+    __m256 b[4];
+    filter8_color(f, plane8(f, f.planes[size_t(ch[0].second)]), ch[0].linear, s, t, r, b);
+    const __m256 g = fractions8(ch), ng = _mm256_sub_ps(_mm256_set1_ps(1.0f), g);
+    for (int c = 0; c < 4; ++c) out[c] = _mm256_add_ps(_mm256_mul_ps(ng, out[c]), _mm256_mul_ps(g, b[c]));
+}
+
+// filter8_color(LevelChoice) of 8 lanes whose levels differ: each of the `count` distinct levels
+// filtered for all 8 lanes, each lane's result taken from (or blended between) its own.
+__attribute__((target("avx2"))) void filter8_color(const Fast2D& f, const LevelChoice ch[8], const int32_t levels[3],
+                                                   int count, const float* s, const float* t, const float* r,
+                                                   __m256 out[4]) {
+    __m256 by_level[3][4];
+    for (int i = 0; i < count; ++i) filter8_color(f, plane8(f, f.planes[size_t(levels[i])]), ch[0].linear, s, t, r, by_level[i]);
+    // Per level, the lanes whose first / second level it is (all ones per lane).
+    alignas(32) int32_t first[3][8] = {}, second[3][8] = {}, blended[8] = {};
+    for (int k = 0; k < 8; ++k) {
+        for (int i = 0; i < count; ++i) {
+            if (ch[k].first == levels[i]) first[i][k] = -1;
+            if (ch[k].second == levels[i]) second[i][k] = -1;
+        }
+        blended[k] = ch[k].second >= 0 ? -1 : 0;
+    }
+    const __m256 g = fractions8(ch), ng = _mm256_sub_ps(_mm256_set1_ps(1.0f), g);
+    for (int c = 0; c < 4; ++c) {
+        __m256 a = by_level[0][c], b = by_level[0][c];
+        for (int i = 1; i < count; ++i) {
+            a = _mm256_blendv_ps(a, by_level[i][c], _mm256_load_ps(reinterpret_cast<const float*>(first[i])));
+            b = _mm256_blendv_ps(b, by_level[i][c], _mm256_load_ps(reinterpret_cast<const float*>(second[i])));
+        }
+        out[c] = _mm256_blendv_ps(a, _mm256_add_ps(_mm256_mul_ps(ng, a), _mm256_mul_ps(g, b)),
+                                  _mm256_load_ps(reinterpret_cast<const float*>(blended)));
+    }
+}
+
+// Channel vectors of lanes l .. l + 7 into the outputs (null: not needed); inactive lanes
+// (bit k of `inactive`) get (0, 0, 0, 1), as sample_lanes gives them.
+__attribute__((target("avx2"), always_inline)) inline void store8(const __m256 v[4], glsl::Scalar* const out[4], int l,
+                                                                  uint32_t inactive) {
+    if (!inactive) {
+        for (int c = 0; c < 4; ++c)
+            if (out[c]) _mm256_storeu_ps(&out[c][l].f, v[c]);
+        return;
+    }
+    const __m256i bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+    const __m256 off = _mm256_castsi256_ps(_mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(int(inactive)), bit), bit));
+    for (int c = 0; c < 4; ++c)
+        if (out[c]) _mm256_storeu_ps(&out[c][l].f, _mm256_blendv_ps(v[c], _mm256_set1_ps(c == 3 ? 1.0f : 0.0f), off));
+}
+
+// Bit k: lane l + k (k < 8) is active.
+__attribute__((target("avx2"), always_inline)) inline uint32_t active8(const glsl::TextureQuery& q, int l) {
+    if (!q.active) return 0xFFu;
+    const __m256i a = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(q.active + l));
+    return ~uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(a, _mm256_setzero_si256())))) & 0xFFu;
+}
+
+// What the colour block loops share across a query (sample_2d resolves it once).
+struct ColourQuery {
+    const Fast2D* f;
+    const glsl::TextureQuery* q;
+    const float* r;          // the layers of a 2D array, else null
+    bool needs_lambda;       // else every lane takes `fixed`
+    LevelChoice fixed;
+    float w, h;              // the base level's size (lambda)
+    LambdaMemo* memo;
+};
+
+// The distinct levels of ch[0 .. n) (at most 3, all with one filter) in levels, or 0 if more.
+inline int distinct_levels(const LevelChoice* ch, int n, int32_t levels[3]) {
+    int count = 0;
+    for (int k = 0; k < n; ++k) {
+        if (ch[k].linear != ch[0].linear) return 0;
+        for (const int32_t level : {ch[k].first, ch[k].second}) {
+            if (level < 0 || std::find(levels, levels + count, level) != levels + count) continue;
+            if (count == 3) return 0;
+            levels[count++] = level;
+        }
+    }
+    return count;
+}
+
+inline bool same_levels(const LevelChoice* ch, int n) {
+    for (int k = 1; k < n; ++k)
+        if (!ch[k].same_levels(ch[0])) return false;
+    return true;
+}
+
+// The levels of lanes l .. l + n - 1 (n = 8 or 16) in ch; inactive lanes take those of the first
+// active lane, so that they add no level.
+__attribute__((target("avx2"))) inline void choose_lanes(const ColourQuery& cq, int l, int n, uint32_t active, LevelChoice* ch) {
+    const glsl::TextureQuery& q = *cq.q;
+    for (int part = 0; part < n; part += 8) {
+        alignas(32) float lambda[8];
+        if (q.lod_mode == TextureLod::Explicit) {
+            // lambda_at: the lanes' explicit level (0 without one), no bias.
+            _mm256_store_ps(lambda, q.lod ? _mm256_loadu_ps(&q.lod[l + part].f) : _mm256_setzero_ps());
+        } else {
+            lambda8(q, l + part, cq.w, cq.h, *cq.memo, lambda);
+        }
+        if (!choose8(*cq.f, lambda, ch + part))
+            for (int k = 0; k < 8; ++k) ch[part + k] = cq.f->choose(lambda[k]);
+    }
+    const uint32_t all = n == 16 ? 0xFFFFu : 0xFFu;
+    if (active != all)
+        for (int k = 0; k < n; ++k)
+            if (!(active >> k & 1)) ch[k] = ch[__builtin_ctz(active)];
+}
+
+// The colour lookups of lanes [l, end) in blocks of 8: returns where it stopped, at the first
+// block whose lanes need more than 3 levels or two filters (the caller takes it lane by lane),
+// or at the last block that fits.
+__attribute__((target("avx2"))) int colour_blocks8(const ColourQuery& cq, int l, int end) {
+    const glsl::TextureQuery& q = *cq.q;
+    const Fast2D& f = *cq.f;
+    glsl::Scalar* const out[4] = {q.out[0], q.out[1], q.out[2], q.out[3]};
+    const Plane8 fixed = plane8(f, f.planes[size_t(cq.fixed.first)]);
+    LevelChoice ch[8];
+    int32_t levels[3];
+    for (; l + 8 <= end; l += 8) {
+        const uint32_t active = active8(q, l);
+        const float* s = &q.coord[0][l].f;
+        const float* t = &q.coord[1][l].f;
+        const float* r = cq.r ? cq.r + l : nullptr;
+        __m256 result[4] = {_mm256_setzero_ps(), _mm256_setzero_ps(), _mm256_setzero_ps(), _mm256_setzero_ps()};
+        if (!active) {
+            // Nothing to compute: every lane gets (0, 0, 0, 1) below.
+        } else if (!cq.needs_lambda) {
+            filter8_color(f, fixed, cq.fixed.linear, s, t, r, result);
+        } else {
+            choose_lanes(cq, l, 8, active, ch);
+            if (same_levels(ch, 8)) filter8_color(f, ch, s, t, r, result);
+            else if (const int count = distinct_levels(ch, 8, levels)) filter8_color(f, ch, levels, count, s, t, r, result);
+            else return l;
+        }
+        store8(result, out, l, ~active & 0xFFu);
+    }
+    return l;
+}
+
 // ---- AVX-512: blocks of 16 lanes, results straight into the structure-of-arrays outputs.
 #define SOFTGL_SAMPLER_AVX512 "avx512f,avx512bw,avx512dq,avx512vl"
 // GCC 12's AVX-512 intrinsics start from _mm512_undefined_*(), which -W(maybe-)uninitialized
@@ -1263,9 +1574,16 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) void filter16(const Fast2D
                                                              const float* s, const float* t, const float* r,
                                                              __m512 out[4]) {
     Layers16<kLayered> layers{p.color, {}};
+    // Byte planes: each lane's first texel of its layer, added to the gathers' indices (int32:
+    // filter16 below takes planes whose texel numbers fit).
+    alignas(64) int32_t layer_start[16] = {};
     if constexpr (kLayered)
-        for (int l = 0; l < 16; ++l)
-            layers.lane[l] = p.color + size_t(std::clamp(ifloor(r[l] + 0.5f), 0, p.layers - 1)) * size_t(p.height) * size_t(p.width) * 4;
+        for (int l = 0; l < 16; ++l) {
+            const size_t start = size_t(std::clamp(ifloor(r[l] + 0.5f), 0, p.layers - 1)) * size_t(p.height) * size_t(p.width);
+            if (p.rgba8) layer_start[l] = int32_t(start);
+            else layers.lane[l] = p.color + start * 4;
+        }
+    const __m512i layer0 = _mm512_load_si512(layer_start);
     const __m512 u = _mm512_add_ps(_mm512_mul_ps(_mm512_loadu_ps(s), _mm512_set1_ps(float(p.width))), _mm512_set1_ps(float(f.off_s)));
     const __m512 v = _mm512_add_ps(_mm512_mul_ps(_mm512_loadu_ps(t), _mm512_set1_ps(float(p.height))), _mm512_set1_ps(float(f.off_t)));
     const __m512i width = _mm512_set1_epi32(p.width);
@@ -1275,7 +1593,7 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) void filter16(const Fast2D
         wrap16(f.wrap_t, ifloor_floored16(_mm512_floor_ps(v)), p.height, p.height_pot, false, j0, j1);
         // Texel indices in int32: 4 * w * h <= 2^30 floats (kMaxTextureSize is 16384).
         const __m512i index = _mm512_add_epi32(_mm512_mullo_epi32(j0, width), i0);
-        if (!kLayered && p.rgba8) texels16(p.rgba8, index, out);
+        if (p.rgba8) texels16(p.rgba8, _mm512_add_epi32(layer0, index), out);
         else texels16(layers, index, out);
         return;
     }
@@ -1296,17 +1614,18 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) void filter16(const Fast2D
         w[0] = _mm512_mul_ps(na, nb), w[1] = _mm512_mul_ps(a, nb), w[2] = _mm512_mul_ps(na, b), w[3] = _mm512_mul_ps(a, b);
     }
     const __m512i row0 = _mm512_mullo_epi32(j0, width), row1 = _mm512_mullo_epi32(j1, width);
+    const __m512i brow0 = _mm512_add_epi32(layer0, row0), brow1 = _mm512_add_epi32(layer0, row1);   // byte planes
     __m512 texel[4][4];   // t00, t10, t01, t11
     const bool pairs = _mm512_cmpeq_epi32_mask(i1, _mm512_add_epi32(i0, _mm512_set1_epi32(1))) == 0xFFFF;
     const bool bytes = p.unorm8;   // rgba8 texels as k for the fixed-point rule
-    if (!kLayered && p.rgba8 && pairs) {
-        texel_pairs16(p.rgba8, _mm512_add_epi32(row0, i0), texel[0], texel[1], bytes);
-        texel_pairs16(p.rgba8, _mm512_add_epi32(row1, i0), texel[2], texel[3], bytes);
-    } else if (!kLayered && p.rgba8) {
-        texels16(p.rgba8, _mm512_add_epi32(row0, i0), texel[0], bytes);
-        texels16(p.rgba8, _mm512_add_epi32(row0, i1), texel[1], bytes);
-        texels16(p.rgba8, _mm512_add_epi32(row1, i0), texel[2], bytes);
-        texels16(p.rgba8, _mm512_add_epi32(row1, i1), texel[3], bytes);
+    if (p.rgba8 && pairs) {
+        texel_pairs16(p.rgba8, _mm512_add_epi32(brow0, i0), texel[0], texel[1], bytes);
+        texel_pairs16(p.rgba8, _mm512_add_epi32(brow1, i0), texel[2], texel[3], bytes);
+    } else if (p.rgba8) {
+        texels16(p.rgba8, _mm512_add_epi32(brow0, i0), texel[0], bytes);
+        texels16(p.rgba8, _mm512_add_epi32(brow0, i1), texel[1], bytes);
+        texels16(p.rgba8, _mm512_add_epi32(brow1, i0), texel[2], bytes);
+        texels16(p.rgba8, _mm512_add_epi32(brow1, i1), texel[3], bytes);
     } else if (pairs) {
         // No lane wraps between its columns: each row's two texels are neighbours in memory.
         texel_pairs16(layers, _mm512_add_epi32(row0, i0), texel[0], texel[1]);
@@ -1322,7 +1641,7 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) void filter16(const Fast2D
         const __m512 k255 = _mm512_set1_ps(255.0f), divisor = _mm512_set1_ps(kUnorm8Divisor);
         for (int c = 0; c < 4; ++c) {
             __m512 k[4];
-            for (int n = 0; n < 4; ++n) k[n] = p.rgba8 && !kLayered ? texel[n][c] : _mm512_mul_ps(texel[n][c], k255);
+            for (int n = 0; n < 4; ++n) k[n] = p.rgba8 ? texel[n][c] : _mm512_mul_ps(texel[n][c], k255);
             __m512 sum = _mm512_mul_ps(w[0], k[0]);
             for (int n = 1; n < 4; ++n) sum = _mm512_fmadd_ps(w[n], k[n], sum);
             out[c] = _mm512_div_ps(sum, divisor);
@@ -1339,6 +1658,14 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) void filter16(const Fast2D
 __attribute__((target(SOFTGL_SAMPLER_AVX512))) void filter16(const Fast2D& f, const Plane& p, bool linear,
                                                              const float* s, const float* t, const float* r,
                                                              __m512 out[4]) {
+    if (!int32_indices(p)) {
+        // Texel numbers beyond int32 (huge 2D arrays): lane by lane.
+        __m256 lo[4], hi[4];
+        filter8_lanes(f, p, linear, s, t, r, lo);
+        filter8_lanes(f, p, linear, s + 8, t + 8, r ? r + 8 : nullptr, hi);
+        for (int c = 0; c < 4; ++c) out[c] = _mm512_insertf32x8(_mm512_castps256_ps512(lo[c]), hi[c], 1);
+        return;
+    }
     if (r) filter16<true>(f, p, linear, s, t, r, out);
     else filter16<false>(f, p, linear, s, t, r, out);
 }
@@ -1387,6 +1714,35 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512))) void filter16(const Fast2D& f, co
         if (out[c]) _mm512_storeu_ps(&out[c][l].f, a);
     }
 }
+// colour_blocks8 in blocks of 16 (AVX-512) over lanes [l, q.lane_count): returns where it
+// stopped, at the first block of 16 whose lanes need more than 3 levels or two filters (the
+// caller takes it in blocks of 8), or where fewer than 16 lanes are left.
+__attribute__((target(SOFTGL_SAMPLER_AVX512))) int colour_blocks16(const ColourQuery& cq, int l) {
+    const glsl::TextureQuery& q = *cq.q;
+    const Fast2D& f = *cq.f;
+    glsl::Scalar* const out[4] = {q.out[0], q.out[1], q.out[2], q.out[3]};
+    LevelChoice ch[16];
+    if (!cq.needs_lambda) std::fill(ch, ch + 16, cq.fixed);
+    int32_t levels[3];
+    for (; l + 16 <= q.lane_count; l += 16) {
+        const __mmask16 active = q.active ? _mm512_test_epi32_mask(_mm512_loadu_si512(q.active + l), _mm512_set1_epi32(-1))
+                                          : __mmask16(0xFFFF);
+        const float* s = &q.coord[0][l].f;
+        const float* t = &q.coord[1][l].f;
+        const float* r = cq.r ? cq.r + l : nullptr;
+        if (active) {
+            if (cq.needs_lambda) choose_lanes(cq, l, 16, active, ch);
+            if (!cq.needs_lambda || same_levels(ch, 16)) filter16(f, ch, s, t, r, out, l);
+            else if (const int count = distinct_levels(ch, 16, levels)) filter16(f, ch, levels, count, s, t, r, out, l);
+            else return l;
+        }
+        if (active != 0xFFFF)
+            // Inactive lanes: (0, 0, 0, 1), as sample_lanes gives them.
+            for (int c = 0; c < 4; ++c)
+                if (out[c]) _mm512_mask_storeu_ps(&out[c][l].f, __mmask16(~active), _mm512_set1_ps(c == 3 ? 1.0f : 0.0f));
+    }
+    return l;
+}
 #pragma GCC diagnostic pop
 #endif
 
@@ -1400,6 +1756,7 @@ bool one_unit(const glsl::TextureQuery& q, int32_t& unit) {
     while (first < q.lane_count && q.active && !q.active[first]) ++first;
     if (first == q.lane_count) return false;
     unit = q.unit[first].i;
+    if (q.uniform_unit) return true;
     // Branch-free loops over all lanes (lane `first` adds nothing), so that they vectorize:
     // this runs twice per query over the whole batch.
     const int32_t u = unit;
@@ -1521,8 +1878,24 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
 
     int l = 0;
 #ifdef SOFTGL_SAMPLER_AVX2
-    // Blocks of 16 (AVX-512) or 8 active lanes that share their levels; the other blocks lane by lane.
-    if (simd != SimdBlocks::None && !cube && q.coord[0] && q.coord[1]) {
+    // Colour: blocks of 16 (AVX-512) or 8 lanes whose levels are at most 3, straight into the
+    // registers; the other blocks lane by lane.
+    if (simd != SimdBlocks::None && !cube && !depth && q.coord[0] && q.coord[1]) {
+        const ColourQuery cq{&f, &q, f.planes[0].layers > 1 && q.coord[2] ? &q.coord[2][0].f : nullptr,
+                             needs_lambda, fixed, w, h, &lambda_of};
+        while (l + 8 <= q.lane_count) {
+            if (simd == SimdBlocks::Avx512 && l + 16 <= q.lane_count) l = colour_blocks16(cq, l);
+            // What is left: a block of 16 colour_blocks16 left, or the last lanes.
+            const int end = simd == SimdBlocks::Avx512 && l + 16 <= q.lane_count ? l + 16 : q.lane_count;
+            l = colour_blocks8(cq, l, end);
+            if (l + 8 <= end) {
+                for (int k = 0; k < 8; ++k) one_lane(l + k);
+                l += 8;
+            }
+        }
+    }
+    // Depth planes: blocks of 8 lanes that share their levels; the other blocks lane by lane.
+    if (simd != SimdBlocks::None && !cube && depth && q.coord[0] && q.coord[1]) {
         const float* r = f.planes[0].layers > 1 && q.coord[2] ? &q.coord[2][0].f : nullptr;
         LevelChoice ch[16];
         if (!needs_lambda) std::fill(ch, ch + 16, fixed);
