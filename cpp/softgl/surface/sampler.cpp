@@ -512,7 +512,7 @@ struct Fast2D {
     // Texel n of plane p as Level::fetch_image gives it (ref: the lane's depth reference).
     void texel(const Plane& p, size_t n, float ref, float out[4]) const {
         if (p.rgba8) {
-            // The byte copy: 4x less memory; k / 255 is unorm(k, 8), what the floats hold.
+            // 8-bit unorm storage: k / 255 is unorm(k, 8).
             const uint32_t v = p.rgba8[n];
             for (int c = 0; c < 4; ++c) out[c] = float((v >> (8 * c)) & 255u) / 255.0f;
             return;
@@ -550,13 +550,13 @@ struct Fast2D {
         const float a = u0 - std::floor(u0), b = v0 - std::floor(v0);
         const size_t row0 = plane + size_t(j0) * size_t(p.width), row1 = plane + size_t(j1) * size_t(p.width);
         if (p.unorm8) {
-            // The fixed-point rule (Level::filter), from the bytes or k = 255 v of the floats.
+            // The fixed-point rule (Level::filter), from the bytes.
             float w8[4], k[4][4];
             weights8(a, b, w8);
             const size_t at[4] = {row0 + size_t(i0), row0 + size_t(i1), row1 + size_t(i0), row1 + size_t(i1)};
             for (int n = 0; n < 4; ++n)
                 for (int c = 0; c < 4; ++c)
-                    k[n][c] = p.rgba8 ? float((p.rgba8[at[n]] >> (8 * c)) & 255u) : p.color[at[n] * 4 + size_t(c)] * 255.0f;
+                    k[n][c] = float((p.rgba8[at[n]] >> (8 * c)) & 255u);
             for (int c = 0; c < 4; ++c)
                 out[c] = (w8[0] * k[0][c] + w8[1] * k[1][c] + w8[2] * k[2][c] + w8[3] * k[3][c]) / kUnorm8Divisor;
             return;
@@ -696,6 +696,11 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bo
                 f.texel(p, layer_at[l] + size_t(j0[l]) * size_t(p.width) + size_t(i0[l]), ref ? ref[l] : 0.0f, out[l]);
             return;
         }
+        if (p.rgba8) {   // 8-bit unorm storage (Fast2D::texel)
+            for (int l = 0; l < 8; ++l)
+                f.texel(p, layer_at[l] + size_t(j0[l]) * size_t(p.width) + size_t(i0[l]), 0.0f, out[l]);
+            return;
+        }
         for (int l = 0; l < 8; ++l)
             _mm_storeu_ps(out[l], _mm_loadu_ps(layer[l] + (size_t(j0[l]) * size_t(p.width) + size_t(i0[l])) * 4));
         return;
@@ -730,16 +735,17 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bo
                 }
             }
         } else {
-            // Float storage: k = 255 v per lane (exact), sums lane by lane.
+            // Layers (2D arrays): the bytes k per lane, sums lane by lane (exact integers).
             alignas(32) float wl[4][8], lanes[4][8];
             for (int n = 0; n < 4; ++n) _mm256_store_ps(wl[n], w[n]);
-            const __m128 k255 = _mm_set1_ps(255.0f);
             for (int l = 0; l < 8; ++l) {
                 const size_t row0 = layer_at[l] + size_t(j0[l]) * size_t(p.width), row1 = layer_at[l] + size_t(j1[l]) * size_t(p.width);
                 const size_t at[4] = {row0 + size_t(i0[l]), row0 + size_t(i1[l]), row1 + size_t(i0[l]), row1 + size_t(i1[l])};
                 __m128 lane = _mm_setzero_ps();
-                for (int n = 0; n < 4; ++n)
-                    lane = _mm_add_ps(lane, _mm_mul_ps(_mm_set1_ps(wl[n][l]), _mm_mul_ps(_mm_loadu_ps(p.color + at[n] * 4), k255)));
+                for (int n = 0; n < 4; ++n) {
+                    const __m128i k = _mm_cvtepu8_epi32(_mm_cvtsi32_si128(int(p.rgba8[at[n]])));
+                    lane = _mm_add_ps(lane, _mm_mul_ps(_mm_set1_ps(wl[n][l]), _mm_cvtepi32_ps(k)));
+                }
                 alignas(16) float v[4];
                 _mm_store_ps(v, lane);
                 for (int c = 0; c < 4; ++c) lanes[c][l] = v[c];
@@ -1126,9 +1132,18 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) void filter16(const Fast2D
                                                              const float* s, const float* t, const float* r,
                                                              __m512 out[4]) {
     Layers16<kLayered> layers{p.color, {}};
-    if constexpr (kLayered)
-        for (int l = 0; l < 16; ++l)
-            layers.lane[l] = p.color + size_t(std::clamp(ifloor(r[l] + 0.5f), 0, p.layers - 1)) * size_t(p.height) * size_t(p.width) * 4;
+    // 8-bit unorm planes: each lane's layer as a texel offset into the bytes (sample_2d checks
+    // that every texel index of the level fits in int32).
+    __m512i layer_index = _mm512_setzero_si512();
+    if constexpr (kLayered) {
+        alignas(64) int32_t first[16];
+        for (int l = 0; l < 16; ++l) {
+            const size_t at = size_t(std::clamp(ifloor(r[l] + 0.5f), 0, p.layers - 1)) * size_t(p.height) * size_t(p.width);
+            first[l] = int32_t(at);
+            if (p.color) layers.lane[l] = p.color + at * 4;
+        }
+        if (p.rgba8) layer_index = _mm512_load_si512(first);
+    }
     const __m512 u = _mm512_add_ps(_mm512_mul_ps(_mm512_loadu_ps(s), _mm512_set1_ps(float(p.width))), _mm512_set1_ps(float(f.off_s)));
     const __m512 v = _mm512_add_ps(_mm512_mul_ps(_mm512_loadu_ps(t), _mm512_set1_ps(float(p.height))), _mm512_set1_ps(float(f.off_t)));
     const __m512i width = _mm512_set1_epi32(p.width);
@@ -1138,7 +1153,7 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) void filter16(const Fast2D
         wrap16(f.wrap_t, ifloor_floored16(_mm512_floor_ps(v)), p.height, p.height_pot, false, j0, j1);
         // Texel indices in int32: 4 * w * h <= 2^30 floats (kMaxTextureSize is 16384).
         const __m512i index = _mm512_add_epi32(_mm512_mullo_epi32(j0, width), i0);
-        if (!kLayered && p.rgba8) texels16(p.rgba8, index, out);
+        if (p.rgba8) texels16(p.rgba8, _mm512_add_epi32(index, layer_index), out);
         else texels16(layers, index, out);
         return;
     }
@@ -1158,14 +1173,15 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) void filter16(const Fast2D
         const __m512 na = _mm512_sub_ps(one, a), nb = _mm512_sub_ps(one, b);
         w[0] = _mm512_mul_ps(na, nb), w[1] = _mm512_mul_ps(a, nb), w[2] = _mm512_mul_ps(na, b), w[3] = _mm512_mul_ps(a, b);
     }
-    const __m512i row0 = _mm512_mullo_epi32(j0, width), row1 = _mm512_mullo_epi32(j1, width);
+    const __m512i row0 = _mm512_add_epi32(_mm512_mullo_epi32(j0, width), layer_index);
+    const __m512i row1 = _mm512_add_epi32(_mm512_mullo_epi32(j1, width), layer_index);
     __m512 texel[4][4];   // t00, t10, t01, t11
     const bool pairs = _mm512_cmpeq_epi32_mask(i1, _mm512_add_epi32(i0, _mm512_set1_epi32(1))) == 0xFFFF;
     const bool bytes = p.unorm8;   // rgba8 texels as k for the fixed-point rule
-    if (!kLayered && p.rgba8 && pairs) {
+    if (p.rgba8 && pairs) {
         texel_pairs16(p.rgba8, _mm512_add_epi32(row0, i0), texel[0], texel[1], bytes);
         texel_pairs16(p.rgba8, _mm512_add_epi32(row1, i0), texel[2], texel[3], bytes);
-    } else if (!kLayered && p.rgba8) {
+    } else if (p.rgba8) {
         texels16(p.rgba8, _mm512_add_epi32(row0, i0), texel[0], bytes);
         texels16(p.rgba8, _mm512_add_epi32(row0, i1), texel[1], bytes);
         texels16(p.rgba8, _mm512_add_epi32(row1, i0), texel[2], bytes);
@@ -1185,7 +1201,7 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) void filter16(const Fast2D
         const __m512 k255 = _mm512_set1_ps(255.0f), divisor = _mm512_set1_ps(kUnorm8Divisor);
         for (int c = 0; c < 4; ++c) {
             __m512 k[4];
-            for (int n = 0; n < 4; ++n) k[n] = p.rgba8 && !kLayered ? texel[n][c] : _mm512_mul_ps(texel[n][c], k255);
+            for (int n = 0; n < 4; ++n) k[n] = p.rgba8 ? texel[n][c] : _mm512_mul_ps(texel[n][c], k255);
             __m512 sum = _mm512_mul_ps(w[0], k[0]);
             for (int n = 1; n < 4; ++n) sum = _mm512_fmadd_ps(w[n], k[n], sum);
             out[c] = _mm512_div_ps(sum, divisor);
@@ -1315,6 +1331,9 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
         for (int32_t k = 0; k <= bt.q - bt.base; ++k) {
             const Plane& level = f.planes[size_t(face) * size_t(f.face_stride) + size_t(k)];
             if (level.width == 0 || (level.depth != nullptr) != depth) return false;
+            // The vector paths index texels in int32 (8-bit unorm planes: across layers too).
+            if (level.rgba8 && uint64_t(level.layers) * uint64_t(level.width) * uint64_t(level.height) > uint64_t(INT32_MAX))
+                return false;
         }
     f.compare = q.shadow && p.compare_mode == gl::COMPARE_REF_TO_TEXTURE;
     f.compare_func = p.compare_func;
