@@ -686,8 +686,21 @@ void Context::copy_tex_image_2d(GLenum target, int32_t level, GLenum internal_fo
     // ES 2.0 §3.7.2: the new format's components must exist in the read buffer (alpha).
     const bool src_alpha = src.fb ? src.fb->config().alpha : src.img->format->bits[3] != 0;
     if (fi->bits[3] && !src_alpha) return error(gl::INVALID_OPERATION, call, "the read buffer has no alpha");
+    // Charged (core/memory_ledger.h) before allocating; the old image stays if either fails.
+    const Image* old = t->find(face, level);
+    const uint64_t bytes = Image::allocation_bytes(fi, width, height, 1, 1);
+    const uint64_t before = t->memory.bytes(), released = old ? old->storage_bytes() : 0;
+    if (!t->memory.resize(before - std::min(before, released) + bytes))
+        return error(gl::OUT_OF_MEMORY, call, "a " + std::to_string(width) + "x" + std::to_string(height) +
+                     " image needs " + std::to_string(bytes) + " bytes, which " +
+                     over_memory_limit(bytes - std::min(bytes, released)));
     Image fresh;
-    fresh.allocate(fi, width, height, 1);
+    try {
+        fresh.allocate(fi, width, height, 1);
+    } catch (const std::bad_alloc&) {
+        t->memory.force(before);
+        return error(gl::OUT_OF_MEMORY, call, "could not allocate " + std::to_string(bytes) + " bytes");
+    }
     ColorSource cs{src.fb, src.img, src.offset, src.width, src.height};
     for (int32_t row = 0; row < height; ++row)
         for (int32_t col = 0; col < width; ++col) {

@@ -11,6 +11,7 @@ RenderTarget RenderTarget::for_default(DefaultFramebuffer& fb) {
     RenderTarget t;
     t.config_ = fb.config();
     t.default_ = &fb;
+    if (!fb.is_float()) t.rgba8_ = fb.color_sample(0, 0, 0);
     return t;
 }
 
@@ -29,6 +30,12 @@ RenderTarget RenderTarget::for_images(int32_t width, int32_t height, int32_t sam
     t.stencil_ = t.config_.stencil ? stencil : nullptr;
     t.depth_offset_ = depth_offset;
     t.stencil_offset_ = stencil_offset;
+    Image* const c0 = colors[0].image;
+    bool one_color = c0 != nullptr;
+    for (int o = 1; o < kMaxColors; ++o) one_color = one_color && colors[size_t(o)].image == nullptr;
+    if (one_color && c0->format->internal_format == gl::RGBA8 && c0->bytes() && c0->width == width &&
+        c0->samples == samples && !c0->rgba8.empty())
+        t.rgba8_ = reinterpret_cast<uint8_t*>(c0->rgba8.data() + colors[0].offset);
     return t;
 }
 

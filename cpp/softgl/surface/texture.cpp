@@ -640,19 +640,41 @@ std::string incompleteness(const Texture& t, const SamplerParams& params, const 
     return {};
 }
 
+// The last level generate_mipmaps writes (base: its base level, the image b).
+static int32_t last_generated_level(const Texture& t, int32_t base, const Image& b) {
+    const bool is3d = t.target == gl::TEXTURE_3D;
+    int32_t last = base;
+    int32_t size = std::max({b.width, b.height, is3d ? b.depth : 1});
+    while (size > 1) size >>= 1, ++last;
+    last = std::min(last, t.max_level);
+    if (t.immutable) last = std::min(last, t.immutable_levels - 1);
+    return last;
+}
+
+uint64_t storage_bytes_after_mipmaps(const Texture& t) {
+    const int32_t base = effective_base(t);
+    const Image* b = t.find(0, base);
+    uint64_t total = t.storage_bytes();
+    if (!b) return total;
+    const bool is3d = t.target == gl::TEXTURE_3D;
+    const int32_t last = last_generated_level(t, base, *b);
+    for (int face = 0; face < t.faces(); ++face) {
+        int32_t w = b->width, h = b->height, d = b->depth;
+        for (int32_t level = base + 1; level <= last; ++level) {
+            w = std::max(1, w / 2), h = std::max(1, h / 2), d = is3d ? std::max(1, d / 2) : d;
+            if (const Image* old = t.find(face, level)) total -= old->storage_bytes();
+            total += Image::allocation_bytes(b->format, w, h, d, 1);
+        }
+    }
+    return total;
+}
+
 void generate_mipmaps(Texture& t) {
     const int32_t base = effective_base(t);
     const Image* b = t.find(0, base);
     if (!b) return;
-    int32_t w = b->width, h = b->height, d = b->depth;
     const bool is3d = t.target == gl::TEXTURE_3D;
-    int32_t last = base;
-    {
-        int32_t size = std::max({w, h, is3d ? d : 1});
-        while (size > 1) size >>= 1, ++last;
-        last = std::min(last, t.max_level);
-        if (t.immutable) last = std::min(last, t.immutable_levels - 1);
-    }
+    const int32_t last = last_generated_level(t, base, *b);
     for (int face = 0; face < t.faces(); ++face) {
         for (int32_t level = base + 1; level <= last; ++level) {
             const Image src = t.image(face, level - 1);   // a copy: image() may reallocate

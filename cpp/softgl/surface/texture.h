@@ -26,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "softgl/core/memory_ledger.h"
 #include "softgl/core/objects.h"
 
 namespace softgl {
@@ -196,6 +197,7 @@ public:
     // images[face][level]; one face except for cube maps (faces in TEXTURE_CUBE_MAP_POSITIVE_X order).
     std::vector<std::vector<Image>> images;
     uint64_t generation = 0;            // bumps on every change (render targets, caches)
+    MemoryReservation memory;           // storage_bytes(), charged to the process-wide total
 
     int faces() const { return target == gl::TEXTURE_CUBE_MAP ? 6 : 1; }
     Image& image(int face, int level);  // grows the arrays as needed
@@ -240,5 +242,7 @@ bool is_power_of_two(int32_t v);
 
 // generateMipmap's box filter: levels base+1 .. q from the base level, per face.
 void generate_mipmaps(Texture& t);
+// Texture::storage_bytes() as it will be after generate_mipmaps(t) (charged before it runs).
+uint64_t storage_bytes_after_mipmaps(const Texture& t);
 
 }  // namespace softgl
