@@ -160,7 +160,7 @@ void bind_context_attributes(py::module_& m) {
     m.def("set_memory_limit", &softgl::set_memory_limit, py::arg("bytes"),
           "Process-wide limit on the bytes GL objects hold (0: half of physical memory)");
     m.def("memory_limit", &softgl::memory_limit);
-    m.def("memory_in_use", &softgl::memory_in_use, "Bytes that buffers and renderbuffers hold now");
+    m.def("memory_in_use", &softgl::memory_in_use, "Bytes that buffers, textures, renderbuffers and drawing buffers hold now");
     m.def("error_name", &softgl::error_name);
     m.def("enum_name", &softgl::enum_name);
 }

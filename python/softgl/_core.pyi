@@ -914,7 +914,7 @@ def glsl_simd_levels() -> list[str]:
     """
 def memory_in_use() -> int:
     """
-    Bytes that buffers and renderbuffers hold now
+    Bytes that buffers, textures, renderbuffers and drawing buffers hold now
     """
 def memory_limit() -> int:
     ...

@@ -197,17 +197,34 @@ def test_skipped_draws_decide_nothing_for_the_tile_pass():
     assert draw(gl)["skip"] == "rasterizer_discard"
 
 
-def test_framebuffer_objects_write_through_the_render_target():
+def test_framebuffer_objects_of_one_rgba8_image_take_the_byte_paths():
+    # An RGBA8 image stores the drawing buffer's bytes (surface/texture.h): the colour kernels
+    # write it. Other formats, or a second colour buffer, go through the render target.
     gl, _ = context()
-    tex = gl.createTexture()
-    gl.bindTexture(gl.TEXTURE_2D, tex)
-    gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA8, SIZE, SIZE, 0, gl.RGBA, gl.UNSIGNED_BYTE, None)
-    gl.bindFramebuffer(gl.FRAMEBUFFER, gl.createFramebuffer())
-    gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, tex, 0)
+    fb = gl.createFramebuffer()
+    gl.bindFramebuffer(gl.FRAMEBUFFER, fb)
+    textures = []
+    for internal, fmt, type_ in ((gl.RGBA8, gl.RGBA, gl.UNSIGNED_BYTE), (gl.RGBA4, gl.RGBA, gl.UNSIGNED_BYTE),
+                                 (gl.RGB8, gl.RGB, gl.UNSIGNED_BYTE)):
+        tex = gl.createTexture()
+        gl.bindTexture(gl.TEXTURE_2D, tex)
+        gl.texImage2D(gl.TEXTURE_2D, 0, internal, SIZE, SIZE, 0, fmt, type_, None)
+        textures.append(tex)
+    gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, textures[0], 0)
     plan = draw(gl)
     assert plan["target"] == "framebuffer_object"
-    assert why_not(plan, "color_kernels", "fused_copy") == {"color_kernels": "framebuffer_object",
-                                                            "fused_copy": "framebuffer_object"}
+    assert plan["color_kernels"] and plan["fused_copy"], plan["text"]
+    for other in textures[1:]:
+        gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, other, 0)
+        assert why_not(draw(gl), "color_kernels", "fused_copy") == {"color_kernels": "framebuffer_object",
+                                                                    "fused_copy": "framebuffer_object"}
+    gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, textures[0], 0)
+    second = gl.createTexture()
+    gl.bindTexture(gl.TEXTURE_2D, second)
+    gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA8, SIZE, SIZE, 0, gl.RGBA, gl.UNSIGNED_BYTE, None)
+    gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT1, gl.TEXTURE_2D, second, 0)
+    gl.drawBuffers([gl.COLOR_ATTACHMENT0, gl.COLOR_ATTACHMENT1])
+    assert why_not(draw(gl), "color_kernels")["color_kernels"] == "framebuffer_object"
 
 
 def test_the_tuning_switches_paths_off():

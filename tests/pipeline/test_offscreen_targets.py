@@ -149,6 +149,81 @@ def test_wider_depth_attachment_says_why_and_gives_the_canvas_bytes():
     np.testing.assert_array_equal(fbo, canvas)
 
 
+# ------------------------------------------------------------- RGBA8 colour on the byte paths
+
+COLOR_VS = """#version 300 es
+in vec3 aPos; in vec4 aColor; out vec4 vColor;
+void main() { vColor = aColor; gl_Position = vec4(aPos, 1.0); }"""
+COLOR_FS = """#version 300 es
+precision mediump float; in vec4 vColor; out vec4 o;
+void main() { o = vColor * vColor.a; }"""
+
+
+def _draw_colored(kind, samples, blend, color_width=W):
+    """Blended (or not) per-vertex-colour triangles with a depth test into the canvas or an FBO of
+    an RGBA8 renderbuffer `color_width` wide and a W-wide DEPTH24_STENCIL8 renderbuffer (a wider
+    colour image keeps the draw off the byte paths: rows of another pitch); multisampled FBOs are
+    resolved into an RGBA8 texture by blitFramebuffer. Returns (W x H RGBA bytes, plan)."""
+    gl = softgl.Context(W, H, antialias=samples > 1, version=2, threads=2)
+    fb = None
+    if kind == "fbo":
+        fb = gl.createFramebuffer()
+        gl.bindFramebuffer(gl.FRAMEBUFFER, fb)
+        for fmt, att, w in ((gl.RGBA8, gl.COLOR_ATTACHMENT0, color_width),
+                            (gl.DEPTH24_STENCIL8, gl.DEPTH_STENCIL_ATTACHMENT, W)):
+            rb = gl.createRenderbuffer()
+            gl.bindRenderbuffer(gl.RENDERBUFFER, rb)
+            gl.renderbufferStorageMultisample(gl.RENDERBUFFER, samples if samples > 1 else 0, fmt, w, H)
+            gl.framebufferRenderbuffer(gl.FRAMEBUFFER, att, gl.RENDERBUFFER, rb)
+        assert gl.checkFramebufferStatus(gl.FRAMEBUFFER) == gl.FRAMEBUFFER_COMPLETE
+    gl.viewport(0, 0, W, H)
+    prog = softgl.program(gl, COLOR_VS, COLOR_FS)
+    gl.useProgram(prog)
+    rng = np.random.default_rng(11)
+    n = 3 * 60
+    pos = np.column_stack([rng.uniform(-1.2, 1.2, (n, 2)), rng.uniform(-0.9, 0.9, n)]).astype(np.float32)
+    col = rng.uniform(0, 1, (n, 4)).astype(np.float32)
+    for name, data, k in (("aPos", pos, 3), ("aColor", col, 4)):
+        gl.bindBuffer(gl.ARRAY_BUFFER, gl.createBuffer())
+        gl.bufferData(gl.ARRAY_BUFFER, data, gl.STATIC_DRAW)
+        loc = gl.getAttribLocation(prog, name)
+        gl.enableVertexAttribArray(loc)
+        gl.vertexAttribPointer(loc, k, gl.FLOAT, False, 0, 0)
+    gl.enable(gl.DEPTH_TEST)
+    if blend:
+        gl.enable(gl.BLEND)
+        gl.blendFuncSeparate(gl.SRC_ALPHA, gl.ONE_MINUS_SRC_ALPHA, gl.ONE, gl.ONE_MINUS_SRC_ALPHA)
+    gl.clearColor(0.25, 0.5, 0.75, 0.5)
+    gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT)
+    gl.drawArrays(gl.TRIANGLES, 0, n)
+    plan = gl.last_draw_plan()
+    assert gl.getError() == gl.NO_ERROR
+    if kind == "fbo" and samples > 1:
+        resolved = gl.createFramebuffer()
+        gl.bindFramebuffer(gl.DRAW_FRAMEBUFFER, resolved)
+        tex = gl.createTexture()
+        gl.bindTexture(gl.TEXTURE_2D, tex)
+        gl.texStorage2D(gl.TEXTURE_2D, 1, gl.RGBA8, W, H)
+        gl.framebufferTexture2D(gl.DRAW_FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, tex, 0)
+        gl.blitFramebuffer(0, 0, W, H, 0, 0, W, H, gl.COLOR_BUFFER_BIT, gl.NEAREST)
+        gl.bindFramebuffer(gl.READ_FRAMEBUFFER, resolved)
+    return gl.readPixels(0, 0, W, H, gl.RGBA, gl.UNSIGNED_BYTE), plan
+
+
+@pytest.mark.parametrize("samples", [1, 4])
+@pytest.mark.parametrize("blend", [False, True])
+def test_rgba8_fbo_takes_the_colour_kernels_and_gives_the_general_paths_bytes(samples, blend):
+    fast, plan = _draw_colored("fbo", samples, blend)
+    general, general_plan = _draw_colored("fbo", samples, blend, color_width=W + 8)
+    assert plan["target"] == "framebuffer_object" and plan["color_kernels"], plan["text"]
+    assert general_plan["color_kernels_why_not"] == "framebuffer_object"
+    np.testing.assert_array_equal(fast, general)
+    if samples == 1:   # the canvas resolves multisamples by its own rounding; single-sampled it is the same
+        canvas, canvas_plan = _draw_colored("canvas", samples, blend)
+        assert canvas_plan["color_kernels"]
+        np.testing.assert_array_equal(fast, canvas)
+
+
 # ---------------------------------------------------------------------------------------- clears
 
 SCISSOR = (10, 7, 33, 21)   # x, y, w, h

@@ -2,8 +2,8 @@
 straight into the registers, byte texels gathered) must give, lane by lane, the same bits as the
 fast path's scalar reference (Fast2D::filter one lane at a time) and as the general path, for
 random coordinates including NaN, infinities and huge values, every wrap mode, power-of-two and
-other sizes, 2D arrays, every filter, mip levels chosen per lane, inactive lanes, and each
-storage the level table can hold (floats and bytes, bytes only, floats only).
+other sizes, 2D arrays, every filter, mip levels chosen per lane, inactive lanes, and both
+storages (8-bit unorm textures as bytes, their only storage; float textures as floats).
 The lookups run through softgl._core.testing.sample_texture (one query, one TextureUnitSampler)."""
 import numpy as np
 import pytest
@@ -83,7 +83,6 @@ def random_case(seed):
         lod[:] = lod[0]
     offset = (int(rng.integers(-3, 4)), int(rng.integers(-3, 4))) if seed % 5 == 1 else (0, 0)
     return dict(levels=mip_chain(rng, w, h, layers, unorm8), unorm8=unorm8, params=params,
-                storage=["default", "bytes", "floats"][seed % 3 if unorm8 else 0],
                 coords=np.stack([s, t, layer]), lod_mode=mode, lod=lod, ddx=ddx, ddy=ddy,
                 active=active.astype(np.uint8), offset=offset)
 
@@ -106,9 +105,8 @@ def test_simd_blocks_equal_the_scalar_reference_lane_by_lane(seed):
     np.testing.assert_array_equal(avx2[:, off], np.array([[0], [0], [0], [1]], np.float32).repeat(off.sum(), 1))
 
 
-@pytest.mark.parametrize("storage", ["default", "bytes", "floats"])
 @pytest.mark.parametrize("min_filter", ["NEAREST", "LINEAR", "LINEAR_MIPMAP_LINEAR"])
-def test_unorm8_blocks_are_the_fixed_point_rule(storage, min_filter):
+def test_unorm8_blocks_are_the_fixed_point_rule(min_filter):
     """Bilinear of bytes k: ((256-A)(256-B) k00 + A(256-B) k10 + (256-A)B k01 + AB k11) / (255 * 65536)
     with A = round(256 a), B = round(256 b) (README "Choices"), NEAREST k / 255, computed here in
     float64 (exact) and rounded once; trilinear blends two such levels in float32."""
@@ -119,7 +117,7 @@ def test_unorm8_blocks_are_the_fixed_point_rule(storage, min_filter):
     s = rng.uniform(-0.5, 1.5, n).astype(np.float32)
     t = rng.uniform(-0.5, 1.5, n).astype(np.float32)
     filt = GL[min_filter]
-    case = dict(levels=levels, unorm8=True, storage=storage,
+    case = dict(levels=levels, unorm8=True,
                 params={"min_filter": filt, "mag_filter": filt if filt < 0x2700 else GL["LINEAR"],
                         "wrap_s": GL["REPEAT"], "wrap_t": GL["REPEAT"]},
                 coords=np.stack([s, t, np.zeros(n, np.float32)]), lod_mode="explicit",
@@ -151,4 +149,4 @@ def test_unorm8_blocks_are_the_fixed_point_rule(storage, min_filter):
     for path, simd in (("scalar", 0), ("avx2", AVX2), ("best", AVX512)):
         got, fast = run(path, simd, case)
         assert fast
-        np.testing.assert_array_equal(got.view(np.uint32), want.view(np.uint32), err_msg=f"{path} {storage}")
+        np.testing.assert_array_equal(got.view(np.uint32), want.view(np.uint32), err_msg=path)

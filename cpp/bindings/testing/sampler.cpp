@@ -41,7 +41,7 @@ glsl::TextureLod lod_mode(const std::string& name) {
 // bias: what the executor computes from the quad; gradient: the shader's); active (n) bools.
 // Returns (out (4, n) float32, whether the fast path served the query).
 py::tuple sample_texture_hook(const std::string& path, int simd, py::list levels, bool unorm8, py::dict params,
-                              const std::string& storage, Array<float> coords, const std::string& mode,
+                              Array<float> coords, const std::string& mode,
                               Array<float> lod, Array<float> ddx, Array<float> ddy, Array<uint8_t> active,
                               std::array<int, 2> offset) {
     if (levels.empty() || coords.ndim() != 2 || coords.shape(0) != 3) throw py::value_error("levels, coords (3, n)");
@@ -62,7 +62,15 @@ py::tuple sample_texture_hook(const std::string& path, int simd, py::list levels
         if (a.ndim() != 4 || a.shape(0) != layers || a.shape(3) != 4) throw py::value_error("levels: (layers, h, w, 4)");
         Image& img = tex->image(0, k);
         img.allocate(format, int32_t(a.shape(2)), int32_t(a.shape(1)), layers);
-        for (size_t i = 0; i < img.color.size(); ++i) img.color[i] = unorm8 ? a.data()[i] / 255.0f : a.data()[i];
+        // 8-bit unorm images keep bytes as their only storage (Image::rgba8): the values are bytes k.
+        if (unorm8)
+            for (size_t i = 0; i < img.rgba8.size(); ++i) {
+                uint32_t texel = 0;
+                for (int c = 0; c < 4; ++c) texel |= uint32_t(a.data()[i * 4 + size_t(c)]) << (8 * c);
+                img.rgba8[i] = texel;
+            }
+        else
+            std::copy(a.data(), a.data() + img.color.size(), img.color.begin());
     }
     tex->max_level = count - 1;
     SamplerParams& p = tex->sampler;
@@ -77,28 +85,7 @@ py::tuple sample_texture_hook(const std::string& path, int simd, py::list levels
     bt.params = p;
     bt.base = 0;
     bt.q = needs_mipmaps(p.min_filter) ? max_sampled_level(*tex) : 0;
-    // Two binds: a draw makes the byte copy of a level at the second draw that binds it unchanged.
-    tex->refresh_sampling(bt.base, bt.q);
-    tex->refresh_sampling(bt.base, bt.q);
-    std::vector<std::vector<uint32_t>> bytes(tex->sampled_levels.size());
-    for (size_t k = 0; k < tex->sampled_levels.size(); ++k) {
-        SampledLevel& s = tex->sampled_levels[k];
-        if (storage == "floats") {
-            s.rgba8 = nullptr;
-        } else if (storage == "bytes" && s.unorm8) {
-            // The texels as bytes only (no floats), as a texture that keeps bytes as its storage.
-            const Image& img = *tex->find(0, bt.base + int32_t(k));
-            bytes[k].resize(img.texel_count());
-            for (size_t i = 0; i < bytes[k].size(); ++i)
-                for (int c = 0; c < 4; ++c)
-                    bytes[k][i] |= uint32_t(std::lround(img.color[i * 4 + size_t(c)] * 255.0f)) << (8 * c);
-            s.rgba8 = bytes[k].data();
-            s.color = nullptr;
-        } else if (storage != "default" && storage != "bytes") {
-            throw py::value_error("storage: default, bytes or floats");
-        }
-    }
-
+    tex->refresh_sampling(bt.base, bt.q);   // the level table, as a draw builds it when it binds the texture
     std::vector<glsl::Scalar> unit(static_cast<size_t>(n)), in[8], outs[4];
     std::vector<uint32_t> lanes(static_cast<size_t>(n));
     for (py::ssize_t l = 0; l < n; ++l) lanes[size_t(l)] = active.data()[l] ? ~0u : 0u;
@@ -137,6 +124,6 @@ py::tuple sample_texture_hook(const std::string& path, int simd, py::list levels
 
 void bind_testing_sampler(py::module_& t) {
     t.def("sample_texture", &sample_texture_hook, py::arg("path"), py::arg("simd"), py::arg("levels"),
-          py::arg("unorm8"), py::arg("params"), py::arg("storage"), py::arg("coords"), py::arg("lod_mode"),
+          py::arg("unorm8"), py::arg("params"), py::arg("coords"), py::arg("lod_mode"),
           py::arg("lod"), py::arg("ddx"), py::arg("ddy"), py::arg("active"), py::arg("offset"));
 }

@@ -615,9 +615,14 @@ std::string Context::resize(int32_t width, int32_t height) {
     FramebufferConfig config = framebuffer_.config();
     config.width = width;
     config.height = height;
-    std::string why = DefaultFramebuffer::check(config);
+    std::string why = DefaultFramebuffer::check(config, framebuffer_.memory_bytes());
     if (!why.empty()) return why;
-    framebuffer_ = DefaultFramebuffer(config);
+    try {
+        framebuffer_ = DefaultFramebuffer(config);
+    } catch (const std::bad_alloc&) {
+        return "could not allocate the " + std::to_string(DefaultFramebuffer::bytes_needed(config)) +
+               "-byte drawing buffer";
+    }
     if (blendlab_) blendlab_->on_present(framebuffer_);
     return "";
 }

@@ -5,6 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
 
 #include "softgl/api/context.h"
 #include "softgl/surface/formats.h"
@@ -37,15 +40,18 @@ struct ColorSource {
         if (fb) return fb->read_pixel(x, y, out);   // any colour format, resolved by the mean
         const size_t S = size_t(img->samples);
         const size_t t = offset + (size_t(y) * size_t(img->width) + size_t(x)) * S;
-        for (int c = 0; c < 4; ++c) {
-            if (!img->integer.empty()) {
-                std::memcpy(&out[c], &img->integer[t * 4 + size_t(c)], 4);   // bit patterns (no resolve)
-                continue;
-            }
-            double sum = 0;
-            for (size_t s = 0; s < S; ++s) sum += double(img->color[(t + s) * 4 + size_t(c)]);
-            out[c] = float(sum / double(S));
+        if (!img->integer.empty()) {
+            std::memcpy(out, &img->integer[t * 4], 16);   // bit patterns (no resolve)
+            return;
         }
+        if (S == 1) return img->read_color(t, out);
+        double sum[4] = {0, 0, 0, 0};
+        for (size_t s = 0; s < S; ++s) {
+            float v[4];
+            img->read_color(t + s, v);
+            for (int c = 0; c < 4; ++c) sum[c] += double(v[c]);
+        }
+        for (int c = 0; c < 4; ++c) out[c] = float(sum[c] / double(S));
     }
 };
 
@@ -609,6 +615,14 @@ bool Context::read_pixels_framebuffer_object(int32_t x, int32_t y, int32_t width
     for (int32_t row = 0; row < height; ++row) {
         const int64_t sy = int64_t(y) + row;
         if (sy < 0 || sy >= src.height) continue;
+        if (img.bytes() && type == gl::UNSIGNED_BYTE) {
+            // Byte storage reads back as it is (float_to_unorm8(k / 255) is k).
+            const int64_t x0 = std::max<int64_t>(x, 0), x1 = std::min<int64_t>(int64_t(x) + width, src.width);
+            if (x0 < x1)
+                std::memcpy(dst + (skip_rows + row) * stride + (skip_pixels + x0 - x) * pixel,
+                            &img.rgba8[src.offset + size_t(sy) * size_t(img.width) + size_t(x0)], size_t(x1 - x0) * 4);
+            continue;
+        }
         for (int32_t col = 0; col < width; ++col) {
             const int64_t sx = int64_t(x) + col;
             if (sx < 0 || sx >= src.width) continue;   // outside the buffer: left as it is
@@ -617,10 +631,14 @@ bool Context::read_pixels_framebuffer_object(int32_t x, int32_t y, int32_t width
             if (f.is_integer()) {
                 std::memcpy(out, &img.integer[t * 4], 16);
             } else if (type == gl::FLOAT) {
-                std::memcpy(out, &img.color[t * 4], 16);
+                float v[4];
+                img.read_color(t, v);
+                std::memcpy(out, v, 16);
             } else {
+                float texel[4];
+                img.read_color(t, texel);
                 for (int c = 0; c < 4; ++c) {
-                    float v = img.color[t * 4 + size_t(c)];
+                    float v = texel[c];
                     // ES 3.0 §4.3.2: sRGB values are returned encoded (no conversion on read).
                     if (f.encoding == Encoding::Srgb && c < 3) v = linear_to_srgb(v);
                     out[c] = float_to_unorm8(v);
@@ -671,8 +689,21 @@ void Context::copy_tex_image_2d(GLenum target, int32_t level, GLenum internal_fo
     // ES 2.0 §3.7.2: the new format's components must exist in the read buffer (alpha).
     const bool src_alpha = src.fb ? src.fb->config().alpha : src.img->format->bits[3] != 0;
     if (fi->bits[3] && !src_alpha) return error(gl::INVALID_OPERATION, call, "the read buffer has no alpha");
+    // Charged (core/memory_ledger.h) before allocating; the old image stays if either fails.
+    const Image* old = t->find(face, level);
+    const uint64_t bytes = Image::allocation_bytes(fi, width, height, 1, 1);
+    const uint64_t before = t->memory.bytes(), released = old ? old->storage_bytes() : 0;
+    if (!t->memory.resize(before - std::min(before, released) + bytes))
+        return error(gl::OUT_OF_MEMORY, call, "a " + std::to_string(width) + "x" + std::to_string(height) +
+                     " image needs " + std::to_string(bytes) + " bytes, which " +
+                     over_memory_limit(bytes - std::min(bytes, released)));
     Image fresh;
-    fresh.allocate(fi, width, height, 1);
+    try {
+        fresh.allocate(fi, width, height, 1);
+    } catch (const std::bad_alloc&) {
+        t->memory.force(before);
+        return error(gl::OUT_OF_MEMORY, call, "could not allocate " + std::to_string(bytes) + " bytes");
+    }
     ColorSource cs{src.fb, src.img, src.offset, src.width, src.height};
     for (int32_t row = 0; row < height; ++row)
         for (int32_t col = 0; col < width; ++col) {
@@ -684,8 +715,13 @@ void Context::copy_tex_image_2d(GLenum target, int32_t level, GLenum internal_fo
             float stored[4];
             if (fi->base_format == gl::LUMINANCE || fi->base_format == gl::LUMINANCE_ALPHA) rgba[1] = rgba[2] = rgba[0];
             if (fi->base_format == gl::ALPHA) rgba[0] = rgba[1] = rgba[2] = 0;
+            const size_t at = size_t(row) * size_t(width) + size_t(col);
+            if (fresh.bytes()) {
+                fresh.rgba8[at] = quantize_unorm8(*fi, rgba);
+                continue;
+            }
             quantize_color(*fi, rgba, stored);
-            std::copy(stored, stored + 4, &fresh.color[(size_t(row) * size_t(width) + size_t(col)) * 4]);
+            fresh.store_color(at, stored);
         }
     t->image(face, level) = std::move(fresh);
     ++t->generation;
@@ -726,6 +762,10 @@ void Context::copy_tex_sub_image(const char* call, GLenum target, int32_t level,
             if (sx >= 0 && sy >= 0 && sx < src.width && sy < src.height) cs.read(int32_t(sx), int32_t(sy), rgba);
             if (fi.base_format == gl::LUMINANCE || fi.base_format == gl::LUMINANCE_ALPHA) rgba[1] = rgba[2] = rgba[0];
             const size_t tt = (size_t(zoffset) * size_t(img->height) + size_t(yoffset + row)) * size_t(img->width) + size_t(xoffset + col);
+            if (img->bytes()) {
+                img->rgba8[tt] = quantize_unorm8(fi, rgba);
+                continue;
+            }
             quantize_color(fi, rgba, &img->color[tt * 4]);
         }
     ++t->generation;
@@ -993,6 +1033,16 @@ bool blit_rows_apply(const BlitColor& color, GLenum filter, int64_t sx0, int64_t
     return true;
 }
 
+// unorm(k, 8) = k / 255 as float for every byte k.
+const std::array<float, 256>& unorm8_values() {
+    static const std::array<float, 256> values = [] {
+        std::array<float, 256> v{};
+        for (uint32_t k = 0; k < 256; ++k) v[k] = float(k) / 255.0f;
+        return v;
+    }();
+    return values;
+}
+
 // Source row (iy, columns ix0 .. ix0 + n) of a colour image as float RGBA into `out`, resolved
 // exactly as ColorSource::read does: the mean of the samples in double, in sample order
 // (integer formats: sample 0's bits).
@@ -1006,6 +1056,43 @@ void resolve_row(const float* in, size_t n, float* out) {
         }
 }
 
+// resolve_row of byte samples: each byte k read as the float k / 255 holds, summed in double.
+template <int S>
+void resolve_byte_row(const uint8_t* in, size_t n, float* out) {
+    static const std::array<double, 256> value = [] {
+        std::array<double, 256> v{};
+        for (uint32_t k = 0; k < 256; ++k) v[k] = double(float(k) / 255.0f);
+        return v;
+    }();
+#if defined(__SSE2__)
+    (void)value;
+    // The four channels at once: float(k) / 255.0f (correctly rounded, as the table), widened to
+    // double and summed per channel in sample order: the same operations on the same values.
+    const __m128i zero = _mm_setzero_si128();
+    const __m128 k255 = _mm_set1_ps(255.0f);
+    const __m128d count = _mm_set1_pd(double(S));
+    for (size_t i = 0; i < n; ++i, in += 4 * S, out += 4) {
+        __m128d lo = _mm_setzero_pd(), hi = _mm_setzero_pd();
+        for (int s = 0; s < S; ++s) {
+            int32_t word;
+            std::memcpy(&word, in + 4 * s, 4);
+            const __m128i k = _mm_unpacklo_epi16(_mm_unpacklo_epi8(_mm_cvtsi32_si128(word), zero), zero);
+            const __m128 v = _mm_div_ps(_mm_cvtepi32_ps(k), k255);
+            lo = _mm_add_pd(lo, _mm_cvtps_pd(v));
+            hi = _mm_add_pd(hi, _mm_cvtps_pd(_mm_movehl_ps(v, v)));
+        }
+        _mm_storeu_ps(out, _mm_movelh_ps(_mm_cvtpd_ps(_mm_div_pd(lo, count)), _mm_cvtpd_ps(_mm_div_pd(hi, count))));
+    }
+#else
+    for (size_t i = 0; i < n; ++i, in += 4 * S, out += 4) {
+        double sum[4] = {0, 0, 0, 0};   // per channel, samples in order
+        for (int s = 0; s < S; ++s)
+            for (int c = 0; c < 4; ++c) sum[c] += value[in[s * 4 + c]];
+        for (int c = 0; c < 4; ++c) out[c] = float(sum[c] / double(S));
+    }
+#endif
+}
+
 void read_source_row(const ColorSource& cs, int64_t ix0, int64_t iy, size_t n, float* out) {
     const Image& img = *cs.img;
     const size_t S = size_t(img.samples);
@@ -1013,6 +1100,29 @@ void read_source_row(const ColorSource& cs, int64_t ix0, int64_t iy, size_t n, f
     if (!img.integer.empty()) {
         for (size_t i = 0; i < n; ++i) std::memcpy(&out[i * 4], &img.integer[(t + i * S) * 4], 16);
         return;
+    }
+    if (img.bytes()) {
+        // The same floats (k / 255) and, for multisample sources, the same double means in sample
+        // order as the float rows below.
+        const uint8_t* in = reinterpret_cast<const uint8_t*>(&img.rgba8[t]);
+        switch (S) {
+            case 1: {
+                const std::array<float, 256>& value = unorm8_values();
+                for (size_t i = 0; i < n * 4; ++i) out[i] = value[in[i]];
+                return;
+            }
+            case 2: return resolve_byte_row<2>(in, n, out);
+            case 4: return resolve_byte_row<4>(in, n, out);
+            case 8: return resolve_byte_row<8>(in, n, out);
+            default:
+                for (size_t i = 0; i < n; ++i, in += 4 * S, out += 4)
+                    for (int c = 0; c < 4; ++c) {
+                        double sum = 0;
+                        for (size_t s = 0; s < S; ++s) sum += double(unorm8_values()[in[s * 4 + size_t(c)]]);
+                        out[c] = float(sum / double(S));
+                    }
+                return;
+        }
     }
     const float* in = &img.color[t * 4];
     switch (S) {
@@ -1058,9 +1168,17 @@ void write_row(const BlitColor& color, int64_t x0, int64_t y, size_t n, const fl
         }
     }
     const BlendOp plain;   // blending off, every channel written
-    for (const auto& d : color.images)
+    for (const auto& d : color.images) {
+        if (d.first->format->internal_format == gl::RGBA8) {
+            // write_image_color's RGBA8 plain write: the bytes float_to_unorm8 gives.
+            uint8_t* p = reinterpret_cast<uint8_t*>(
+                &d.first->rgba8[d.second + size_t(y) * size_t(d.first->width) + size_t(x0)]);
+            for (size_t i = 0; i < n * 4; ++i) p[i] = unorm8_of(rgba[i]);
+            continue;
+        }
         for (size_t i = 0; i < n; ++i)
             write_image_color(*d.first, d.second, plain, &rgba[i * 4], int32_t(x0 + int64_t(i)), int32_t(y), 0);
+    }
 }
 
 // Destination rows [y_begin, y_end) of a 1:1 blit: colour within `rc`, depth / stencil within

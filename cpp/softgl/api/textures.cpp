@@ -554,9 +554,25 @@ void Context::tex_image(const char* call, GLenum target, int32_t level, GLenum i
     if (t->immutable) return error(gl::INVALID_OPERATION, call, "the texture is immutable (texStorage)");
     PixelUnpack u;
     if (!check_tex_source(call, src, format, type, width, height, depth, u)) return;
-    Image& img = t->image(face, level);
-    img.allocate(fi, width, height, depth);
-    if (u.data && width && height && depth) unpack_into(img, 0, 0, 0, width, height, depth, u);
+    // The new image is charged (core/memory_ledger.h) and built beside the old one, which stays
+    // if either fails.
+    const Image* old = t->find(face, level);
+    const uint64_t bytes = Image::allocation_bytes(fi, width, height, depth, 1);
+    const uint64_t before = t->memory.bytes();
+    const uint64_t released = old ? old->storage_bytes() : 0;
+    if (!t->memory.resize(before - std::min(before, released) + bytes))
+        return error(gl::OUT_OF_MEMORY, call, "a " + std::to_string(width) + "x" + std::to_string(height) + "x" +
+                     std::to_string(depth) + " image needs " + std::to_string(bytes) + " bytes, which " +
+                     over_memory_limit(bytes - std::min(bytes, released)));
+    try {
+        Image fresh;
+        fresh.allocate(fi, width, height, depth);
+        if (u.data && width && height && depth) unpack_into(fresh, 0, 0, 0, width, height, depth, u);
+        t->image(face, level) = std::move(fresh);
+    } catch (const std::bad_alloc&) {
+        t->memory.force(before);
+        return error(gl::OUT_OF_MEMORY, call, "could not allocate " + std::to_string(bytes) + " bytes");
+    }
     ++t->generation;
 }
 
@@ -646,12 +662,28 @@ void Context::tex_storage(const char* call, GLenum target, int32_t levels, GLenu
     if (t.immutable) return error(gl::INVALID_OPERATION, call, "the texture is already immutable");
     if (fi->kind() == SampleKind::Depth && target != gl::TEXTURE_2D && target != gl::TEXTURE_2D_ARRAY)
         return error(gl::INVALID_OPERATION, call, "depth formats need TEXTURE_2D or TEXTURE_2D_ARRAY");
-    t.images.clear();
+    // Charged (core/memory_ledger.h) and built before the old images go, which stay if either fails.
+    uint64_t bytes = 0;
     for (int f = 0; f < t.faces(); ++f)
-        for (int32_t l = 0; l < levels; ++l) {
-            const int32_t d = target == gl::TEXTURE_3D ? std::max(1, depth >> l) : depth;
-            t.image(f, l).allocate(fi, std::max(1, width >> l), std::max(1, height >> l), d);
-        }
+        for (int32_t l = 0; l < levels; ++l)
+            bytes += Image::allocation_bytes(fi, std::max(1, width >> l), std::max(1, height >> l),
+                                             target == gl::TEXTURE_3D ? std::max(1, depth >> l) : depth, 1);
+    const uint64_t before = t.memory.bytes();
+    if (!t.memory.resize(bytes))
+        return error(gl::OUT_OF_MEMORY, call, "the " + std::to_string(levels) + " levels need " + std::to_string(bytes) +
+                     " bytes, which " + over_memory_limit(bytes - std::min(bytes, before)));
+    std::vector<std::vector<Image>> fresh(size_t(t.faces()));
+    try {
+        for (int f = 0; f < t.faces(); ++f)
+            for (int32_t l = 0; l < levels; ++l) {
+                const int32_t d = target == gl::TEXTURE_3D ? std::max(1, depth >> l) : depth;
+                fresh[size_t(f)].emplace_back().allocate(fi, std::max(1, width >> l), std::max(1, height >> l), d);
+            }
+    } catch (const std::bad_alloc&) {
+        t.memory.force(before);
+        return error(gl::OUT_OF_MEMORY, call, "could not allocate " + std::to_string(bytes) + " bytes");
+    }
+    t.images = std::move(fresh);
     t.immutable = true;
     t.immutable_levels = levels;
     ++t.generation;
@@ -688,7 +720,18 @@ void Context::generate_mipmap(GLenum target) {
                            f.internal_format == gl::SRGB8))
         ok = false;
     if (!ok) return error(gl::INVALID_OPERATION, call, "mipmaps cannot be generated for this format");
-    generate_mipmaps(t);
+    const uint64_t before = t.memory.bytes(), after = storage_bytes_after_mipmaps(t);
+    if (!t.memory.resize(after))
+        return error(gl::OUT_OF_MEMORY, call, "the mipmap levels need " + std::to_string(after - std::min(after, before)) +
+                     " more bytes, which " + over_memory_limit(after - std::min(after, before)));
+    try {
+        generate_mipmaps(t);
+    } catch (const std::bad_alloc&) {
+        // Levels written before the failure stay (each is complete); the charge follows them.
+        t.memory.force(t.storage_bytes());
+        ++t.generation;
+        return error(gl::OUT_OF_MEMORY, call, "could not allocate the mipmap levels");
+    }
 }
 
 // ---------------------------------------------------------------------------- samplers

@@ -52,6 +52,27 @@ bool MemoryReservation::reserve(uint64_t bytes) {
     return true;
 }
 
+bool MemoryReservation::resize(uint64_t bytes) {
+    if (bytes <= bytes_) {
+        g_in_use.fetch_sub(bytes_ - bytes, std::memory_order_relaxed);
+        bytes_ = bytes;
+        return true;
+    }
+    const uint64_t grow = bytes - bytes_, limit = memory_limit();
+    uint64_t used = g_in_use.load(std::memory_order_relaxed);
+    do {
+        if (grow > limit || used > limit - grow) return false;
+    } while (!g_in_use.compare_exchange_weak(used, used + grow, std::memory_order_relaxed));
+    bytes_ = bytes;
+    return true;
+}
+
+void MemoryReservation::force(uint64_t bytes) {
+    release();
+    g_in_use.fetch_add(bytes, std::memory_order_relaxed);
+    bytes_ = bytes;
+}
+
 void MemoryReservation::release() {
     if (bytes_) g_in_use.fetch_sub(bytes_, std::memory_order_relaxed);
     bytes_ = 0;

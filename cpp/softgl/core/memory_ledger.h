@@ -29,6 +29,12 @@ public:
 
     // Charges `bytes` to the total; false (and nothing charged) if that would pass the limit.
     bool reserve(uint64_t bytes);
+    // Changes the charge to `bytes`, charging only the growth: false (and nothing changed) if
+    // the growth would pass the limit. Shrinking always succeeds.
+    bool resize(uint64_t bytes);
+    // Charges `bytes` whatever the limit (storage already checked against it, e.g. by
+    // DefaultFramebuffer::check, so that the ledger stays the sum of what is held).
+    void force(uint64_t bytes);
     void release();
     uint64_t bytes() const { return bytes_; }
 

@@ -106,6 +106,8 @@ DrawPlan plan_draw(const DrawInputs& in, const DrawCall& call, const FragmentOps
     plan.target = !default_fb ? DrawTarget::FramebufferObject
                 : default_fb->is_float() ? DrawTarget::FloatDrawingBuffer : DrawTarget::DrawingBuffer;
     const bool drawing_buffer = plan.target == DrawTarget::DrawingBuffer;   // the RGBA8 one
+    // Colour as RGBA8 bytes (the drawing buffer, or an FBO's one RGBA8 image): the byte paths.
+    const bool rgba8_target = fb.color_rgba8() != nullptr;
     plan.samples = config.samples;
     plan.simd = std::min(in.tuning.simd, best_simd_level());
     plan.batch_primitives = in.tuning.batch_primitives;
@@ -175,7 +177,7 @@ DrawPlan plan_draw(const DrawInputs& in, const DrawCall& call, const FragmentOps
          {!early, plan.tests_before_shading},
          {!plan.writes_color, Path::NoColorWrite},
          {!plan.plain_write, Path::ReadsDestination},
-         {blend.enabled && !drawing_buffer, target_reason},
+         {blend.enabled && !rgba8_target, target_reason},
          {ds.stencil_test, Path::StencilTest},
          {ds.depth_test && plan.quad_depth != Path::Taken, Path::DepthNotPerQuad},
          {plan.blend_lab, Path::BlendLab},
@@ -187,7 +189,7 @@ DrawPlan plan_draw(const DrawInputs& in, const DrawCall& call, const FragmentOps
                                        {!plan.writes_color, Path::NoColorWrite},
                                        {plan.late_tests(), Path::LateTests},
                                        {plan.blend_lab, Path::BlendLab},
-                                       {!drawing_buffer, target_reason},
+                                       {!rgba8_target, target_reason},
                                        {plan.coverage_ops, Path::CoverageOps},
                                        {plan.fog, Path::Fog},
                                        {plan.area_coverage, Path::Smoothing}});

@@ -290,6 +290,7 @@ struct TilePass::Colors {
 TilePass::TilePass(const DrawInputs& in, const FragmentOps& ops, const TileGrid& grid, DrawPlan& plan)
     : in_(in), plan_(plan), state_(in.state), fb_(in.target), fs_(in.fragment_shader),
       drawing_buffer_(plan.target == DrawTarget::DrawingBuffer ? in.target.default_framebuffer() : nullptr),
+      color_bytes_(in.target.color_rgba8()),
       sink_(plan.blend_lab ? in.sink : nullptr),
       blend_(ops.blend), ds_(ops.depth_stencil), fog_(ops.fog), pattern_(sample_pattern(in.target.config().samples)),
       grid_(grid), samples_(in.target.config().samples),
@@ -298,7 +299,7 @@ TilePass::TilePass(const DrawInputs& in, const FragmentOps& ops, const TileGrid&
                      : coverage_from_value(in.state.sample_coverage_value, samples_) ^
                            (in.state.sample_coverage_invert ? 0xFFFFu : 0u)),
       shader_depth_(in.fragment_shader.writes_depth()), unorm8_table_(unorm8_to_float_table()), pitch_(size_t(in.target.width())),
-      buffer_pixels_{drawing_buffer_ ? drawing_buffer_->color_sample(0, 0, 0) : nullptr, pitch_,
+      buffer_pixels_{color_bytes_, pitch_,
                      in.target.width() - 1, in.target.height() - 1},
       copies_(plan.fragment_copies == Path::Taken ? in.fragment_shader.copies() : nullptr) {
     if (plan.quad_depth == Path::Taken) {
@@ -309,8 +310,7 @@ TilePass::TilePass(const DrawInputs& in, const FragmentOps& ops, const TileGrid&
         quad_depth_test_.pitch = pitch_;
         if (samples_ == 1) depth_pixels_ = quad_depth_test_.depth;
     }
-    if (drawing_buffer_ && samples_ == 1 && plan.writes_color)
-        color_pixels_ = reinterpret_cast<const uint32_t*>(drawing_buffer_->color_sample(0, 0, 0));
+    if (color_bytes_ && samples_ == 1 && plan.writes_color) color_pixels_ = reinterpret_cast<const uint32_t*>(color_bytes_);
     for (Scratch& w : tile_pass_scratch().workers) w.raster = RasterStats{}, w.stats = DrawStats{};
 }
 
@@ -1014,7 +1014,7 @@ SOFTGL_STEP void TilePass::write(Tile& t, const Chunk& c, const Colors& col) {
             int32_t x, y;
             chunk.pixel(lane, x, y);
             const float color[4] = {src[lane], src[cs + lane], src[2 * cs + lane], src[3 * cs + lane]};
-            uint8_t* px = drawing_buffer_->color_sample(x, y, 0);
+            uint8_t* px = color_bytes_ + (size_t(y) * pitch_ + size_t(x)) * size_t(samples) * 4;
             if (samples == 1) {
                 write_color<K>(blend_, all_channels, table, color, px);
                 w.stats.samples_written++;

@@ -107,7 +107,8 @@ private:
     const State& state_;
     RenderTarget& fb_;
     const FragmentShader& fs_;
-    DefaultFramebuffer* const drawing_buffer_;   // the RGBA8 drawing buffer (colour kernels), or null
+    DefaultFramebuffer* const drawing_buffer_;   // the RGBA8 drawing buffer (the blend lab's sink), or null
+    uint8_t* const color_bytes_;                 // RenderTarget::color_rgba8 (colour kernels), or null
     FragmentSink* const sink_;                   // the blend lab's hooks when plan_.blend_lab, else null
     const BlendOp blend_;
     const DepthStencilOp ds_;

@@ -9,6 +9,7 @@
 #include <string>
 #include <vector>
 
+#include "softgl/core/memory_ledger.h"
 #include "softgl/core/state.h"
 
 namespace softgl {
@@ -56,13 +57,16 @@ public:
     static constexpr int kDepthBits = 24;
     static constexpr int kStencilBits = 8;
 
-    // Empty string when `config` can be allocated; otherwise why not. Allocates nothing.
-    static std::string check(const FramebufferConfig& config);
+    // Empty string when `config` can be allocated; otherwise why not. Allocates nothing. The
+    // bytes must fit in the memory ledger's room (core/memory_ledger.h) plus `released`, the
+    // bytes of a drawing buffer this one replaces.
+    static std::string check(const FramebufferConfig& config, uint64_t released = 0);
     static uint64_t bytes_needed(const FramebufferConfig& config);
 
     explicit DefaultFramebuffer(const FramebufferConfig& config);
 
     const FramebufferConfig& config() const { return config_; }
+    uint64_t memory_bytes() const { return memory_.bytes(); }   // charged to the memory ledger
     int32_t width() const { return config_.width; }
     int32_t height() const { return config_.height; }
 
@@ -127,6 +131,7 @@ private:
     CacheLineVector<float> color_f_;     // RGBA16F / RGBA32F
     CacheLineVector<uint32_t> depth_;
     CacheLineVector<uint8_t> stencil_;
+    MemoryReservation memory_;           // bytes_needed(config_), charged once check() passed
 };
 
 }  // namespace softgl

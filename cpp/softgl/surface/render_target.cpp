@@ -11,6 +11,7 @@ RenderTarget RenderTarget::for_default(DefaultFramebuffer& fb) {
     RenderTarget t;
     t.config_ = fb.config();
     t.default_ = &fb;
+    if (!fb.is_float()) t.rgba8_ = fb.color_sample(0, 0, 0);
     return t;
 }
 
@@ -29,6 +30,12 @@ RenderTarget RenderTarget::for_images(int32_t width, int32_t height, int32_t sam
     t.stencil_ = t.config_.stencil ? stencil : nullptr;
     t.depth_offset_ = depth_offset;
     t.stencil_offset_ = stencil_offset;
+    Image* const c0 = colors[0].image;
+    bool one_color = c0 != nullptr;
+    for (int o = 1; o < kMaxColors; ++o) one_color = one_color && colors[size_t(o)].image == nullptr;
+    if (one_color && c0->format->internal_format == gl::RGBA8 && c0->bytes() && c0->width == width &&
+        c0->samples == samples && !c0->rgba8.empty())
+        t.rgba8_ = reinterpret_cast<uint8_t*>(c0->rgba8.data() + colors[0].offset);
     return t;
 }
 
@@ -73,23 +80,27 @@ void write_image_color(Image& img, size_t offset, const BlendOp& op, const float
             if (op.write[size_t(c)]) img.integer[t * 4 + size_t(c)] = out[c];
         return;
     }
-    float* dst = &img.color[t * 4];
-    if (is_rgba8(f) && op.is_plain_write()) {
-        // RGBA8 without blending: what the general path below gives (clamp01, then float_to_unorm,
-        // then k / 255), with a table for k / 255. double(v) * 255 + 0.5 is exact for a float v, so
-        // the truncation is float_to_unorm's floor, without a libm call.
-        static const std::array<float, 256> kByteValue = [] {
-            std::array<float, 256> v{};
-            for (uint32_t k = 0; k < 256; ++k) v[k] = float(k) / 255.0f;
-            return v;
-        }();
-        for (int c = 0; c < 4; ++c) {
-            const float v = src[c];
-            const uint32_t k = !(v > 0.0f) ? 0u : v >= 1.0f ? 255u : uint32_t(double(v) * 255.0 + 0.5);
-            if (op.write[size_t(c)]) dst[c] = kByteValue[k];
+    if (img.bytes()) {
+        uint8_t* const px = reinterpret_cast<uint8_t*>(&img.rgba8[t]);
+        if (is_rgba8(f)) {
+            // The drawing buffer's rule: blend_float with clamping then quantize_color to 8 bits
+            // gives these bytes (surface/blend.cpp), without the float round trip.
+            BlendOp o = op;
+            o.has_alpha = true;
+            blend_unorm8(o, src, px);
+            return;
         }
+        float dst[4], blended[4];
+        img.read_color(t, dst);
+        BlendOp o = op;
+        o.has_alpha = true;
+        blend_float(o, src, dst, true, blended);
+        const uint32_t stored = quantize_unorm8(f, blended);
+        for (int c = 0; c < 4; ++c)
+            if (op.write[size_t(c)]) px[c] = uint8_t(stored >> (8 * c));
         return;
     }
+    float* dst = &img.color[t * 4];
     float blended[4], stored[4];
     BlendOp o = op;
     o.has_alpha = true;
@@ -135,7 +146,18 @@ void clear_image_color(Image& img, size_t offset, Rect r, const float src[4], co
     op.write = mask;
     write_image_color(img, offset, op, src, r.x, r.y, 0);
     const size_t first = offset + (size_t(r.y) * size_t(img.width) + size_t(r.x)) * size_t(img.samples);
-    if (img.format->is_integer()) {
+    if (img.bytes()) {
+        // One 4-byte texel, copied with the written bytes' mask.
+        const uint32_t texel = img.rgba8[first];
+        uint32_t keep = 0;
+        for (int c = 0; c < 4; ++c)
+            if (!mask[size_t(c)]) keep |= 255u << (8 * c);
+        for_rows(img, offset, r, 1, [&](size_t at, size_t n) {
+            uint32_t* p = img.rgba8.data() + at;
+            if (!keep) return void(std::fill_n(p, n, texel));
+            for (size_t i = 0; i < n; ++i) p[i] = (p[i] & keep) | (texel & ~keep);
+        });
+    } else if (img.format->is_integer()) {
         uint32_t texel[4];
         std::memcpy(texel, &img.integer[first * 4], sizeof texel);
         for_rows(img, offset, r, 4, [&](size_t at, size_t n) { fill_texels(img.integer, at, n, texel, mask); });

@@ -55,6 +55,13 @@ public:
     // The drawing buffer has output 0 only (BACK). Blending state is shared by all buffers;
     // clamping follows each buffer's format (ES 3.0 §4.1.7).
     void write_color(const BlendOp& op, const float src[4], int32_t x, int32_t y, int s, int output = 0);
+    // The colour buffer as RGBA8 bytes when the pipeline's byte paths (colour kernels, the
+    // blend table) can write it: 4 bytes per sample, the samples of a pixel together, rows
+    // width() pixels apart, pixel (0, 0) first. That is the RGBA8 drawing buffer, or a
+    // framebuffer object whose only colour buffer is an RGBA8 image at output 0 as wide as
+    // the target with the target's samples (Image stores RGBA8 in the drawing buffer's layout).
+    // Null otherwise.
+    uint8_t* color_rgba8() const { return rgba8_; }
     // Whether fragment output `output` reaches a colour buffer.
     bool has_color(int output) const {
         return default_ ? output == 0 : (output >= 0 && output < kMaxColors && colors_[size_t(output)].image);
@@ -67,6 +74,7 @@ private:
     Image* depth_ = nullptr;
     Image* stencil_ = nullptr;
     size_t depth_offset_ = 0, stencil_offset_ = 0;
+    uint8_t* rgba8_ = nullptr;
 };
 
 // Writes a colour into sample s of texel (x, y) of an image at `offset` (blending with `op`).

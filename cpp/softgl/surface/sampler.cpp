@@ -512,7 +512,7 @@ struct Fast2D {
     // Texel n of plane p as Level::fetch_image gives it (ref: the lane's depth reference).
     void texel(const Plane& p, size_t n, float ref, float out[4]) const {
         if (p.rgba8) {
-            // The byte copy: 4x less memory; k / 255 is unorm(k, 8), what the floats hold.
+            // 8-bit unorm storage: k / 255 is unorm(k, 8).
             const uint32_t v = p.rgba8[n];
             for (int c = 0; c < 4; ++c) out[c] = float((v >> (8 * c)) & 255u) / 255.0f;
             return;
@@ -550,13 +550,13 @@ struct Fast2D {
         const float a = u0 - std::floor(u0), b = v0 - std::floor(v0);
         const size_t row0 = plane + size_t(j0) * size_t(p.width), row1 = plane + size_t(j1) * size_t(p.width);
         if (p.unorm8) {
-            // The fixed-point rule (Level::filter), from the bytes or k = 255 v of the floats.
+            // The fixed-point rule (Level::filter), from the bytes.
             float w8[4], k[4][4];
             weights8(a, b, w8);
             const size_t at[4] = {row0 + size_t(i0), row0 + size_t(i1), row1 + size_t(i0), row1 + size_t(i1)};
             for (int n = 0; n < 4; ++n)
                 for (int c = 0; c < 4; ++c)
-                    k[n][c] = p.rgba8 ? float((p.rgba8[at[n]] >> (8 * c)) & 255u) : p.color[at[n] * 4 + size_t(c)] * 255.0f;
+                    k[n][c] = float((p.rgba8[at[n]] >> (8 * c)) & 255u);
             for (int c = 0; c < 4; ++c)
                 out[c] = (w8[0] * k[0][c] + w8[1] * k[1][c] + w8[2] * k[2][c] + w8[3] * k[3][c]) / kUnorm8Divisor;
             return;
@@ -776,6 +776,11 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bo
             for (int l = 0; l < 8; ++l) out[l][0] = d[l], out[l][1] = out[l][2] = grey ? d[l] : 0.0f, out[l][3] = 1.0f;
             return;
         }
+        if (p.rgba8) {   // 8-bit unorm storage (Fast2D::texel)
+            for (int l = 0; l < 8; ++l)
+                f.texel(p, layer_at[l] + size_t(j0[l]) * size_t(p.width) + size_t(i0[l]), 0.0f, out[l]);
+            return;
+        }
         for (int l = 0; l < 8; ++l)
             _mm_storeu_ps(out[l], _mm_loadu_ps(layer[l] + (size_t(j0[l]) * size_t(p.width) + size_t(i0[l])) * 4));
         return;
@@ -810,16 +815,17 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bo
                 }
             }
         } else {
-            // Float storage: k = 255 v per lane (exact), sums lane by lane.
+            // Layers (2D arrays): the bytes k per lane, sums lane by lane (exact integers).
             alignas(32) float wl[4][8], lanes[4][8];
             for (int n = 0; n < 4; ++n) _mm256_store_ps(wl[n], w[n]);
-            const __m128 k255 = _mm_set1_ps(255.0f);
             for (int l = 0; l < 8; ++l) {
                 const size_t row0 = layer_at[l] + size_t(j0[l]) * size_t(p.width), row1 = layer_at[l] + size_t(j1[l]) * size_t(p.width);
                 const size_t at[4] = {row0 + size_t(i0[l]), row0 + size_t(i1[l]), row1 + size_t(i0[l]), row1 + size_t(i1[l])};
                 __m128 lane = _mm_setzero_ps();
-                for (int n = 0; n < 4; ++n)
-                    lane = _mm_add_ps(lane, _mm_mul_ps(_mm_set1_ps(wl[n][l]), _mm_mul_ps(_mm_loadu_ps(p.color + at[n] * 4), k255)));
+                for (int n = 0; n < 4; ++n) {
+                    const __m128i k = _mm_cvtepu8_epi32(_mm_cvtsi32_si128(int(p.rgba8[at[n]])));
+                    lane = _mm_add_ps(lane, _mm_mul_ps(_mm_set1_ps(wl[n][l]), _mm_cvtepi32_ps(k)));
+                }
                 alignas(16) float v[4];
                 _mm_store_ps(v, lane);
                 for (int c = 0; c < 4; ++c) lanes[c][l] = v[c];
@@ -1810,6 +1816,9 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
         for (int32_t k = 0; k <= bt.q - bt.base; ++k) {
             const Plane& level = f.planes[size_t(face) * size_t(f.face_stride) + size_t(k)];
             if (level.width == 0 || (level.depth != nullptr) != depth) return false;
+            // The vector paths index texels in int32 (8-bit unorm planes: across layers too).
+            if (level.rgba8 && uint64_t(level.layers) * uint64_t(level.width) * uint64_t(level.height) > uint64_t(INT32_MAX))
+                return false;
         }
     f.compare = q.shadow && p.compare_mode == gl::COMPARE_REF_TO_TEXTURE;
     f.compare_func = p.compare_func;

@@ -197,6 +197,16 @@ void quantize_color(const FormatInfo& f, const float in[4], float out[4]) {
     if (f.encoding == Encoding::Rgb9e5) round_rgb9e5(in, out);
 }
 
+uint32_t quantize_unorm8(const FormatInfo& f, const float in[4]) {
+    const bool luminance = f.base_format == gl::LUMINANCE || f.base_format == gl::LUMINANCE_ALPHA;
+    uint32_t packed = 0;
+    for (int c = 0; c < 4; ++c) {
+        const uint32_t k = !f.bits[size_t(c)] ? (c == 3 ? 255u : 0u) : float_to_unorm(luminance && c < 3 ? in[0] : in[c], 8);
+        packed |= k << (8 * c);
+    }
+    return packed;
+}
+
 void quantize_integer(const FormatInfo& f, const uint32_t in[4], uint32_t out[4]) {
     for (int c = 0; c < 4; ++c) {
         const int bits = f.bits[size_t(c)];
@@ -235,6 +245,7 @@ float depth_value(Encoding e, uint32_t w) {
 
 uint64_t Image::allocation_bytes(const FormatInfo* fmt, int32_t w, int32_t h, int32_t d, int32_t s) {
     const uint64_t n = uint64_t(w) * uint64_t(h) * uint64_t(d) * uint64_t(s);
+    if (stores_bytes(fmt)) return n * 4;                      // RGBA bytes per sample
     if (fmt->kind() != SampleKind::Depth) return n * 4 * 4;   // four 4-byte words per sample
     return n * ((fmt->encoding != Encoding::Stencil8 ? 4 : 0) + (fmt->has_stencil ? 1 : 0));
 }
@@ -245,7 +256,11 @@ void Image::allocate(const FormatInfo* fmt, int32_t w, int32_t h, int32_t d, int
     width = w, height = h, depth = d, samples = s;
     const size_t n = texel_count();
     switch (fmt->kind()) {
-        case SampleKind::Float: color.assign(n * 4, 0.0f); break;
+        case SampleKind::Float:
+            // Absent alpha reads as 1 from the start (e.g. RGB8).
+            if (stores_bytes(fmt)) rgba8.assign(n, fmt->bits[3] ? 0u : 0xFF000000u);
+            else color.assign(n * 4, 0.0f);
+            break;
         case SampleKind::Int: case SampleKind::Uint: integer.assign(n * 4, 0u); break;
         case SampleKind::Depth:
             if (fmt->encoding != Encoding::Stencil8) depth_words.assign(n, 0u);
@@ -253,16 +268,40 @@ void Image::allocate(const FormatInfo* fmt, int32_t w, int32_t h, int32_t d, int
             break;
     }
     // Absent channels read as their defaults from the start (e.g. alpha 1 of RGB8).
-    if (fmt->kind() == SampleKind::Float && !fmt->bits[3] )
+    if (fmt->kind() == SampleKind::Float && !stores_bytes(fmt) && !fmt->bits[3])
         for (size_t i = 0; i < n; ++i) color[i * 4 + 3] = 1.0f;
     if ((fmt->kind() == SampleKind::Int || fmt->kind() == SampleKind::Uint) && !fmt->bits[3])
         for (size_t i = 0; i < n; ++i) integer[i * 4 + 3] = 1u;
 }
 
+void Image::read_color(size_t t, float out[4]) const {
+    if (!rgba8.empty()) {
+        const uint32_t v = rgba8[t];
+        for (int c = 0; c < 4; ++c) out[c] = unorm((v >> (8 * c)) & 255u, 8);
+        return;
+    }
+    for (int c = 0; c < 4; ++c) out[c] = color[t * 4 + size_t(c)];
+}
+
+void Image::store_color(size_t t, const float q[4], const bool mask[4]) {
+    if (!rgba8.empty()) {
+        // q holds k / 255 (quantize_color's output): the byte is k again.
+        uint32_t v = rgba8[t];
+        for (int c = 0; c < 4; ++c) {
+            if (mask && !mask[c]) continue;
+            v = (v & ~(255u << (8 * c))) | (float_to_unorm(q[c], 8) << (8 * c));
+        }
+        rgba8[t] = v;
+        return;
+    }
+    for (int c = 0; c < 4; ++c)
+        if (!mask || mask[c]) color[t * 4 + size_t(c)] = q[c];
+}
+
 void Image::texel(int32_t x, int32_t y, int32_t z, float out[4]) const {
     const size_t i = (size_t(z) * size_t(height) + size_t(y)) * size_t(width) + size_t(x);
     switch (format->kind()) {
-        case SampleKind::Float: for (int c = 0; c < 4; ++c) out[c] = color[i * 4 + size_t(c)]; break;
+        case SampleKind::Float: read_color(i, out); break;
         case SampleKind::Int: for (int c = 0; c < 4; ++c) out[c] = float(int32_t(integer[i * 4 + size_t(c)])); break;
         case SampleKind::Uint: for (int c = 0; c < 4; ++c) out[c] = float(integer[i * 4 + size_t(c)]); break;
         case SampleKind::Depth:
@@ -462,6 +501,10 @@ void unpack_into(Image& img, int32_t x0, int32_t y0, int32_t z0, int32_t w, int3
                     expand(u.format, px.f, rgba);
                     if (premultiply) for (int c = 0; c < 3; ++c) rgba[c] *= rgba[3];
                     float in[4] = {float(rgba[0]), float(rgba[1]), float(rgba[2]), float(rgba[3])};
+                    if (img.bytes()) {
+                        img.rgba8[t] = quantize_unorm8(f, in);
+                        continue;
+                    }
                     if (f.encoding == Encoding::Srgb) {
                         // Client data of sRGB formats is sRGB-encoded: keep the byte, store its
                         // linear value (ES 3.0 §3.8.15 decodes each texel before filtering).
@@ -508,48 +551,7 @@ size_t Texture::storage_bytes() const {
     return total;
 }
 
-namespace {
-
-// The texels of an 8-bit unorm image as bytes (Image::rgba8); false if a float is not k / 255
-// (every writer quantizes to unorm(k, 8), so this does not happen; the floats stay the truth).
-bool pack_unorm8(const Image& img, std::vector<uint32_t>& bytes) {
-    bytes.resize(img.texel_count());
-    for (size_t i = 0; i < bytes.size(); ++i) {
-        uint32_t packed = 0;
-        for (int c = 0; c < 4; ++c) {
-            const float v = img.color[i * 4 + size_t(c)];
-            const uint32_t k = v >= 0.0f && v <= 1.0f ? uint32_t(std::lround(v * 255.0f)) : 0;
-            if (unorm(k, 8) != v || std::signbit(v)) return false;
-            packed |= k << (8 * c);
-        }
-        bytes[i] = packed;
-    }
-    return true;
-}
-
-}  // namespace
-
-void Texture::refresh_rgba8(int32_t base, int32_t q) {
-    if (target != gl::TEXTURE_2D && target != gl::TEXTURE_CUBE_MAP) return;
-    for (int face = 0; face < faces(); ++face)
-    for (int32_t level = base; level <= q; ++level) {
-        const Image* found = find(face, level);
-        if (!found || found->rgba8_generation == generation) continue;
-        Image& img = image(face, level);
-        if (img.rgba8_seen_generation != generation) {
-            img.rgba8_seen_generation = generation;
-            continue;
-        }
-        img.rgba8_generation = generation;
-        img.rgba8.clear();
-        const FormatInfo& f = *img.format;
-        if (f.kind() == SampleKind::Float && f.is_unorm8() && img.samples == 1 && img.color.size() == img.texel_count() * 4 && !pack_unorm8(img, img.rgba8))
-            img.rgba8.clear();
-    }
-}
-
 void Texture::refresh_sampling(int32_t base, int32_t q) {
-    refresh_rgba8(base, q);
     // Every level a sampler could use, so that units that bind this texture with other filters
     // (another q) in the same draw find theirs too.
     sampled_base = base;
@@ -560,10 +562,11 @@ void Texture::refresh_sampling(int32_t base, int32_t q) {
             const Image* img = find(face, base + k);
             if (!img || img->samples != 1) continue;
             SampledLevel& s = sampled_levels[size_t(face) * size_t(sampled_count) + size_t(k)];
-            if (img->format->kind() == SampleKind::Float && img->color.size() == img->texel_count() * 4) {
+            if (img->bytes() && img->rgba8.size() == img->texel_count()) {
+                s.rgba8 = img->rgba8.data();
+                s.unorm8 = true;
+            } else if (img->format->kind() == SampleKind::Float && img->color.size() == img->texel_count() * 4) {
                 s.color = img->color.data();
-                s.unorm8 = img->format->is_unorm8();
-                s.rgba8 = rgba8(*img);
             } else if (img->format->is_depth() && img->depth_words.size() == img->texel_count()) {
                 s.depth = img->depth_words.data();
                 s.depth_encoding = img->format->encoding;
@@ -637,19 +640,41 @@ std::string incompleteness(const Texture& t, const SamplerParams& params, const 
     return {};
 }
 
+// The last level generate_mipmaps writes (base: its base level, the image b).
+static int32_t last_generated_level(const Texture& t, int32_t base, const Image& b) {
+    const bool is3d = t.target == gl::TEXTURE_3D;
+    int32_t last = base;
+    int32_t size = std::max({b.width, b.height, is3d ? b.depth : 1});
+    while (size > 1) size >>= 1, ++last;
+    last = std::min(last, t.max_level);
+    if (t.immutable) last = std::min(last, t.immutable_levels - 1);
+    return last;
+}
+
+uint64_t storage_bytes_after_mipmaps(const Texture& t) {
+    const int32_t base = effective_base(t);
+    const Image* b = t.find(0, base);
+    uint64_t total = t.storage_bytes();
+    if (!b) return total;
+    const bool is3d = t.target == gl::TEXTURE_3D;
+    const int32_t last = last_generated_level(t, base, *b);
+    for (int face = 0; face < t.faces(); ++face) {
+        int32_t w = b->width, h = b->height, d = b->depth;
+        for (int32_t level = base + 1; level <= last; ++level) {
+            w = std::max(1, w / 2), h = std::max(1, h / 2), d = is3d ? std::max(1, d / 2) : d;
+            if (const Image* old = t.find(face, level)) total -= old->storage_bytes();
+            total += Image::allocation_bytes(b->format, w, h, d, 1);
+        }
+    }
+    return total;
+}
+
 void generate_mipmaps(Texture& t) {
     const int32_t base = effective_base(t);
     const Image* b = t.find(0, base);
     if (!b) return;
-    int32_t w = b->width, h = b->height, d = b->depth;
     const bool is3d = t.target == gl::TEXTURE_3D;
-    int32_t last = base;
-    {
-        int32_t size = std::max({w, h, is3d ? d : 1});
-        while (size > 1) size >>= 1, ++last;
-        last = std::min(last, t.max_level);
-        if (t.immutable) last = std::min(last, t.immutable_levels - 1);
-    }
+    const int32_t last = last_generated_level(t, base, *b);
     for (int face = 0; face < t.faces(); ++face) {
         for (int32_t level = base + 1; level <= last; ++level) {
             const Image src = t.image(face, level - 1);   // a copy: image() may reallocate
@@ -670,13 +695,20 @@ void generate_mipmaps(Texture& t) {
                                     const int32_t sx = std::min(2 * x + dx, src.width - 1);
                                     const int32_t sy = std::min(2 * y + dy, src.height - 1);
                                     const int32_t sz = is3d ? std::min(2 * z + dz, src.depth - 1) : z;
-                                    const float* p = &src.color[((size_t(sz) * size_t(src.height) + size_t(sy)) * size_t(src.width) + size_t(sx)) * 4];
+                                    float p[4];
+                                    src.read_color((size_t(sz) * size_t(src.height) + size_t(sy)) * size_t(src.width) + size_t(sx), p);
                                     for (int c = 0; c < 4; ++c) sum[c] += double(p[c]);
                                     ++count;
                                 }
-                        float avg[4];
+                        float avg[4], q[4];
                         for (int c = 0; c < 4; ++c) avg[c] = float(sum[c] / count);
-                        quantize_color(*src.format, avg, &dst.color[((size_t(z) * size_t(nh) + size_t(y)) * size_t(nw) + size_t(x)) * 4]);
+                        const size_t at = (size_t(z) * size_t(nh) + size_t(y)) * size_t(nw) + size_t(x);
+                        if (dst.bytes()) {
+                            dst.rgba8[at] = quantize_unorm8(*src.format, avg);
+                            continue;
+                        }
+                        quantize_color(*src.format, avg, q);
+                        dst.store_color(at, q);
                     }
         }
     }

@@ -5,7 +5,11 @@
 //
 // Storage is one representation per sampling kind, so that sampling and rendering are
 // format-agnostic:
-//   - colour formats that sample as float: 4 floats per texel, the values a lookup returns
+//   - 8-bit unorm colour formats (FormatInfo::is_unorm8: RGBA8, RGB8, RG8, R8, LUMINANCE,
+//     ALPHA, LUMINANCE_ALPHA): 4 bytes per texel, RGBA, the byte k standing for k / 255, absent
+//     channels holding their defaults (0, alpha 255; luminance in r, g and b), the same layout
+//     as the RGBA8 drawing buffer, so draws, clears, blits and readPixels take its byte paths;
+//   - other colour formats that sample as float: 4 floats per texel, the values a lookup returns
 //     (already quantized to the format: an RGBA8 texel holds k/255; sRGB texels hold the
 //     decoded linear value, which is what ES 3.0 §3.8.15 decodes to before filtering; LUMINANCE,
 //     ALPHA and friends are stored expanded to RGBA as ES 3.0 table 3.24 defines them);
@@ -22,6 +26,7 @@
 #include <string>
 #include <vector>
 
+#include "softgl/core/memory_ledger.h"
 #include "softgl/core/objects.h"
 
 namespace softgl {
@@ -90,6 +95,9 @@ const FormatInfo* format_info(GLenum internal_format);
 // Quantizes a float colour to what a texel of this format holds (clamping for normalized
 // formats, rounding to the format's precision, sRGB encode-then-decode). Float formats only.
 void quantize_color(const FormatInfo& f, const float in[4], float out[4]);
+// quantize_color of an 8-bit unorm format (FormatInfo::is_unorm8) as the packed bytes an image
+// stores: byte c is float_to_unorm(v, 8) of what quantize_color reads for channel c.
+uint32_t quantize_unorm8(const FormatInfo& f, const float in[4]);
 // Quantizes to an integer format's channel range (ES 3.0 §4.3.2: values are clamped when
 // converted; clearBuffer and blits of integers take the low bits).
 void quantize_integer(const FormatInfo& f, const uint32_t in[4], uint32_t out[4]);
@@ -107,19 +115,25 @@ struct Image {
     int32_t width = 0, height = 0, depth = 1;   // depth: layers of 3D / 2D array images
     int32_t samples = 1;                         // renderbuffers only
     const FormatInfo* format = nullptr;          // null: no image
-    std::vector<float> color;                    // Float kind: 4 per texel (sample)
+    std::vector<float> color;                    // Float kind but not 8-bit unorm: 4 per texel (sample)
+    // 8-bit unorm formats (stores_bytes): R | G << 8 | B << 16 | A << 24 per texel (sample), k
+    // for k / 255 (in memory the bytes R, G, B, A: the drawing buffer's layout).
+    std::vector<uint32_t> rgba8;
     std::vector<uint32_t> integer;               // Int/Uint kind: 4 per texel (sample)
     std::vector<uint32_t> depth_words;           // Depth kind: 1 per texel (sample)
     std::vector<uint8_t> stencil;                // depth-stencil and stencil formats
-    // 8-bit unorm formats: `color` as bytes (R | G << 8 | B << 16 | A << 24 per texel, k for
-    // k / 255), a copy the sampler reads instead (4x less memory), current when
-    // rgba8_generation equals its texture's generation (see Texture::refresh_rgba8).
-    std::vector<uint32_t> rgba8;
-    uint64_t rgba8_generation = ~uint64_t(0);
-    uint64_t rgba8_seen_generation = ~uint64_t(0);   // the generation the last draw bound
 
+    // Whether images of `fmt` keep bytes (rgba8) rather than floats (color).
+    static bool stores_bytes(const FormatInfo* fmt) { return fmt && fmt->is_unorm8(); }
+    bool bytes() const { return stores_bytes(format); }
     bool defined() const { return format != nullptr; }
     size_t texel_count() const { return size_t(width) * size_t(height) * size_t(depth) * size_t(samples); }
+    // Colour element t (texel or sample index) of a Float-kind image as the floats a lookup
+    // returns (bytes: k / 255).
+    void read_color(size_t t, float out[4]) const;
+    // Stores already-quantized colour values (quantize_color's output) into element t, the
+    // channels of `mask` only.
+    void store_color(size_t t, const float quantized[4], const bool mask[4] = nullptr);
     // Allocates storage for `fmt` and fills it with zeros (transparent black, depth 0).
     void allocate(const FormatInfo* fmt, int32_t w, int32_t h, int32_t d, int32_t s = 1);
     // The bytes allocate() would store, computed before allocating (the memory limit is charged first).
@@ -127,7 +141,7 @@ struct Image {
     void clear() { *this = Image{}; }
     // Texel (x, y, z) as RGBA float, as sampled (integer formats: converted; depth: (d, 0, 0, 1)).
     void texel(int32_t x, int32_t y, int32_t z, float out[4]) const;
-    // Bytes of texel storage this image holds (all its vectors, the byte copy included).
+    // Bytes of texel storage this image holds (all its vectors).
     size_t storage_bytes() const {
         return color.size() * sizeof(float) + integer.size() * sizeof(uint32_t) + depth_words.size() * sizeof(uint32_t) +
                stencil.size() + rgba8.size() * sizeof(uint32_t);
@@ -166,13 +180,13 @@ struct SamplerParams {
 inline constexpr float kMaxAnisotropy = 16.0f;
 
 // One level of one face as the sampler's fast path reads it (surface/sampler.cpp): its storage
-// and sizes resolved once per draw instead of per lookup. Exactly one of `color` (Float kind)
-// and `depth` (Depth kind) is set; `rgba8` too when the level has a current byte copy.
+// and sizes resolved once per draw instead of per lookup. Exactly one of `color` (Float kind),
+// `rgba8` (8-bit unorm formats) and `depth` (Depth kind) is set.
 struct SampledLevel {
     const float* color = nullptr;      // 4 floats per texel, layer-major then row-major
     bool unorm8 = false;               // an 8-bit unorm format (FormatInfo::is_unorm8): LINEAR
                                        // filters with 8-bit weights (surface/sampler.cpp)
-    const uint32_t* rgba8 = nullptr;   // the same texels as bytes (Texture::rgba8), or null
+    const uint32_t* rgba8 = nullptr;   // 8-bit unorm texels (Image::rgba8), layer-major then row-major
     const uint32_t* depth = nullptr;   // depth words, one per texel
     Encoding depth_encoding = Encoding::Depth16;
     int32_t width = 0, height = 0, layers = 0;   // layers: of a 2D array (1 otherwise)
@@ -189,24 +203,17 @@ public:
     // images[face][level]; one face except for cube maps (faces in TEXTURE_CUBE_MAP_POSITIVE_X order).
     std::vector<std::vector<Image>> images;
     uint64_t generation = 0;            // bumps on every change (render targets, caches)
+    MemoryReservation memory;           // storage_bytes(), charged to the process-wide total
 
     int faces() const { return target == gl::TEXTURE_CUBE_MAP ? 6 : 1; }
     Image& image(int face, int level);  // grows the arrays as needed
     const Image* find(int face, int level) const;
     // Bytes of texel storage held by all images of all faces (memory accounting).
     size_t storage_bytes() const;
-    // Brings the byte copies (Image::rgba8) of levels [base, q] of a 2D or cube-map texture of
-    // an 8-bit unorm format up to date with `generation`; levels whose floats are not all k / 255 get none.
-    // Called when a draw binds the texture (single-threaded), so lookups only read them. A copy
-    // costs a pass over the level, worth it for textures that stay as they are: a level is
-    // copied at the second draw that binds it unchanged (not for a render target sampled once
-    // after each change).
-    void refresh_rgba8(int32_t base, int32_t q);
-    // Brings the byte copies of levels [base, q] up to date (refresh_rgba8) and rebuilds
-    // `sampled_levels` for levels [base, max(q, max_sampled_level)] of every face. Called when
-    // a draw binds the texture (single-threaded), so lookups read a table that holds for the
-    // whole draw (no per-lookup find()); rebuilt at every draw, as cheap as a few dozen
-    // pointers, so that no image change can leave it stale.
+    // Rebuilds `sampled_levels` for levels [base, max(q, max_sampled_level)] of every face.
+    // Called when a draw binds the texture (single-threaded), so lookups read a table that
+    // holds for the whole draw (no per-lookup find()); rebuilt at every draw, as cheap as a few
+    // dozen pointers, so that no image change can leave it stale.
     void refresh_sampling(int32_t base, int32_t q);
     // Levels [sampled_base, sampled_base + sampled_count) of face f at f * sampled_count + k;
     // a level without an image, or of a kind the fast path does not read (integer), has
@@ -216,10 +223,6 @@ public:
     const SampledLevel* sampled(int face, int32_t level) const {
         const int32_t k = level - sampled_base;
         return k >= 0 && k < sampled_count ? &sampled_levels[size_t(face) * size_t(sampled_count) + size_t(k)] : nullptr;
-    }
-    // The current byte copy of a level, or null.
-    const uint32_t* rgba8(const Image& img) const {
-        return img.rgba8_generation == generation && !img.rgba8.empty() ? img.rgba8.data() : nullptr;
     }
 };
 
@@ -245,5 +248,7 @@ bool is_power_of_two(int32_t v);
 
 // generateMipmap's box filter: levels base+1 .. q from the base level, per face.
 void generate_mipmaps(Texture& t);
+// Texture::storage_bytes() as it will be after generate_mipmaps(t) (charged before it runs).
+uint64_t storage_bytes_after_mipmaps(const Texture& t);
 
 }  // namespace softgl
