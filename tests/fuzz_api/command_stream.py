@@ -444,6 +444,15 @@ class CommandFuzzer:
     # -- the contract -------------------------------------------------------------------------------
 
     def snapshot(self, side: Side):
+        # Its queries may report errors (getUniform with another program's location): the
+        # listener must not re-enter then, or a mutating handler changes what is being recorded.
+        self.reentry_depth += 1
+        try:
+            return self._snapshot(side)
+        finally:
+            self.reentry_depth -= 1
+
+    def _snapshot(self, side: Side):
         gl = side.gl
         state = [gl.getParameter(p) for p in side.pnames]
         for i in range(4):
