@@ -1341,7 +1341,7 @@ __attribute__((target("avx2"), always_inline)) inline uint32_t active8(const gls
     return ~uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(a, _mm256_setzero_si256())))) & 0xFFu;
 }
 
-// What the colour block loops share across a query (sample_2d resolves it once).
+// What the block loops (colour, and depth planes) share across a query (sample_2d resolves it once).
 struct ColourQuery {
     const Fast2D* f;
     const glsl::TextureQuery* q;
@@ -1903,84 +1903,38 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
             }
         }
     }
-    // Depth planes: blocks of 8 lanes that share their levels; the other blocks lane by lane.
+    // Depth planes: blocks of 8 lanes whose levels are at most 3 (texels compared 8 at a time:
+    // DepthTexels8); the other blocks lane by lane.
     if (simd != SimdBlocks::None && !cube && depth && q.coord[0] && q.coord[1]) {
-        const float* r = f.planes[0].layers > 1 && q.coord[2] ? &q.coord[2][0].f : nullptr;
-        LevelChoice ch[16];
-        if (!needs_lambda) std::fill(ch, ch + 16, fixed);
-        // Bit k: lane l + k is active.
-        const auto active_lanes = [&](int n) {
-            if (!q.active) return (1u << n) - 1;
+        const ColourQuery cq{&f, &q, f.planes[0].layers > 1 && q.coord[2] ? &q.coord[2][0].f : nullptr,
+                             needs_lambda, fixed, w, h, &lambda_of};
+        LevelChoice ch[8];
+        if (!needs_lambda) std::fill(ch, ch + 8, fixed);
+        int32_t levels[3];
+        // Bit k: lane l + k is active (SSE2: this function is not compiled for AVX2).
+        const auto active_lanes = [&] {
+            if (!q.active) return 0xFFu;
             uint32_t inactive = 0;
-            for (int k = 0; k < n; k += 4) {
+            for (int k = 0; k < 8; k += 4) {
                 const __m128i a = _mm_loadu_si128(reinterpret_cast<const __m128i*>(q.active + l + k));
                 inactive |= uint32_t(_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpeq_epi32(a, _mm_setzero_si128())))) << k;
             }
-            return ~inactive & ((1u << n) - 1);
-        };
-        // The levels of lanes l .. l + n - 1 in ch; inactive lanes take those of the first
-        // active lane, so that they add no level.
-        const auto choose_block = [&](int n, uint32_t active) {
-            for (int part = 0; part < n; part += 8) {
-                float lambda[8];
-                if (q.lod_mode == TextureLod::Explicit) for (int k = 0; k < 8; ++k) lambda[k] = lambda_at(l + part + k);
-                else lambda8(q, l + part, w, h, lambda_of, lambda);
-                if (!choose8(f, lambda, ch + part))
-                    for (int k = 0; k < 8; ++k) ch[part + k] = f.choose(lambda[k]);
-            }
-            if (active != (1u << n) - 1)
-                for (int k = 0; k < n; ++k)
-                    if (!(active >> k & 1)) ch[k] = ch[__builtin_ctz(active)];
-        };
-        // The distinct levels of ch[0 .. n) (at most 3, all with one filter), or 0 if more.
-        int32_t levels[3];
-        const auto distinct_levels = [&](int n) {
-            int count = 0;
-            for (int k = 0; k < n; ++k) {
-                if (ch[k].linear != ch[0].linear) return 0;
-                for (const int32_t level : {ch[k].first, ch[k].second}) {
-                    if (level < 0 || std::find(levels, levels + count, level) != levels + count) continue;
-                    if (count == 3) return 0;
-                    levels[count++] = level;
-                }
-            }
-            return count;
-        };
-        const auto same_levels = [&](int n) {
-            for (int k = 1; k < n; ++k)
-                if (!ch[k].same_levels(ch[0])) return false;
-            return true;
+            return ~inactive & 0xFFu;
         };
         glsl::Scalar* const out[4] = {q.out[0], q.out[1], q.out[2], q.out[3]};
         while (l + 8 <= q.lane_count) {
-            // (Depth textures: blocks of 8, texels compared lane by lane.)
-            int n = simd == SimdBlocks::Avx512 && !depth && l + 16 <= q.lane_count ? 16 : 8;
-            const uint32_t active = active_lanes(n);
+            const uint32_t active = active_lanes();
             const float* s = &q.coord[0][l].f;
             const float* t = &q.coord[1][l].f;
-            const float* rl = r ? r + l : nullptr;
+            const float* rl = cq.r ? cq.r + l : nullptr;
             const float* ref = q.compare ? &q.compare[l].f : nullptr;
-            int count = 0;
-            bool same = true;
-            if (active && needs_lambda) {
-                choose_block(n, active);
-                same = same_levels(n);
-                if (!same && n == 16) count = distinct_levels(16);
-            }
-            if (!active) {
-                // Nothing to compute: every lane gets (0, 0, 0, 1) below.
-            } else if (n == 16 && same) {
-                filter16(f, ch, s, t, rl, out, l);
-            } else if (n == 16 && count) {
-                filter16(f, ch, levels, count, s, t, rl, out, l);
-            } else {
-                // Blocks of 8 (lanes 8 .. 15 of a block of 16 are chosen again next time round).
-                n = 8;
+            if (active) {
+                if (needs_lambda) choose_lanes(cq, l, 8, active, ch);
                 float result[8][4];
-                if (same || same_levels(8)) {
+                if (same_levels(ch, 8)) {
                     filter8(f, ch, s, t, rl, ref, result);
-                } else if (const int count8 = distinct_levels(8)) {
-                    filter8(f, ch, levels, count8, s, t, rl, ref, result);
+                } else if (const int count = distinct_levels(ch, 8, levels)) {
+                    filter8(f, ch, levels, count, s, t, rl, ref, result);
                 } else {
                     for (int k = 0; k < 8; ++k) one_lane(l + k);
                     l += 8;
@@ -1988,13 +1942,13 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
                 }
                 store_lanes8(result, out, l);
             }
-            if (active != (1u << n) - 1) {
+            if (active != 0xFFu) {
                 // Inactive lanes: (0, 0, 0, 1), as sample_lanes gives them.
-                for (int k = 0; k < n; ++k)
+                for (int k = 0; k < 8; ++k)
                     if (!(active >> k & 1))
                         for (int c = 0; c < 4; ++c) if (q.out[c]) q.out[c][l + k].f = c == 3 ? 1.0f : 0.0f;
             }
-            l += n;
+            l += 8;
         }
     }
     // Cube maps: faces, face coordinates and their derivatives of 8 active lanes at once
