@@ -17,6 +17,7 @@ namespace {
 // more runnable threads than cores, the thread it waits for may need this very core.
 template <class Ready>
 bool spin_until(const Ready& ready, int64_t nanoseconds) {
+    if (nanoseconds <= 0) return ready();
     const auto deadline = std::chrono::steady_clock::now() + std::chrono::nanoseconds(nanoseconds);
     for (unsigned i = 1;; ++i) {
         if (ready()) return true;
@@ -71,7 +72,7 @@ void ThreadPool::worker_main(unsigned worker) {
         // frame) finds this worker awake; the wait below then returns at once.
         spin_until([&] { return stop_.load(std::memory_order_relaxed) ||
                                 generation_.load(std::memory_order_relaxed) != seen; },
-                   kSpinNanoseconds);
+                   spin_nanoseconds_.load(std::memory_order_relaxed));
         {
             std::unique_lock<std::mutex> lock(mutex_);
             wake_.wait(lock, [&] { return stop_ || generation_ != seen; });
@@ -109,7 +110,8 @@ void ThreadPool::parallel_for(size_t count, const Job& job) {
     run_items(0);
     // Every index has been taken; a worker still on its last one usually ends within the spin,
     // and the caller is not put to sleep to be woken again (the wait below returns at once).
-    spin_until([&] { return active_.load(std::memory_order_relaxed) == 0; }, kSpinNanoseconds);
+    spin_until([&] { return active_.load(std::memory_order_relaxed) == 0; },
+               spin_nanoseconds_.load(std::memory_order_relaxed));
     std::exception_ptr error;
     {
         std::unique_lock<std::mutex> lock(mutex_);

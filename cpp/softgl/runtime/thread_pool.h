@@ -39,8 +39,9 @@ public:
     // After a call, a worker spins this long for the next one before it sleeps, and the caller
     // spins this long for the workers' last items before it sleeps: a draw's stages and a
     // frame's consecutive draws follow each other within microseconds, and a sleeping thread
-    // takes tens of microseconds to wake (docs/architecture.md, "Threads").
-    static constexpr int64_t kSpinNanoseconds = 100'000;
+    // takes tens of microseconds to wake (docs/architecture.md, "Threads"). 0: no spinning.
+    void set_spin_nanoseconds(int64_t nanoseconds) { spin_nanoseconds_.store(nanoseconds, std::memory_order_relaxed); }
+    static constexpr int64_t kDefaultSpinNanoseconds = 100'000;
 
 private:
     void worker_main(unsigned worker);
@@ -57,6 +58,7 @@ private:
     const Job* job_ = nullptr;
     size_t count_ = 0;
     std::atomic<unsigned> active_{0};   // workers inside run_items for the current call
+    std::atomic<int64_t> spin_nanoseconds_{kDefaultSpinNanoseconds};
     std::exception_ptr error_;
     std::atomic<size_t> next_{0};
 };
