@@ -602,6 +602,7 @@ void Context::read_pixels_to_pack_buffer(int32_t x, int32_t y, int32_t width, in
 
 ThreadPool& Context::pool() {
     if (!pool_) pool_ = std::make_unique<ThreadPool>(unsigned(std::max(0, attributes_.threads)));
+    pool_->set_spin_nanoseconds(int64_t(tuning_.pool_spin_microseconds) * 1000);
     return *pool_;
 }
 

@@ -2,9 +2,36 @@
 
 #include <chrono>
 
+#if defined(__x86_64__)
+#include <immintrin.h>
+#endif
+
 #include "softgl/core/work_budget.h"
 
 namespace softgl {
+
+namespace {
+
+// Spins until ready() or `nanoseconds` have passed; returns whether ready() became true. Every
+// 64 spins (a PAUSE is tens of cycles) it reads the clock and yields the core: on a machine with
+// more runnable threads than cores, the thread it waits for may need this very core.
+template <class Ready>
+bool spin_until(const Ready& ready, int64_t nanoseconds) {
+    if (nanoseconds <= 0) return ready();
+    const auto deadline = std::chrono::steady_clock::now() + std::chrono::nanoseconds(nanoseconds);
+    for (unsigned i = 1;; ++i) {
+        if (ready()) return true;
+#if defined(__x86_64__)
+        _mm_pause();
+#endif
+        if ((i & 63) == 0) {
+            if (std::chrono::steady_clock::now() >= deadline) return ready();
+            std::this_thread::yield();
+        }
+    }
+}
+
+}  // namespace
 
 unsigned ThreadPool::default_threads() {
     unsigned n = std::thread::hardware_concurrency();
@@ -19,7 +46,7 @@ ThreadPool::ThreadPool(unsigned threads) : size_(threads == 0 ? default_threads(
 ThreadPool::~ThreadPool() {
     {
         std::lock_guard<std::mutex> lock(mutex_);
-        stop_ = true;
+        stop_.store(true, std::memory_order_relaxed);
     }
     wake_.notify_all();
     for (auto& t : workers_) t.join();
@@ -41,6 +68,11 @@ void ThreadPool::run_items(unsigned worker) {
 void ThreadPool::worker_main(unsigned worker) {
     uint64_t seen = 0;
     for (;;) {
+        // A call that follows the last one closely (the next stage of a draw, the next draw of a
+        // frame) finds this worker awake; the wait below then returns at once.
+        spin_until([&] { return stop_.load(std::memory_order_relaxed) ||
+                                generation_.load(std::memory_order_relaxed) != seen; },
+                   spin_nanoseconds_.load(std::memory_order_relaxed));
         {
             std::unique_lock<std::mutex> lock(mutex_);
             wake_.wait(lock, [&] { return stop_ || generation_ != seen; });
@@ -76,6 +108,10 @@ void ThreadPool::parallel_for(size_t count, const Job& job) {
     }
     wake_.notify_all();
     run_items(0);
+    // Every index has been taken; a worker still on its last one usually ends within the spin,
+    // and the caller is not put to sleep to be woken again (the wait below returns at once).
+    spin_until([&] { return active_.load(std::memory_order_relaxed) == 0; },
+               spin_nanoseconds_.load(std::memory_order_relaxed));
     std::exception_ptr error;
     {
         std::unique_lock<std::mutex> lock(mutex_);

@@ -36,6 +36,13 @@ public:
     // Calls from several threads are serialised.
     void parallel_for(size_t count, const Job& job);
 
+    // After a call, a worker spins this long for the next one before it sleeps, and the caller
+    // spins this long for the workers' last items before it sleeps: a draw's stages and a
+    // frame's consecutive draws follow each other within microseconds, and a sleeping thread
+    // takes tens of microseconds to wake (docs/architecture.md, "Threads"). 0: no spinning.
+    void set_spin_nanoseconds(int64_t nanoseconds) { spin_nanoseconds_.store(nanoseconds, std::memory_order_relaxed); }
+    static constexpr int64_t kDefaultSpinNanoseconds = 100'000;
+
 private:
     void worker_main(unsigned worker);
     void run_items(unsigned worker);
@@ -45,11 +52,13 @@ private:
     std::mutex call_mutex_;   // one parallel_for at a time
     std::mutex mutex_;        // guards everything below except next_
     std::condition_variable wake_, done_;
-    uint64_t generation_ = 0;
-    bool stop_ = false;
+    // Written under mutex_; atomic so that a spinning thread may read them without it.
+    std::atomic<uint64_t> generation_{0};
+    std::atomic<bool> stop_{false};
     const Job* job_ = nullptr;
     size_t count_ = 0;
-    unsigned active_ = 0;     // workers inside run_items for the current call
+    std::atomic<unsigned> active_{0};   // workers inside run_items for the current call
+    std::atomic<int64_t> spin_nanoseconds_{kDefaultSpinNanoseconds};
     std::exception_ptr error_;
     std::atomic<size_t> next_{0};
 };
