@@ -338,8 +338,9 @@ void TilePass::prepare(DrawStats& stats) {
     gather_ = plan_.fragment_batches == Path::Taken;
     single_pixels_ = gather_ && plan_.no_helper_lanes == Path::Taken;
     // Two fragments of a pixel in one batch would both read its old colour where the colour
-    // kernels gather pixels and read them; a plain write of all channels stores in lane order.
-    exclusive_pixels_ = gather_ && samples_ == 1 && plan_.color_kernels == Path::Taken &&
+    // kernels gather pixels (or, multisampled, samples) and read them; a plain write of all
+    // channels stores in lane order.
+    exclusive_pixels_ = gather_ && plan_.color_kernels == Path::Taken &&
                         plan_.kernel != ColorKernel::Generic && (plan_.kernel != ColorKernel::Plain || !plan_.all_channels);
     // What the fragment shader reads: only these varying words are computed per lane.
     const VaryingLayout& layout = in_.vertex_shader.varying_layout();
