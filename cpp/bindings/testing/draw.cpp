@@ -1,5 +1,6 @@
 // softgl._core.testing hooks for the draw as a whole (pipeline/draw with the C++ passthrough
 // shaders), primitive assembly, and reading back a context's depth and stencil samples.
+#include <cstring>
 #include <memory>
 
 #include <pybind11/stl.h>
@@ -113,6 +114,15 @@ void bind_testing_draw(py::module_& t) {
     });
     t.def("read_stencil", [](Context& ctx) {
         return read_samples<uint8_t>(ctx, [](const auto& fb, int x, int y, int s) { return fb.stencil_sample(x, y, s); });
+    });
+    // The RGBA8 drawing buffer's colour samples, unresolved: (height, width, samples, 4) bytes.
+    t.def("read_color_samples", [](Context& ctx) {
+        DefaultFramebuffer& fb = ctx.framebuffer();
+        if (fb.is_float()) throw py::value_error("read_color_samples reads an RGBA8 drawing buffer");
+        const int S = fb.config().samples;
+        py::array_t<uint8_t> out({py::ssize_t(fb.height()), py::ssize_t(fb.width()), py::ssize_t(S), py::ssize_t(4)});
+        std::memcpy(out.mutable_data(), fb.color_sample(0, 0, 0), size_t(out.nbytes()));
+        return out;
     });
     t.def("assemble", [](uint32_t mode, uint32_t count) {
         std::vector<uint32_t> out;

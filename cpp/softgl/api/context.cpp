@@ -555,7 +555,20 @@ bool Context::read_pixels(int32_t x, int32_t y, int32_t width, int32_t height, G
         origin = dst + ps.pack_skip_rows * stride + std::ptrdiff_t(ps.pack_skip_pixels) * pixel;
     }
     if (type == gl::UNSIGNED_BYTE) {
-        framebuffer_.read_rgba8(x, y, width, height, origin, stride);
+        // A multisampled buffer is resolved as it is copied: in bands of rows on the pool when
+        // the read is large (each row belongs to one band, so the bytes do not depend on the
+        // thread count: docs/architecture.md, "Threads").
+        constexpr int64_t kBandRows = 16, kPoolPixels = 1 << 15;
+        const int64_t y0 = std::max<int64_t>(y, 0), y1 = std::min<int64_t>(int64_t(y) + height, framebuffer_.height());
+        if (framebuffer_.config().samples == 1 || y1 - y0 <= kBandRows || int64_t(width) * (y1 - y0) < kPoolPixels) {
+            framebuffer_.read_rgba8(x, y, width, height, origin, stride);
+            return true;
+        }
+        const size_t bands = size_t((y1 - y0 + kBandRows - 1) / kBandRows);
+        pool().parallel_for(bands, [&](size_t b, unsigned) {
+            const int64_t first = y0 + int64_t(b) * kBandRows, rows = std::min(kBandRows, y1 - first);
+            framebuffer_.read_rgba8(x, int32_t(first), width, int32_t(rows), origin + (first - y) * stride, stride);
+        });
         return true;
     }
     // Float drawing buffers: resolved floats, as float32 or (implementation pair) binary16 bits.

@@ -1181,16 +1181,64 @@ void write_row(const BlitColor& color, int64_t x0, int64_t y, size_t n, const fl
     }
 }
 
+// Whether a row can go from bytes to bytes (byte_row): a source in byte storage and only RGBA8
+// destinations (the RGBA8 drawing buffer, RGBA8 images).
+bool blit_bytes(const BlitColor& color) {
+    const Image* src = color.source.img;
+    if (!src || !src->integer.empty() || !src->bytes()) return false;
+    if (color.drawing_buffer && color.drawing_buffer->is_float()) return false;
+    for (const auto& d : color.images)
+        if (d.first->format->internal_format != gl::RGBA8) return false;
+    return true;
+}
+
+// read_source_row and write_row for blit_bytes, without the floats: the byte write_row would
+// store for a channel is unorm8_of(float(Σ double(k_s / 255) / S)) over the samples' bytes k_s.
+// Each k / 255 as a float is a multiple of 2^-31 in [0, 1], so the double sum of at most 16 is
+// exact, and so is the division by S (a power of two): the value is Σk / 255S within 2^-25 (the
+// floats' rounding), then within 2^-24 after the rounding to float; times 255, within 2^-16 of
+// Σk / S, and unorm8_of computes floor(v * 255 + 0.5) exactly in double. Σk / S is a multiple of
+// 1/S (S <= 16), so unless it lies exactly halfway between two integers that floor is the
+// rounded mean resolve_rgba8 gives; the halfway pixels (resolve_rgba8's ties) take the float
+// path, pixel by pixel.
+void byte_row(const BlitColor& color, int64_t sx0, int64_t sy, int64_t x0, int64_t y, size_t n, uint8_t* rgba,
+              uint32_t* ties) {
+    const ColorSource& cs = color.source;
+    const Image& img = *cs.img;
+    const size_t t = cs.offset + (size_t(sy) * size_t(img.width) + size_t(sx0)) * size_t(img.samples);
+    const size_t tie_count = resolve_rgba8(reinterpret_cast<const uint8_t*>(&img.rgba8[t]), img.samples, n, rgba, ties);
+    for (size_t k = 0; k < tie_count; ++k) {
+        float f[4];
+        read_source_row(cs, sx0 + ties[k], sy, 1, f);
+        for (int c = 0; c < 4; ++c) rgba[size_t(ties[k]) * 4 + size_t(c)] = unorm8_of(f[c]);
+    }
+    if (DefaultFramebuffer* fb = color.drawing_buffer) {   // single-sampled (blit_rows_apply)
+        uint8_t* p = fb->color_sample(int32_t(x0), int32_t(y), 0);
+        if (fb->config().alpha) std::memcpy(p, rgba, n * 4);
+        else for (size_t i = 0; i < n; ++i) std::memcpy(p + 4 * i, rgba + 4 * i, 3);
+    }
+    for (const auto& d : color.images)
+        std::memcpy(&d.first->rgba8[d.second + size_t(y) * size_t(d.first->width) + size_t(x0)], rgba, n * 4);
+}
+
 // Destination rows [y_begin, y_end) of a 1:1 blit: colour within `rc`, depth / stencil within
 // `rd` (their sources may differ in size).
 void blit_rows(const BlitRows& rc, const BlitRows& rd, const BlitColor& color, const DepthStencilSide& ds_src,
                const DepthStencilSide& ds_dst, bool depth, bool stencil, int64_t y_begin, int64_t y_end) {
-    std::vector<float> row(size_t(std::max<int64_t>(rc.x1 - rc.x0, 0)) * 4);
+    const size_t width = size_t(std::max<int64_t>(rc.x1 - rc.x0, 0));
+    const bool bytes = color.writes() && blit_bytes(color);
+    std::vector<float> row(bytes ? 0 : width * 4);
+    std::vector<uint8_t> byte_pixels(bytes ? width * 4 : 0);
+    std::vector<uint32_t> ties(bytes ? width : 0);
     for (int64_t y = y_begin; y < y_end; ++y) {
         if (color.writes() && rc.x0 < rc.x1 && y >= rc.y0 && y < rc.y1) {
             const size_t n = size_t(rc.x1 - rc.x0);
-            read_source_row(color.source, rc.x0 + rc.ox, y + rc.oy, n, row.data());
-            write_row(color, rc.x0, y, n, row.data());
+            if (bytes) {
+                byte_row(color, rc.x0 + rc.ox, y + rc.oy, rc.x0, y, n, byte_pixels.data(), ties.data());
+            } else {
+                read_source_row(color.source, rc.x0 + rc.ox, y + rc.oy, n, row.data());
+                write_row(color, rc.x0, y, n, row.data());
+            }
         }
         if ((depth || stencil) && y >= rd.y0 && y < rd.y1)
             for (int64_t x = rd.x0; x < rd.x1; ++x) {

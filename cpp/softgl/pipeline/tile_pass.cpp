@@ -338,8 +338,9 @@ void TilePass::prepare(DrawStats& stats) {
     gather_ = plan_.fragment_batches == Path::Taken;
     single_pixels_ = gather_ && plan_.no_helper_lanes == Path::Taken;
     // Two fragments of a pixel in one batch would both read its old colour where the colour
-    // kernels gather pixels and read them; a plain write of all channels stores in lane order.
-    exclusive_pixels_ = gather_ && samples_ == 1 && plan_.color_kernels == Path::Taken &&
+    // kernels gather pixels (or, multisampled, samples) and read them; a plain write of all
+    // channels stores in lane order.
+    exclusive_pixels_ = gather_ && plan_.color_kernels == Path::Taken &&
                         plan_.kernel != ColorKernel::Generic && (plan_.kernel != ColorKernel::Plain || !plan_.all_channels);
     // What the fragment shader reads: only these varying words are computed per lane.
     const VaryingLayout& layout = in_.vertex_shader.varying_layout();
@@ -993,7 +994,8 @@ SOFTGL_STEP void TilePass::fill_builtins(const PrimitiveSetup& p, FragmentBatch&
 
 // The colour kernels on the chunk (the RGBA8 drawing buffer; tests done, nothing discarded):
 // by table lookup with rows of four in place; single-sampled, all lanes at once between gathered
-// and scattered pixels (ChunkPixels); else sample by sample.
+// and scattered pixels (ChunkPixels); multisampled, all lanes at once, then into each covered
+// sample; the Generic kernel sample by sample.
 SOFTGL_STEP void TilePass::write(Tile& t, const Chunk& c, const Colors& col) {
     Scratch& w = t.w;
     const size_t L = c.lanes();
@@ -1048,6 +1050,48 @@ SOFTGL_STEP void TilePass::write(Tile& t, const Chunk& c, const Colors& col) {
             write_color_lanes_at(plan_.simd, plan_.kernel, blend_, src, cs, d, L);
             w.stats.samples_written += store_chunk_pixels(buffer_pixels_, c.quads, c.masks, c.kept, d);
         }
+    } else if (plan_.kernel != ColorKernel::Generic) {
+        // Multisampled: the kernel on all lanes at once, then each lane's result into its covered
+        // samples. A kernel that does not read the destination gives one result per lane, the
+        // same for every sample; one that does runs once per sample index over that sample of
+        // every lane's pixel (lanes not covering it compute a value nobody stores). Lane by lane
+        // it is write_color<K> on each covered sample, as write_all below.
+        uint32_t* const d = w.pixels.data();
+        const size_t S = size_t(samples);
+        const uint16_t whole = uint16_t((1u << S) - 1u);
+        const bool reads = plan_.kernel != ColorKernel::Plain || !all_channels;
+        auto pixel_of = [&](size_t lane) {
+            int32_t x, y;
+            chunk.pixel(lane, x, y);
+            return color_bytes_ + (size_t(y) * pitch_ + size_t(x)) * S * 4;
+        };
+        uint64_t written = 0;
+        if (!reads) {
+            write_color_lanes_at(plan_.simd, plan_.kernel, blend_, src, cs, d, L);
+            for (size_t lane = 0; lane < L; ++lane) {
+                const uint16_t mask = masks[lane];
+                if (!mask) continue;
+                uint8_t* const px = pixel_of(lane);
+                if (mask == whole) {
+                    for (size_t s = 0; s < S; ++s) std::memcpy(px + 4 * s, &d[lane], 4);
+                    written += S;
+                    continue;
+                }
+                for (size_t s = 0; s < S; ++s)
+                    if (mask & (1u << s)) std::memcpy(px + 4 * s, &d[lane], 4), ++written;
+            }
+        } else {
+            for (size_t s = 0; s < S; ++s) {
+                bool any = false;
+                for (size_t lane = 0; lane < L; ++lane)
+                    if (masks[lane] & (1u << s)) std::memcpy(&d[lane], pixel_of(lane) + 4 * s, 4), any = true;
+                if (!any) continue;
+                write_color_lanes_at(plan_.simd, plan_.kernel, blend_, src, cs, d, L);
+                for (size_t lane = 0; lane < L; ++lane)
+                    if (masks[lane] & (1u << s)) std::memcpy(pixel_of(lane) + 4 * s, &d[lane], 4), ++written;
+            }
+        }
+        w.stats.samples_written += written;
     } else {
         switch (plan_.kernel) {
             case ColorKernel::Plain: write_all(std::integral_constant<ColorKernel, ColorKernel::Plain>{}); break;

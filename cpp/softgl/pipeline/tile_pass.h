@@ -135,7 +135,7 @@ private:
     bool prepared_ = false;
     // Shade full batches (plan_.fragment_batches, decided at prepare): gather the tile's fragments;
     // as single pixels (plan_.no_helper_lanes); a pixel at most once per batch when the write step
-    // gathers pixels (single-sampled colour kernels that read the destination).
+    // gathers pixels (colour kernels that read the destination).
     bool gather_ = false, single_pixels_ = false, exclusive_pixels_ = false;
     // The current batch.
     const Bins* bins_ = nullptr;

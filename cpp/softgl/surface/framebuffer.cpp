@@ -1,12 +1,95 @@
 #include "softgl/surface/framebuffer.h"
 
 #include <algorithm>
+#include <cstring>
 
 #include "softgl/core/memory_ledger.h"
 #include "softgl/surface/formats.h"
 #include "softgl/surface/texture.h"   // float_to_half / half_to_float (IEEE binary16)
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace softgl {
+
+namespace {
+
+template <int S>
+size_t resolve_rgba8_at(const uint8_t* in, size_t n, uint8_t* out, uint32_t* ties) {
+    size_t i = 0, tie_count = 0;
+#if defined(__SSE2__)
+    // Four pixels per step: each pixel's samples widened to 16 bits and added into eight lanes
+    // (partial sums per channel), the halves of two pixels added into one vector of their four
+    // channel sums, then rounded, shifted and packed back to bytes.
+    if constexpr (S == 4 || S == 8 || S == 16) {
+        constexpr int kShift = S == 4 ? 2 : S == 8 ? 3 : 4;
+        const __m128i zero = _mm_setzero_si128(), half = _mm_set1_epi16(S / 2), low = _mm_set1_epi16(S - 1);
+        auto partial = [&](const uint8_t* px) {
+            __m128i acc = _mm_setzero_si128();
+            for (int k = 0; k < S / 4; ++k) {
+                const __m128i v = _mm_loadu_si128(reinterpret_cast<const __m128i*>(px + 16 * k));
+                acc = _mm_add_epi16(acc, _mm_add_epi16(_mm_unpacklo_epi8(v, zero), _mm_unpackhi_epi8(v, zero)));
+            }
+            return acc;
+        };
+        auto sums_of_two = [&](const uint8_t* px) {
+            const __m128i a = partial(px), b = partial(px + 4 * S);
+            return _mm_add_epi16(_mm_unpacklo_epi64(a, b), _mm_unpackhi_epi64(a, b));
+        };
+        for (; i + 4 <= n; i += 4, in += 16 * S, out += 16) {
+            const __m128i s01 = sums_of_two(in), s23 = sums_of_two(in + 8 * S);
+            _mm_storeu_si128(reinterpret_cast<__m128i*>(out),
+                             _mm_packus_epi16(_mm_srli_epi16(_mm_add_epi16(s01, half), kShift),
+                                              _mm_srli_epi16(_mm_add_epi16(s23, half), kShift)));
+            if (!ties) continue;
+            // Bytes 8p .. 8p + 7 of the mask: pixel p's four channels (two bytes each).
+            const int t01 = _mm_movemask_epi8(_mm_cmpeq_epi16(_mm_and_si128(s01, low), half));
+            const int t23 = _mm_movemask_epi8(_mm_cmpeq_epi16(_mm_and_si128(s23, low), half));
+            const uint32_t t = uint32_t(t01) | (uint32_t(t23) << 16);
+            if (!t) continue;
+            for (uint32_t p = 0; p < 4; ++p)
+                if (t & (0xFFu << (8 * p))) ties[tie_count++] = uint32_t(i + p);
+        }
+    }
+#endif
+    for (; i < n; ++i, in += 4 * S, out += 4) {
+        bool tie = false;
+        for (int c = 0; c < 4; ++c) {
+            uint32_t sum = 0;
+            for (int s = 0; s < S; ++s) sum += in[s * 4 + c];
+            out[c] = uint8_t((sum + uint32_t(S) / 2) / uint32_t(S));
+            tie = tie || (S > 1 && sum % uint32_t(S) == uint32_t(S) / 2);
+        }
+        if (ties && tie) ties[tie_count++] = uint32_t(i);
+    }
+    return tie_count;
+}
+
+}  // namespace
+
+size_t resolve_rgba8(const uint8_t* in, int samples, size_t n, uint8_t* out, uint32_t* ties) {
+    switch (samples) {
+        case 1: std::memcpy(out, in, n * 4); return 0;
+        case 2: return resolve_rgba8_at<2>(in, n, out, ties);
+        case 4: return resolve_rgba8_at<4>(in, n, out, ties);
+        case 8: return resolve_rgba8_at<8>(in, n, out, ties);
+        case 16: return resolve_rgba8_at<16>(in, n, out, ties);
+    }
+    size_t tie_count = 0;   // other counts (none are allocated today)
+    const uint32_t S = uint32_t(samples);
+    for (size_t i = 0; i < n; ++i, in += 4 * S, out += 4) {
+        bool tie = false;
+        for (int c = 0; c < 4; ++c) {
+            uint32_t sum = 0;
+            for (uint32_t s = 0; s < S; ++s) sum += in[s * 4 + uint32_t(c)];
+            out[c] = uint8_t((sum + S / 2) / S);
+            tie = tie || (S > 1 && sum % S == S / 2);
+        }
+        if (ties && tie) ties[tie_count++] = uint32_t(i);
+    }
+    return tie_count;
+}
 
 uint64_t memory_budget() { return default_memory_limit(); }
 
@@ -143,16 +226,7 @@ void DefaultFramebuffer::read_rgba8(int32_t x, int32_t y, int32_t w, int32_t h, 
     for (int32_t py = r.y; py < r.y + r.height; ++py) {
         uint8_t* out = dst + (int64_t(py) - y) * row_stride + std::ptrdiff_t(int64_t(r.x) - x) * 4;   // 64-bit: x may be -2^31
         const uint8_t* in = &color_[(size_t(py) * config_.width + r.x) * S * 4];
-        if (S == 1) {
-            std::copy(in, in + size_t(r.width) * 4, out);
-            continue;
-        }
-        for (int32_t px = 0; px < r.width; ++px, in += S * 4, out += 4)
-            for (int c = 0; c < 4; ++c) {
-                uint32_t sum = 0;
-                for (int s = 0; s < S; ++s) sum += in[s * 4 + c];
-                out[c] = uint8_t((sum + uint32_t(S) / 2) / uint32_t(S));
-            }
+        resolve_rgba8(in, S, size_t(r.width), out);
     }
 }
 

@@ -52,6 +52,13 @@ uint64_t memory_budget();
 // Largest width or height accepted for a drawing buffer (also MAX_VIEWPORT_DIMS etc.).
 inline constexpr int32_t kMaxDrawingBufferSize = 16384;
 
+// Multisample resolve of RGBA8 samples: n pixels of `samples` samples each (pixel-major, 4 bytes
+// a sample) to the rounded mean of each channel, (sum + S/2) / S, which is the float64 mean of
+// the samples rounded half up (one sample: a copy). With `ties`, the indices of the pixels where
+// some channel's mean lies exactly halfway between two bytes (sum mod S = S/2) are written
+// there in increasing order (n at most); returns how many.
+size_t resolve_rgba8(const uint8_t* in, int samples, size_t n, uint8_t* out, uint32_t* ties = nullptr);
+
 class DefaultFramebuffer {
 public:
     static constexpr int kDepthBits = 24;
