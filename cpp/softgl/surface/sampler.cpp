@@ -989,29 +989,46 @@ __attribute__((target("avx2"))) void lambda8(const glsl::TextureQuery& q, int l,
     }
 }
 
+// The levels every lane of a block of 8 takes (Fast2D::choose), when they are the same for all:
+// planes[first], blended with planes[second] by the lanes' own frac when second >= 0.
+struct BlockChoice {
+    int32_t first = 0, second = -1;
+    bool linear = false;
+    __m256 frac;
+};
+
 // Fast2D::choose of 8 lanes when they all magnify, all minify without mipmaps, or all blend the
 // same two levels (*_MIPMAP_LINEAR) or take the last one: the common cases, as lambda varies
-// little inside a block. False (ch unspecified) otherwise.
-__attribute__((target("avx2"))) bool choose8(const Fast2D& f, const float lambda[8], LevelChoice ch[8]) {
+// little inside a block. False (bc unspecified) otherwise.
+__attribute__((target("avx2"), always_inline)) inline bool choose_block8(const Fast2D& f, __m256 v, BlockChoice& bc) {
     const __m256 lo = _mm256_set1_ps(f.min_lod), hi = _mm256_set1_ps(f.max_lod);
-    __m256 v = _mm256_loadu_ps(lambda);
     // std::clamp(v, lo, hi) = v < lo ? lo : hi < v ? hi : v (NaN stays NaN).
     v = _mm256_blendv_ps(_mm256_blendv_ps(v, hi, _mm256_cmp_ps(hi, v, _CMP_LT_OQ)), lo, _mm256_cmp_ps(v, lo, _CMP_LT_OQ));
     const int minified = _mm256_movemask_ps(_mm256_cmp_ps(v, _mm256_setzero_ps(), _CMP_GT_OQ));
-    if (minified == 0) return std::fill(ch, ch + 8, LevelChoice{0, -1, f.mag_linear, 0.0f}), true;
+    if (minified == 0) return bc.first = 0, bc.second = -1, bc.linear = f.mag_linear, true;
     if (minified != 0xFF) return false;
-    if (!f.mipmapped) return std::fill(ch, ch + 8, LevelChoice{0, -1, f.min_linear, 0.0f}), true;
+    bc.linear = f.min_linear;
+    if (!f.mipmapped) return bc.first = 0, bc.second = -1, true;
     if (f.min_filter != gl::NEAREST_MIPMAP_LINEAR && f.min_filter != gl::LINEAR_MIPMAP_LINEAR) return false;
     const int32_t last = f.top - f.base;
     const int below_last = _mm256_movemask_ps(_mm256_cmp_ps(v, _mm256_set1_ps(float(last)), _CMP_LT_OQ));
-    if (below_last == 0) return std::fill(ch, ch + 8, LevelChoice{last, -1, f.min_linear, 0.0f}), true;
+    if (below_last == 0) return bc.first = last, bc.second = -1, true;
     const __m256 whole = _mm256_floor_ps(v);
     const __m256 same = _mm256_cmp_ps(whole, _mm256_permutevar8x32_ps(whole, _mm256_setzero_si256()), _CMP_EQ_OQ);
     if (below_last != 0xFF || _mm256_movemask_ps(same) != 0xFF) return false;
-    alignas(32) float frac[8];
-    _mm256_store_ps(frac, _mm256_sub_ps(v, whole));
-    const int32_t d1 = int32_t(_mm256_cvtss_f32(whole));
-    for (int k = 0; k < 8; ++k) ch[k] = {d1, d1 + 1, f.min_linear, frac[k]};
+    bc.first = int32_t(_mm256_cvtss_f32(whole));
+    bc.second = bc.first + 1;
+    bc.frac = _mm256_sub_ps(v, whole);
+    return true;
+}
+
+// choose_block8 as per-lane LevelChoices.
+__attribute__((target("avx2"))) bool choose8(const Fast2D& f, const float lambda[8], LevelChoice ch[8]) {
+    BlockChoice bc;
+    if (!choose_block8(f, _mm256_loadu_ps(lambda), bc)) return false;
+    alignas(32) float frac[8] = {};
+    if (bc.second >= 0) _mm256_store_ps(frac, bc.frac);
+    for (int k = 0; k < 8; ++k) ch[k] = {bc.first, bc.second, bc.linear, frac[k]};
     return true;
 }
 
@@ -1422,6 +1439,209 @@ __attribute__((target("avx2"))) int colour_blocks8(const ColourQuery& cq, int l,
         store8(result, out, l, ~active & 0xFFu);
     }
     return l;
+}
+
+// ---- Colour block loops specialised by the query's shape (ShapedBlocks, chosen once per query
+// by sample_2d): the storage (bytes or floats), the wrap modes (REPEAT of powers of two, or
+// CLAMP_TO_EDGE, on both axes and at every level the query can use) and the level choice (one
+// fixed filter, or the levels chosen per block), so that the block loop branches on none of them.
+// Per lane the same operations in the same order as filter8_color (whose branches on the wrap
+// modes and the storage they fix at compile time), so the same bits. Other queries (2D arrays,
+// MIRRORED_REPEAT, REPEAT of other sizes, mixed wraps) take colour_blocks8.
+
+enum class WrapKind : uint8_t { RepeatPot, Clamp };
+enum class LevelMode : uint8_t { FixedNearest, FixedLinear, PerBlock };
+
+// wrap_one (kPair: false) or wrap_pair (kPair: true) of 8 lanes, i the floored coordinate.
+template <WrapKind kWrap, bool kPair>
+__attribute__((target("avx2"), always_inline)) inline void wrap_shaped8(__m256i i, __m256i last, __m256i& a, __m256i& b) {
+    const __m256i one = _mm256_set1_epi32(1);
+    if constexpr (kWrap == WrapKind::RepeatPot) {
+        a = _mm256_and_si256(i, last);
+        if constexpr (kPair) b = _mm256_and_si256(_mm256_add_epi32(i, one), last);
+    } else {
+        const __m256i zero = _mm256_setzero_si256();
+        a = _mm256_max_epi32(_mm256_min_epi32(i, last), zero);
+        if constexpr (kPair) b = _mm256_max_epi32(_mm256_min_epi32(_mm256_add_epi32(i, one), last), zero);
+    }
+}
+
+// texels8 of one storage (kBytes: p.rgba8, else p.color).
+template <bool kBytes>
+__attribute__((target("avx2"), always_inline)) inline void texels_shaped8(const Plane& p, __m256i index, bool bytes, __m256 out[4]) {
+    if constexpr (kBytes) {
+        unpack8(_mm256_i32gather_epi32(reinterpret_cast<const int*>(p.rgba8), index, 4), out, bytes);
+    } else {
+        alignas(32) int32_t at[8];
+        _mm256_store_si256(reinterpret_cast<__m256i*>(at), index);
+        __m256 r[4];
+        for (int k = 0; k < 4; ++k)
+            r[k] = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(p.color + size_t(at[k]) * 4)),
+                                        _mm_loadu_ps(p.color + size_t(at[k + 4]) * 4), 1);
+        const __m256 t0 = _mm256_unpacklo_ps(r[0], r[1]), t1 = _mm256_unpackhi_ps(r[0], r[1]);
+        const __m256 t2 = _mm256_unpacklo_ps(r[2], r[3]), t3 = _mm256_unpackhi_ps(r[2], r[3]);
+        out[0] = _mm256_shuffle_ps(t0, t2, 0x44);
+        out[1] = _mm256_shuffle_ps(t0, t2, 0xEE);
+        out[2] = _mm256_shuffle_ps(t1, t3, 0x44);
+        out[3] = _mm256_shuffle_ps(t1, t3, 0xEE);
+    }
+}
+
+// filter8_color of one plane of one layer (kBytes: 8-bit unorm bytes and the fixed-point rule,
+// else floats).
+template <bool kBytes, bool kLinear, WrapKind kWrap>
+__attribute__((target("avx2"), always_inline)) inline void filter8_shaped(const Plane8& P, const float* s, const float* t,
+                                                                          __m256 out[4]) {
+    const Plane& p = *P.p;
+    const __m256 u = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(s), P.width_f), P.off_s);
+    const __m256 v = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(t), P.height_f), P.off_t);
+    __m256i i0, i1, j0, j1;
+    if constexpr (!kLinear) {
+        wrap_shaped8<kWrap, false>(ifloor_floored8(_mm256_floor_ps(u)), P.last_i, i0, i1);
+        wrap_shaped8<kWrap, false>(ifloor_floored8(_mm256_floor_ps(v)), P.last_j, j0, j1);
+        texels_shaped8<kBytes>(p, _mm256_add_epi32(_mm256_mullo_epi32(j0, P.width), i0), false, out);
+    } else {
+        const __m256 half = _mm256_set1_ps(0.5f);
+        const __m256 u0 = _mm256_sub_ps(u, half), v0 = _mm256_sub_ps(v, half);
+        const __m256 fu = _mm256_floor_ps(u0), fv = _mm256_floor_ps(v0);
+        wrap_shaped8<kWrap, true>(ifloor_floored8(fu), P.last_i, i0, i1);
+        wrap_shaped8<kWrap, true>(ifloor_floored8(fv), P.last_j, j0, j1);
+        const __m256 a = _mm256_sub_ps(u0, fu), b = _mm256_sub_ps(v0, fv);
+        const __m256i row0 = _mm256_mullo_epi32(j0, P.width), row1 = _mm256_mullo_epi32(j1, P.width);
+        const __m256i at[4] = {_mm256_add_epi32(row0, i0), _mm256_add_epi32(row0, i1), _mm256_add_epi32(row1, i0),
+                               _mm256_add_epi32(row1, i1)};
+        __m256 w[4];
+        if constexpr (kBytes) {
+            const __m256 k256 = _mm256_set1_ps(256.0f), A = weight8x8(a), B = weight8x8(b);
+            const __m256 nA = _mm256_sub_ps(k256, A), nB = _mm256_sub_ps(k256, B);
+            w[0] = _mm256_mul_ps(nA, nB), w[1] = _mm256_mul_ps(A, nB), w[2] = _mm256_mul_ps(nA, B), w[3] = _mm256_mul_ps(A, B);
+        } else {
+            const __m256 one = _mm256_set1_ps(1.0f), na = _mm256_sub_ps(one, a), nb = _mm256_sub_ps(one, b);
+            w[0] = _mm256_mul_ps(na, nb), w[1] = _mm256_mul_ps(a, nb), w[2] = _mm256_mul_ps(na, b), w[3] = _mm256_mul_ps(a, b);
+        }
+        for (int n = 0; n < 4; ++n) {
+            __m256 texel[4];
+            texels_shaped8<kBytes>(p, at[n], true, texel);
+            for (int c = 0; c < 4; ++c)
+                out[c] = n ? _mm256_add_ps(out[c], _mm256_mul_ps(w[n], texel[c])) : _mm256_mul_ps(w[n], texel[c]);
+        }
+        if constexpr (kBytes) {
+            const __m256 divisor = _mm256_set1_ps(kUnorm8Divisor);
+            for (int c = 0; c < 4; ++c) out[c] = _mm256_div_ps(out[c], divisor);
+        }
+    }
+}
+
+// plane8 of each level of a query, made when a block first needs it.
+struct Planes8 {
+    explicit Planes8(const Fast2D& f_) : f(f_) {}
+    const Fast2D& f;
+    Plane8 at[16];
+    uint32_t made = 0;
+    __attribute__((target("avx2"), always_inline)) const Plane8& operator[](int32_t level) {
+        if (!(made >> level & 1)) at[level] = plane8(f, f.planes[size_t(level)]), made |= 1u << level;
+        return at[level];
+    }
+};
+
+// The colour lookups of lanes [l, end) in blocks of 8 of one query shape (as colour_blocks8).
+template <bool kBytes, WrapKind kWrap, LevelMode kMode>
+__attribute__((target("avx2"))) int colour_blocks8_shaped(const ColourQuery& cq, int l, int end) {
+    const glsl::TextureQuery& q = *cq.q;
+    const Fast2D& f = *cq.f;
+    glsl::Scalar* const out[4] = {q.out[0], q.out[1], q.out[2], q.out[3]};
+    Planes8 planes(f);
+    const Plane8& fixed = planes[cq.fixed.first];
+    LevelChoice ch[8];
+    int32_t levels[3];
+    for (; l + 8 <= end; l += 8) {
+        const uint32_t active = active8(q, l);
+        const float* s = &q.coord[0][l].f;
+        const float* t = &q.coord[1][l].f;
+        __m256 result[4] = {_mm256_setzero_ps(), _mm256_setzero_ps(), _mm256_setzero_ps(), _mm256_setzero_ps()};
+        if (!active) {
+            // Nothing to compute: every lane gets (0, 0, 0, 1) below.
+        } else if constexpr (kMode == LevelMode::FixedNearest) {
+            filter8_shaped<kBytes, false, kWrap>(fixed, s, t, result);
+        } else if constexpr (kMode == LevelMode::FixedLinear) {
+            filter8_shaped<kBytes, true, kWrap>(fixed, s, t, result);
+        } else {
+            alignas(32) float lambda[8];
+            if (q.lod_mode == TextureLod::Explicit) {
+                // lambda_at: the lanes' explicit level (0 without one), no bias.
+                _mm256_store_ps(lambda, q.lod ? _mm256_loadu_ps(&q.lod[l].f) : _mm256_setzero_ps());
+            } else {
+                lambda8(q, l, cq.w, cq.h, *cq.memo, lambda);
+            }
+            __m256 v = _mm256_load_ps(lambda);
+            if (active != 0xFFu) {
+                // Inactive lanes take the first active lane's lambda, so that they add no level.
+                const __m256i bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+                const __m256 off = _mm256_castsi256_ps(
+                    _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(int(active)), bit), _mm256_setzero_si256()));
+                v = _mm256_blendv_ps(v, _mm256_set1_ps(lambda[__builtin_ctz(active)]), off);
+            }
+            BlockChoice bc;
+            if (choose_block8(f, v, bc)) {
+                const Plane8& first = planes[bc.first];
+                if (bc.linear) filter8_shaped<kBytes, true, kWrap>(first, s, t, result);
+                else filter8_shaped<kBytes, false, kWrap>(first, s, t, result);
+                if (bc.second >= 0) {
+                    __m256 b[4];
+                    const Plane8& second = planes[bc.second];
+                    if (bc.linear) filter8_shaped<kBytes, true, kWrap>(second, s, t, b);
+                    else filter8_shaped<kBytes, false, kWrap>(second, s, t, b);
+                    // (1 - frac) a + frac b per channel, as filter8_color.
+                    const __m256 ng = _mm256_sub_ps(_mm256_set1_ps(1.0f), bc.frac);
+                    for (int c = 0; c < 4; ++c)
+                        result[c] = _mm256_add_ps(_mm256_mul_ps(ng, result[c]), _mm256_mul_ps(bc.frac, b[c]));
+                }
+            } else {
+                // Lanes on different levels: chosen lane by lane (as choose_lanes), filtered by
+                // the general block code.
+                _mm256_store_ps(lambda, v);
+                for (int k = 0; k < 8; ++k) ch[k] = f.choose(lambda[k]);
+                if (same_levels(ch, 8)) filter8_color(f, ch, s, t, nullptr, result);
+                else if (const int count = distinct_levels(ch, 8, levels)) filter8_color(f, ch, levels, count, s, t, nullptr, result);
+                else return l;
+            }
+        }
+        store8(result, out, l, ~active & 0xFFu);
+    }
+    return l;
+}
+
+using Blocks8 = int (*)(const ColourQuery&, int, int);
+
+// The block loop for a query's shape, or colour_blocks8 (the general one).
+inline Blocks8 shaped_blocks8(const Fast2D& f, const ColourQuery& cq) {
+    if (cq.r) return colour_blocks8;
+    const int32_t count = f.top - f.base + 1;
+    const bool bytes = f.planes[0].rgba8 != nullptr;
+    bool pot = true;
+    for (int32_t k = 0; k < count; ++k) {
+        const Plane& p = f.planes[size_t(k)];
+        if ((p.rgba8 != nullptr) != bytes || p.unorm8 != bytes || (!bytes && !p.color) || !int32_indices(p)) return colour_blocks8;
+        pot = pot && p.width_pot && p.height_pot;
+    }
+    WrapKind wrap;
+    if (f.wrap_s == gl::REPEAT && f.wrap_t == gl::REPEAT && pot) wrap = WrapKind::RepeatPot;
+    else if (f.wrap_s == gl::CLAMP_TO_EDGE && f.wrap_t == gl::CLAMP_TO_EDGE) wrap = WrapKind::Clamp;
+    else return colour_blocks8;
+    const LevelMode mode = cq.needs_lambda ? LevelMode::PerBlock : cq.fixed.linear ? LevelMode::FixedLinear : LevelMode::FixedNearest;
+#define SOFTGL_SHAPED(B, W)                                                                           \
+    switch (mode) {                                                                                   \
+        case LevelMode::FixedNearest: return colour_blocks8_shaped<B, W, LevelMode::FixedNearest>;   \
+        case LevelMode::FixedLinear: return colour_blocks8_shaped<B, W, LevelMode::FixedLinear>;     \
+        default: return colour_blocks8_shaped<B, W, LevelMode::PerBlock>;                            \
+    }
+    if (bytes) {
+        if (wrap == WrapKind::RepeatPot) SOFTGL_SHAPED(true, WrapKind::RepeatPot)
+        SOFTGL_SHAPED(true, WrapKind::Clamp)
+    }
+    if (wrap == WrapKind::RepeatPot) SOFTGL_SHAPED(false, WrapKind::RepeatPot)
+    SOFTGL_SHAPED(false, WrapKind::Clamp)
+#undef SOFTGL_SHAPED
 }
 
 // ---- AVX-512: blocks of 16 lanes, results straight into the structure-of-arrays outputs.
@@ -1892,11 +2112,12 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
     if (simd != SimdBlocks::None && !cube && !depth && q.coord[0] && q.coord[1]) {
         const ColourQuery cq{&f, &q, f.planes[0].layers > 1 && q.coord[2] ? &q.coord[2][0].f : nullptr,
                              needs_lambda, fixed, w, h, &lambda_of};
+        const Blocks8 blocks8 = shaped_blocks8(f, cq);
         while (l + 8 <= q.lane_count) {
             if (simd == SimdBlocks::Avx512 && l + 16 <= q.lane_count) l = colour_blocks16(cq, l);
             // What is left: a block of 16 colour_blocks16 left, or the last lanes.
             const int end = simd == SimdBlocks::Avx512 && l + 16 <= q.lane_count ? l + 16 : q.lane_count;
-            l = colour_blocks8(cq, l, end);
+            l = blocks8(cq, l, end);
             if (l + 8 <= end) {
                 for (int k = 0; k < 8; ++k) one_lane(l + k);
                 l += 8;
