@@ -1969,6 +1969,186 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512))) int colour_blocks16(const ColourQ
     }
     return l;
 }
+
+// ---- colour_blocks8_shaped in blocks of 16 (AVX-512): filter16's operations with the storage,
+// filter and wrap modes fixed at compile time (the same bits; see ShapedBlocks above).
+
+template <WrapKind kWrap, bool kPair>
+__attribute__((target(SOFTGL_SAMPLER_AVX512), always_inline)) inline void wrap_shaped16(__m512i i, __m512i last, __m512i& a,
+                                                                                      __m512i& b) {
+    const __m512i one = _mm512_set1_epi32(1);
+    if constexpr (kWrap == WrapKind::RepeatPot) {
+        a = _mm512_and_si512(i, last);
+        if constexpr (kPair) b = _mm512_and_si512(_mm512_add_epi32(i, one), last);
+    } else {
+        const __m512i zero = _mm512_setzero_si512();
+        a = _mm512_max_epi32(_mm512_min_epi32(i, last), zero);
+        if constexpr (kPair) b = _mm512_max_epi32(_mm512_min_epi32(_mm512_add_epi32(i, one), last), zero);
+    }
+}
+
+// filter16 of one plane of one layer (planes whose texel numbers fit int32).
+template <bool kBytes, bool kLinear, WrapKind kWrap>
+__attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"), always_inline)) inline void filter16_shaped(const Fast2D& f, const Plane& p,
+                                                                                               const float* s, const float* t,
+                                                                                               __m512 out[4]) {
+    const Layers16<false> layers{p.color, {}};
+    const __m512 u = _mm512_add_ps(_mm512_mul_ps(_mm512_loadu_ps(s), _mm512_set1_ps(float(p.width))), _mm512_set1_ps(float(f.off_s)));
+    const __m512 v = _mm512_add_ps(_mm512_mul_ps(_mm512_loadu_ps(t), _mm512_set1_ps(float(p.height))), _mm512_set1_ps(float(f.off_t)));
+    const __m512i width = _mm512_set1_epi32(p.width);
+    const __m512i last_i = _mm512_set1_epi32(p.width - 1), last_j = _mm512_set1_epi32(p.height - 1);
+    __m512i i0, i1, j0, j1;
+    if constexpr (!kLinear) {
+        wrap_shaped16<kWrap, false>(ifloor_floored16(_mm512_floor_ps(u)), last_i, i0, i1);
+        wrap_shaped16<kWrap, false>(ifloor_floored16(_mm512_floor_ps(v)), last_j, j0, j1);
+        const __m512i index = _mm512_add_epi32(_mm512_mullo_epi32(j0, width), i0);
+        if constexpr (kBytes) texels16(p.rgba8, index, out);
+        else texels16(layers, index, out);
+    } else {
+        const __m512 half = _mm512_set1_ps(0.5f), one = _mm512_set1_ps(1.0f);
+        const __m512 u0 = _mm512_sub_ps(u, half), v0 = _mm512_sub_ps(v, half);
+        const __m512 fu = _mm512_floor_ps(u0), fv = _mm512_floor_ps(v0);
+        wrap_shaped16<kWrap, true>(ifloor_floored16(fu), last_i, i0, i1);
+        wrap_shaped16<kWrap, true>(ifloor_floored16(fv), last_j, j0, j1);
+        const __m512 a = _mm512_sub_ps(u0, fu), b = _mm512_sub_ps(v0, fv);
+        __m512 w[4];
+        if constexpr (kBytes) {
+            const __m512 k256 = _mm512_set1_ps(256.0f);
+            const __m512 A = weight8x16(a), B = weight8x16(b), nA = _mm512_sub_ps(k256, A), nB = _mm512_sub_ps(k256, B);
+            w[0] = _mm512_mul_ps(nA, nB), w[1] = _mm512_mul_ps(A, nB), w[2] = _mm512_mul_ps(nA, B), w[3] = _mm512_mul_ps(A, B);
+        } else {
+            const __m512 na = _mm512_sub_ps(one, a), nb = _mm512_sub_ps(one, b);
+            w[0] = _mm512_mul_ps(na, nb), w[1] = _mm512_mul_ps(a, nb), w[2] = _mm512_mul_ps(na, b), w[3] = _mm512_mul_ps(a, b);
+        }
+        const __m512i row0 = _mm512_mullo_epi32(j0, width), row1 = _mm512_mullo_epi32(j1, width);
+        __m512 texel[4][4];   // t00, t10, t01, t11
+        const bool pairs = _mm512_cmpeq_epi32_mask(i1, _mm512_add_epi32(i0, _mm512_set1_epi32(1))) == 0xFFFF;
+        if constexpr (kBytes) {
+            if (pairs) {
+                texel_pairs16(p.rgba8, _mm512_add_epi32(row0, i0), texel[0], texel[1], true);
+                texel_pairs16(p.rgba8, _mm512_add_epi32(row1, i0), texel[2], texel[3], true);
+            } else {
+                texels16(p.rgba8, _mm512_add_epi32(row0, i0), texel[0], true);
+                texels16(p.rgba8, _mm512_add_epi32(row0, i1), texel[1], true);
+                texels16(p.rgba8, _mm512_add_epi32(row1, i0), texel[2], true);
+                texels16(p.rgba8, _mm512_add_epi32(row1, i1), texel[3], true);
+            }
+            // Exact integer sums (any order), one correctly rounded division.
+            const __m512 divisor = _mm512_set1_ps(kUnorm8Divisor);
+            for (int c = 0; c < 4; ++c) {
+                __m512 sum = _mm512_mul_ps(w[0], texel[0][c]);
+                for (int n = 1; n < 4; ++n) sum = _mm512_fmadd_ps(w[n], texel[n][c], sum);
+                out[c] = _mm512_div_ps(sum, divisor);
+            }
+        } else {
+            if (pairs) {
+                texel_pairs16(layers, _mm512_add_epi32(row0, i0), texel[0], texel[1]);
+                texel_pairs16(layers, _mm512_add_epi32(row1, i0), texel[2], texel[3]);
+            } else {
+                texels16(layers, _mm512_add_epi32(row0, i0), texel[0]);
+                texels16(layers, _mm512_add_epi32(row0, i1), texel[1]);
+                texels16(layers, _mm512_add_epi32(row1, i0), texel[2]);
+                texels16(layers, _mm512_add_epi32(row1, i1), texel[3]);
+            }
+            // w00 * t00 + w10 * t10 + w01 * t01 + w11 * t11, left to right, as Fast2D::filter.
+            for (int c = 0; c < 4; ++c) {
+                out[c] = _mm512_mul_ps(w[0], texel[0][c]);
+                for (int k = 1; k < 4; ++k) out[c] = _mm512_add_ps(out[c], _mm512_mul_ps(w[k], texel[k][c]));
+            }
+        }
+    }
+}
+
+template <bool kBytes, WrapKind kWrap>
+__attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"), always_inline)) inline void filter16_shaped(const Fast2D& f, const Plane& p,
+                                                                                               bool linear, const float* s,
+                                                                                               const float* t, __m512 out[4]) {
+    if (linear) filter16_shaped<kBytes, true, kWrap>(f, p, s, t, out);
+    else filter16_shaped<kBytes, false, kWrap>(f, p, s, t, out);
+}
+
+// colour_blocks16 of one query shape: returns where it stopped (as colour_blocks16).
+template <bool kBytes, WrapKind kWrap, LevelMode kMode>
+__attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) int colour_blocks16_shaped(const ColourQuery& cq, int l) {
+    const glsl::TextureQuery& q = *cq.q;
+    const Fast2D& f = *cq.f;
+    glsl::Scalar* const out[4] = {q.out[0], q.out[1], q.out[2], q.out[3]};
+    const Plane& fixed = f.planes[size_t(cq.fixed.first)];
+    LevelChoice ch[16];
+    int32_t levels[3];
+    for (; l + 16 <= q.lane_count; l += 16) {
+        const __mmask16 active = q.active ? _mm512_test_epi32_mask(_mm512_loadu_si512(q.active + l), _mm512_set1_epi32(-1))
+                                          : __mmask16(0xFFFF);
+        const float* s = &q.coord[0][l].f;
+        const float* t = &q.coord[1][l].f;
+        if (active) {
+            __m512 a[4];
+            bool stored = false;   // (the general blocks store their results themselves)
+            if constexpr (kMode == LevelMode::FixedNearest) {
+                filter16_shaped<kBytes, false, kWrap>(f, fixed, s, t, a);
+            } else if constexpr (kMode == LevelMode::FixedLinear) {
+                filter16_shaped<kBytes, true, kWrap>(f, fixed, s, t, a);
+            } else {
+                // Both halves' lambdas, inactive lanes taking the first active lane's.
+                alignas(64) float lambda[16];
+                for (int part = 0; part < 16; part += 8) {
+                    if (q.lod_mode == TextureLod::Explicit)
+                        _mm256_store_ps(lambda + part, q.lod ? _mm256_loadu_ps(&q.lod[l + part].f) : _mm256_setzero_ps());
+                    else
+                        lambda8(q, l + part, cq.w, cq.h, *cq.memo, lambda + part);
+                }
+                __m512 v = _mm512_load_ps(lambda);
+                if (active != 0xFFFF) v = _mm512_mask_mov_ps(_mm512_set1_ps(lambda[__builtin_ctz(active)]), active, v);
+                BlockChoice lo, hi;
+                if (choose_block8(f, _mm512_castps512_ps256(v), lo) && choose_block8(f, _mm512_extractf32x8_ps(v, 1), hi) &&
+                    lo.first == hi.first && lo.second == hi.second && lo.linear == hi.linear) {
+                    filter16_shaped<kBytes, kWrap>(f, f.planes[size_t(lo.first)], lo.linear, s, t, a);
+                    if (lo.second >= 0) {
+                        __m512 b[4];
+                        filter16_shaped<kBytes, kWrap>(f, f.planes[size_t(lo.second)], lo.linear, s, t, b);
+                        const __m512 g = _mm512_insertf32x8(_mm512_castps256_ps512(lo.frac), hi.frac, 1);
+                        const __m512 ng = _mm512_sub_ps(_mm512_set1_ps(1.0f), g);
+                        for (int c = 0; c < 4; ++c) a[c] = _mm512_add_ps(_mm512_mul_ps(ng, a[c]), _mm512_mul_ps(g, b[c]));
+                    }
+                } else {
+                    // Lanes on different levels: chosen lane by lane, filtered by the general blocks.
+                    _mm512_store_ps(lambda, v);
+                    for (int k = 0; k < 16; ++k) ch[k] = f.choose(lambda[k]);
+                    if (same_levels(ch, 16)) filter16(f, ch, s, t, nullptr, out, l);
+                    else if (const int count = distinct_levels(ch, 16, levels)) filter16(f, ch, levels, count, s, t, nullptr, out, l);
+                    else return l;
+                    stored = true;
+                }
+            }
+            for (int c = 0; c < 4 && !stored; ++c)
+                if (out[c]) _mm512_storeu_ps(&out[c][l].f, a[c]);
+        }
+        if (active != 0xFFFF)
+            // Inactive lanes: (0, 0, 0, 1), as sample_lanes gives them.
+            for (int c = 0; c < 4; ++c)
+                if (out[c]) _mm512_mask_storeu_ps(&out[c][l].f, __mmask16(~active), _mm512_set1_ps(c == 3 ? 1.0f : 0.0f));
+    }
+    return l;
+}
+
+using Blocks16 = int (*)(const ColourQuery&, int);
+
+// colour_blocks16_shaped for the shape shaped_blocks8 found, or colour_blocks16.
+inline Blocks16 shaped_blocks16(Blocks8 shape) {
+#define SOFTGL_SHAPED16(B, W, M) \
+    if (shape == colour_blocks8_shaped<B, W, M>) return colour_blocks16_shaped<B, W, M>;
+#define SOFTGL_SHAPED16_MODES(B, W)                      \
+    SOFTGL_SHAPED16(B, W, LevelMode::FixedNearest)       \
+    SOFTGL_SHAPED16(B, W, LevelMode::FixedLinear)        \
+    SOFTGL_SHAPED16(B, W, LevelMode::PerBlock)
+    SOFTGL_SHAPED16_MODES(true, WrapKind::RepeatPot)
+    SOFTGL_SHAPED16_MODES(true, WrapKind::Clamp)
+    SOFTGL_SHAPED16_MODES(false, WrapKind::RepeatPot)
+    SOFTGL_SHAPED16_MODES(false, WrapKind::Clamp)
+#undef SOFTGL_SHAPED16_MODES
+#undef SOFTGL_SHAPED16
+    return colour_blocks16;
+}
 #pragma GCC diagnostic pop
 #endif
 
@@ -2113,8 +2293,9 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
         const ColourQuery cq{&f, &q, f.planes[0].layers > 1 && q.coord[2] ? &q.coord[2][0].f : nullptr,
                              needs_lambda, fixed, w, h, &lambda_of};
         const Blocks8 blocks8 = shaped_blocks8(f, cq);
+        const Blocks16 blocks16 = simd == SimdBlocks::Avx512 ? shaped_blocks16(blocks8) : colour_blocks16;
         while (l + 8 <= q.lane_count) {
-            if (simd == SimdBlocks::Avx512 && l + 16 <= q.lane_count) l = colour_blocks16(cq, l);
+            if (simd == SimdBlocks::Avx512 && l + 16 <= q.lane_count) l = blocks16(cq, l);
             // What is left: a block of 16 colour_blocks16 left, or the last lanes.
             const int end = simd == SimdBlocks::Avx512 && l + 16 <= q.lane_count ? l + 16 : q.lane_count;
             l = blocks8(cq, l, end);
