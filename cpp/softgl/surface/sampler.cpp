@@ -951,8 +951,28 @@ __attribute__((target("avx2"))) inline int lambda_exact4(__m256d rho2, __m128& l
 __attribute__((target("avx2"))) void lambda8(const glsl::TextureQuery& q, int l, float w, float h, LambdaMemo& lambda_of,
                                              float out[8]) {
     const __m256 ws = _mm256_set1_ps(w), hs = _mm256_set1_ps(h), zero = _mm256_setzero_ps();
-    const __m256 x0 = _mm256_mul_ps(load8(q.ddx[0], l), ws), x1 = _mm256_mul_ps(load8(q.ddx[1], l), hs);
-    const __m256 y0 = _mm256_mul_ps(load8(q.ddy[0], l), ws), y1 = _mm256_mul_ps(load8(q.ddy[1], l), hs);
+    const __m256 dx0 = load8(q.ddx[0], l), dx1 = load8(q.ddx[1], l), dy0 = load8(q.ddy[0], l), dy1 = load8(q.ddy[1], l);
+    if (!q.ddx[2] && !q.ddy[2]) {
+        // Under affine coordinates the 8 lanes' derivatives are equal: lane 0's rho², computed as
+        // lambda_at does (equal floats, -0 = +0 included, give equal squares), one LambdaMemo lookup.
+        const __m256i first = _mm256_setzero_si256();
+        const __m256 same = _mm256_and_ps(
+            _mm256_and_ps(_mm256_cmp_ps(dx0, _mm256_permutevar8x32_ps(dx0, first), _CMP_EQ_OQ),
+                          _mm256_cmp_ps(dx1, _mm256_permutevar8x32_ps(dx1, first), _CMP_EQ_OQ)),
+            _mm256_and_ps(_mm256_cmp_ps(dy0, _mm256_permutevar8x32_ps(dy0, first), _CMP_EQ_OQ),
+                          _mm256_cmp_ps(dy1, _mm256_permutevar8x32_ps(dy1, first), _CMP_EQ_OQ)));
+        if (_mm256_movemask_ps(same) == 0xFF) {
+            const float x0 = _mm256_cvtss_f32(dx0) * w, x1 = _mm256_cvtss_f32(dx1) * h;
+            const float y0 = _mm256_cvtss_f32(dy0) * w, y1 = _mm256_cvtss_f32(dy1) * h;
+            const double lx2 = double(x0) * x0 + double(x1) * x1, ly2 = double(y0) * y0 + double(y1) * y1;
+            __m256 lambda = _mm256_set1_ps(lambda_of(std::max(lx2, ly2)));
+            if (q.lod_mode == TextureLod::Bias && q.lod) lambda = _mm256_add_ps(lambda, _mm256_loadu_ps(&q.lod[l].f));
+            _mm256_storeu_ps(out, lambda);
+            return;
+        }
+    }
+    const __m256 x0 = _mm256_mul_ps(dx0, ws), x1 = _mm256_mul_ps(dx1, hs);
+    const __m256 y0 = _mm256_mul_ps(dy0, ws), y1 = _mm256_mul_ps(dy1, hs);
     const __m256 x2 = _mm256_mul_ps(load8(q.ddx[2], l), zero), y2 = _mm256_mul_ps(load8(q.ddy[2], l), zero);
     alignas(32) double rho2[8];
     for (int half = 0; half < 2; ++half) {
@@ -962,15 +982,15 @@ __attribute__((target("avx2"))) void lambda8(const glsl::TextureQuery& q, int l,
         if (q.ddy[2]) ly2 = _mm256_add_pd(ly2, square_wide(y2, half));
         _mm256_store_pd(rho2 + 4 * half, _mm256_max_pd(ly2, lx2));   // = std::max(lx2, ly2), NaN included
     }
-    // Under affine coordinates all 8 lanes share rho²: one LambdaMemo lookup.
-    const __m256d first = _mm256_set1_pd(rho2[0]);
-    if ((_mm256_movemask_pd(_mm256_cmp_pd(_mm256_load_pd(rho2), first, _CMP_EQ_OQ)) &
-         _mm256_movemask_pd(_mm256_cmp_pd(_mm256_load_pd(rho2 + 4), first, _CMP_EQ_OQ))) == 0xF) {
-        const float lambda = lambda_of(rho2[0]);
-        for (int k = 0; k < 8; ++k) {
-            out[k] = lambda;
-            if (q.lod_mode == TextureLod::Bias && q.lod) out[k] += q.lod[l + k].f;
-        }
+    // Lanes of a quad share their derivatives (and under affine coordinates the two quads of a
+    // block often share them too): a rho² per half of the block, one LambdaMemo lookup each.
+    const __m256d lo2 = _mm256_load_pd(rho2), hi2 = _mm256_load_pd(rho2 + 4);
+    if ((_mm256_movemask_pd(_mm256_cmp_pd(lo2, _mm256_set1_pd(rho2[0]), _CMP_EQ_OQ)) &
+         _mm256_movemask_pd(_mm256_cmp_pd(hi2, _mm256_set1_pd(rho2[4]), _CMP_EQ_OQ))) == 0xF) {
+        const float a = lambda_of(rho2[0]), b = rho2[4] == rho2[0] ? a : lambda_of(rho2[4]);
+        __m256 lambda = _mm256_set_m128(_mm_set1_ps(b), _mm_set1_ps(a));
+        if (q.lod_mode == TextureLod::Bias && q.lod) lambda = _mm256_add_ps(lambda, _mm256_loadu_ps(&q.lod[l].f));
+        _mm256_storeu_ps(out, lambda);
         return;
     }
     // Otherwise lambda = float(log2(sqrt(rho²))) 4 lanes at a time (lambda_exact4); the lanes it
@@ -1487,6 +1507,37 @@ __attribute__((target("avx2"), always_inline)) inline void texels_shaped8(const 
     }
 }
 
+// One row of unorm8_rows8: the horizontal blends of 8 lanes' left and right texels as channel vectors.
+__attribute__((target("avx2"), always_inline)) inline void unorm8_row8(__m256i left, __m256i right, __m256i wa, __m256i nwa,
+                                                                       __m256 h[4]) {
+    const __m256i bytes = _mm256_set1_epi32(0x00FF00FF), low = _mm256_set1_epi32(0xFFFF);
+    const __m256i even = _mm256_add_epi16(_mm256_mullo_epi16(_mm256_and_si256(left, bytes), nwa),
+                                          _mm256_mullo_epi16(_mm256_and_si256(right, bytes), wa));
+    const __m256i odd = _mm256_add_epi16(_mm256_mullo_epi16(_mm256_and_si256(_mm256_srli_epi32(left, 8), bytes), nwa),
+                                         _mm256_mullo_epi16(_mm256_and_si256(_mm256_srli_epi32(right, 8), bytes), wa));
+    h[0] = _mm256_cvtepi32_ps(_mm256_and_si256(even, low));
+    h[1] = _mm256_cvtepi32_ps(_mm256_and_si256(odd, low));
+    h[2] = _mm256_cvtepi32_ps(_mm256_srli_epi32(even, 16));
+    h[3] = _mm256_cvtepi32_ps(_mm256_srli_epi32(odd, 16));
+}
+
+// The fixed-point rule's sums (filter8_color: ((256 - A)(256 - B) k00 + A (256 - B) k10 +
+// (256 - A) B k01 + A B k11) of 8 lanes, by rows: per row the horizontal blend
+// H = (256 - A) k0 + A k1 of every channel in 16-bit integers (at most 256 * 255: exact), two
+// channels per 32-bit lane (r, b and g, a), then (256 - B) H0 + B H1 in float (integers below
+// 2^24: exact). The same integer sums as the four products, so the same bits after the division.
+__attribute__((target("avx2"), always_inline)) inline void unorm8_rows8(__m256i t00, __m256i t10, __m256i t01, __m256i t11,
+                                                                        __m256 A, __m256 B, __m256 out[4]) {
+    const __m256i ai = _mm256_cvttps_epi32(A), nai = _mm256_sub_epi32(_mm256_set1_epi32(256), ai);
+    const __m256i wa = _mm256_or_si256(ai, _mm256_slli_epi32(ai, 16)), nwa = _mm256_or_si256(nai, _mm256_slli_epi32(nai, 16));
+    __m256 h0[4], h1[4];
+    unorm8_row8(t00, t10, wa, nwa, h0);
+    unorm8_row8(t01, t11, wa, nwa, h1);
+    const __m256 nB = _mm256_sub_ps(_mm256_set1_ps(256.0f), B), divisor = _mm256_set1_ps(kUnorm8Divisor);
+    for (int c = 0; c < 4; ++c)
+        out[c] = _mm256_div_ps(_mm256_add_ps(_mm256_mul_ps(nB, h0[c]), _mm256_mul_ps(B, h1[c])), divisor);
+}
+
 // filter8_color of one plane of one layer (kBytes: 8-bit unorm bytes and the fixed-point rule,
 // else floats).
 template <bool kBytes, bool kLinear, WrapKind kWrap>
@@ -1512,22 +1563,20 @@ __attribute__((target("avx2"), always_inline)) inline void filter8_shaped(const 
                                _mm256_add_epi32(row1, i1)};
         __m256 w[4];
         if constexpr (kBytes) {
-            const __m256 k256 = _mm256_set1_ps(256.0f), A = weight8x8(a), B = weight8x8(b);
-            const __m256 nA = _mm256_sub_ps(k256, A), nB = _mm256_sub_ps(k256, B);
-            w[0] = _mm256_mul_ps(nA, nB), w[1] = _mm256_mul_ps(A, nB), w[2] = _mm256_mul_ps(nA, B), w[3] = _mm256_mul_ps(A, B);
+            const int* texels = reinterpret_cast<const int*>(p.rgba8);
+            unorm8_rows8(_mm256_i32gather_epi32(texels, at[0], 4), _mm256_i32gather_epi32(texels, at[1], 4),
+                         _mm256_i32gather_epi32(texels, at[2], 4), _mm256_i32gather_epi32(texels, at[3], 4),
+                         weight8x8(a), weight8x8(b), out);
+            return;
         } else {
             const __m256 one = _mm256_set1_ps(1.0f), na = _mm256_sub_ps(one, a), nb = _mm256_sub_ps(one, b);
             w[0] = _mm256_mul_ps(na, nb), w[1] = _mm256_mul_ps(a, nb), w[2] = _mm256_mul_ps(na, b), w[3] = _mm256_mul_ps(a, b);
         }
         for (int n = 0; n < 4; ++n) {
             __m256 texel[4];
-            texels_shaped8<kBytes>(p, at[n], true, texel);
+            texels_shaped8<kBytes>(p, at[n], false, texel);
             for (int c = 0; c < 4; ++c)
                 out[c] = n ? _mm256_add_ps(out[c], _mm256_mul_ps(w[n], texel[c])) : _mm256_mul_ps(w[n], texel[c]);
-        }
-        if constexpr (kBytes) {
-            const __m256 divisor = _mm256_set1_ps(kUnorm8Divisor);
-            for (int c = 0; c < 4; ++c) out[c] = _mm256_div_ps(out[c], divisor);
         }
     }
 }
@@ -1987,6 +2036,43 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512), always_inline)) inline void wrap_s
     }
 }
 
+// unorm8_rows8 of 16 lanes (texels as the packed bytes).
+__attribute__((target(SOFTGL_SAMPLER_AVX512), always_inline)) inline void unorm8_row16(__m512i left, __m512i right, __m512i wa,
+                                                                                     __m512i nwa, __m512 h[4]) {
+    const __m512i bytes = _mm512_set1_epi32(0x00FF00FF), low = _mm512_set1_epi32(0xFFFF);
+    const __m512i even = _mm512_add_epi16(_mm512_mullo_epi16(_mm512_and_si512(left, bytes), nwa),
+                                          _mm512_mullo_epi16(_mm512_and_si512(right, bytes), wa));
+    const __m512i odd = _mm512_add_epi16(_mm512_mullo_epi16(_mm512_and_si512(_mm512_srli_epi32(left, 8), bytes), nwa),
+                                         _mm512_mullo_epi16(_mm512_and_si512(_mm512_srli_epi32(right, 8), bytes), wa));
+    h[0] = _mm512_cvtepi32_ps(_mm512_and_si512(even, low));
+    h[1] = _mm512_cvtepi32_ps(_mm512_and_si512(odd, low));
+    h[2] = _mm512_cvtepi32_ps(_mm512_srli_epi32(even, 16));
+    h[3] = _mm512_cvtepi32_ps(_mm512_srli_epi32(odd, 16));
+}
+
+__attribute__((target(SOFTGL_SAMPLER_AVX512), always_inline)) inline void unorm8_rows16(__m512i t00, __m512i t10, __m512i t01,
+                                                                                      __m512i t11, __m512 A, __m512 B,
+                                                                                      __m512 out[4]) {
+    const __m512i ai = _mm512_cvttps_epi32(A), nai = _mm512_sub_epi32(_mm512_set1_epi32(256), ai);
+    const __m512i wa = _mm512_or_si512(ai, _mm512_slli_epi32(ai, 16)), nwa = _mm512_or_si512(nai, _mm512_slli_epi32(nai, 16));
+    __m512 h0[4], h1[4];
+    unorm8_row16(t00, t10, wa, nwa, h0);
+    unorm8_row16(t01, t11, wa, nwa, h1);
+    const __m512 nB = _mm512_sub_ps(_mm512_set1_ps(256.0f), B), divisor = _mm512_set1_ps(kUnorm8Divisor);
+    for (int c = 0; c < 4; ++c)
+        out[c] = _mm512_div_ps(_mm512_add_ps(_mm512_mul_ps(nB, h0[c]), _mm512_mul_ps(B, h1[c])), divisor);
+}
+
+// The packed texels index[l] and index[l] + 1 of 16 lanes by two gathers of 8-byte pairs.
+__attribute__((target(SOFTGL_SAMPLER_AVX512), always_inline)) inline void packed_pairs16(const uint32_t* rgba8, __m512i index,
+                                                                                       __m512i& left, __m512i& right) {
+    const __m512i p0 = _mm512_i32gather_epi64(_mm512_castsi512_si256(index), rgba8, 4);
+    const __m512i p1 = _mm512_i32gather_epi64(_mm512_extracti64x4_epi64(index, 1), rgba8, 4);
+    left = _mm512_inserti64x4(_mm512_castsi256_si512(_mm512_cvtepi64_epi32(p0)), _mm512_cvtepi64_epi32(p1), 1);
+    right = _mm512_inserti64x4(_mm512_castsi256_si512(_mm512_cvtepi64_epi32(_mm512_srli_epi64(p0, 32))),
+                               _mm512_cvtepi64_epi32(_mm512_srli_epi64(p1, 32)), 1);
+}
+
 // filter16 of one plane of one layer (planes whose texel numbers fit int32).
 template <bool kBytes, bool kLinear, WrapKind kWrap>
 __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"), always_inline)) inline void filter16_shaped(const Fast2D& f, const Plane& p,
@@ -2013,9 +2099,20 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"), always_inline)) inline void
         const __m512 a = _mm512_sub_ps(u0, fu), b = _mm512_sub_ps(v0, fv);
         __m512 w[4];
         if constexpr (kBytes) {
-            const __m512 k256 = _mm512_set1_ps(256.0f);
-            const __m512 A = weight8x16(a), B = weight8x16(b), nA = _mm512_sub_ps(k256, A), nB = _mm512_sub_ps(k256, B);
-            w[0] = _mm512_mul_ps(nA, nB), w[1] = _mm512_mul_ps(A, nB), w[2] = _mm512_mul_ps(nA, B), w[3] = _mm512_mul_ps(A, B);
+            // The fixed-point rule by rows (unorm8_rows16): the texels as their packed bytes.
+            const __m512i row0 = _mm512_mullo_epi32(j0, width), row1 = _mm512_mullo_epi32(j1, width);
+            __m512i t[4];   // t00, t10, t01, t11
+            if (_mm512_cmpeq_epi32_mask(i1, _mm512_add_epi32(i0, _mm512_set1_epi32(1))) == 0xFFFF) {
+                packed_pairs16(p.rgba8, _mm512_add_epi32(row0, i0), t[0], t[1]);
+                packed_pairs16(p.rgba8, _mm512_add_epi32(row1, i0), t[2], t[3]);
+            } else {
+                t[0] = _mm512_i32gather_epi32(_mm512_add_epi32(row0, i0), p.rgba8, 4);
+                t[1] = _mm512_i32gather_epi32(_mm512_add_epi32(row0, i1), p.rgba8, 4);
+                t[2] = _mm512_i32gather_epi32(_mm512_add_epi32(row1, i0), p.rgba8, 4);
+                t[3] = _mm512_i32gather_epi32(_mm512_add_epi32(row1, i1), p.rgba8, 4);
+            }
+            unorm8_rows16(t[0], t[1], t[2], t[3], weight8x16(a), weight8x16(b), out);
+            return;
         } else {
             const __m512 na = _mm512_sub_ps(one, a), nb = _mm512_sub_ps(one, b);
             w[0] = _mm512_mul_ps(na, nb), w[1] = _mm512_mul_ps(a, nb), w[2] = _mm512_mul_ps(na, b), w[3] = _mm512_mul_ps(a, b);
@@ -2023,24 +2120,7 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"), always_inline)) inline void
         const __m512i row0 = _mm512_mullo_epi32(j0, width), row1 = _mm512_mullo_epi32(j1, width);
         __m512 texel[4][4];   // t00, t10, t01, t11
         const bool pairs = _mm512_cmpeq_epi32_mask(i1, _mm512_add_epi32(i0, _mm512_set1_epi32(1))) == 0xFFFF;
-        if constexpr (kBytes) {
-            if (pairs) {
-                texel_pairs16(p.rgba8, _mm512_add_epi32(row0, i0), texel[0], texel[1], true);
-                texel_pairs16(p.rgba8, _mm512_add_epi32(row1, i0), texel[2], texel[3], true);
-            } else {
-                texels16(p.rgba8, _mm512_add_epi32(row0, i0), texel[0], true);
-                texels16(p.rgba8, _mm512_add_epi32(row0, i1), texel[1], true);
-                texels16(p.rgba8, _mm512_add_epi32(row1, i0), texel[2], true);
-                texels16(p.rgba8, _mm512_add_epi32(row1, i1), texel[3], true);
-            }
-            // Exact integer sums (any order), one correctly rounded division.
-            const __m512 divisor = _mm512_set1_ps(kUnorm8Divisor);
-            for (int c = 0; c < 4; ++c) {
-                __m512 sum = _mm512_mul_ps(w[0], texel[0][c]);
-                for (int n = 1; n < 4; ++n) sum = _mm512_fmadd_ps(w[n], texel[n][c], sum);
-                out[c] = _mm512_div_ps(sum, divisor);
-            }
-        } else {
+        {
             if (pairs) {
                 texel_pairs16(layers, _mm512_add_epi32(row0, i0), texel[0], texel[1]);
                 texel_pairs16(layers, _mm512_add_epi32(row1, i0), texel[2], texel[3]);
