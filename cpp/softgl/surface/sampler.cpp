@@ -622,6 +622,12 @@ private:
     Entry entries_[kEntries] = {};
 };
 
+// Whether every texel number of p fits an int32 (gathers take int32 indices); larger 2D arrays
+// are filtered lane by lane (filter8_lanes).
+inline bool int32_indices(const Plane& p) {
+    return uint64_t(p.width) * uint64_t(p.height) * uint64_t(p.layers) <= uint64_t(INT32_MAX);
+}
+
 #if defined(__x86_64__) || defined(__i386__)
 #define SOFTGL_SAMPLER_AVX2 1
 
@@ -1155,11 +1161,6 @@ __attribute__((target("avx2"))) inline uint32_t inside8(const Plane& p, bool lin
 // results go straight there (no per-lane results, no transposes). Per lane the same operations
 // in the same order as Fast2D::filter (no FMA), so the same bits.
 
-// Whether every texel number of p fits an int32 (gathers take int32 indices); larger 2D arrays
-// are filtered lane by lane (filter8_lanes).
-inline bool int32_indices(const Plane& p) {
-    return uint64_t(p.width) * uint64_t(p.height) * uint64_t(p.layers) <= uint64_t(INT32_MAX);
-}
 
 // What filter8_color reads of one plane, broadcast once per plane and query.
 struct Plane8 {
@@ -1663,16 +1664,11 @@ __attribute__((target("avx2"))) int colour_blocks8_shaped(const ColourQuery& cq,
 using Blocks8 = int (*)(const ColourQuery&, int, int);
 
 // The block loop for a query's shape, or colour_blocks8 (the general one).
-inline Blocks8 shaped_blocks8(const Fast2D& f, const ColourQuery& cq) {
-    if (cq.r) return colour_blocks8;
-    const int32_t count = f.top - f.base + 1;
+// one_storage: every level the query can use is bytes (8-bit unorm), or every one floats, with
+// int32 texel numbers; pot: every one has power-of-two sizes.
+inline Blocks8 shaped_blocks8(const Fast2D& f, const ColourQuery& cq, bool one_storage, bool pot) {
+    if (cq.r || !one_storage) return colour_blocks8;
     const bool bytes = f.planes[0].rgba8 != nullptr;
-    bool pot = true;
-    for (int32_t k = 0; k < count; ++k) {
-        const Plane& p = f.planes[size_t(k)];
-        if ((p.rgba8 != nullptr) != bytes || p.unorm8 != bytes || (!bytes && !p.color) || !int32_indices(p)) return colour_blocks8;
-        pot = pot && p.width_pot && p.height_pot;
-    }
     WrapKind wrap;
     if (f.wrap_s == gl::REPEAT && f.wrap_t == gl::REPEAT && pot) wrap = WrapKind::RepeatPot;
     else if (f.wrap_s == gl::CLAMP_TO_EDGE && f.wrap_t == gl::CLAMP_TO_EDGE) wrap = WrapKind::Clamp;
@@ -2292,13 +2288,20 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
     f.face_stride = tex.sampled_count;
     if (!f.planes || !tex.sampled(0, bt.q)) return false;
     const bool depth = f.planes[0].depth != nullptr;
+    // Also what shaped_blocks8 needs: every level of one storage (bytes or floats) with int32
+    // texel numbers, and whether all have power-of-two sizes.
+    const bool bytes = f.planes[0].rgba8 != nullptr;
+    [[maybe_unused]] bool one_storage = true, pot = true;
     for (int face = 0; face < faces; ++face)
         for (int32_t k = 0; k <= bt.q - bt.base; ++k) {
             const Plane& level = f.planes[size_t(face) * size_t(f.face_stride) + size_t(k)];
             if (level.width == 0 || (level.depth != nullptr) != depth) return false;
             // The vector paths index texels in int32 (8-bit unorm planes: across layers too).
-            if (level.rgba8 && uint64_t(level.layers) * uint64_t(level.width) * uint64_t(level.height) > uint64_t(INT32_MAX))
-                return false;
+            const bool fits = int32_indices(level);
+            if (level.rgba8 && !fits) return false;
+            one_storage = one_storage && (level.rgba8 != nullptr) == bytes && level.unorm8 == bytes &&
+                          (bytes || level.color != nullptr) && fits;
+            pot = pot && level.width_pot && level.height_pot;
         }
     f.compare = q.shadow && p.compare_mode == gl::COMPARE_REF_TO_TEXTURE;
     f.compare_func = p.compare_func;
@@ -2372,7 +2375,7 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
     if (simd != SimdBlocks::None && !cube && !depth && q.coord[0] && q.coord[1]) {
         const ColourQuery cq{&f, &q, f.planes[0].layers > 1 && q.coord[2] ? &q.coord[2][0].f : nullptr,
                              needs_lambda, fixed, w, h, &lambda_of};
-        const Blocks8 blocks8 = shaped_blocks8(f, cq);
+        const Blocks8 blocks8 = shaped_blocks8(f, cq, one_storage, pot);
         const Blocks16 blocks16 = simd == SimdBlocks::Avx512 ? shaped_blocks16(blocks8) : colour_blocks16;
         while (l + 8 <= q.lane_count) {
             if (simd == SimdBlocks::Avx512 && l + 16 <= q.lane_count) l = blocks16(cq, l);
