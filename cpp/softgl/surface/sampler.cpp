@@ -622,6 +622,12 @@ private:
     Entry entries_[kEntries] = {};
 };
 
+// Whether every texel number of p fits an int32 (gathers take int32 indices); larger 2D arrays
+// are filtered lane by lane (filter8_lanes).
+inline bool int32_indices(const Plane& p) {
+    return uint64_t(p.width) * uint64_t(p.height) * uint64_t(p.layers) <= uint64_t(INT32_MAX);
+}
+
 #if defined(__x86_64__) || defined(__i386__)
 #define SOFTGL_SAMPLER_AVX2 1
 
@@ -951,8 +957,28 @@ __attribute__((target("avx2"))) inline int lambda_exact4(__m256d rho2, __m128& l
 __attribute__((target("avx2"))) void lambda8(const glsl::TextureQuery& q, int l, float w, float h, LambdaMemo& lambda_of,
                                              float out[8]) {
     const __m256 ws = _mm256_set1_ps(w), hs = _mm256_set1_ps(h), zero = _mm256_setzero_ps();
-    const __m256 x0 = _mm256_mul_ps(load8(q.ddx[0], l), ws), x1 = _mm256_mul_ps(load8(q.ddx[1], l), hs);
-    const __m256 y0 = _mm256_mul_ps(load8(q.ddy[0], l), ws), y1 = _mm256_mul_ps(load8(q.ddy[1], l), hs);
+    const __m256 dx0 = load8(q.ddx[0], l), dx1 = load8(q.ddx[1], l), dy0 = load8(q.ddy[0], l), dy1 = load8(q.ddy[1], l);
+    if (!q.ddx[2] && !q.ddy[2]) {
+        // Under affine coordinates the 8 lanes' derivatives are equal: lane 0's rho², computed as
+        // lambda_at does (equal floats, -0 = +0 included, give equal squares), one LambdaMemo lookup.
+        const __m256i first = _mm256_setzero_si256();
+        const __m256 same = _mm256_and_ps(
+            _mm256_and_ps(_mm256_cmp_ps(dx0, _mm256_permutevar8x32_ps(dx0, first), _CMP_EQ_OQ),
+                          _mm256_cmp_ps(dx1, _mm256_permutevar8x32_ps(dx1, first), _CMP_EQ_OQ)),
+            _mm256_and_ps(_mm256_cmp_ps(dy0, _mm256_permutevar8x32_ps(dy0, first), _CMP_EQ_OQ),
+                          _mm256_cmp_ps(dy1, _mm256_permutevar8x32_ps(dy1, first), _CMP_EQ_OQ)));
+        if (_mm256_movemask_ps(same) == 0xFF) {
+            const float x0 = _mm256_cvtss_f32(dx0) * w, x1 = _mm256_cvtss_f32(dx1) * h;
+            const float y0 = _mm256_cvtss_f32(dy0) * w, y1 = _mm256_cvtss_f32(dy1) * h;
+            const double lx2 = double(x0) * x0 + double(x1) * x1, ly2 = double(y0) * y0 + double(y1) * y1;
+            __m256 lambda = _mm256_set1_ps(lambda_of(std::max(lx2, ly2)));
+            if (q.lod_mode == TextureLod::Bias && q.lod) lambda = _mm256_add_ps(lambda, _mm256_loadu_ps(&q.lod[l].f));
+            _mm256_storeu_ps(out, lambda);
+            return;
+        }
+    }
+    const __m256 x0 = _mm256_mul_ps(dx0, ws), x1 = _mm256_mul_ps(dx1, hs);
+    const __m256 y0 = _mm256_mul_ps(dy0, ws), y1 = _mm256_mul_ps(dy1, hs);
     const __m256 x2 = _mm256_mul_ps(load8(q.ddx[2], l), zero), y2 = _mm256_mul_ps(load8(q.ddy[2], l), zero);
     alignas(32) double rho2[8];
     for (int half = 0; half < 2; ++half) {
@@ -962,15 +988,15 @@ __attribute__((target("avx2"))) void lambda8(const glsl::TextureQuery& q, int l,
         if (q.ddy[2]) ly2 = _mm256_add_pd(ly2, square_wide(y2, half));
         _mm256_store_pd(rho2 + 4 * half, _mm256_max_pd(ly2, lx2));   // = std::max(lx2, ly2), NaN included
     }
-    // Under affine coordinates all 8 lanes share rho²: one LambdaMemo lookup.
-    const __m256d first = _mm256_set1_pd(rho2[0]);
-    if ((_mm256_movemask_pd(_mm256_cmp_pd(_mm256_load_pd(rho2), first, _CMP_EQ_OQ)) &
-         _mm256_movemask_pd(_mm256_cmp_pd(_mm256_load_pd(rho2 + 4), first, _CMP_EQ_OQ))) == 0xF) {
-        const float lambda = lambda_of(rho2[0]);
-        for (int k = 0; k < 8; ++k) {
-            out[k] = lambda;
-            if (q.lod_mode == TextureLod::Bias && q.lod) out[k] += q.lod[l + k].f;
-        }
+    // Each half of the block with one rho² in all its lanes (derivatives that differ in bits
+    // that do not reach rho²): one LambdaMemo lookup per half.
+    const __m256d lo2 = _mm256_load_pd(rho2), hi2 = _mm256_load_pd(rho2 + 4);
+    if ((_mm256_movemask_pd(_mm256_cmp_pd(lo2, _mm256_set1_pd(rho2[0]), _CMP_EQ_OQ)) &
+         _mm256_movemask_pd(_mm256_cmp_pd(hi2, _mm256_set1_pd(rho2[4]), _CMP_EQ_OQ))) == 0xF) {
+        const float a = lambda_of(rho2[0]), b = rho2[4] == rho2[0] ? a : lambda_of(rho2[4]);
+        __m256 lambda = _mm256_set_m128(_mm_set1_ps(b), _mm_set1_ps(a));
+        if (q.lod_mode == TextureLod::Bias && q.lod) lambda = _mm256_add_ps(lambda, _mm256_loadu_ps(&q.lod[l].f));
+        _mm256_storeu_ps(out, lambda);
         return;
     }
     // Otherwise lambda = float(log2(sqrt(rho²))) 4 lanes at a time (lambda_exact4); the lanes it
@@ -989,29 +1015,46 @@ __attribute__((target("avx2"))) void lambda8(const glsl::TextureQuery& q, int l,
     }
 }
 
+// The levels every lane of a block of 8 takes (Fast2D::choose), when they are the same for all:
+// planes[first], blended with planes[second] by the lanes' own frac when second >= 0.
+struct BlockChoice {
+    int32_t first = 0, second = -1;
+    bool linear = false;
+    __m256 frac;
+};
+
 // Fast2D::choose of 8 lanes when they all magnify, all minify without mipmaps, or all blend the
 // same two levels (*_MIPMAP_LINEAR) or take the last one: the common cases, as lambda varies
-// little inside a block. False (ch unspecified) otherwise.
-__attribute__((target("avx2"))) bool choose8(const Fast2D& f, const float lambda[8], LevelChoice ch[8]) {
+// little inside a block. False (bc unspecified) otherwise.
+__attribute__((target("avx2"), always_inline)) inline bool choose_block8(const Fast2D& f, __m256 v, BlockChoice& bc) {
     const __m256 lo = _mm256_set1_ps(f.min_lod), hi = _mm256_set1_ps(f.max_lod);
-    __m256 v = _mm256_loadu_ps(lambda);
     // std::clamp(v, lo, hi) = v < lo ? lo : hi < v ? hi : v (NaN stays NaN).
     v = _mm256_blendv_ps(_mm256_blendv_ps(v, hi, _mm256_cmp_ps(hi, v, _CMP_LT_OQ)), lo, _mm256_cmp_ps(v, lo, _CMP_LT_OQ));
     const int minified = _mm256_movemask_ps(_mm256_cmp_ps(v, _mm256_setzero_ps(), _CMP_GT_OQ));
-    if (minified == 0) return std::fill(ch, ch + 8, LevelChoice{0, -1, f.mag_linear, 0.0f}), true;
+    if (minified == 0) return bc.first = 0, bc.second = -1, bc.linear = f.mag_linear, true;
     if (minified != 0xFF) return false;
-    if (!f.mipmapped) return std::fill(ch, ch + 8, LevelChoice{0, -1, f.min_linear, 0.0f}), true;
+    bc.linear = f.min_linear;
+    if (!f.mipmapped) return bc.first = 0, bc.second = -1, true;
     if (f.min_filter != gl::NEAREST_MIPMAP_LINEAR && f.min_filter != gl::LINEAR_MIPMAP_LINEAR) return false;
     const int32_t last = f.top - f.base;
     const int below_last = _mm256_movemask_ps(_mm256_cmp_ps(v, _mm256_set1_ps(float(last)), _CMP_LT_OQ));
-    if (below_last == 0) return std::fill(ch, ch + 8, LevelChoice{last, -1, f.min_linear, 0.0f}), true;
+    if (below_last == 0) return bc.first = last, bc.second = -1, true;
     const __m256 whole = _mm256_floor_ps(v);
     const __m256 same = _mm256_cmp_ps(whole, _mm256_permutevar8x32_ps(whole, _mm256_setzero_si256()), _CMP_EQ_OQ);
     if (below_last != 0xFF || _mm256_movemask_ps(same) != 0xFF) return false;
-    alignas(32) float frac[8];
-    _mm256_store_ps(frac, _mm256_sub_ps(v, whole));
-    const int32_t d1 = int32_t(_mm256_cvtss_f32(whole));
-    for (int k = 0; k < 8; ++k) ch[k] = {d1, d1 + 1, f.min_linear, frac[k]};
+    bc.first = int32_t(_mm256_cvtss_f32(whole));
+    bc.second = bc.first + 1;
+    bc.frac = _mm256_sub_ps(v, whole);
+    return true;
+}
+
+// choose_block8 as per-lane LevelChoices.
+__attribute__((target("avx2"))) bool choose8(const Fast2D& f, const float lambda[8], LevelChoice ch[8]) {
+    BlockChoice bc;
+    if (!choose_block8(f, _mm256_loadu_ps(lambda), bc)) return false;
+    alignas(32) float frac[8] = {};
+    if (bc.second >= 0) _mm256_store_ps(frac, bc.frac);
+    for (int k = 0; k < 8; ++k) ch[k] = {bc.first, bc.second, bc.linear, frac[k]};
     return true;
 }
 
@@ -1118,11 +1161,6 @@ __attribute__((target("avx2"))) inline uint32_t inside8(const Plane& p, bool lin
 // results go straight there (no per-lane results, no transposes). Per lane the same operations
 // in the same order as Fast2D::filter (no FMA), so the same bits.
 
-// Whether every texel number of p fits an int32 (gathers take int32 indices); larger 2D arrays
-// are filtered lane by lane (filter8_lanes).
-inline bool int32_indices(const Plane& p) {
-    return uint64_t(p.width) * uint64_t(p.height) * uint64_t(p.layers) <= uint64_t(INT32_MAX);
-}
 
 // What filter8_color reads of one plane, broadcast once per plane and query.
 struct Plane8 {
@@ -1422,6 +1460,233 @@ __attribute__((target("avx2"))) int colour_blocks8(const ColourQuery& cq, int l,
         store8(result, out, l, ~active & 0xFFu);
     }
     return l;
+}
+
+// ---- Colour block loops specialised by the query's shape (ShapedBlocks, chosen once per query
+// by sample_2d): the storage (bytes or floats), the wrap modes (REPEAT of powers of two, or
+// CLAMP_TO_EDGE, on both axes and at every level the query can use) and the level choice (one
+// fixed filter, or the levels chosen per block), so that the block loop branches on none of them.
+// Per lane the same operations in the same order as filter8_color (whose branches on the wrap
+// modes and the storage they fix at compile time), so the same bits. Other queries (2D arrays,
+// MIRRORED_REPEAT, REPEAT of other sizes, mixed wraps) take colour_blocks8.
+
+enum class WrapKind : uint8_t { RepeatPot, Clamp };
+enum class LevelMode : uint8_t { FixedNearest, FixedLinear, PerBlock };
+
+// wrap_one (kPair: false) or wrap_pair (kPair: true) of 8 lanes, i the floored coordinate.
+template <WrapKind kWrap, bool kPair>
+__attribute__((target("avx2"), always_inline)) inline void wrap_shaped8(__m256i i, __m256i last, __m256i& a, __m256i& b) {
+    const __m256i one = _mm256_set1_epi32(1);
+    if constexpr (kWrap == WrapKind::RepeatPot) {
+        a = _mm256_and_si256(i, last);
+        if constexpr (kPair) b = _mm256_and_si256(_mm256_add_epi32(i, one), last);
+    } else {
+        const __m256i zero = _mm256_setzero_si256();
+        a = _mm256_max_epi32(_mm256_min_epi32(i, last), zero);
+        if constexpr (kPair) b = _mm256_max_epi32(_mm256_min_epi32(_mm256_add_epi32(i, one), last), zero);
+    }
+}
+
+// texels8 of one storage (kBytes: p.rgba8, else p.color).
+template <bool kBytes>
+__attribute__((target("avx2"), always_inline)) inline void texels_shaped8(const Plane& p, __m256i index, bool bytes, __m256 out[4]) {
+    if constexpr (kBytes) {
+        unpack8(_mm256_i32gather_epi32(reinterpret_cast<const int*>(p.rgba8), index, 4), out, bytes);
+    } else {
+        alignas(32) int32_t at[8];
+        _mm256_store_si256(reinterpret_cast<__m256i*>(at), index);
+        __m256 r[4];
+        for (int k = 0; k < 4; ++k)
+            r[k] = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(p.color + size_t(at[k]) * 4)),
+                                        _mm_loadu_ps(p.color + size_t(at[k + 4]) * 4), 1);
+        const __m256 t0 = _mm256_unpacklo_ps(r[0], r[1]), t1 = _mm256_unpackhi_ps(r[0], r[1]);
+        const __m256 t2 = _mm256_unpacklo_ps(r[2], r[3]), t3 = _mm256_unpackhi_ps(r[2], r[3]);
+        out[0] = _mm256_shuffle_ps(t0, t2, 0x44);
+        out[1] = _mm256_shuffle_ps(t0, t2, 0xEE);
+        out[2] = _mm256_shuffle_ps(t1, t3, 0x44);
+        out[3] = _mm256_shuffle_ps(t1, t3, 0xEE);
+    }
+}
+
+// One row of unorm8_rows8: the horizontal blends of 8 lanes' left and right texels as channel vectors.
+__attribute__((target("avx2"), always_inline)) inline void unorm8_row8(__m256i left, __m256i right, __m256i wa, __m256i nwa,
+                                                                       __m256 h[4]) {
+    const __m256i bytes = _mm256_set1_epi32(0x00FF00FF), low = _mm256_set1_epi32(0xFFFF);
+    const __m256i even = _mm256_add_epi16(_mm256_mullo_epi16(_mm256_and_si256(left, bytes), nwa),
+                                          _mm256_mullo_epi16(_mm256_and_si256(right, bytes), wa));
+    const __m256i odd = _mm256_add_epi16(_mm256_mullo_epi16(_mm256_and_si256(_mm256_srli_epi32(left, 8), bytes), nwa),
+                                         _mm256_mullo_epi16(_mm256_and_si256(_mm256_srli_epi32(right, 8), bytes), wa));
+    h[0] = _mm256_cvtepi32_ps(_mm256_and_si256(even, low));
+    h[1] = _mm256_cvtepi32_ps(_mm256_and_si256(odd, low));
+    h[2] = _mm256_cvtepi32_ps(_mm256_srli_epi32(even, 16));
+    h[3] = _mm256_cvtepi32_ps(_mm256_srli_epi32(odd, 16));
+}
+
+// The fixed-point rule's sums (filter8_color: ((256 - A)(256 - B) k00 + A (256 - B) k10 +
+// (256 - A) B k01 + A B k11) of 8 lanes, by rows: per row the horizontal blend
+// H = (256 - A) k0 + A k1 of every channel in 16-bit integers (at most 256 * 255: exact), two
+// channels per 32-bit lane (r, b and g, a), then (256 - B) H0 + B H1 in float (integers below
+// 2^24: exact). The same integer sums as the four products, so the same bits after the division.
+__attribute__((target("avx2"), always_inline)) inline void unorm8_rows8(__m256i t00, __m256i t10, __m256i t01, __m256i t11,
+                                                                        __m256 A, __m256 B, __m256 out[4]) {
+    const __m256i ai = _mm256_cvttps_epi32(A), nai = _mm256_sub_epi32(_mm256_set1_epi32(256), ai);
+    const __m256i wa = _mm256_or_si256(ai, _mm256_slli_epi32(ai, 16)), nwa = _mm256_or_si256(nai, _mm256_slli_epi32(nai, 16));
+    __m256 h0[4], h1[4];
+    unorm8_row8(t00, t10, wa, nwa, h0);
+    unorm8_row8(t01, t11, wa, nwa, h1);
+    const __m256 nB = _mm256_sub_ps(_mm256_set1_ps(256.0f), B), divisor = _mm256_set1_ps(kUnorm8Divisor);
+    for (int c = 0; c < 4; ++c)
+        out[c] = _mm256_div_ps(_mm256_add_ps(_mm256_mul_ps(nB, h0[c]), _mm256_mul_ps(B, h1[c])), divisor);
+}
+
+// filter8_color of one plane of one layer (kBytes: 8-bit unorm bytes and the fixed-point rule,
+// else floats).
+template <bool kBytes, bool kLinear, WrapKind kWrap>
+__attribute__((target("avx2"), always_inline)) inline void filter8_shaped(const Plane8& P, const float* s, const float* t,
+                                                                          __m256 out[4]) {
+    const Plane& p = *P.p;
+    const __m256 u = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(s), P.width_f), P.off_s);
+    const __m256 v = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(t), P.height_f), P.off_t);
+    __m256i i0, i1, j0, j1;
+    if constexpr (!kLinear) {
+        wrap_shaped8<kWrap, false>(ifloor_floored8(_mm256_floor_ps(u)), P.last_i, i0, i1);
+        wrap_shaped8<kWrap, false>(ifloor_floored8(_mm256_floor_ps(v)), P.last_j, j0, j1);
+        texels_shaped8<kBytes>(p, _mm256_add_epi32(_mm256_mullo_epi32(j0, P.width), i0), false, out);
+    } else {
+        const __m256 half = _mm256_set1_ps(0.5f);
+        const __m256 u0 = _mm256_sub_ps(u, half), v0 = _mm256_sub_ps(v, half);
+        const __m256 fu = _mm256_floor_ps(u0), fv = _mm256_floor_ps(v0);
+        wrap_shaped8<kWrap, true>(ifloor_floored8(fu), P.last_i, i0, i1);
+        wrap_shaped8<kWrap, true>(ifloor_floored8(fv), P.last_j, j0, j1);
+        const __m256 a = _mm256_sub_ps(u0, fu), b = _mm256_sub_ps(v0, fv);
+        const __m256i row0 = _mm256_mullo_epi32(j0, P.width), row1 = _mm256_mullo_epi32(j1, P.width);
+        const __m256i at[4] = {_mm256_add_epi32(row0, i0), _mm256_add_epi32(row0, i1), _mm256_add_epi32(row1, i0),
+                               _mm256_add_epi32(row1, i1)};
+        __m256 w[4];
+        if constexpr (kBytes) {
+            const int* texels = reinterpret_cast<const int*>(p.rgba8);
+            unorm8_rows8(_mm256_i32gather_epi32(texels, at[0], 4), _mm256_i32gather_epi32(texels, at[1], 4),
+                         _mm256_i32gather_epi32(texels, at[2], 4), _mm256_i32gather_epi32(texels, at[3], 4),
+                         weight8x8(a), weight8x8(b), out);
+            return;
+        } else {
+            const __m256 one = _mm256_set1_ps(1.0f), na = _mm256_sub_ps(one, a), nb = _mm256_sub_ps(one, b);
+            w[0] = _mm256_mul_ps(na, nb), w[1] = _mm256_mul_ps(a, nb), w[2] = _mm256_mul_ps(na, b), w[3] = _mm256_mul_ps(a, b);
+        }
+        for (int n = 0; n < 4; ++n) {
+            __m256 texel[4];
+            texels_shaped8<kBytes>(p, at[n], false, texel);
+            for (int c = 0; c < 4; ++c)
+                out[c] = n ? _mm256_add_ps(out[c], _mm256_mul_ps(w[n], texel[c])) : _mm256_mul_ps(w[n], texel[c]);
+        }
+    }
+}
+
+// plane8 of each level of a query, made when a block first needs it.
+struct Planes8 {
+    explicit Planes8(const Fast2D& f_) : f(f_) {}
+    const Fast2D& f;
+    Plane8 at[16];
+    uint32_t made = 0;
+    __attribute__((target("avx2"), always_inline)) const Plane8& operator[](int32_t level) {
+        if (!(made >> level & 1)) at[level] = plane8(f, f.planes[size_t(level)]), made |= 1u << level;
+        return at[level];
+    }
+};
+
+// The colour lookups of lanes [l, end) in blocks of 8 of one query shape (as colour_blocks8).
+template <bool kBytes, WrapKind kWrap, LevelMode kMode>
+__attribute__((target("avx2"))) int colour_blocks8_shaped(const ColourQuery& cq, int l, int end) {
+    const glsl::TextureQuery& q = *cq.q;
+    const Fast2D& f = *cq.f;
+    glsl::Scalar* const out[4] = {q.out[0], q.out[1], q.out[2], q.out[3]};
+    Planes8 planes(f);
+    const Plane8& fixed = planes[cq.fixed.first];
+    LevelChoice ch[8];
+    int32_t levels[3];
+    for (; l + 8 <= end; l += 8) {
+        const uint32_t active = active8(q, l);
+        const float* s = &q.coord[0][l].f;
+        const float* t = &q.coord[1][l].f;
+        __m256 result[4] = {_mm256_setzero_ps(), _mm256_setzero_ps(), _mm256_setzero_ps(), _mm256_setzero_ps()};
+        if (!active) {
+            // Nothing to compute: every lane gets (0, 0, 0, 1) below.
+        } else if constexpr (kMode == LevelMode::FixedNearest) {
+            filter8_shaped<kBytes, false, kWrap>(fixed, s, t, result);
+        } else if constexpr (kMode == LevelMode::FixedLinear) {
+            filter8_shaped<kBytes, true, kWrap>(fixed, s, t, result);
+        } else {
+            alignas(32) float lambda[8];
+            if (q.lod_mode == TextureLod::Explicit) {
+                // lambda_at: the lanes' explicit level (0 without one), no bias.
+                _mm256_store_ps(lambda, q.lod ? _mm256_loadu_ps(&q.lod[l].f) : _mm256_setzero_ps());
+            } else {
+                lambda8(q, l, cq.w, cq.h, *cq.memo, lambda);
+            }
+            __m256 v = _mm256_load_ps(lambda);
+            if (active != 0xFFu) {
+                // Inactive lanes take the first active lane's lambda, so that they add no level.
+                const __m256i bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+                const __m256 off = _mm256_castsi256_ps(
+                    _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(int(active)), bit), _mm256_setzero_si256()));
+                v = _mm256_blendv_ps(v, _mm256_set1_ps(lambda[__builtin_ctz(active)]), off);
+            }
+            BlockChoice bc;
+            if (choose_block8(f, v, bc)) {
+                const Plane8& first = planes[bc.first];
+                if (bc.linear) filter8_shaped<kBytes, true, kWrap>(first, s, t, result);
+                else filter8_shaped<kBytes, false, kWrap>(first, s, t, result);
+                if (bc.second >= 0) {
+                    __m256 b[4];
+                    const Plane8& second = planes[bc.second];
+                    if (bc.linear) filter8_shaped<kBytes, true, kWrap>(second, s, t, b);
+                    else filter8_shaped<kBytes, false, kWrap>(second, s, t, b);
+                    // (1 - frac) a + frac b per channel, as filter8_color.
+                    const __m256 ng = _mm256_sub_ps(_mm256_set1_ps(1.0f), bc.frac);
+                    for (int c = 0; c < 4; ++c)
+                        result[c] = _mm256_add_ps(_mm256_mul_ps(ng, result[c]), _mm256_mul_ps(bc.frac, b[c]));
+                }
+            } else {
+                // Lanes on different levels: chosen lane by lane (as choose_lanes), filtered by
+                // the general block code.
+                _mm256_store_ps(lambda, v);
+                for (int k = 0; k < 8; ++k) ch[k] = f.choose(lambda[k]);
+                if (same_levels(ch, 8)) filter8_color(f, ch, s, t, nullptr, result);
+                else if (const int count = distinct_levels(ch, 8, levels)) filter8_color(f, ch, levels, count, s, t, nullptr, result);
+                else return l;
+            }
+        }
+        store8(result, out, l, ~active & 0xFFu);
+    }
+    return l;
+}
+
+using Blocks8 = int (*)(const ColourQuery&, int, int);
+
+// The block loop for a query's shape, or colour_blocks8 (the general one).
+// one_storage: every level the query can use is bytes (8-bit unorm), or every one floats, with
+// int32 texel numbers; pot: every one has power-of-two sizes.
+inline Blocks8 shaped_blocks8(const Fast2D& f, const ColourQuery& cq, bool one_storage, bool pot) {
+    if (cq.r || !one_storage) return colour_blocks8;
+    const bool bytes = f.planes[0].rgba8 != nullptr;
+    WrapKind wrap;
+    if (f.wrap_s == gl::REPEAT && f.wrap_t == gl::REPEAT && pot) wrap = WrapKind::RepeatPot;
+    else if (f.wrap_s == gl::CLAMP_TO_EDGE && f.wrap_t == gl::CLAMP_TO_EDGE) wrap = WrapKind::Clamp;
+    else return colour_blocks8;
+    const LevelMode mode = cq.needs_lambda ? LevelMode::PerBlock : cq.fixed.linear ? LevelMode::FixedLinear : LevelMode::FixedNearest;
+#define SOFTGL_SHAPED(B, W)                                                                           \
+    switch (mode) {                                                                                   \
+        case LevelMode::FixedNearest: return colour_blocks8_shaped<B, W, LevelMode::FixedNearest>;   \
+        case LevelMode::FixedLinear: return colour_blocks8_shaped<B, W, LevelMode::FixedLinear>;     \
+        default: return colour_blocks8_shaped<B, W, LevelMode::PerBlock>;                            \
+    }
+    if (bytes) {
+        if (wrap == WrapKind::RepeatPot) SOFTGL_SHAPED(true, WrapKind::RepeatPot)
+        SOFTGL_SHAPED(true, WrapKind::Clamp)
+    }
+    if (wrap == WrapKind::RepeatPot) SOFTGL_SHAPED(false, WrapKind::RepeatPot)
+    SOFTGL_SHAPED(false, WrapKind::Clamp)
+#undef SOFTGL_SHAPED
 }
 
 // ---- AVX-512: blocks of 16 lanes, results straight into the structure-of-arrays outputs.
@@ -1749,6 +2014,217 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512))) int colour_blocks16(const ColourQ
     }
     return l;
 }
+
+// ---- colour_blocks8_shaped in blocks of 16 (AVX-512): filter16's operations with the storage,
+// filter and wrap modes fixed at compile time (the same bits; see ShapedBlocks above).
+
+template <WrapKind kWrap, bool kPair>
+__attribute__((target(SOFTGL_SAMPLER_AVX512), always_inline)) inline void wrap_shaped16(__m512i i, __m512i last, __m512i& a,
+                                                                                      __m512i& b) {
+    const __m512i one = _mm512_set1_epi32(1);
+    if constexpr (kWrap == WrapKind::RepeatPot) {
+        a = _mm512_and_si512(i, last);
+        if constexpr (kPair) b = _mm512_and_si512(_mm512_add_epi32(i, one), last);
+    } else {
+        const __m512i zero = _mm512_setzero_si512();
+        a = _mm512_max_epi32(_mm512_min_epi32(i, last), zero);
+        if constexpr (kPair) b = _mm512_max_epi32(_mm512_min_epi32(_mm512_add_epi32(i, one), last), zero);
+    }
+}
+
+// unorm8_rows8 of 16 lanes (texels as the packed bytes).
+__attribute__((target(SOFTGL_SAMPLER_AVX512), always_inline)) inline void unorm8_row16(__m512i left, __m512i right, __m512i wa,
+                                                                                     __m512i nwa, __m512 h[4]) {
+    const __m512i bytes = _mm512_set1_epi32(0x00FF00FF), low = _mm512_set1_epi32(0xFFFF);
+    const __m512i even = _mm512_add_epi16(_mm512_mullo_epi16(_mm512_and_si512(left, bytes), nwa),
+                                          _mm512_mullo_epi16(_mm512_and_si512(right, bytes), wa));
+    const __m512i odd = _mm512_add_epi16(_mm512_mullo_epi16(_mm512_and_si512(_mm512_srli_epi32(left, 8), bytes), nwa),
+                                         _mm512_mullo_epi16(_mm512_and_si512(_mm512_srli_epi32(right, 8), bytes), wa));
+    h[0] = _mm512_cvtepi32_ps(_mm512_and_si512(even, low));
+    h[1] = _mm512_cvtepi32_ps(_mm512_and_si512(odd, low));
+    h[2] = _mm512_cvtepi32_ps(_mm512_srli_epi32(even, 16));
+    h[3] = _mm512_cvtepi32_ps(_mm512_srli_epi32(odd, 16));
+}
+
+__attribute__((target(SOFTGL_SAMPLER_AVX512), always_inline)) inline void unorm8_rows16(__m512i t00, __m512i t10, __m512i t01,
+                                                                                      __m512i t11, __m512 A, __m512 B,
+                                                                                      __m512 out[4]) {
+    const __m512i ai = _mm512_cvttps_epi32(A), nai = _mm512_sub_epi32(_mm512_set1_epi32(256), ai);
+    const __m512i wa = _mm512_or_si512(ai, _mm512_slli_epi32(ai, 16)), nwa = _mm512_or_si512(nai, _mm512_slli_epi32(nai, 16));
+    __m512 h0[4], h1[4];
+    unorm8_row16(t00, t10, wa, nwa, h0);
+    unorm8_row16(t01, t11, wa, nwa, h1);
+    const __m512 nB = _mm512_sub_ps(_mm512_set1_ps(256.0f), B), divisor = _mm512_set1_ps(kUnorm8Divisor);
+    for (int c = 0; c < 4; ++c)
+        out[c] = _mm512_div_ps(_mm512_add_ps(_mm512_mul_ps(nB, h0[c]), _mm512_mul_ps(B, h1[c])), divisor);
+}
+
+// The packed texels index[l] and index[l] + 1 of 16 lanes by two gathers of 8-byte pairs.
+__attribute__((target(SOFTGL_SAMPLER_AVX512), always_inline)) inline void packed_pairs16(const uint32_t* rgba8, __m512i index,
+                                                                                       __m512i& left, __m512i& right) {
+    const __m512i p0 = _mm512_i32gather_epi64(_mm512_castsi512_si256(index), rgba8, 4);
+    const __m512i p1 = _mm512_i32gather_epi64(_mm512_extracti64x4_epi64(index, 1), rgba8, 4);
+    left = _mm512_inserti64x4(_mm512_castsi256_si512(_mm512_cvtepi64_epi32(p0)), _mm512_cvtepi64_epi32(p1), 1);
+    right = _mm512_inserti64x4(_mm512_castsi256_si512(_mm512_cvtepi64_epi32(_mm512_srli_epi64(p0, 32))),
+                               _mm512_cvtepi64_epi32(_mm512_srli_epi64(p1, 32)), 1);
+}
+
+// filter16 of one plane of one layer (planes whose texel numbers fit int32).
+template <bool kBytes, bool kLinear, WrapKind kWrap>
+__attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"), always_inline)) inline void filter16_shaped(const Fast2D& f, const Plane& p,
+                                                                                               const float* s, const float* t,
+                                                                                               __m512 out[4]) {
+    const Layers16<false> layers{p.color, {}};
+    const __m512 u = _mm512_add_ps(_mm512_mul_ps(_mm512_loadu_ps(s), _mm512_set1_ps(float(p.width))), _mm512_set1_ps(float(f.off_s)));
+    const __m512 v = _mm512_add_ps(_mm512_mul_ps(_mm512_loadu_ps(t), _mm512_set1_ps(float(p.height))), _mm512_set1_ps(float(f.off_t)));
+    const __m512i width = _mm512_set1_epi32(p.width);
+    const __m512i last_i = _mm512_set1_epi32(p.width - 1), last_j = _mm512_set1_epi32(p.height - 1);
+    __m512i i0, i1, j0, j1;
+    if constexpr (!kLinear) {
+        wrap_shaped16<kWrap, false>(ifloor_floored16(_mm512_floor_ps(u)), last_i, i0, i1);
+        wrap_shaped16<kWrap, false>(ifloor_floored16(_mm512_floor_ps(v)), last_j, j0, j1);
+        const __m512i index = _mm512_add_epi32(_mm512_mullo_epi32(j0, width), i0);
+        if constexpr (kBytes) texels16(p.rgba8, index, out);
+        else texels16(layers, index, out);
+    } else {
+        const __m512 half = _mm512_set1_ps(0.5f), one = _mm512_set1_ps(1.0f);
+        const __m512 u0 = _mm512_sub_ps(u, half), v0 = _mm512_sub_ps(v, half);
+        const __m512 fu = _mm512_floor_ps(u0), fv = _mm512_floor_ps(v0);
+        wrap_shaped16<kWrap, true>(ifloor_floored16(fu), last_i, i0, i1);
+        wrap_shaped16<kWrap, true>(ifloor_floored16(fv), last_j, j0, j1);
+        const __m512 a = _mm512_sub_ps(u0, fu), b = _mm512_sub_ps(v0, fv);
+        __m512 w[4];
+        if constexpr (kBytes) {
+            // The fixed-point rule by rows (unorm8_rows16): the texels as their packed bytes.
+            const __m512i row0 = _mm512_mullo_epi32(j0, width), row1 = _mm512_mullo_epi32(j1, width);
+            __m512i t[4];   // t00, t10, t01, t11
+            if (_mm512_cmpeq_epi32_mask(i1, _mm512_add_epi32(i0, _mm512_set1_epi32(1))) == 0xFFFF) {
+                packed_pairs16(p.rgba8, _mm512_add_epi32(row0, i0), t[0], t[1]);
+                packed_pairs16(p.rgba8, _mm512_add_epi32(row1, i0), t[2], t[3]);
+            } else {
+                t[0] = _mm512_i32gather_epi32(_mm512_add_epi32(row0, i0), p.rgba8, 4);
+                t[1] = _mm512_i32gather_epi32(_mm512_add_epi32(row0, i1), p.rgba8, 4);
+                t[2] = _mm512_i32gather_epi32(_mm512_add_epi32(row1, i0), p.rgba8, 4);
+                t[3] = _mm512_i32gather_epi32(_mm512_add_epi32(row1, i1), p.rgba8, 4);
+            }
+            unorm8_rows16(t[0], t[1], t[2], t[3], weight8x16(a), weight8x16(b), out);
+            return;
+        } else {
+            const __m512 na = _mm512_sub_ps(one, a), nb = _mm512_sub_ps(one, b);
+            w[0] = _mm512_mul_ps(na, nb), w[1] = _mm512_mul_ps(a, nb), w[2] = _mm512_mul_ps(na, b), w[3] = _mm512_mul_ps(a, b);
+        }
+        const __m512i row0 = _mm512_mullo_epi32(j0, width), row1 = _mm512_mullo_epi32(j1, width);
+        __m512 texel[4][4];   // t00, t10, t01, t11
+        const bool pairs = _mm512_cmpeq_epi32_mask(i1, _mm512_add_epi32(i0, _mm512_set1_epi32(1))) == 0xFFFF;
+        {
+            if (pairs) {
+                texel_pairs16(layers, _mm512_add_epi32(row0, i0), texel[0], texel[1]);
+                texel_pairs16(layers, _mm512_add_epi32(row1, i0), texel[2], texel[3]);
+            } else {
+                texels16(layers, _mm512_add_epi32(row0, i0), texel[0]);
+                texels16(layers, _mm512_add_epi32(row0, i1), texel[1]);
+                texels16(layers, _mm512_add_epi32(row1, i0), texel[2]);
+                texels16(layers, _mm512_add_epi32(row1, i1), texel[3]);
+            }
+            // w00 * t00 + w10 * t10 + w01 * t01 + w11 * t11, left to right, as Fast2D::filter.
+            for (int c = 0; c < 4; ++c) {
+                out[c] = _mm512_mul_ps(w[0], texel[0][c]);
+                for (int k = 1; k < 4; ++k) out[c] = _mm512_add_ps(out[c], _mm512_mul_ps(w[k], texel[k][c]));
+            }
+        }
+    }
+}
+
+template <bool kBytes, WrapKind kWrap>
+__attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"), always_inline)) inline void filter16_shaped(const Fast2D& f, const Plane& p,
+                                                                                               bool linear, const float* s,
+                                                                                               const float* t, __m512 out[4]) {
+    if (linear) filter16_shaped<kBytes, true, kWrap>(f, p, s, t, out);
+    else filter16_shaped<kBytes, false, kWrap>(f, p, s, t, out);
+}
+
+// colour_blocks16 of one query shape: returns where it stopped (as colour_blocks16).
+template <bool kBytes, WrapKind kWrap, LevelMode kMode>
+__attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) int colour_blocks16_shaped(const ColourQuery& cq, int l) {
+    const glsl::TextureQuery& q = *cq.q;
+    const Fast2D& f = *cq.f;
+    glsl::Scalar* const out[4] = {q.out[0], q.out[1], q.out[2], q.out[3]};
+    const Plane& fixed = f.planes[size_t(cq.fixed.first)];
+    LevelChoice ch[16];
+    int32_t levels[3];
+    for (; l + 16 <= q.lane_count; l += 16) {
+        const __mmask16 active = q.active ? _mm512_test_epi32_mask(_mm512_loadu_si512(q.active + l), _mm512_set1_epi32(-1))
+                                          : __mmask16(0xFFFF);
+        const float* s = &q.coord[0][l].f;
+        const float* t = &q.coord[1][l].f;
+        if (active) {
+            __m512 a[4];
+            bool stored = false;   // (the general blocks store their results themselves)
+            if constexpr (kMode == LevelMode::FixedNearest) {
+                filter16_shaped<kBytes, false, kWrap>(f, fixed, s, t, a);
+            } else if constexpr (kMode == LevelMode::FixedLinear) {
+                filter16_shaped<kBytes, true, kWrap>(f, fixed, s, t, a);
+            } else {
+                // Both halves' lambdas, inactive lanes taking the first active lane's.
+                alignas(64) float lambda[16];
+                for (int part = 0; part < 16; part += 8) {
+                    if (q.lod_mode == TextureLod::Explicit)
+                        _mm256_store_ps(lambda + part, q.lod ? _mm256_loadu_ps(&q.lod[l + part].f) : _mm256_setzero_ps());
+                    else
+                        lambda8(q, l + part, cq.w, cq.h, *cq.memo, lambda + part);
+                }
+                __m512 v = _mm512_load_ps(lambda);
+                if (active != 0xFFFF) v = _mm512_mask_mov_ps(_mm512_set1_ps(lambda[__builtin_ctz(active)]), active, v);
+                BlockChoice lo, hi;
+                if (choose_block8(f, _mm512_castps512_ps256(v), lo) && choose_block8(f, _mm512_extractf32x8_ps(v, 1), hi) &&
+                    lo.first == hi.first && lo.second == hi.second && lo.linear == hi.linear) {
+                    filter16_shaped<kBytes, kWrap>(f, f.planes[size_t(lo.first)], lo.linear, s, t, a);
+                    if (lo.second >= 0) {
+                        __m512 b[4];
+                        filter16_shaped<kBytes, kWrap>(f, f.planes[size_t(lo.second)], lo.linear, s, t, b);
+                        const __m512 g = _mm512_insertf32x8(_mm512_castps256_ps512(lo.frac), hi.frac, 1);
+                        const __m512 ng = _mm512_sub_ps(_mm512_set1_ps(1.0f), g);
+                        for (int c = 0; c < 4; ++c) a[c] = _mm512_add_ps(_mm512_mul_ps(ng, a[c]), _mm512_mul_ps(g, b[c]));
+                    }
+                } else {
+                    // Lanes on different levels: chosen lane by lane, filtered by the general blocks.
+                    _mm512_store_ps(lambda, v);
+                    for (int k = 0; k < 16; ++k) ch[k] = f.choose(lambda[k]);
+                    if (same_levels(ch, 16)) filter16(f, ch, s, t, nullptr, out, l);
+                    else if (const int count = distinct_levels(ch, 16, levels)) filter16(f, ch, levels, count, s, t, nullptr, out, l);
+                    else return l;
+                    stored = true;
+                }
+            }
+            for (int c = 0; c < 4 && !stored; ++c)
+                if (out[c]) _mm512_storeu_ps(&out[c][l].f, a[c]);
+        }
+        if (active != 0xFFFF)
+            // Inactive lanes: (0, 0, 0, 1), as sample_lanes gives them.
+            for (int c = 0; c < 4; ++c)
+                if (out[c]) _mm512_mask_storeu_ps(&out[c][l].f, __mmask16(~active), _mm512_set1_ps(c == 3 ? 1.0f : 0.0f));
+    }
+    return l;
+}
+
+using Blocks16 = int (*)(const ColourQuery&, int);
+
+// colour_blocks16_shaped for the shape shaped_blocks8 found, or colour_blocks16.
+inline Blocks16 shaped_blocks16(Blocks8 shape) {
+#define SOFTGL_SHAPED16(B, W, M) \
+    if (shape == colour_blocks8_shaped<B, W, M>) return colour_blocks16_shaped<B, W, M>;
+#define SOFTGL_SHAPED16_MODES(B, W)                      \
+    SOFTGL_SHAPED16(B, W, LevelMode::FixedNearest)       \
+    SOFTGL_SHAPED16(B, W, LevelMode::FixedLinear)        \
+    SOFTGL_SHAPED16(B, W, LevelMode::PerBlock)
+    SOFTGL_SHAPED16_MODES(true, WrapKind::RepeatPot)
+    SOFTGL_SHAPED16_MODES(true, WrapKind::Clamp)
+    SOFTGL_SHAPED16_MODES(false, WrapKind::RepeatPot)
+    SOFTGL_SHAPED16_MODES(false, WrapKind::Clamp)
+#undef SOFTGL_SHAPED16_MODES
+#undef SOFTGL_SHAPED16
+    return colour_blocks16;
+}
 #pragma GCC diagnostic pop
 #endif
 
@@ -1812,13 +2288,20 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
     f.face_stride = tex.sampled_count;
     if (!f.planes || !tex.sampled(0, bt.q)) return false;
     const bool depth = f.planes[0].depth != nullptr;
+    // Also what shaped_blocks8 needs: every level of one storage (bytes or floats) with int32
+    // texel numbers, and whether all have power-of-two sizes.
+    const bool bytes = f.planes[0].rgba8 != nullptr;
+    [[maybe_unused]] bool one_storage = true, pot = true;
     for (int face = 0; face < faces; ++face)
         for (int32_t k = 0; k <= bt.q - bt.base; ++k) {
             const Plane& level = f.planes[size_t(face) * size_t(f.face_stride) + size_t(k)];
             if (level.width == 0 || (level.depth != nullptr) != depth) return false;
             // The vector paths index texels in int32 (8-bit unorm planes: across layers too).
-            if (level.rgba8 && uint64_t(level.layers) * uint64_t(level.width) * uint64_t(level.height) > uint64_t(INT32_MAX))
-                return false;
+            const bool fits = int32_indices(level);
+            if (level.rgba8 && !fits) return false;
+            one_storage = one_storage && (level.rgba8 != nullptr) == bytes && level.unorm8 == bytes &&
+                          (bytes || level.color != nullptr) && fits;
+            pot = pot && level.width_pot && level.height_pot;
         }
     f.compare = q.shadow && p.compare_mode == gl::COMPARE_REF_TO_TEXTURE;
     f.compare_func = p.compare_func;
@@ -1892,11 +2375,13 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
     if (simd != SimdBlocks::None && !cube && !depth && q.coord[0] && q.coord[1]) {
         const ColourQuery cq{&f, &q, f.planes[0].layers > 1 && q.coord[2] ? &q.coord[2][0].f : nullptr,
                              needs_lambda, fixed, w, h, &lambda_of};
+        const Blocks8 blocks8 = shaped_blocks8(f, cq, one_storage, pot);
+        const Blocks16 blocks16 = simd == SimdBlocks::Avx512 ? shaped_blocks16(blocks8) : colour_blocks16;
         while (l + 8 <= q.lane_count) {
-            if (simd == SimdBlocks::Avx512 && l + 16 <= q.lane_count) l = colour_blocks16(cq, l);
+            if (simd == SimdBlocks::Avx512 && l + 16 <= q.lane_count) l = blocks16(cq, l);
             // What is left: a block of 16 colour_blocks16 left, or the last lanes.
             const int end = simd == SimdBlocks::Avx512 && l + 16 <= q.lane_count ? l + 16 : q.lane_count;
-            l = colour_blocks8(cq, l, end);
+            l = blocks8(cq, l, end);
             if (l + 8 <= end) {
                 for (int k = 0; k < 8; ++k) one_lane(l + k);
                 l += 8;
