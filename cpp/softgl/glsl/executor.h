@@ -109,6 +109,8 @@ public:
     // unless lowered, e.g. to a draw's Tuning::simd; capped at best_simd_level().
     void set_simd_level(SimdLevel level) { simd_ = std::min(level, best_simd_level()); }
     SimdLevel simd_level() const { return simd_; }
+    // The code that runs, fused instructions included (tests: which fusions applied).
+    const std::vector<Instruction>& code() const { return code_; }
 
 private:
     void run_batch(const StageRun& run, int first_lane, int lanes);
