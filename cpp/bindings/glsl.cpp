@@ -283,6 +283,21 @@ py::dict run_py(const std::string& source, const std::string& stage, int version
 void bind_glsl(py::module_& m) {
     m.def("glsl_compile", &compile_py, py::arg("source"), py::arg("stage"), py::arg("version") = 2,
           "Compile GLSL ES source -> (ok, info_log, reflection dict or None)");
+    m.def("glsl_ir", [](const std::string& source, const std::string& stage, int version) {
+        glsl::CompileResult r = glsl::compile(source, stage_from(stage), version);
+        if (!r.ok) throw py::value_error(r.info_log);
+        return r.shader->program.dump();
+    }, py::arg("source"), py::arg("stage"), py::arg("version") = 2,
+          "The optimised IR of a shader as a readable listing (for tests and profiling)");
+    m.def("glsl_executor_ops", [](const std::string& source, const std::string& stage, int version) {
+        glsl::CompileResult r = glsl::compile(source, stage_from(stage), version);
+        if (!r.ok) throw py::value_error(r.info_log);
+        glsl::Executor executor(r.shader->program);
+        std::vector<std::string> ops;
+        for (const glsl::Instruction& i : executor.code()) ops.push_back(glsl::op_name(i.op));
+        return ops;
+    }, py::arg("source"), py::arg("stage"), py::arg("version") = 2,
+          "The op names of the code the executor runs for a shader, its fused instructions included (tests)");
     m.def("glsl_link", &link_py, py::arg("vertex"), py::arg("fragment"), py::arg("version") = 2,
           py::arg("limits") = py::dict(), py::arg("bound_attributes") = std::map<std::string, int>(),
           "Compile and link a vertex/fragment pair -> (ok, info_log, program reflection or None)");

@@ -116,3 +116,89 @@ def test_vector_math_under_a_branch_equals_every_lane(share):
         np.testing.assert_array_equal(o0[on].view(np.uint32), o1[on].view(np.uint32), err_msg=level)
         assert np.all(o0[~on] == -7.0), level
         np.testing.assert_allclose(o1, expected, rtol=2e-6, atol=1e-7, err_msg=level)
+
+
+def _f32_bits_equal(actual, expected, msg=""):
+    # Same value, NaNs where expected has them (payloads aside), the sign of zeros included.
+    actual, expected = np.asarray(actual, np.float32), np.asarray(expected, np.float32)
+    nan = np.isnan(expected)
+    np.testing.assert_array_equal(np.isnan(actual), nan, err_msg=msg)
+    np.testing.assert_array_equal(actual[~nan].view(np.uint32), expected[~nan].view(np.uint32), err_msg=msg)
+
+
+@pytest.mark.parametrize("n", [2, 3, 4])
+def test_fused_normalize_equals_its_steps(n):
+    # normalize(v) runs as one FNormalize pass (FDot of v with itself, sqrt, a division per
+    # component). Its bits are the float32 steps' (squares summed left to right, sqrt, divide),
+    # those of the same steps written out so that they cannot fuse (the length is also an
+    # output), at every SIMD level; and within 2 ulps of the float64 normalisation.
+    swz = "xyzw"[:n]
+    fs = f"""#version 300 es
+    precision highp float;
+    in vec4 a;
+    layout(location = 0) out vec4 fused;
+    layout(location = 1) out vec4 steps;
+    layout(location = 2) out float len;
+    void main() {{
+        fused = vec4(0.0);
+        fused.{swz} = normalize(a.{swz});
+        len = length(a.{swz});
+        steps = vec4(0.0);
+        steps.{swz} = a.{swz} / len;
+    }}"""
+    assert "fnormalize" in _core.glsl_executor_ops(fs, "fragment")
+    a = rng.normal(size=(LANES, 4)).astype(np.float32) * np.float32(10.0) ** rng.integers(-15, 16, size=(LANES, 1)).astype(np.float32)
+    a[0, :] = 0.0                       # 0 / 0: NaN
+    a[1, :n] = [3.0, 4.0, 12.0, 84.0][:n]   # exact lengths (5, 13, 85)
+    a[2, 0] = np.inf                    # inf / inf: NaN; the others 0
+    a[3, :] = np.float32(1e-30)         # squares underflow to denormals / 0
+    x = a[:, :n]
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore", under="ignore"):
+        total = x[:, 0] * x[:, 0]
+        for k in range(1, n):
+            total = total + x[:, k] * x[:, k]
+        expected = x / np.sqrt(total)[:, None]
+        exact = x.astype(np.float64) / np.sqrt(np.sum(x.astype(np.float64) ** 2, axis=1))[:, None]
+    for level in _core.glsl_simd_levels():
+        out = _core.glsl_run(fs, "fragment", 2, {"a": a}, {}, LANES, {}, 128, 1, level)
+        _f32_bits_equal(out["fused"][:, :n], expected, level)
+        _f32_bits_equal(out["fused"][:, :n], out["steps"][:, :n], level)
+    normal = np.isfinite(exact).all(axis=1) & (np.abs(x) > 1e-18).any(axis=1) & (np.abs(x) < 1e18).all(axis=1)
+    got = out["fused"][normal, :n].astype(np.float64)
+    assert np.all(np.abs(got - exact[normal]) <= 2 * np.spacing(np.abs(exact[normal]).astype(np.float32)))
+    np.testing.assert_array_equal(out["fused"][1, :n], (np.array([3, 4, 12, 84][:n]) / [5, 13, 85][n - 2]).astype(np.float32))
+
+
+PAIR_FIRST = {"+": np.add, "-": np.subtract, "*": np.multiply, "/": np.divide}
+PAIR_SECOND = {"+": np.add, "-": np.subtract, "*": np.multiply,
+               "max": lambda x, y: np.where(x < y, y, x),      # GLSL max(x, y) = x < y ? y : x (builtin_math.h)
+               "min": lambda x, y: np.where(y < x, y, x)}
+
+
+@pytest.mark.parametrize("first", list(PAIR_FIRST))
+@pytest.mark.parametrize("second", list(PAIR_SECOND))
+def test_fused_pairs_equal_their_steps(first, second):
+    # t = a.x op1 a.y read once by the next operation (t op2 b.x, or b.y op2 t): one FPair pass.
+    # Its bits are the two float32 roundings in order (NumPy), at every SIMD level.
+    def second_src(x, y):
+        return f"{second}({x}, {y})" if second in ("max", "min") else f"{x} {second} {y}"
+    fs = f"""#version 300 es
+    precision highp float;
+    in vec4 a;
+    in vec4 b;
+    out vec4 o;
+    void main() {{
+        o = vec4({second_src(f"(a.x {first} a.y)", "b.x")}, {second_src("b.y", f"(a.z {first} a.w)")}, 0.0, 0.0);
+    }}"""
+    assert _core.glsl_executor_ops(fs, "fragment").count("fpair") == 2
+    a, b = values(4), values(4)
+    b[:8, :2] = 0.0
+    a[8:12] = 0.0                      # 0 / 0, 0 * inf: NaN
+    f1, f2 = PAIR_FIRST[first], PAIR_SECOND[second]
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore", under="ignore"):
+        expected_x = f2(f1(a[:, 0], a[:, 1]), b[:, 0])
+        expected_y = f2(b[:, 1], f1(a[:, 2], a[:, 3]))
+    for level in _core.glsl_simd_levels():
+        out = _core.glsl_run(fs, "fragment", 2, {"a": a, "b": b}, {}, LANES, {}, 128, 1, level)
+        _f32_bits_equal(out["o"][:, 0], expected_x, level)
+        _f32_bits_equal(out["o"][:, 1], expected_y, level)

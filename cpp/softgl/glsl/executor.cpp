@@ -137,6 +137,7 @@ Executor::Executor(const IrProgram& program, int batch_lanes) : program_(program
         });
     }
     fuse_products(program, is_slot);
+    fuse_normalize_and_pairs(program, is_slot);
     int depth = 0;
     for (const Instruction& i : program.code) {
         if (i.op == Op::IfBegin || i.op == Op::LoopBegin || i.op == Op::SwitchBegin || i.op == Op::FunctionBegin) max_depth_ = std::max(max_depth_, ++depth);
@@ -183,6 +184,104 @@ void Executor::fuse_products(const IrProgram& program, const std::vector<uint8_t
         products_.push_back(p);
         fused.code.push_back(dot);
         k = last + 1;
+    }
+    link_control_flow(fused);
+    code_ = std::move(fused.code);
+}
+
+// The float operations an FPair combines, by number (imm[0], imm[1]); -1: not one of them.
+namespace {
+int pair_first_op(Op op) {
+    switch (op) {
+    case Op::FAdd: return 0;
+    case Op::FSub: return 1;
+    case Op::FMul: return 2;
+    case Op::FDiv: return 3;
+    default: return -1;
+    }
+}
+int pair_second_op(Op op) {
+    switch (op) {
+    case Op::FAdd: return 0;
+    case Op::FSub: return 1;
+    case Op::FMul: return 2;
+    case Op::FMax: return 3;
+    case Op::FMin: return 4;
+    default: return -1;
+    }
+}
+}  // namespace
+
+void Executor::fuse_normalize_and_pairs(const IrProgram& program, const std::vector<uint8_t>& is_slot) {
+    const size_t R = program.register_count;
+    auto each_read = [&](const Instruction& i, auto&& f) {
+        if (i.op == Op::FDot) {
+            const std::array<Reg, 8>& p = products_[static_cast<size_t>(i.imm[0])];
+            for (int k = 0; k < 2 * i.imm[1]; ++k) f(p[static_cast<size_t>(k)]);
+        } else {
+            for_each_read(program, i, f);
+        }
+    };
+    std::vector<int> reads(R, 0);
+    for (const Instruction& i : code_) each_read(i, [&](Reg r) { ++reads[r]; });
+    // A temporary read `uses` times, all of them by the instructions being fused.
+    auto only_read = [&](Reg r, int uses) { return r < R && !program.is_variable[r] && !is_slot[r] && reads[r] == uses; };
+    const std::vector<Instruction>& code = code_;
+    IrProgram fused;
+    fused.code.reserve(code.size());
+    for (size_t k = 0; k < code.size();) {
+        const Instruction& i = code[k];
+        // normalize(v): FDot(v, v) -> FSqrt -> v_j / length for each component, in that order.
+        if (i.op == Op::FDot && only_read(i.dst, 1) && k + 1 < code.size() && code[k + 1].op == Op::FSqrt &&
+            code[k + 1].a == i.dst) {
+            const std::array<Reg, 8>& p = products_[static_cast<size_t>(i.imm[0])];
+            const int m = i.imm[1];
+            const Reg length = code[k + 1].dst;
+            bool match = only_read(length, m) && k + 1 + static_cast<size_t>(m) < code.size();
+            for (int j = 0; match && j < m; ++j) {
+                const Instruction& d = code[k + 2 + static_cast<size_t>(j)];
+                match = p[2 * j] == p[2 * j + 1] && d.op == Op::FDiv && d.a == p[2 * j] && d.b == length;
+                for (int c = 0; match && c < m; ++c) match = d.dst != p[2 * c];   // results distinct from inputs (__restrict)
+            }
+            if (match) {
+                std::array<Reg, 8> q{};
+                q.fill(kNoReg);
+                for (int j = 0; j < m; ++j) q[j] = p[2 * j], q[4 + j] = code[k + 2 + static_cast<size_t>(j)].dst;
+                Instruction n;
+                n.op = Op::FNormalize;
+                n.dst = q[4];
+                n.imm[0] = static_cast<int32_t>(products_.size());
+                n.imm[1] = m;
+                n.line = i.line;
+                products_.push_back(q);
+                fused.code.push_back(n);
+                k += 2 + static_cast<size_t>(m);
+                continue;
+            }
+        }
+        // t = a op1 b; d = t op2 c (or c op2 t), t read by nothing else.
+        if (k + 1 < code.size() && pair_first_op(i.op) >= 0 && only_read(i.dst, 1)) {
+            const Instruction& next = code[k + 1];
+            const int second = pair_second_op(next.op);
+            const Reg other = next.a == i.dst ? next.b : next.a;
+            if (second >= 0 && (next.a == i.dst) != (next.b == i.dst) && next.dst != i.a && next.dst != i.b &&
+                next.dst != other) {
+                Instruction n;
+                n.op = Op::FPair;
+                n.dst = next.dst;
+                n.a = i.a;
+                n.b = i.b;
+                n.c = other;
+                n.imm[0] = pair_first_op(i.op);
+                n.imm[1] = second;
+                n.imm[2] = next.a == i.dst ? 0 : 1;
+                n.line = next.line;
+                fused.code.push_back(n);
+                k += 2;
+                continue;
+            }
+        }
+        fused.code.push_back(code[k++]);
     }
     link_control_flow(fused);
     code_ = std::move(fused.code);
@@ -333,6 +432,100 @@ __attribute__((always_inline)) inline void Executor::fused_dot(const Instruction
     for (int l = 0; l < n; ++l) d[l].f = ((a0[l].f * b0[l].f + a1[l].f * b1[l].f) + a2[l].f * b2[l].f) + a3[l].f * b3[l].f;
 }
 
+// FNormalize: FDot's order for the squared length, then std::sqrt and one division per component,
+// as the unfused FDot, FSqrt and FDiv instructions compute them.
+namespace {
+// The squared length in FDot's order, then std::sqrt and one division per component. Through
+// float pointers, the results __restrict (temporaries written once, distinct from the inputs):
+// GCC 12 otherwise does not vectorise (too many alias checks, no vector type for the union).
+template <int M>
+__attribute__((always_inline)) inline void normalize_lanes(const float* __restrict x, const float* __restrict y,
+                                                           const float* __restrict z, const float* __restrict w,
+                                                           float* __restrict dx, float* __restrict dy, float* __restrict dz,
+                                                           float* __restrict dw, int n) {
+    for (int l = 0; l < n; ++l) {
+        const float a = x[l], b = y[l];
+        float sum = a * a + b * b;
+        if constexpr (M >= 3) sum = sum + z[l] * z[l];
+        if constexpr (M >= 4) sum = sum + w[l] * w[l];
+        const float len = std::sqrt(sum);
+        dx[l] = a / len;
+        dy[l] = b / len;
+        if constexpr (M >= 3) dz[l] = z[l] / len;
+        if constexpr (M >= 4) dw[l] = w[l] / len;
+    }
+}
+}  // namespace
+
+__attribute__((always_inline)) inline void Executor::fused_normalize(const Instruction& i, const int n) {
+    const std::array<Reg, 8>& p = products_[static_cast<size_t>(i.imm[0])];
+    const int m = i.imm[1];
+    const float* v[4];
+    float* out[4];
+    for (int k = 0; k < 4; ++k) {
+        v[k] = &reg(p[k < m ? k : 0])->f;
+        out[k] = &reg(p[4 + (k < m ? k : 0)])->f;
+    }
+    if (m == 2) normalize_lanes<2>(v[0], v[1], v[2], v[3], out[0], out[1], out[2], out[3], n);
+    else if (m == 3) normalize_lanes<3>(v[0], v[1], v[2], v[3], out[0], out[1], out[2], out[3], n);
+    else normalize_lanes<4>(v[0], v[1], v[2], v[3], out[0], out[1], out[2], out[3], n);
+}
+
+namespace {
+// FPair's operations by number (pair_first_op, pair_second_op): the unfused instructions' expressions.
+template <int O>
+__attribute__((always_inline)) inline float first_op(float x, float y) {
+    if constexpr (O == 0) return x + y;
+    else if constexpr (O == 1) return x - y;
+    else if constexpr (O == 2) return x * y;
+    else return x / y;
+}
+template <int O>
+__attribute__((always_inline)) inline float second_op(float x, float y) {
+    if constexpr (O == 0) return x + y;
+    else if constexpr (O == 1) return x - y;
+    else if constexpr (O == 2) return x * y;
+    else if constexpr (O == 3) return f_max(x, y);
+    else return f_min(x, y);
+}
+template <int O1, int O2, bool TempFirst>
+__attribute__((always_inline)) inline void pair_lanes(float* __restrict d, const float* __restrict a, const float* __restrict b,
+                                                      const float* __restrict c, int n) {
+    for (int l = 0; l < n; ++l) {
+        const float t = first_op<O1>(a[l], b[l]);
+        d[l] = TempFirst ? second_op<O2>(t, c[l]) : second_op<O2>(c[l], t);
+    }
+}
+template <int O1, int O2>
+__attribute__((always_inline)) inline void pair_side(Scalar* d, const Scalar* a, const Scalar* b, const Scalar* c, int n, bool temp_first) {
+    // d: a temporary written once, distinct from a, b and c (__restrict; see normalize_lanes).
+    if (temp_first) pair_lanes<O1, O2, true>(&d->f, &a->f, &b->f, &c->f, n);
+    else pair_lanes<O1, O2, false>(&d->f, &a->f, &b->f, &c->f, n);
+}
+template <int O1>
+__attribute__((always_inline)) inline void pair_second(Scalar* d, const Scalar* a, const Scalar* b, const Scalar* c, int n, int o2, bool temp_first) {
+    switch (o2) {
+    case 0: return pair_side<O1, 0>(d, a, b, c, n, temp_first);
+    case 1: return pair_side<O1, 1>(d, a, b, c, n, temp_first);
+    case 2: return pair_side<O1, 2>(d, a, b, c, n, temp_first);
+    case 3: return pair_side<O1, 3>(d, a, b, c, n, temp_first);
+    default: return pair_side<O1, 4>(d, a, b, c, n, temp_first);
+    }
+}
+}  // namespace
+
+__attribute__((always_inline)) inline void Executor::fused_pair(const Instruction& i, const int n) {
+    Scalar* d = reg(i.dst);
+    const Scalar *a = reg(i.a), *b = reg(i.b), *c = reg(i.c);
+    const bool temp_first = i.imm[2] == 0;
+    switch (i.imm[0]) {
+    case 0: return pair_second<0>(d, a, b, c, n, i.imm[1], temp_first);
+    case 1: return pair_second<1>(d, a, b, c, n, i.imm[1], temp_first);
+    case 2: return pair_second<2>(d, a, b, c, n, i.imm[1], temp_first);
+    default: return pair_second<3>(d, a, b, c, n, i.imm[1], temp_first);
+    }
+}
+
 // The interpreter. It is inlined into one function per SIMD level (below), so its lane loops
 // vectorise to that level's width. The control flow stays written out in this one switch: moving
 // it into helpers (a struct of the mask and frames, a second switch, or one step() per
@@ -454,6 +647,8 @@ __attribute__((always_inline)) inline void Executor::execute(const int n, const 
         case Op::FLog2: VMATH1(vmath::log2_lanes(d, a, m))
         case Op::FPow: VMATH2(vmath::pow_lanes(d, a, b, m))
         case Op::FDot: fused_dot(i, n); break;
+        case Op::FNormalize: fused_normalize(i, n); break;
+        case Op::FPair: fused_pair(i, n); break;
         case Op::FClamp: F3(f_clamp(x, y, z))
         case Op::FMix: F3(f_mix(x, y, z))
         case Op::FSmoothstep: F3(f_smoothstep(x, y, z))

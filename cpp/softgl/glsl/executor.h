@@ -109,6 +109,8 @@ public:
     // unless lowered, e.g. to a draw's Tuning::simd; capped at best_simd_level().
     void set_simd_level(SimdLevel level) { simd_ = std::min(level, best_simd_level()); }
     SimdLevel simd_level() const { return simd_; }
+    // The code that runs, fused instructions included (tests: which fusions applied).
+    const std::vector<Instruction>& code() const { return code_; }
 
 private:
     void run_batch(const StageRun& run, int first_lane, int lanes);
@@ -118,6 +120,8 @@ private:
     void execute_avx512(int lanes, const StageRun& run);
     // The longer value operations of execute(), inlined into it.
     void fused_dot(const Instruction& i, int lanes);
+    void fused_normalize(const Instruction& i, int lanes);
+    void fused_pair(const Instruction& i, int lanes);
     void load_indexed(const Instruction& i, int lanes);
     void store_indexed(const Instruction& i, const uint32_t* mask, bool all, int lanes);
     // Register r's lanes for the current batch: its own storage, or (inputs the program never
@@ -126,12 +130,18 @@ private:
     Scalar* own(Reg r) { return registers_.data() + static_cast<size_t>(r) * batch_; }
     void texture(const Instruction& ins, int lanes, const StageRun& run);
     void fuse_products(const IrProgram& program, const std::vector<uint8_t>& is_slot);
+    void fuse_normalize_and_pairs(const IrProgram& program, const std::vector<uint8_t>& is_slot);
 
     const IrProgram& program_;
     // The code that runs: the program's, with each chain `fmul, fmul, fadd (, fmul, fadd)...`
     // of single-use temporaries fused into one FDot (imm[0]: index into products_, imm[1]: the
     // number of products, 2..4): one pass over the lanes with the same operations in the same
     // order instead of one pass per instruction.
+    // Then (fuse_normalize_and_pairs) each `FDot v.v, FSqrt, FDiv v_k` of normalize() into one
+    // FNormalize (imm[0]: index into products_ holding v_0..v_3 then the results, imm[1]: the
+    // components, 2..4), and each float operation whose single-use temporary the next one reads
+    // into one FPair (a op1 b, then op2 with c; imm: op1, op2, which operand of op2 the temporary
+    // is). The same operations in the same order, one pass instead of several: the same bits.
     std::vector<Instruction> code_;
     std::vector<std::array<Reg, 8>> products_;   // a0, b0, a1, b1, ...: sum of a_k * b_k
     int batch_;

@@ -9,7 +9,7 @@ const char* op_name(Op op) {
         "mov", "fadd", "fsub", "fmul", "fdiv", "fneg", "fabs", "fsign", "ffloor", "fceil", "ffract", "ftrunc", "fround",
         "froundeven", "fmin", "fmax", "fmod", "fstep", "fsqrt", "finversesqrt", "fsin", "fcos", "ftan", "fasin", "facos",
         "fatan", "fatan2", "fsinh", "fcosh", "ftanh", "fasinh", "facosh", "fatanh", "fexp", "flog", "fexp2", "flog2",
-        "fpow", "fclamp", "fmix", "fsmoothstep", "fdot", "fisnan", "fisinf", "flt", "fle", "fgt", "fge", "feq", "fne", "iadd",
+        "fpow", "fclamp", "fmix", "fsmoothstep", "fdot", "fnormalize", "fpair", "fisnan", "fisinf", "flt", "fle", "fgt", "fge", "feq", "fne", "iadd",
         "isub", "imul", "idiv", "imod", "ineg", "iabs", "isign", "imin", "imax", "iclamp", "ilt", "ile", "igt", "ige",
         "udiv", "umod", "umin", "umax", "uclamp", "ult", "ule", "ugt", "uge", "and", "or", "xor", "not", "shl", "sar",
         "shr", "eq", "ne", "bnot", "select", "itof", "utof", "ftoi", "ftou", "btof", "ftob", "itob", "packsnorm2x16",

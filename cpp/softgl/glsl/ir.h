@@ -32,6 +32,8 @@ enum class Op : uint8_t {
     FExp, FLog, FExp2, FLog2, FPow,
     FClamp, FMix, FSmoothstep,  // three operands
     FDot,  // executor-internal (never produced by lowering or optimize): fused FMul/FAdd chain, see Executor
+    FNormalize,  // executor-internal: FDot of a vector with itself, FSqrt, one FDiv per component, see Executor
+    FPair,       // executor-internal: two float operations through a single-use temporary, see Executor
     FIsNan, FIsInf,
     FLess, FLessEqual, FGreater, FGreaterEqual, FEqual, FNotEqual,
     // Signed integers (two's complement, wrapping)
