@@ -369,6 +369,152 @@ void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, i
     out.resize(first + size_t(q - begin));
 }
 
+// ---- Small windows (one sample per pixel) ----
+// Most (primitive, tile) pairs of a mesh of small triangles are a few pixels. When the part to
+// rasterize fits in the 8x8 pixels from (wx, wy) = (x0 & ~1, y0 & ~1) (even, so quads start on
+// them), each edge's sign at the 64 pixel centres is found in one pass, and the blocks, their
+// statistics and the quads follow from those masks with no block walk: the same quads, order and
+// statistics as raster_edges. With one sample per pixel its block tests are tests of pixels: an
+// edge's extremes over a clipped block's sample rectangle are at the centres of its corner pixels,
+// so a block is rejected when some edge is negative at every one of its pixels and accepted when
+// every pixel is inside.
+//
+// Edge values in int32: at pixel (wx + k, wy + r) an edge is E0 + k * 256a + r * 256b, E0 its exact
+// int64 value at the centre of (wx, wy). When |a| + |b| < 2^19 the steps add less than 2^30 in
+// magnitude over the window (and its next row), so E0 clamped to [-2^30, 2^30] keeps every pixel's
+// sign and no sum reaches 2^31.
+constexpr int32_t kWindow = 8;
+constexpr int64_t kWindowEdgeStepMax = int64_t(1) << 19;   // |a| + |b| below this
+constexpr int64_t kWindowClamp = int64_t(1) << 30;
+
+template <int N>
+struct WindowEdges {
+    int32_t e0[N], dx[N], dy[N];   // each edge at the centre of (wx, wy) (clamped), its steps per pixel
+    int rows;                      // rows [0, rows) of the window are needed (1..8)
+};
+// inside[i]: bit 8*r + k set when edge i is >= 0 at the centre of pixel (wx + k, wy + r), for the
+// rows [0, rows) (other bits unspecified).
+template <int N>
+using WindowMasksFn = void (*)(const WindowEdges<N>& w, uint64_t* inside);
+
+template <int N>
+void window_masks_scalar(const WindowEdges<N>& w, uint64_t* inside) {
+    for (int i = 0; i < N; ++i) {
+        uint64_t m = 0;
+        for (int r = 0; r < w.rows; ++r)
+            for (int k = 0; k < kWindow; ++k)
+                m |= uint64_t(w.e0[i] + k * w.dx[i] + r * w.dy[i] >= 0) << (kWindow * r + k);
+        inside[i] = m;
+    }
+}
+
+#if defined(SOFTGL_HAVE_SIMD_RASTER)
+// A pixel row of 8 int32 lanes per step; the sign bits are the outside pixels.
+template <int N>
+__attribute__((target("avx2"))) void window_masks_avx2(const WindowEdges<N>& w, uint64_t* inside) {
+    const __m256i k = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    __m256i v[N], step[N];
+    uint64_t outside[N];
+    for (int i = 0; i < N; ++i) {
+        v[i] = _mm256_add_epi32(_mm256_set1_epi32(w.e0[i]), _mm256_mullo_epi32(k, _mm256_set1_epi32(w.dx[i])));
+        step[i] = _mm256_set1_epi32(w.dy[i]);
+        outside[i] = 0;
+    }
+    for (int r = 0; r < w.rows; ++r)
+        for (int i = 0; i < N; ++i) {
+            outside[i] |= uint64_t(uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(v[i])))) << (kWindow * r);
+            v[i] = _mm256_add_epi32(v[i], step[i]);
+        }
+    for (int i = 0; i < N; ++i) inside[i] = ~outside[i];
+}
+
+// Two pixel rows of 16 int32 lanes per step, compared into a mask.
+template <int N>
+__attribute__((target("avx512f"))) void window_masks_avx512(const WindowEdges<N>& w, uint64_t* inside) {
+    const __m512i k = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 0, 1, 2, 3, 4, 5, 6, 7);
+    const __m512i r = _mm512_setr_epi32(0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 1, 1, 1, 1);
+    const __m512i zero = _mm512_setzero_si512();
+    for (int i = 0; i < N; ++i) {
+        __m512i v = _mm512_add_epi32(_mm512_set1_epi32(w.e0[i]),
+                                     _mm512_add_epi32(_mm512_mullo_epi32(k, _mm512_set1_epi32(w.dx[i])),
+                                                      _mm512_mullo_epi32(r, _mm512_set1_epi32(w.dy[i]))));
+        const __m512i step = _mm512_set1_epi32(2 * w.dy[i]);
+        uint64_t m = 0;
+        for (int j = 0; 2 * j < w.rows; ++j) {
+            m |= uint64_t(_mm512_cmpge_epi32_mask(v, zero)) << (2 * kWindow * j);
+            v = _mm512_add_epi32(v, step);
+        }
+        inside[i] = m;
+    }
+}
+#endif
+
+// Whether the clipped rectangle [x0, x1) x [y0, y1) of p takes raster_window.
+inline bool fits_window(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, int32_t y1) {
+    if (x1 - (x0 & ~1) > kWindow || y1 - (y0 & ~1) > kWindow) return false;
+    bool small = true;
+    for (int i = 0; i < p.edge_count; ++i)
+        small &= (p.a[i] < 0 ? -p.a[i] : p.a[i]) + (p.b[i] < 0 ? -p.b[i] : p.b[i]) < kWindowEdgeStepMax;
+    return small;
+}
+
+template <int N>
+void raster_window(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, int32_t y1, WindowMasksFn<N> masks,
+                   std::vector<Quad>& out, RasterStats& stats) {
+    const int32_t wx = x0 & ~1, wy = y0 & ~1;
+    WindowEdges<N> w;
+    {
+        const int64_t X = int64_t(wx) * kSubPixel + kSubPixel / 2, Y = int64_t(wy) * kSubPixel + kSubPixel / 2;
+        for (int i = 0; i < N; ++i) {
+            const int64_t e = p.a[i] * X + p.b[i] * Y + p.c[i];
+            w.e0[i] = int32_t(std::min(std::max(e, -kWindowClamp), kWindowClamp));
+            w.dx[i] = int32_t(p.a[i] * kSubPixel);
+            w.dy[i] = int32_t(p.b[i] * kSubPixel);
+        }
+        w.rows = y1 - wy;
+    }
+    uint64_t inside[N];
+    masks(w, inside);
+    const int k0 = x0 - wx, k1 = x1 - wx, r0 = y0 - wy, r1 = y1 - wy;
+    const uint64_t cols = ((uint64_t(1) << k1) - (uint64_t(1) << k0)) * 0x0101010101010101ull;
+    const uint64_t rows = (r1 == kWindow ? ~uint64_t(0) : (uint64_t(1) << (kWindow * r1)) - 1) &
+                          ~((uint64_t(1) << (kWindow * r0)) - 1);
+    const uint64_t present = cols & rows;
+    uint64_t covered = present;
+    for (int i = 0; i < N; ++i) covered &= inside[i];
+    // The quads with a covered pixel: bit 16*p + 2*k for rows 2p, 2p + 1 and columns 2k, 2k + 1.
+    const uint64_t pairs = (covered | covered >> kWindow) & 0x00FF00FF00FF00FFull;
+    const uint64_t quads = (pairs | pairs >> 1) & 0x0055005500550055ull;
+    const size_t first = out.size();
+    out.resize(first + size_t(__builtin_popcountll(quads)));
+    Quad* q = out.data() + first;
+    // The window's columns [0, kx) lie in the block at wx & ~7, the others in the next block;
+    // rows [0, ry) likewise. Blocks (and quads within them) in raster_edges' order: bottom-up,
+    // then left-right.
+    const int kx = kBlockSize - (wx & (kBlockSize - 1)), ry = kBlockSize - (wy & (kBlockSize - 1));
+    const uint64_t left = ((uint64_t(1) << kx) - 1) * 0x0101010101010101ull;
+    const uint64_t low = ry == kBlockSize ? ~uint64_t(0) : (uint64_t(1) << (kWindow * ry)) - 1;
+    const uint64_t parts[4] = {low & left, low & ~left, ~low & left, ~low & ~left};
+    uint64_t rejected = 0, accepted = 0, partial = 0;
+    for (const uint64_t part : parts) {
+        const uint64_t block = present & part;   // the block's pixels in the clipped rectangle
+        if (!block) continue;                    // a block raster_edges does not visit
+        bool outside = false;
+        for (int i = 0; i < N; ++i) outside |= (inside[i] & block) == 0;
+        if (outside) { ++rejected; continue; }
+        const bool whole = (covered & block) == block;
+        accepted += whole;
+        partial += !whole;
+        for (uint64_t rest = quads & part; rest; rest &= rest - 1) {
+            const int sh = __builtin_ctzll(rest);
+            put(q++, wx + (sh & (kWindow - 1)), wy + (sh >> 3),
+                spread_quad_bits((covered >> sh & 3) | (covered >> (sh + kWindow) & 3) << 2));
+        }
+    }
+    stats.blocks_rejected += rejected, stats.blocks_accepted += accepted, stats.blocks_partial += partial;
+    stats.quads += uint64_t(q - (out.data() + first));
+}
+
 }  // namespace
 
 const SamplePattern& sample_pattern(int samples) {
@@ -386,10 +532,25 @@ const SamplePattern& sample_pattern(int samples) {
 }
 
 void rasterize_at(SimdLevel level, const PrimitiveSetup& prim, const TileRect& tile, const SamplePattern& pattern,
-                  std::vector<Quad>& out, RasterStats& stats) {
+                  std::vector<Quad>& out, RasterStats& stats, RasterWalk walk) {
     const int32_t x0 = std::max(prim.x0, tile.x0), y0 = std::max(prim.y0, tile.y0);
     const int32_t x1 = std::min(prim.x1, tile.x1), y1 = std::min(prim.y1, tile.y1);
     if (x0 >= x1 || y0 >= y1) return;
+    if (walk == RasterWalk::Any && pattern.count == 1 && fits_window(prim, x0, y0, x1, y1)) {
+        WindowMasksFn<3> masks3 = window_masks_scalar<3>;
+        WindowMasksFn<2> masks2 = window_masks_scalar<2>;
+        WindowMasksFn<4> masks4 = window_masks_scalar<4>;
+#if defined(SOFTGL_HAVE_SIMD_RASTER)
+        if (level == SimdLevel::AVX512)
+            masks3 = window_masks_avx512<3>, masks2 = window_masks_avx512<2>, masks4 = window_masks_avx512<4>;
+        else if (level == SimdLevel::AVX2)
+            masks3 = window_masks_avx2<3>, masks2 = window_masks_avx2<2>, masks4 = window_masks_avx2<4>;
+#endif
+        if (prim.edge_count == 3) raster_window<3>(prim, x0, y0, x1, y1, masks3, out, stats);
+        else if (prim.edge_count == 2) raster_window<2>(prim, x0, y0, x1, y1, masks2, out, stats);
+        else raster_window<4>(prim, x0, y0, x1, y1, masks4, out, stats);
+        return;
+    }
     InsideRowsFn<3> rows3 = nullptr;
     InsideRowsFn<4> rows4 = nullptr;
     InsideRowsFn<2> rows2 = nullptr;
