@@ -21,14 +21,21 @@ def rasterize(level, edges, bbox, tile, blocks_only=False, samples=1):
     return T.rasterize_edges(level, np.array(edges, np.int64), bbox, tile, samples, blocks_only=blocks_only)
 
 
-def takes_window(edges, bbox, tile):
-    """raster.cpp fits_window, restated: the clipped part fits 8x8 pixels from an even pixel and
-    every edge has |a| + |b| < 2^19."""
+def walk_taken(edges, bbox, tile):
+    """Which walk raster.cpp rasterize_at takes (one sample), restated: 'window' when the clipped
+    part fits 8x8 pixels from an even pixel, 'masked' when it meets at most 16 blocks (both only
+    when every edge has |a| + |b| < 2^19), else 'blocks'."""
     x0, y0 = max(bbox[0], tile[0]), max(bbox[1], tile[1])
     x1, y1 = min(bbox[2], tile[2]), min(bbox[3], tile[3])
-    if x0 >= x1 or y0 >= y1:
-        return False
-    return x1 - (x0 & ~1) <= 8 and y1 - (y0 & ~1) <= 8 and all(abs(a) + abs(b) < 1 << 19 for a, b, _ in edges)
+    if x0 >= x1 or y0 >= y1 or not all(abs(a) + abs(b) < 1 << 19 for a, b, _ in edges):
+        return "blocks"
+    if x1 - (x0 & ~1) <= 8 and y1 - (y0 & ~1) <= 8:
+        return "window"
+    return "masked" if ((x1 - 1) // 8 - x0 // 8 + 1) * ((y1 - 1) // 8 - y0 // 8 + 1) <= 16 else "blocks"
+
+
+def takes_window(edges, bbox, tile):
+    return walk_taken(edges, bbox, tile) == "window"
 
 
 def window_case(rng, kind):
@@ -59,7 +66,7 @@ def window_case(rng, kind):
         xs, ys = [cx - h, cx + h, cx + h, cx - h], [cy - h, cy - h, cy + h, cy + h]
         edges = polygon_edges(xs, ys)
     else:
-        size = {"tiny": 2, "small": 4}[kind]
+        size = {"tiny": 2, "small": 4, "medium": 14}[kind]
         xs = [cx + int(v) for v in rng.integers(-size * SUB, size * SUB, 3)]
         ys = [cy + int(v) for v in rng.integers(-size * SUB, size * SUB, 3)]
         if rng.random() < 0.4:     # on the 1/16 or 1/2 pixel grid: ties at pixel centres
@@ -106,6 +113,25 @@ def test_any_walk_matches_block_walk_on_general_cases(kind):
             np.testing.assert_array_equal(quads, ref[0])
 
 
+@pytest.mark.parametrize("kind", ["medium", "long"])
+def test_masked_blocks_match_block_walk_and_brute_force(kind):
+    rng = np.random.default_rng(zlib.crc32(f"masked{kind}".encode()))
+    taken = 0
+    for _ in range(300):
+        edges, bbox, tile = window_case(rng, kind)
+        if kind == "long":   # a bigger part of the long triangles than the window cases
+            bbox = [bbox[0] - 7, bbox[1] - 5, bbox[2] + 9, bbox[3] + 6]
+        ref_quads, ref_stats = rasterize(0, edges, bbox, tile, blocks_only=True)
+        assert decode(ref_quads) == brute_force(edges, bbox, tile, 1)
+        assert ref_stats[:3] == block_counts(edges, bbox, tile, 1)
+        for level in LEVELS:
+            quads, stats = rasterize(level, edges, bbox, tile)
+            assert stats == ref_stats, (level, edges, bbox, tile)
+            np.testing.assert_array_equal(quads, ref_quads, err_msg=str((level, edges, bbox, tile)))
+        taken += walk_taken(edges, bbox, tile) == "masked"
+    assert taken > 100
+
+
 def triangle(vertices):
     xs = [x * SUB for x, _ in vertices]
     ys = [y * SUB for _, y in vertices]
@@ -143,3 +169,19 @@ def test_hand_worked_ties_on_left_and_bottom_edges(level):
     want = {(x, y): 1 for x in range(1, 6) for y in range(1, 6) if x + y <= 5}
     assert got == want
     assert stats[3] == len(quads) and stats[:3] == (0, 0, 1)
+
+
+@pytest.mark.parametrize("level", LEVELS)
+def test_hand_worked_triangle_over_nine_blocks(level):
+    # The right triangle (0, 0), (20, 0), (0, 20) meets 3x3 blocks (the masked walk). The centre
+    # (x + 1/2, y + 1/2) is inside when x + y < 19; x + y == 19 lies on the up-left hypotenuse,
+    # excluded. Per block, the smallest and largest x + y: (0, 0) 0..14, accepted (16 full quads,
+    # rows bottom-up); (8, 0), (0, 8) 8..22, (16, 0), (0, 16) 16..26, (8, 8) 16..30: partial;
+    # (16, 8), (8, 16) 24.., (16, 16) 32..: rejected. Quads (2i, 2j) with a covered pixel: i + j <= 9,
+    # 55 of them.
+    edges = triangle([(0, 0), (20, 0), (0, 20)])
+    quads, stats = rasterize(level, edges, [0, 0, 20, 20], [0, 0, 64, 64])
+    assert decode(quads) == {(x, y): 1 for x in range(20) for y in range(20) if x + y <= 18}
+    assert stats == (3, 1, 5, 55)
+    first = [(signed(x), signed(y), c) for x, y, c in quads[:16].tolist()]
+    assert first == [(x, y, 0x0001_0001_0001_0001) for y in range(0, 8, 2) for x in range(0, 8, 2)]

@@ -449,70 +449,132 @@ __attribute__((target("avx512f"))) void window_masks_avx512(const WindowEdges<N>
 }
 #endif
 
-// Whether the clipped rectangle [x0, x1) x [y0, y1) of p takes raster_window.
-inline bool fits_window(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, int32_t y1) {
-    if (x1 - (x0 & ~1) > kWindow || y1 - (y0 & ~1) > kWindow) return false;
+// Whether every edge's steps fit the int32 windows (|a| + |b| < 2^19).
+inline bool small_steps(const PrimitiveSetup& p) {
     bool small = true;
     for (int i = 0; i < p.edge_count; ++i)
         small &= (p.a[i] < 0 ? -p.a[i] : p.a[i]) + (p.b[i] < 0 ? -p.b[i] : p.b[i]) < kWindowEdgeStepMax;
     return small;
 }
 
+// The edges of the window whose pixel (0, 0) is (ox, oy), for its rows [0, rows).
+template <int N>
+__attribute__((always_inline)) inline WindowEdges<N> window_edges(const PrimitiveSetup& p, int32_t ox, int32_t oy,
+                                                                  int rows) {
+    WindowEdges<N> w;
+    const int64_t X = int64_t(ox) * kSubPixel + kSubPixel / 2, Y = int64_t(oy) * kSubPixel + kSubPixel / 2;
+    for (int i = 0; i < N; ++i) {
+        const int64_t e = p.a[i] * X + p.b[i] * Y + p.c[i];
+        w.e0[i] = int32_t(std::min(std::max(e, -kWindowClamp), kWindowClamp));
+        w.dx[i] = int32_t(p.a[i] * kSubPixel);
+        w.dy[i] = int32_t(p.b[i] * kSubPixel);
+    }
+    w.rows = rows;
+    return w;
+}
+
+// Pixels [k0, k1) x [r0, r1) of a window (bit 8*r + k).
+inline uint64_t window_rect(int k0, int r0, int k1, int r1) {
+    const uint64_t cols = ((uint64_t(1) << k1) - (uint64_t(1) << k0)) * 0x0101010101010101ull;
+    return cols & (r1 == kWindow ? ~uint64_t(0) : (uint64_t(1) << (kWindow * r1)) - 1) &
+           ~((uint64_t(1) << (kWindow * r0)) - 1);
+}
+
+// The quads with a covered pixel: bit 16*p + 2*k for rows 2p, 2p + 1 and columns 2k, 2k + 1.
+inline uint64_t window_quads(uint64_t covered) {
+    const uint64_t pairs = (covered | covered >> kWindow) & 0x00FF00FF00FF00FFull;
+    return (pairs | pairs >> 1) & 0x0055005500550055ull;
+}
+
+struct BlockCounts {
+    uint64_t rejected = 0, accepted = 0, partial = 0;
+};
+
+// One block of a window whose pixel (0, 0) is (ox, oy): `block` is the block's pixels in the
+// clipped rectangle (not empty), inside[i] edge i's pixels, covered the pixels inside every edge,
+// quads window_quads(covered). Counts the block as raster_edges does and writes its quads in its
+// order (rows bottom-up, then left-right).
+template <int N>
+__attribute__((always_inline)) inline Quad* window_block(Quad* q, const uint64_t* inside, uint64_t covered,
+                                                         uint64_t quads, uint64_t block, int32_t ox, int32_t oy,
+                                                         BlockCounts& counts) {
+    bool outside = false;
+    for (int i = 0; i < N; ++i) outside |= (inside[i] & block) == 0;
+    if (outside) {
+        ++counts.rejected;
+        return q;
+    }
+    const bool whole = (covered & block) == block;
+    counts.accepted += whole;
+    counts.partial += !whole;
+    // Quads never straddle blocks (both start on even pixels): the block's quads are its bits.
+    for (uint64_t rest = quads & window_quads(block); rest; rest &= rest - 1) {
+        const int sh = __builtin_ctzll(rest);
+        put(q++, ox + (sh & (kWindow - 1)), oy + (sh >> 3),
+            spread_quad_bits((covered >> sh & 3) | (covered >> (sh + kWindow) & 3) << 2));
+    }
+    return q;
+}
+
 template <int N>
 void raster_window(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, int32_t y1, WindowMasksFn<N> masks,
                    std::vector<Quad>& out, RasterStats& stats) {
     const int32_t wx = x0 & ~1, wy = y0 & ~1;
-    WindowEdges<N> w;
-    {
-        const int64_t X = int64_t(wx) * kSubPixel + kSubPixel / 2, Y = int64_t(wy) * kSubPixel + kSubPixel / 2;
-        for (int i = 0; i < N; ++i) {
-            const int64_t e = p.a[i] * X + p.b[i] * Y + p.c[i];
-            w.e0[i] = int32_t(std::min(std::max(e, -kWindowClamp), kWindowClamp));
-            w.dx[i] = int32_t(p.a[i] * kSubPixel);
-            w.dy[i] = int32_t(p.b[i] * kSubPixel);
-        }
-        w.rows = y1 - wy;
-    }
     uint64_t inside[N];
-    masks(w, inside);
-    const int k0 = x0 - wx, k1 = x1 - wx, r0 = y0 - wy, r1 = y1 - wy;
-    const uint64_t cols = ((uint64_t(1) << k1) - (uint64_t(1) << k0)) * 0x0101010101010101ull;
-    const uint64_t rows = (r1 == kWindow ? ~uint64_t(0) : (uint64_t(1) << (kWindow * r1)) - 1) &
-                          ~((uint64_t(1) << (kWindow * r0)) - 1);
-    const uint64_t present = cols & rows;
+    masks(window_edges<N>(p, wx, wy, y1 - wy), inside);
+    const uint64_t present = window_rect(x0 - wx, y0 - wy, x1 - wx, y1 - wy);
     uint64_t covered = present;
     for (int i = 0; i < N; ++i) covered &= inside[i];
-    // The quads with a covered pixel: bit 16*p + 2*k for rows 2p, 2p + 1 and columns 2k, 2k + 1.
-    const uint64_t pairs = (covered | covered >> kWindow) & 0x00FF00FF00FF00FFull;
-    const uint64_t quads = (pairs | pairs >> 1) & 0x0055005500550055ull;
+    const uint64_t quads = window_quads(covered);
     const size_t first = out.size();
     out.resize(first + size_t(__builtin_popcountll(quads)));
     Quad* q = out.data() + first;
     // The window's columns [0, kx) lie in the block at wx & ~7, the others in the next block;
-    // rows [0, ry) likewise. Blocks (and quads within them) in raster_edges' order: bottom-up,
-    // then left-right.
+    // rows [0, ry) likewise. Blocks in raster_edges' order: bottom-up, then left-right.
     const int kx = kBlockSize - (wx & (kBlockSize - 1)), ry = kBlockSize - (wy & (kBlockSize - 1));
-    const uint64_t left = ((uint64_t(1) << kx) - 1) * 0x0101010101010101ull;
-    const uint64_t low = ry == kBlockSize ? ~uint64_t(0) : (uint64_t(1) << (kWindow * ry)) - 1;
+    const uint64_t left = window_rect(0, 0, kx, kWindow), low = window_rect(0, 0, kWindow, ry);
     const uint64_t parts[4] = {low & left, low & ~left, ~low & left, ~low & ~left};
-    uint64_t rejected = 0, accepted = 0, partial = 0;
-    for (const uint64_t part : parts) {
-        const uint64_t block = present & part;   // the block's pixels in the clipped rectangle
-        if (!block) continue;                    // a block raster_edges does not visit
-        bool outside = false;
-        for (int i = 0; i < N; ++i) outside |= (inside[i] & block) == 0;
-        if (outside) { ++rejected; continue; }
-        const bool whole = (covered & block) == block;
-        accepted += whole;
-        partial += !whole;
-        for (uint64_t rest = quads & part; rest; rest &= rest - 1) {
-            const int sh = __builtin_ctzll(rest);
-            put(q++, wx + (sh & (kWindow - 1)), wy + (sh >> 3),
-                spread_quad_bits((covered >> sh & 3) | (covered >> (sh + kWindow) & 3) << 2));
+    BlockCounts counts;
+    for (const uint64_t part : parts)
+        if (const uint64_t block = present & part) q = window_block<N>(q, inside, covered, quads, block, wx, wy, counts);
+    stats.blocks_rejected += counts.rejected, stats.blocks_accepted += counts.accepted;
+    stats.blocks_partial += counts.partial;
+    stats.quads += uint64_t(q - (out.data() + first));
+}
+
+// A part of at most kMaskedBlocksMax blocks that is not one window: block by block in
+// raster_edges' order, each block a window (masks at its 64 pixel centres, no corner tests).
+// Larger parts keep raster_edges, whose corner tests settle most of their blocks without masks.
+constexpr int kMaskedBlocksMax = 16;
+
+template <int N>
+void raster_masked_blocks(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, int32_t y1,
+                          WindowMasksFn<N> masks, PutBlockFn put_block, std::vector<Quad>& out, RasterStats& stats) {
+    const size_t first = out.size();
+    out.resize(first + size_t((x1 - (x0 & ~1) + 1) / 2) * size_t((y1 - (y0 & ~1) + 1) / 2));
+    Quad* const begin = out.data() + first;
+    Quad* q = begin;
+    BlockCounts counts;
+    for (int32_t by = y0 & ~(kBlockSize - 1); by < y1; by += kBlockSize) {
+        const int r0 = std::max(by, y0) - by, r1 = std::min(by + kBlockSize, y1) - by;
+        for (int32_t bx = x0 & ~(kBlockSize - 1); bx < x1; bx += kBlockSize) {
+            uint64_t inside[N];
+            masks(window_edges<N>(p, bx, by, r1), inside);
+            const uint64_t block = window_rect(std::max(bx, x0) - bx, r0, std::min(bx + kBlockSize, x1) - bx, r1);
+            uint64_t covered = block;
+            for (int i = 0; i < N; ++i) covered &= inside[i];
+            if (covered == ~uint64_t(0)) {   // whole and unclipped: 16 full quads
+                ++counts.accepted;
+                q = put_block(q, bx, by, 0x0001000100010001ull);
+                continue;
+            }
+            q = window_block<N>(q, inside, covered, window_quads(covered), block, bx, by, counts);
         }
     }
-    stats.blocks_rejected += rejected, stats.blocks_accepted += accepted, stats.blocks_partial += partial;
-    stats.quads += uint64_t(q - (out.data() + first));
+    stats.blocks_rejected += counts.rejected, stats.blocks_accepted += counts.accepted;
+    stats.blocks_partial += counts.partial;
+    stats.quads += uint64_t(q - begin);
+    out.resize(first + size_t(q - begin));
 }
 
 }  // namespace
@@ -536,7 +598,11 @@ void rasterize_at(SimdLevel level, const PrimitiveSetup& prim, const TileRect& t
     const int32_t x0 = std::max(prim.x0, tile.x0), y0 = std::max(prim.y0, tile.y0);
     const int32_t x1 = std::min(prim.x1, tile.x1), y1 = std::min(prim.y1, tile.y1);
     if (x0 >= x1 || y0 >= y1) return;
-    if (walk == RasterWalk::Any && pattern.count == 1 && fits_window(prim, x0, y0, x1, y1)) {
+    PutBlockFn block = put_block;
+#if defined(SOFTGL_HAVE_SIMD_RASTER)
+    if (level == SimdLevel::AVX512) block = put_block_avx512;
+#endif
+    if (walk == RasterWalk::Any && pattern.count == 1 && small_steps(prim)) {
         WindowMasksFn<3> masks3 = window_masks_scalar<3>;
         WindowMasksFn<2> masks2 = window_masks_scalar<2>;
         WindowMasksFn<4> masks4 = window_masks_scalar<4>;
@@ -546,18 +612,26 @@ void rasterize_at(SimdLevel level, const PrimitiveSetup& prim, const TileRect& t
         else if (level == SimdLevel::AVX2)
             masks3 = window_masks_avx2<3>, masks2 = window_masks_avx2<2>, masks4 = window_masks_avx2<4>;
 #endif
-        if (prim.edge_count == 3) raster_window<3>(prim, x0, y0, x1, y1, masks3, out, stats);
-        else if (prim.edge_count == 2) raster_window<2>(prim, x0, y0, x1, y1, masks2, out, stats);
-        else raster_window<4>(prim, x0, y0, x1, y1, masks4, out, stats);
-        return;
+        if (x1 - (x0 & ~1) <= kWindow && y1 - (y0 & ~1) <= kWindow) {
+            if (prim.edge_count == 3) raster_window<3>(prim, x0, y0, x1, y1, masks3, out, stats);
+            else if (prim.edge_count == 2) raster_window<2>(prim, x0, y0, x1, y1, masks2, out, stats);
+            else raster_window<4>(prim, x0, y0, x1, y1, masks4, out, stats);
+            return;
+        }
+        const int64_t blocks = int64_t(((x1 - 1) >> 3) - (x0 >> 3) + 1) * int64_t(((y1 - 1) >> 3) - (y0 >> 3) + 1);
+        if (blocks <= kMaskedBlocksMax) {
+            if (prim.edge_count == 3) raster_masked_blocks<3>(prim, x0, y0, x1, y1, masks3, block, out, stats);
+            else if (prim.edge_count == 2) raster_masked_blocks<2>(prim, x0, y0, x1, y1, masks2, block, out, stats);
+            else raster_masked_blocks<4>(prim, x0, y0, x1, y1, masks4, block, out, stats);
+            return;
+        }
     }
     InsideRowsFn<3> rows3 = nullptr;
     InsideRowsFn<4> rows4 = nullptr;
     InsideRowsFn<2> rows2 = nullptr;
-    PutBlockFn block = put_block;
 #if defined(SOFTGL_HAVE_SIMD_RASTER)
     if (level == SimdLevel::AVX512)
-        rows3 = inside_rows_avx512<3>, rows4 = inside_rows_avx512<4>, rows2 = inside_rows_avx512<2>, block = put_block_avx512;
+        rows3 = inside_rows_avx512<3>, rows4 = inside_rows_avx512<4>, rows2 = inside_rows_avx512<2>;
     else if (level == SimdLevel::AVX2)
         rows3 = inside_rows_avx2<3>, rows4 = inside_rows_avx2<4>, rows2 = inside_rows_avx2<2>;
 #else
