@@ -392,60 +392,63 @@ struct WindowEdges {
     int32_t e0[N], dx[N], dy[N];   // each edge at the centre of (wx, wy) (clamped), its steps per pixel
     int rows;                      // rows [0, rows) of the window are needed (1..8)
 };
-// inside[i]: bit 8*r + k set when edge i is >= 0 at the centre of pixel (wx + k, wy + r), for the
-// rows [0, rows) (other bits unspecified).
+// Bit 8*r + k set when every edge is >= 0 at the centre of pixel (wx + k, wy + r), for the rows
+// [0, rows) (other bits unspecified): the edges' values ORed, the sign of the OR.
 template <int N>
-using WindowMasksFn = void (*)(const WindowEdges<N>& w, uint64_t* inside);
+using WindowMasksFn = uint64_t (*)(const WindowEdges<N>& w);
 
 template <int N>
-void window_masks_scalar(const WindowEdges<N>& w, uint64_t* inside) {
-    for (int i = 0; i < N; ++i) {
-        uint64_t m = 0;
-        for (int r = 0; r < w.rows; ++r)
-            for (int k = 0; k < kWindow; ++k)
-                m |= uint64_t(w.e0[i] + k * w.dx[i] + r * w.dy[i] >= 0) << (kWindow * r + k);
-        inside[i] = m;
-    }
+uint64_t window_masks_scalar(const WindowEdges<N>& w) {
+    uint64_t m = 0;
+    for (int r = 0; r < w.rows; ++r)
+        for (int k = 0; k < kWindow; ++k) {
+            bool in = true;
+            for (int i = 0; i < N; ++i) in &= w.e0[i] + k * w.dx[i] + r * w.dy[i] >= 0;
+            m |= uint64_t(in) << (kWindow * r + k);
+        }
+    return m;
 }
 
 #if defined(SOFTGL_HAVE_SIMD_RASTER)
-// A pixel row of 8 int32 lanes per step; the sign bits are the outside pixels.
+// A pixel row of 8 int32 lanes per step; the sign bits of the edges' OR are the outside pixels.
 template <int N>
-__attribute__((target("avx2"))) void window_masks_avx2(const WindowEdges<N>& w, uint64_t* inside) {
+__attribute__((target("avx2"))) uint64_t window_masks_avx2(const WindowEdges<N>& w) {
     const __m256i k = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
     __m256i v[N], step[N];
-    uint64_t outside[N];
     for (int i = 0; i < N; ++i) {
         v[i] = _mm256_add_epi32(_mm256_set1_epi32(w.e0[i]), _mm256_mullo_epi32(k, _mm256_set1_epi32(w.dx[i])));
         step[i] = _mm256_set1_epi32(w.dy[i]);
-        outside[i] = 0;
     }
-    for (int r = 0; r < w.rows; ++r)
-        for (int i = 0; i < N; ++i) {
-            outside[i] |= uint64_t(uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(v[i])))) << (kWindow * r);
-            v[i] = _mm256_add_epi32(v[i], step[i]);
-        }
-    for (int i = 0; i < N; ++i) inside[i] = ~outside[i];
+    uint64_t outside = 0;
+    for (int r = 0; r < w.rows; ++r) {
+        __m256i o = v[0];
+        for (int i = 1; i < N; ++i) o = _mm256_or_si256(o, v[i]);
+        outside |= uint64_t(uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(o)))) << (kWindow * r);
+        for (int i = 0; i < N; ++i) v[i] = _mm256_add_epi32(v[i], step[i]);
+    }
+    return ~outside;
 }
 
-// Two pixel rows of 16 int32 lanes per step, compared into a mask.
+// Two pixel rows of 16 int32 lanes per step, the edges' OR compared into a mask.
 template <int N>
-__attribute__((target("avx512f"))) void window_masks_avx512(const WindowEdges<N>& w, uint64_t* inside) {
+__attribute__((target("avx512f"))) uint64_t window_masks_avx512(const WindowEdges<N>& w) {
     const __m512i k = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 0, 1, 2, 3, 4, 5, 6, 7);
     const __m512i r = _mm512_setr_epi32(0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 1, 1, 1, 1);
     const __m512i zero = _mm512_setzero_si512();
+    __m512i v[N], step[N];
     for (int i = 0; i < N; ++i) {
-        __m512i v = _mm512_add_epi32(_mm512_set1_epi32(w.e0[i]),
-                                     _mm512_add_epi32(_mm512_mullo_epi32(k, _mm512_set1_epi32(w.dx[i])),
-                                                      _mm512_mullo_epi32(r, _mm512_set1_epi32(w.dy[i]))));
-        const __m512i step = _mm512_set1_epi32(2 * w.dy[i]);
-        uint64_t m = 0;
-        for (int j = 0; 2 * j < w.rows; ++j) {
-            m |= uint64_t(_mm512_cmpge_epi32_mask(v, zero)) << (2 * kWindow * j);
-            v = _mm512_add_epi32(v, step);
-        }
-        inside[i] = m;
+        v[i] = _mm512_add_epi32(_mm512_set1_epi32(w.e0[i]), _mm512_add_epi32(_mm512_mullo_epi32(k, _mm512_set1_epi32(w.dx[i])),
+                                                                             _mm512_mullo_epi32(r, _mm512_set1_epi32(w.dy[i]))));
+        step[i] = _mm512_set1_epi32(2 * w.dy[i]);
     }
+    uint64_t m = 0;
+    for (int j = 0; 2 * j < w.rows; ++j) {
+        __m512i o = v[0];
+        for (int i = 1; i < N; ++i) o = _mm512_or_si512(o, v[i]);
+        m |= uint64_t(_mm512_cmpge_epi32_mask(o, zero)) << (2 * kWindow * j);
+        for (int i = 0; i < N; ++i) v[i] = _mm512_add_epi32(v[i], step[i]);
+    }
+    return m;
 }
 #endif
 
@@ -490,17 +493,30 @@ struct BlockCounts {
     uint64_t rejected = 0, accepted = 0, partial = 0;
 };
 
-// One block of a window whose pixel (0, 0) is (ox, oy): `block` is the block's pixels in the
-// clipped rectangle (not empty), inside[i] edge i's pixels, covered the pixels inside every edge,
-// quads window_quads(covered). Counts the block as raster_edges does and writes its quads in its
-// order (rows bottom-up, then left-right).
+// Whether some edge is negative at every pixel centre of `block` (not empty): at its largest there,
+// a corner of the block's rectangle of pixels (int32: within the window's bounds).
 template <int N>
-__attribute__((always_inline)) inline Quad* window_block(Quad* q, const uint64_t* inside, uint64_t covered,
+inline bool block_outside(const WindowEdges<N>& w, uint64_t block) {
+    uint64_t cols = block | block >> 32;
+    cols |= cols >> 16;
+    cols = (cols | cols >> 8) & 0xFF;
+    const int32_t k0 = __builtin_ctzll(cols), k1 = 31 - __builtin_clz(uint32_t(cols));
+    const int32_t r0 = __builtin_ctzll(block) >> 3, r1 = (63 - __builtin_clzll(block)) >> 3;
+    bool outside = false;
+    for (int i = 0; i < N; ++i)
+        outside |= w.e0[i] + std::max(k0 * w.dx[i], k1 * w.dx[i]) + std::max(r0 * w.dy[i], r1 * w.dy[i]) < 0;
+    return outside;
+}
+
+// One block of a window w whose pixel (0, 0) is (ox, oy): `block` is the block's pixels in the
+// clipped rectangle (not empty), covered its pixels inside every edge, quads window_quads(covered).
+// Counts the block as raster_edges does (rejected only when no pixel is covered and some edge is
+// negative at all of them) and writes its quads in its order (rows bottom-up, then left-right).
+template <int N>
+__attribute__((always_inline)) inline Quad* window_block(Quad* q, const WindowEdges<N>& w, uint64_t covered,
                                                          uint64_t quads, uint64_t block, int32_t ox, int32_t oy,
                                                          BlockCounts& counts) {
-    bool outside = false;
-    for (int i = 0; i < N; ++i) outside |= (inside[i] & block) == 0;
-    if (outside) {
+    if ((covered & block) == 0 && block_outside(w, block)) {
         ++counts.rejected;
         return q;
     }
@@ -520,11 +536,9 @@ template <int N>
 void raster_window(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, int32_t y1, WindowMasksFn<N> masks,
                    std::vector<Quad>& out, RasterStats& stats) {
     const int32_t wx = x0 & ~1, wy = y0 & ~1;
-    uint64_t inside[N];
-    masks(window_edges<N>(p, wx, wy, y1 - wy), inside);
+    const WindowEdges<N> w = window_edges<N>(p, wx, wy, y1 - wy);
     const uint64_t present = window_rect(x0 - wx, y0 - wy, x1 - wx, y1 - wy);
-    uint64_t covered = present;
-    for (int i = 0; i < N; ++i) covered &= inside[i];
+    const uint64_t covered = present & masks(w);
     const uint64_t quads = window_quads(covered);
     const size_t first = out.size();
     out.resize(first + size_t(__builtin_popcountll(quads)));
@@ -536,7 +550,7 @@ void raster_window(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, 
     const uint64_t parts[4] = {low & left, low & ~left, ~low & left, ~low & ~left};
     BlockCounts counts;
     for (const uint64_t part : parts)
-        if (const uint64_t block = present & part) q = window_block<N>(q, inside, covered, quads, block, wx, wy, counts);
+        if (const uint64_t block = present & part) q = window_block<N>(q, w, covered, quads, block, wx, wy, counts);
     stats.blocks_rejected += counts.rejected, stats.blocks_accepted += counts.accepted;
     stats.blocks_partial += counts.partial;
     stats.quads += uint64_t(q - (out.data() + first));
@@ -558,17 +572,15 @@ void raster_masked_blocks(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32
     for (int32_t by = y0 & ~(kBlockSize - 1); by < y1; by += kBlockSize) {
         const int r0 = std::max(by, y0) - by, r1 = std::min(by + kBlockSize, y1) - by;
         for (int32_t bx = x0 & ~(kBlockSize - 1); bx < x1; bx += kBlockSize) {
-            uint64_t inside[N];
-            masks(window_edges<N>(p, bx, by, r1), inside);
+            const WindowEdges<N> w = window_edges<N>(p, bx, by, r1);
             const uint64_t block = window_rect(std::max(bx, x0) - bx, r0, std::min(bx + kBlockSize, x1) - bx, r1);
-            uint64_t covered = block;
-            for (int i = 0; i < N; ++i) covered &= inside[i];
+            const uint64_t covered = block & masks(w);
             if (covered == ~uint64_t(0)) {   // whole and unclipped: 16 full quads
                 ++counts.accepted;
                 q = put_block(q, bx, by, 0x0001000100010001ull);
                 continue;
             }
-            q = window_block<N>(q, inside, covered, window_quads(covered), block, bx, by, counts);
+            q = window_block<N>(q, w, covered, window_quads(covered), block, bx, by, counts);
         }
     }
     stats.blocks_rejected += counts.rejected, stats.blocks_accepted += counts.accepted;
