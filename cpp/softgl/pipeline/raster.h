@@ -5,8 +5,8 @@
 // no per-sample test (docs/architecture.md, "Fast paths"), and only the remaining blocks test every sample. Output is 2x2
 // quads (the unit the fragment shader runs on, so derivatives have neighbours) with a per-pixel
 // sample mask. Results are exact (integer edge functions), so block-level accept/reject never changes
-// coverage, only speed. A part of at most 8x8 pixels with one sample per pixel (a small triangle in
-// a tile) skips the walk: its edges' signs at all 64 pixel centres at once give the same blocks,
+// coverage, only speed. With one sample per pixel a small part (a small triangle in a tile) reads
+// its blocks from masks instead: its edges' signs at 64 pixel centres at once give the same blocks,
 // statistics and quads (RasterWalk).
 #pragma once
 #include <cstdint>
@@ -58,10 +58,11 @@ struct RasterStats {
 
 inline constexpr int kBlockSize = 8;
 
-// How rasterize_at walks a primitive. Any: one sample per pixel and a part of at most 8x8 pixels
-// from an even pixel (most pairs of a small triangle and a tile) take the small window (every
-// edge's sign at the window's 64 pixel centres at once, int32 lanes), the rest the block walk.
-// Blocks: always the block walk (the reference the small window is tested against).
+// How rasterize_at walks a primitive. Any: with one sample per pixel and every edge's |a| + |b|
+// below 2^19, a part within the 8x8 pixels from an even pixel (most pairs of a small triangle and
+// a tile) is one small window (every edge's sign at its 64 pixel centres at once, int32 lanes), a
+// part of at most 16 blocks walks its blocks as such windows ("masked blocks"); the rest takes the
+// block walk. Blocks: always the block walk (the reference the others are tested against).
 enum class RasterWalk : uint8_t { Any, Blocks };
 
 // Appends to `out` the quads of `prim` inside `tile` (intersected with the primitive's bounding
