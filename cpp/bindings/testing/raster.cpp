@@ -11,10 +11,11 @@ using softgl::bindings::Array;
 namespace {
 
 // rasterize_at one instruction-set level: edges (n, 3) int64 rows (a, b, c) (n = 2, 3 or 4), bbox
-// and tile (x0, y0, x1, y1) in pixels. Returns (quads (m, 3) uint64 rows (x, y, coverage),
-// (blocks_rejected, blocks_accepted, blocks_partial, quads)).
+// and tile (x0, y0, x1, y1) in pixels; blocks_only: always the block walk (RasterWalk::Blocks).
+// Returns (quads (m, 3) uint64 rows (x, y, coverage), (blocks_rejected, blocks_accepted,
+// blocks_partial, quads)).
 auto rasterize_edges(int level, Array<int64_t> edges, std::array<int32_t, 4> bbox, std::array<int32_t, 4> tile,
-                     int samples) {
+                     int samples, bool blocks_only) {
     if (edges.ndim() != 2 || edges.shape(1) != 3 || edges.shape(0) < 2 || edges.shape(0) > 4)
         throw py::value_error("edges (2, 3 or 4, 3)");
     PrimitiveSetup p{};
@@ -23,7 +24,8 @@ auto rasterize_edges(int level, Array<int64_t> edges, std::array<int32_t, 4> bbo
     p.x0 = bbox[0], p.y0 = bbox[1], p.x1 = bbox[2], p.y1 = bbox[3];
     std::vector<Quad> quads;
     RasterStats stats;
-    rasterize_at(SimdLevel(level), p, {tile[0], tile[1], tile[2], tile[3]}, sample_pattern(samples), quads, stats);
+    rasterize_at(SimdLevel(level), p, {tile[0], tile[1], tile[2], tile[3]}, sample_pattern(samples), quads, stats,
+                 blocks_only ? RasterWalk::Blocks : RasterWalk::Any);
     py::array_t<uint64_t> out({py::ssize_t(quads.size()), py::ssize_t(3)});
     for (size_t i = 0; i < quads.size(); ++i) {
         *out.mutable_data(i, 0) = uint64_t(int64_t(quads[i].x));
@@ -37,5 +39,6 @@ auto rasterize_edges(int level, Array<int64_t> edges, std::array<int32_t, 4> bbo
 }  // namespace
 
 void bind_testing_raster(py::module_& t) {
-    t.def("rasterize_edges", &rasterize_edges);
+    t.def("rasterize_edges", &rasterize_edges, py::arg("level"), py::arg("edges"), py::arg("bbox"), py::arg("tile"),
+          py::arg("samples"), py::arg("blocks_only") = false);
 }

@@ -369,6 +369,226 @@ void raster_edges(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, i
     out.resize(first + size_t(q - begin));
 }
 
+// ---- Small windows (one sample per pixel) ----
+// Most (primitive, tile) pairs of a mesh of small triangles are a few pixels. When the part to
+// rasterize fits in the 8x8 pixels from (wx, wy) = (x0 & ~1, y0 & ~1) (even, so quads start on
+// them), each edge's sign at the 64 pixel centres is found in one pass, and the blocks, their
+// statistics and the quads follow from those masks with no block walk: the same quads, order and
+// statistics as raster_edges. With one sample per pixel its block tests are tests of pixels: an
+// edge's extremes over a clipped block's sample rectangle are at the centres of its corner pixels,
+// so a block is rejected when some edge is negative at every one of its pixels and accepted when
+// every pixel is inside.
+//
+// Edge values in int32: at pixel (wx + k, wy + r) an edge is E0 + k * 256a + r * 256b, E0 its exact
+// int64 value at the centre of (wx, wy). When |a| + |b| < 2^19 the steps add less than 2^30 in
+// magnitude over the window (and its next row), so E0 clamped to [-2^30, 2^30] keeps every pixel's
+// sign and no sum reaches 2^31.
+constexpr int32_t kWindow = 8;
+constexpr int64_t kWindowEdgeStepMax = int64_t(1) << 19;   // |a| + |b| below this
+constexpr int64_t kWindowClamp = int64_t(1) << 30;
+
+template <int N>
+struct WindowEdges {
+    int32_t e0[N], dx[N], dy[N];   // each edge at the centre of (wx, wy) (clamped), its steps per pixel
+    int rows;                      // rows [0, rows) of the window are needed (1..8)
+};
+// Bit 8*r + k set when every edge is >= 0 at the centre of pixel (wx + k, wy + r), for the rows
+// [0, rows) (other bits unspecified): the edges' values ORed, the sign of the OR.
+template <int N>
+using WindowMasksFn = uint64_t (*)(const WindowEdges<N>& w);
+
+template <int N>
+uint64_t window_masks_scalar(const WindowEdges<N>& w) {
+    uint64_t m = 0;
+    for (int r = 0; r < w.rows; ++r)
+        for (int k = 0; k < kWindow; ++k) {
+            bool in = true;
+            for (int i = 0; i < N; ++i) in &= w.e0[i] + k * w.dx[i] + r * w.dy[i] >= 0;
+            m |= uint64_t(in) << (kWindow * r + k);
+        }
+    return m;
+}
+
+#if defined(SOFTGL_HAVE_SIMD_RASTER)
+// A pixel row of 8 int32 lanes per step; the sign bits of the edges' OR are the outside pixels.
+template <int N>
+__attribute__((target("avx2"))) uint64_t window_masks_avx2(const WindowEdges<N>& w) {
+    const __m256i k = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    __m256i v[N], step[N];
+    for (int i = 0; i < N; ++i) {
+        v[i] = _mm256_add_epi32(_mm256_set1_epi32(w.e0[i]), _mm256_mullo_epi32(k, _mm256_set1_epi32(w.dx[i])));
+        step[i] = _mm256_set1_epi32(w.dy[i]);
+    }
+    uint64_t outside = 0;
+    for (int r = 0; r < w.rows; ++r) {
+        __m256i o = v[0];
+        for (int i = 1; i < N; ++i) o = _mm256_or_si256(o, v[i]);
+        outside |= uint64_t(uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(o)))) << (kWindow * r);
+        for (int i = 0; i < N; ++i) v[i] = _mm256_add_epi32(v[i], step[i]);
+    }
+    return ~outside;
+}
+
+// Two pixel rows of 16 int32 lanes per step, the edges' OR compared into a mask.
+template <int N>
+__attribute__((target("avx512f"))) uint64_t window_masks_avx512(const WindowEdges<N>& w) {
+    const __m512i k = _mm512_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7, 0, 1, 2, 3, 4, 5, 6, 7);
+    const __m512i r = _mm512_setr_epi32(0, 0, 0, 0, 0, 0, 0, 0, 1, 1, 1, 1, 1, 1, 1, 1);
+    const __m512i zero = _mm512_setzero_si512();
+    __m512i v[N], step[N];
+    for (int i = 0; i < N; ++i) {
+        v[i] = _mm512_add_epi32(_mm512_set1_epi32(w.e0[i]), _mm512_add_epi32(_mm512_mullo_epi32(k, _mm512_set1_epi32(w.dx[i])),
+                                                                             _mm512_mullo_epi32(r, _mm512_set1_epi32(w.dy[i]))));
+        step[i] = _mm512_set1_epi32(2 * w.dy[i]);
+    }
+    uint64_t m = 0;
+    for (int j = 0; 2 * j < w.rows; ++j) {
+        __m512i o = v[0];
+        for (int i = 1; i < N; ++i) o = _mm512_or_si512(o, v[i]);
+        m |= uint64_t(_mm512_cmpge_epi32_mask(o, zero)) << (2 * kWindow * j);
+        for (int i = 0; i < N; ++i) v[i] = _mm512_add_epi32(v[i], step[i]);
+    }
+    return m;
+}
+#endif
+
+// Whether every edge's steps fit the int32 windows (|a| + |b| < 2^19).
+inline bool small_steps(const PrimitiveSetup& p) {
+    bool small = true;
+    for (int i = 0; i < p.edge_count; ++i)
+        small &= (p.a[i] < 0 ? -p.a[i] : p.a[i]) + (p.b[i] < 0 ? -p.b[i] : p.b[i]) < kWindowEdgeStepMax;
+    return small;
+}
+
+// The edges of the window whose pixel (0, 0) is (ox, oy), for its rows [0, rows).
+template <int N>
+__attribute__((always_inline)) inline WindowEdges<N> window_edges(const PrimitiveSetup& p, int32_t ox, int32_t oy,
+                                                                  int rows) {
+    WindowEdges<N> w;
+    const int64_t X = int64_t(ox) * kSubPixel + kSubPixel / 2, Y = int64_t(oy) * kSubPixel + kSubPixel / 2;
+    for (int i = 0; i < N; ++i) {
+        const int64_t e = p.a[i] * X + p.b[i] * Y + p.c[i];
+        w.e0[i] = int32_t(std::min(std::max(e, -kWindowClamp), kWindowClamp));
+        w.dx[i] = int32_t(p.a[i] * kSubPixel);
+        w.dy[i] = int32_t(p.b[i] * kSubPixel);
+    }
+    w.rows = rows;
+    return w;
+}
+
+// Pixels [k0, k1) x [r0, r1) of a window (bit 8*r + k).
+inline uint64_t window_rect(int k0, int r0, int k1, int r1) {
+    const uint64_t cols = ((uint64_t(1) << k1) - (uint64_t(1) << k0)) * 0x0101010101010101ull;
+    return cols & (r1 == kWindow ? ~uint64_t(0) : (uint64_t(1) << (kWindow * r1)) - 1) &
+           ~((uint64_t(1) << (kWindow * r0)) - 1);
+}
+
+// The quads with a covered pixel: bit 16*p + 2*k for rows 2p, 2p + 1 and columns 2k, 2k + 1.
+inline uint64_t window_quads(uint64_t covered) {
+    const uint64_t pairs = (covered | covered >> kWindow) & 0x00FF00FF00FF00FFull;
+    return (pairs | pairs >> 1) & 0x0055005500550055ull;
+}
+
+struct BlockCounts {
+    uint64_t rejected = 0, accepted = 0, partial = 0;
+};
+
+// Whether some edge is negative at every pixel centre of `block` (not empty): at its largest there,
+// a corner of the block's rectangle of pixels (int32: within the window's bounds).
+template <int N>
+inline bool block_outside(const WindowEdges<N>& w, uint64_t block) {
+    uint64_t cols = block | block >> 32;
+    cols |= cols >> 16;
+    cols = (cols | cols >> 8) & 0xFF;
+    const int32_t k0 = __builtin_ctzll(cols), k1 = 31 - __builtin_clz(uint32_t(cols));
+    const int32_t r0 = __builtin_ctzll(block) >> 3, r1 = (63 - __builtin_clzll(block)) >> 3;
+    bool outside = false;
+    for (int i = 0; i < N; ++i)
+        outside |= w.e0[i] + std::max(k0 * w.dx[i], k1 * w.dx[i]) + std::max(r0 * w.dy[i], r1 * w.dy[i]) < 0;
+    return outside;
+}
+
+// One block of a window w whose pixel (0, 0) is (ox, oy): `block` is the block's pixels in the
+// clipped rectangle (not empty), covered its pixels inside every edge, quads window_quads(covered).
+// Counts the block as raster_edges does (rejected only when no pixel is covered and some edge is
+// negative at all of them) and writes its quads in its order (rows bottom-up, then left-right).
+template <int N>
+__attribute__((always_inline)) inline Quad* window_block(Quad* q, const WindowEdges<N>& w, uint64_t covered,
+                                                         uint64_t quads, uint64_t block, int32_t ox, int32_t oy,
+                                                         BlockCounts& counts) {
+    if ((covered & block) == 0 && block_outside(w, block)) {
+        ++counts.rejected;
+        return q;
+    }
+    const bool whole = (covered & block) == block;
+    counts.accepted += whole;
+    counts.partial += !whole;
+    // Quads never straddle blocks (both start on even pixels): the block's quads are its bits.
+    for (uint64_t rest = quads & window_quads(block); rest; rest &= rest - 1) {
+        const int sh = __builtin_ctzll(rest);
+        put(q++, ox + (sh & (kWindow - 1)), oy + (sh >> 3),
+            spread_quad_bits((covered >> sh & 3) | (covered >> (sh + kWindow) & 3) << 2));
+    }
+    return q;
+}
+
+template <int N>
+void raster_window(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, int32_t y1, WindowMasksFn<N> masks,
+                   std::vector<Quad>& out, RasterStats& stats) {
+    const int32_t wx = x0 & ~1, wy = y0 & ~1;
+    const WindowEdges<N> w = window_edges<N>(p, wx, wy, y1 - wy);
+    const uint64_t present = window_rect(x0 - wx, y0 - wy, x1 - wx, y1 - wy);
+    const uint64_t covered = present & masks(w);
+    const uint64_t quads = window_quads(covered);
+    const size_t first = out.size();
+    out.resize(first + size_t(__builtin_popcountll(quads)));
+    Quad* q = out.data() + first;
+    // The window's columns [0, kx) lie in the block at wx & ~7, the others in the next block;
+    // rows [0, ry) likewise. Blocks in raster_edges' order: bottom-up, then left-right.
+    const int kx = kBlockSize - (wx & (kBlockSize - 1)), ry = kBlockSize - (wy & (kBlockSize - 1));
+    const uint64_t left = window_rect(0, 0, kx, kWindow), low = window_rect(0, 0, kWindow, ry);
+    const uint64_t parts[4] = {low & left, low & ~left, ~low & left, ~low & ~left};
+    BlockCounts counts;
+    for (const uint64_t part : parts)
+        if (const uint64_t block = present & part) q = window_block<N>(q, w, covered, quads, block, wx, wy, counts);
+    stats.blocks_rejected += counts.rejected, stats.blocks_accepted += counts.accepted;
+    stats.blocks_partial += counts.partial;
+    stats.quads += uint64_t(q - (out.data() + first));
+}
+
+// A part of at most kMaskedBlocksMax blocks that is not one window: block by block in
+// raster_edges' order, each block a window (masks at its 64 pixel centres, no corner tests).
+// Larger parts keep raster_edges, whose corner tests settle most of their blocks without masks.
+constexpr int kMaskedBlocksMax = 16;
+
+template <int N>
+void raster_masked_blocks(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, int32_t y1,
+                          WindowMasksFn<N> masks, PutBlockFn put_block, std::vector<Quad>& out, RasterStats& stats) {
+    const size_t first = out.size();
+    out.resize(first + size_t((x1 - (x0 & ~1) + 1) / 2) * size_t((y1 - (y0 & ~1) + 1) / 2));
+    Quad* const begin = out.data() + first;
+    Quad* q = begin;
+    BlockCounts counts;
+    for (int32_t by = y0 & ~(kBlockSize - 1); by < y1; by += kBlockSize) {
+        const int r0 = std::max(by, y0) - by, r1 = std::min(by + kBlockSize, y1) - by;
+        for (int32_t bx = x0 & ~(kBlockSize - 1); bx < x1; bx += kBlockSize) {
+            const WindowEdges<N> w = window_edges<N>(p, bx, by, r1);
+            const uint64_t block = window_rect(std::max(bx, x0) - bx, r0, std::min(bx + kBlockSize, x1) - bx, r1);
+            const uint64_t covered = block & masks(w);
+            if (covered == ~uint64_t(0)) {   // whole and unclipped: 16 full quads
+                ++counts.accepted;
+                q = put_block(q, bx, by, 0x0001000100010001ull);
+                continue;
+            }
+            q = window_block<N>(q, w, covered, window_quads(covered), block, bx, by, counts);
+        }
+    }
+    stats.blocks_rejected += counts.rejected, stats.blocks_accepted += counts.accepted;
+    stats.blocks_partial += counts.partial;
+    stats.quads += uint64_t(q - begin);
+    out.resize(first + size_t(q - begin));
+}
+
 }  // namespace
 
 const SamplePattern& sample_pattern(int samples) {
@@ -386,17 +606,44 @@ const SamplePattern& sample_pattern(int samples) {
 }
 
 void rasterize_at(SimdLevel level, const PrimitiveSetup& prim, const TileRect& tile, const SamplePattern& pattern,
-                  std::vector<Quad>& out, RasterStats& stats) {
+                  std::vector<Quad>& out, RasterStats& stats, RasterWalk walk) {
     const int32_t x0 = std::max(prim.x0, tile.x0), y0 = std::max(prim.y0, tile.y0);
     const int32_t x1 = std::min(prim.x1, tile.x1), y1 = std::min(prim.y1, tile.y1);
     if (x0 >= x1 || y0 >= y1) return;
+    PutBlockFn block = put_block;
+#if defined(SOFTGL_HAVE_SIMD_RASTER)
+    if (level == SimdLevel::AVX512) block = put_block_avx512;
+#endif
+    if (walk == RasterWalk::Any && pattern.count == 1 && small_steps(prim)) {
+        WindowMasksFn<3> masks3 = window_masks_scalar<3>;
+        WindowMasksFn<2> masks2 = window_masks_scalar<2>;
+        WindowMasksFn<4> masks4 = window_masks_scalar<4>;
+#if defined(SOFTGL_HAVE_SIMD_RASTER)
+        if (level == SimdLevel::AVX512)
+            masks3 = window_masks_avx512<3>, masks2 = window_masks_avx512<2>, masks4 = window_masks_avx512<4>;
+        else if (level == SimdLevel::AVX2)
+            masks3 = window_masks_avx2<3>, masks2 = window_masks_avx2<2>, masks4 = window_masks_avx2<4>;
+#endif
+        if (x1 - (x0 & ~1) <= kWindow && y1 - (y0 & ~1) <= kWindow) {
+            if (prim.edge_count == 3) raster_window<3>(prim, x0, y0, x1, y1, masks3, out, stats);
+            else if (prim.edge_count == 2) raster_window<2>(prim, x0, y0, x1, y1, masks2, out, stats);
+            else raster_window<4>(prim, x0, y0, x1, y1, masks4, out, stats);
+            return;
+        }
+        const int64_t blocks = int64_t(((x1 - 1) >> 3) - (x0 >> 3) + 1) * int64_t(((y1 - 1) >> 3) - (y0 >> 3) + 1);
+        if (blocks <= kMaskedBlocksMax) {
+            if (prim.edge_count == 3) raster_masked_blocks<3>(prim, x0, y0, x1, y1, masks3, block, out, stats);
+            else if (prim.edge_count == 2) raster_masked_blocks<2>(prim, x0, y0, x1, y1, masks2, block, out, stats);
+            else raster_masked_blocks<4>(prim, x0, y0, x1, y1, masks4, block, out, stats);
+            return;
+        }
+    }
     InsideRowsFn<3> rows3 = nullptr;
     InsideRowsFn<4> rows4 = nullptr;
     InsideRowsFn<2> rows2 = nullptr;
-    PutBlockFn block = put_block;
 #if defined(SOFTGL_HAVE_SIMD_RASTER)
     if (level == SimdLevel::AVX512)
-        rows3 = inside_rows_avx512<3>, rows4 = inside_rows_avx512<4>, rows2 = inside_rows_avx512<2>, block = put_block_avx512;
+        rows3 = inside_rows_avx512<3>, rows4 = inside_rows_avx512<4>, rows2 = inside_rows_avx512<2>;
     else if (level == SimdLevel::AVX2)
         rows3 = inside_rows_avx2<3>, rows4 = inside_rows_avx2<4>, rows2 = inside_rows_avx2<2>;
 #else

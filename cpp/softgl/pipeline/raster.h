@@ -5,7 +5,9 @@
 // no per-sample test (docs/architecture.md, "Fast paths"), and only the remaining blocks test every sample. Output is 2x2
 // quads (the unit the fragment shader runs on, so derivatives have neighbours) with a per-pixel
 // sample mask. Results are exact (integer edge functions), so block-level accept/reject never changes
-// coverage, only speed.
+// coverage, only speed. With one sample per pixel a small part (a small triangle in a tile) reads
+// its blocks from masks instead: its edges' signs at 64 pixel centres at once give the same blocks,
+// statistics and quads (RasterWalk).
 #pragma once
 #include <cstdint>
 #include <vector>
@@ -56,13 +58,20 @@ struct RasterStats {
 
 inline constexpr int kBlockSize = 8;
 
+// How rasterize_at walks a primitive. Any: with one sample per pixel and every edge's |a| + |b|
+// below 2^19, a part within the 8x8 pixels from an even pixel (most pairs of a small triangle and
+// a tile) is one small window (every edge's sign at its 64 pixel centres at once, int32 lanes), a
+// part of at most 16 blocks walks its blocks as such windows ("masked blocks"); the rest takes the
+// block walk. Blocks: always the block walk (the reference the others are tested against).
+enum class RasterWalk : uint8_t { Any, Blocks };
+
 // Appends to `out` the quads of `prim` inside `tile` (intersected with the primitive's bounding
 // box), in a fixed order (blocks bottom-up then left-right, quads likewise). Quads with no covered
-// sample are not emitted. `level` picks the partial-block kernel (AVX2 / AVX-512 evaluate a block's
-// rows of edge values in int64 lanes; below AVX2 the scalar reference); every level gives the same
-// quads and stats.
+// sample are not emitted. `level` picks the kernels (AVX2 / AVX-512 evaluate a block's rows of
+// edge values in int64 lanes, a small window's rows in int32 lanes; below AVX2 the scalar
+// reference); every level and walk gives the same quads and stats.
 void rasterize_at(SimdLevel level, const PrimitiveSetup& prim, const TileRect& tile, const SamplePattern& pattern,
-                  std::vector<Quad>& out, RasterStats& stats);
+                  std::vector<Quad>& out, RasterStats& stats, RasterWalk walk = RasterWalk::Any);
 inline void rasterize(const PrimitiveSetup& prim, const TileRect& tile, const SamplePattern& pattern,
                       std::vector<Quad>& out, RasterStats& stats) {
     rasterize_at(best_simd_level(), prim, tile, pattern, out, stats);
