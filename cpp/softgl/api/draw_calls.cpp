@@ -123,7 +123,7 @@ void Context::draw_elements(GLenum mode, int32_t count, GLenum type, int64_t off
     if (offset < 0) return error(gl::INVALID_VALUE, call, "offset must not be negative");
     if (offset % size != 0) return error(gl::INVALID_OPERATION, call, "offset must be a multiple of the index size");
     if (!validate_draw_state(call)) return;
-    const std::shared_ptr<Buffer>& elements = vertex_array_->element_buffer;
+    const InUse<Buffer>& elements = vertex_array_->element_buffer;
     if (!elements) return error(gl::INVALID_OPERATION, call, "no ELEMENT_ARRAY_BUFFER is bound");
     // Nothing is read for an empty draw, so its offset is not range-checked (as the WebGL
     // conformance test draw-elements-out-of-bounds expects).
