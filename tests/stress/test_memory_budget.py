@@ -300,3 +300,75 @@ print(m["limit"], os.sysconf('SC_PHYS_PAGES') * os.sysconf('SC_PAGE_SIZE') // 2,
     v = [int(x) for x in out]
     assert v[0] == v[1]
     assert v[2] == 4 * 4 * 8    # RGBA8 + depth (antialias=False, no stencil)
+
+
+def test_a_draws_working_memory_is_charged_to_its_context():
+    # drawElements' index words and a draw's copies for a rollback (pipeline/draw_rollback.h)
+    # count against the context's budget for the call's length: over it, OUT_OF_MEMORY before
+    # any pixel is written, the picture unchanged; within it, the draw runs and gives them back.
+    out = run_child("""
+import numpy as np
+gl = softgl.Context(256, 256, antialias=False, version=2)
+vs = "#version 300 es\\nin vec2 p;\\nvoid main() { gl_Position = vec4(p, 0.0, 1.0); gl_PointSize = 1.0; }"
+fs = ("#version 300 es\\nprecision highp float;\\nuniform int n;\\nout vec4 o;\\n"
+      "void main() { float x = 0.0; for (int i = 0; i < n; i++) x += 0.25; o = vec4(x, 0.0, 0.0, 1.0); }")
+prog = softgl.program(gl, vs, fs, {"p": 0}); gl.useProgram(prog)
+gl.uniform1i(gl.getUniformLocation(prog, "n"), 2)
+b = gl.createBuffer(); gl.bindBuffer(gl.ARRAY_BUFFER, b)
+gl.bufferData(gl.ARRAY_BUFFER, np.array([-1, -1, 1, -1, -1, 1, 1, 1], np.float32), gl.STATIC_DRAW)
+gl.enableVertexAttribArray(0); gl.vertexAttribPointer(0, 2, gl.FLOAT, False, 0, 0)
+e = gl.createBuffer(); gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, e)
+gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, np.zeros(1 << 20, np.uint8), gl.STATIC_DRAW)   # 2^20 indices
+gl.clearColor(0.2, 0.2, 0.2, 1.0); gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT)
+before = gl.readPixels(0, 0, 256, 256, gl.RGBA, gl.UNSIGNED_BYTE).copy()
+in_use = gl.memory_budget()["in_use"]
+# The loop's bound is a uniform, so the draw keeps copies: 256 x 256 x (4 + 4) bytes.
+gl.set_memory_budget(in_use + 256 * 256 * 8 - 1)
+gl.drawArrays(gl.TRIANGLE_STRIP, 0, 4); e1 = gl.getError()
+same1 = bool((gl.readPixels(0, 0, 256, 256, gl.RGBA, gl.UNSIGNED_BYTE) == before).all())
+gl.set_memory_budget(in_use + (4 << 20) - 1)                         # 2^20 index words need 4 MiB
+gl.drawElements(gl.POINTS, 1 << 20, gl.UNSIGNED_BYTE, 0); e2 = gl.getError()
+same2 = bool((gl.readPixels(0, 0, 256, 256, gl.RGBA, gl.UNSIGNED_BYTE) == before).all())
+gl.set_memory_budget(in_use + (4 << 20) + 256 * 256 * 8)
+gl.drawElements(gl.POINTS, 1 << 20, gl.UNSIGNED_BYTE, 0); e3 = gl.getError()
+gl.drawArrays(gl.TRIANGLE_STRIP, 0, 4); e4 = gl.getError()
+drawn = int(gl.readPixels(128, 128, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE)[0, 0, 0])
+print(e1, int(same1), e2, int(same2), e3, e4, drawn, gl.memory_budget()["in_use"] - in_use)
+""")
+    v = [int(x) for x in out]
+    assert v == [softgl.OUT_OF_MEMORY, 1, softgl.OUT_OF_MEMORY, 1, softgl.NO_ERROR, softgl.NO_ERROR, 128, 0]
+
+
+def test_an_allocation_failure_anywhere_is_out_of_memory_naming_the_call():
+    # Under an address-space limit (RLIMIT_AS) an allocation the ledger allowed can still fail:
+    # the std::bad_alloc becomes OUT_OF_MEMORY naming the call (one mechanism for every method,
+    # cpp/bindings/arguments.h), not a bare MemoryError; the context stays usable.
+    out = run_child("""
+import resource, warnings, numpy as np
+msgs = []
+warnings.showwarning = lambda message, *a, **k: msgs.append(str(message))
+warnings.simplefilter('always')
+gl = softgl.Context(16, 16, antialias=False, version=2)
+vs = "#version 300 es\\nin vec2 p;\\nvoid main() { gl_Position = vec4(p, 0.0, 1.0); gl_PointSize = 1.0; }"
+fs = "#version 300 es\\nprecision highp float;\\nout vec4 o;\\nvoid main() { o = vec4(1.0); }"
+prog = softgl.program(gl, vs, fs, {"p": 0}); gl.useProgram(prog)
+b = gl.createBuffer(); gl.bindBuffer(gl.ARRAY_BUFFER, b)
+gl.bufferData(gl.ARRAY_BUFFER, np.zeros(2, np.float32), gl.STATIC_DRAW)
+gl.enableVertexAttribArray(0); gl.vertexAttribPointer(0, 2, gl.FLOAT, False, 0, 0)
+e = gl.createBuffer(); gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, e)
+gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, 64 << 20, gl.STATIC_DRAW)      # 2^26 zero indices
+vm = [int(l.split()[1]) * 1024 for l in open('/proc/self/status') if l.startswith('VmSize:')][0]
+resource.setrlimit(resource.RLIMIT_AS, (vm + (96 << 20), resource.RLIM_INFINITY))
+try:
+    gl.drawElements(gl.POINTS, 64 << 20, gl.UNSIGNED_BYTE, 0)          # 256 MiB of index words
+    outcome = 'returned'
+except MemoryError:
+    outcome = 'MemoryError'
+resource.setrlimit(resource.RLIMIT_AS, (resource.RLIM_INFINITY, resource.RLIM_INFINITY))
+err = gl.getError()
+gl.drawArrays(gl.POINTS, 0, 1)
+print(outcome, err, gl.getError())
+print('|'.join(msgs))
+""")
+    assert out[:3] == ["returned", str(softgl.OUT_OF_MEMORY), str(softgl.NO_ERROR)], out
+    assert "drawElements" in " ".join(out[3:]) and "bad_alloc" in " ".join(out[3:])

@@ -47,6 +47,8 @@ public:
     }
     // Puts every saved tile back (the draw stopped).
     void restore();
+    // The most the copies of a draw into `target` can take: every pixel of every attachment.
+    static uint64_t bytes_bound(RenderTarget& target);
     // Bytes copied so far (the cost of the mechanism, for docs/reliability.md).
     size_t bytes_saved() const;
 
