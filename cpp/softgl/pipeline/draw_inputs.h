@@ -41,7 +41,7 @@ struct DrawInputs {
     WorkBudget* budget = nullptr;
     // The context's memory account (core/memory_ledger.h): the draw's copies for a rollback are
     // charged to it for the draw's length. Null: the process total only.
-    std::shared_ptr<MemoryAccount> memory;
+    std::shared_ptr<MemoryAccount> memory{};
 };
 
 }  // namespace softgl
