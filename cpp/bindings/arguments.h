@@ -131,12 +131,32 @@ void convert(py::detail::make_caster<A>& caster, const std::string& method, cons
     }
 }
 
+// The one place where running out of memory becomes WebGL's error: a std::bad_alloc from any
+// Context method (one its own checks did not foresee) records OUT_OF_MEMORY naming the method
+// and returns what WebGL returns after an error (None, or the result type's empty value), instead
+// of surfacing as a bare MemoryError (docs/reliability.md, "Memory"). Calls that could be left
+// half-done catch it themselves first and restore their object.
+template <class R, class Self>
+R out_of_memory(Self& self, const std::string& method) {
+    auto& context = const_cast<std::remove_const_t<std::remove_reference_t<Self>>&>(self);
+    context.errors().record(0x0505 /* OUT_OF_MEMORY */, method.c_str(),
+                            "an allocation failed (std::bad_alloc): the machine has no memory left for this call");
+    if constexpr (std::is_void_v<R>) return;
+    else if constexpr (std::is_base_of_v<py::handle, R>) return py::none();
+    else if constexpr (std::is_default_constructible_v<R>) return R{};
+    else throw;
+}
+
 template <class R, class Self, class... A, class F, size_t... I>
 R call_converted(const F& f, Self self, const std::string& method, const std::vector<std::string>& params,
                  const Unconverted<A>&... args, std::index_sequence<I...>) {
     std::tuple<py::detail::make_caster<A>...> casters;
     (convert<A>(std::get<I>(casters), method, params[I], args.obj), ...);
-    return std::invoke(f, std::forward<Self>(self), py::detail::cast_op<A>(std::move(std::get<I>(casters)))...);
+    try {
+        return std::invoke(f, std::forward<Self>(self), py::detail::cast_op<A>(std::move(std::get<I>(casters)))...);
+    } catch (const std::bad_alloc&) {
+        return out_of_memory<R, Self>(self, method);
+    }
 }
 
 // The shape of a callable bound as a method: its self type, result and other parameters.

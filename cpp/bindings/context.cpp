@@ -185,6 +185,13 @@ void bind_state(ContextClass& cls) {
              [](Context& c) {
                  return py::make_tuple(c.work_limits().draw, c.work_limits().compile, c.work_budget().used());
              })
+        // set_memory_budget / memory_budget (python/softgl/context.py): 0 restores the default.
+        .def("_set_memory_budget", [](Context& c, uint64_t bytes) { c.memory_account().set_limit(bytes); })
+        .def("_memory_budget",
+             [](Context& c) {
+                 return py::make_tuple(c.memory_account().limit(), c.memory_account().in_use(),
+                                       softgl::memory_limit(), softgl::memory_in_use());
+             })
         .def("_attributes", [](const Context& c) { return c.attributes(); })
         .def("_present", &Context::present)
         .def("getError", webidl(&Context::get_error))

@@ -348,6 +348,21 @@ class Context(_core.Context):
         draw, compile, used = self._work_budget()
         return {"draw": draw, "compile": compile, "last_call_used": used}
 
+    def set_memory_budget(self, bytes: int | None) -> None:
+        """Sets the bytes this context's buffers, textures, renderbuffers and drawing buffer may
+        hold together (None: the default, half of the machine's memory). A call that would pass
+        it, or the process-wide limit (``softgl._core.set_memory_limit``), records OUT_OF_MEMORY
+        and changes nothing (docs/reliability.md, "Memory"). Lowering it frees nothing."""
+        if bytes is not None and (not isinstance(bytes, int) or isinstance(bytes, bool) or not 1 <= bytes < 2**64):
+            raise ValueError(f"set_memory_budget: bytes must be None or an int from 1 to 2**64 - 1, got {bytes!r}")
+        self._set_memory_budget(bytes or 0)
+
+    def memory_budget(self) -> dict:
+        """This context's memory limit and the bytes its objects hold now, and the same for the
+        whole process (all contexts)."""
+        limit, in_use, process_limit, process_in_use = self._memory_budget()
+        return {"limit": limit, "in_use": in_use, "process_limit": process_limit, "process_in_use": process_in_use}
+
     def stats(self, reset: bool = False) -> dict:
         """softgl's counters since the context was made (or last reset): what the draws did and
         what they skipped (docs/architecture.md, "Fast paths"), with seconds per stage.

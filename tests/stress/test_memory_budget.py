@@ -168,3 +168,207 @@ d = softgl._core.memory_in_use() - base
 print(a, c, d, gl.getError())
 """)
     assert [int(x) for x in out] == [40 * MiB, 1000, 1000 + 1024 * 1024 * 5, softgl.NO_ERROR]
+
+
+def rss():
+    return "[int(l.split()[1]) * 1024 for l in open('/proc/self/status') if l.startswith('VmRSS:')][0]"
+
+
+def test_delete_frees_storage_at_once_while_python_holds_the_handle():
+    # Finding 12: deleteTexture / deleteRenderbuffer / deleteBuffer with the Python handle alive
+    # freed nothing (2,077 MB held). Now each gives its bytes back to the ledger and the process
+    # (RSS) at once, the handles still usable as deleted objects.
+    out = run_child(f"""
+import numpy as np
+gl = softgl.Context(4, 4, antialias=False, version=2)
+def rss(): return {rss()}
+base, rss0 = softgl._core.memory_in_use(), rss()
+t = gl.createTexture(); gl.bindTexture(gl.TEXTURE_2D, t)
+gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA8, 4096, 4096, 0, gl.RGBA, gl.UNSIGNED_BYTE,
+              np.full(4096 * 4096 * 4, 7, np.uint8))                       # 64 MiB, touched
+r = gl.createRenderbuffer(); gl.bindRenderbuffer(gl.RENDERBUFFER, r)
+gl.renderbufferStorage(gl.RENDERBUFFER, gl.DEPTH24_STENCIL8, 4096, 2048)   # 40 MiB
+b = gl.createBuffer(); gl.bindBuffer(gl.ARRAY_BUFFER, b)
+gl.bufferData(gl.ARRAY_BUFFER, np.ones(8 << 20, np.float32), gl.STATIC_DRAW)  # 32 MiB, touched
+held, rss1 = softgl._core.memory_in_use() - base, rss()
+gl.deleteTexture(t); a = softgl._core.memory_in_use() - base
+gl.deleteRenderbuffer(r); c = softgl._core.memory_in_use() - base
+gl.deleteBuffer(b); d = softgl._core.memory_in_use() - base
+rss2 = rss()
+print(held, a, c, d, int(gl.isTexture(t)), gl.getError(), rss1 - rss0, rss2 - rss0)
+""")
+    held, a, c, d, is_tex, err, grown, left = (int(x) for x in out)
+    tex, rb, buf = 64 * MiB, 4096 * 2048 * 5, 32 * MiB
+    assert held == tex + rb + buf
+    assert (a, c, d) == (rb + buf, buf, 0)
+    assert is_tex == 0 and err == softgl.NO_ERROR
+    assert grown > 90 * MiB                 # the texture and the buffer were written: resident
+    assert left < 8 * MiB                   # and given back
+
+
+def test_an_object_attached_to_an_unbound_framebuffer_lives_until_detached():
+    # ES 3.0 §4.4.2.3: deleting detaches only from the bound framebuffers; an attachment of
+    # another framebuffer keeps the image (and its contents) until it is detached or that
+    # framebuffer is deleted. A buffer of a vertex array that is not bound likewise (§5.1.3).
+    out = run_child("""
+import numpy as np
+gl = softgl.Context(4, 4, antialias=False, version=2)
+base = softgl._core.memory_in_use()
+def used(): return softgl._core.memory_in_use() - base
+t = gl.createTexture(); gl.bindTexture(gl.TEXTURE_2D, t)
+gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA8, 256, 256, 0, gl.RGBA, gl.UNSIGNED_BYTE, None)
+fb = gl.createFramebuffer(); gl.bindFramebuffer(gl.FRAMEBUFFER, fb)
+gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, t, 0)
+gl.clearColor(0.2, 0.4, 0.6, 0.8); gl.clear(gl.COLOR_BUFFER_BIT)
+gl.bindFramebuffer(gl.FRAMEBUFFER, None)
+gl.deleteTexture(t); a = used()                           # kept: fb (unbound) holds it
+gl.bindFramebuffer(gl.FRAMEBUFFER, fb)
+px = gl.readPixels(0, 0, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE)
+status = gl.checkFramebufferStatus(gl.FRAMEBUFFER)
+gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, None, 0)
+b = used()                                                # detached: freed
+r = gl.createRenderbuffer(); gl.bindRenderbuffer(gl.RENDERBUFFER, r)
+gl.renderbufferStorage(gl.RENDERBUFFER, gl.RGBA8, 128, 128)
+gl.framebufferRenderbuffer(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.RENDERBUFFER, r)
+gl.bindFramebuffer(gl.FRAMEBUFFER, None)
+gl.deleteRenderbuffer(r); c = used()                      # kept by fb
+gl.deleteFramebuffer(fb); d = used()                      # fb gone: freed (fb's handle lives on)
+vao = gl.createVertexArray(); gl.bindVertexArray(vao)
+buf = gl.createBuffer(); gl.bindBuffer(gl.ARRAY_BUFFER, buf)
+gl.bufferData(gl.ARRAY_BUFFER, 1 << 20, gl.STATIC_DRAW)
+gl.vertexAttribPointer(0, 4, gl.FLOAT, False, 0, 0)
+gl.bindVertexArray(None)
+gl.deleteBuffer(buf); e = used()                          # kept by vao
+gl.bindVertexArray(vao)
+gl.deleteBuffer(buf); f = used()                          # already deleted: nothing more
+gl.bindVertexArray(None); gl.deleteVertexArray(vao); g = used()
+print(a, *px.ravel(), status, b, c, d, e, f, g, gl.getError())
+""")
+    v = [int(x) for x in out]
+    assert v[0] == 256 * 256 * 4
+    assert v[1:5] == [51, 102, 153, 204]
+    assert v[5] == softgl.FRAMEBUFFER_COMPLETE
+    assert v[6:] == [0, 128 * 128 * 4, 0, 1 << 20, 1 << 20, 0, softgl.NO_ERROR]
+
+
+def test_each_context_has_its_own_budget_within_the_process_total():
+    # A context's budget (gl.set_memory_budget) bounds its own objects; other contexts are not
+    # charged for them; the process-wide limit bounds them all. Over either: OUT_OF_MEMORY
+    # naming the call, the size and which limit, nothing allocated.
+    out = run_child("""
+import warnings
+gl = softgl.Context(4, 4, antialias=False, version=2)
+other = softgl.Context(4, 4, antialias=False, version=2)
+messages = []
+warnings.showwarning = lambda message, *a, **k: messages.append(str(message))
+warnings.simplefilter('always')
+gl.set_memory_budget(gl.memory_budget()["in_use"] + (50 << 20))
+bufs = []
+for ctx in (gl, gl, other, other):
+    b = ctx.createBuffer(); ctx.bindBuffer(ctx.ARRAY_BUFFER, b); bufs.append(b)
+    ctx.bufferData(ctx.ARRAY_BUFFER, 30 << 20, ctx.STATIC_DRAW)
+    print(ctx.getError(), end=' ')
+t = gl.createTexture(); gl.bindTexture(gl.TEXTURE_2D, t)
+gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA8, 2048, 4096, 0, gl.RGBA, gl.UNSIGNED_BYTE, None)   # 32 MiB: over 50
+print(gl.getError(), end=' ')
+m = gl.memory_budget()
+print(m["in_use"] - 128, other.memory_budget()["in_use"] - 128, m["process_in_use"] - 256, end=' ')
+softgl._core.set_memory_limit(m["process_in_use"] + (10 << 20))
+gl.set_memory_budget(None)
+other.bufferData(other.ARRAY_BUFFER, 40 << 20, other.STATIC_DRAW)   # over the process limit
+print(other.getError(), vm_hwm())
+print('|'.join(messages))
+""")
+    first, msgs = out[:10], " ".join(out[10:])
+    v = [int(x) for x in first]
+    assert v[:5] == [softgl.NO_ERROR, softgl.OUT_OF_MEMORY, softgl.NO_ERROR, softgl.NO_ERROR, softgl.OUT_OF_MEMORY]
+    assert v[5:8] == [30 * MiB, 60 * MiB, 90 * MiB]
+    assert v[8] == softgl.OUT_OF_MEMORY
+    assert v[9] < 90 * MiB + 100 * MiB      # the refused 30 and 40 MiB were never allocated
+    assert "bufferData" in msgs and "this context's memory" in msgs and "31457280" in msgs
+    assert "texImage2D" in msgs and "33554432" in msgs
+    assert "softgl's (all contexts') memory" in msgs
+
+
+def test_default_context_budget_comes_from_the_machines_memory():
+    out = run_child("""
+import os
+gl = softgl.Context(4, 4, antialias=False)
+m = gl.memory_budget()
+print(m["limit"], os.sysconf('SC_PHYS_PAGES') * os.sysconf('SC_PAGE_SIZE') // 2, m["in_use"], 4 * 4 * 9)
+""")
+    v = [int(x) for x in out]
+    assert v[0] == v[1]
+    assert v[2] == 4 * 4 * 8    # RGBA8 + depth (antialias=False, no stencil)
+
+
+def test_a_draws_working_memory_is_charged_to_its_context():
+    # drawElements' index words and a draw's copies for a rollback (pipeline/draw_rollback.h)
+    # count against the context's budget for the call's length: over it, OUT_OF_MEMORY before
+    # any pixel is written, the picture unchanged; within it, the draw runs and gives them back.
+    out = run_child("""
+import numpy as np
+gl = softgl.Context(256, 256, antialias=False, version=2)
+vs = "#version 300 es\\nin vec2 p;\\nvoid main() { gl_Position = vec4(p, 0.0, 1.0); gl_PointSize = 1.0; }"
+fs = ("#version 300 es\\nprecision highp float;\\nuniform int n;\\nout vec4 o;\\n"
+      "void main() { float x = 0.0; for (int i = 0; i < n; i++) x += 0.25; o = vec4(x, 0.0, 0.0, 1.0); }")
+prog = softgl.program(gl, vs, fs, {"p": 0}); gl.useProgram(prog)
+gl.uniform1i(gl.getUniformLocation(prog, "n"), 2)
+b = gl.createBuffer(); gl.bindBuffer(gl.ARRAY_BUFFER, b)
+gl.bufferData(gl.ARRAY_BUFFER, np.array([-1, -1, 1, -1, -1, 1, 1, 1], np.float32), gl.STATIC_DRAW)
+gl.enableVertexAttribArray(0); gl.vertexAttribPointer(0, 2, gl.FLOAT, False, 0, 0)
+e = gl.createBuffer(); gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, e)
+gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, np.zeros(1 << 20, np.uint8), gl.STATIC_DRAW)   # 2^20 indices
+gl.clearColor(0.2, 0.2, 0.2, 1.0); gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT)
+before = gl.readPixels(0, 0, 256, 256, gl.RGBA, gl.UNSIGNED_BYTE).copy()
+in_use = gl.memory_budget()["in_use"]
+# The loop's bound is a uniform, so the draw keeps copies: 256 x 256 x (4 + 4) bytes.
+gl.set_memory_budget(in_use + 256 * 256 * 8 - 1)
+gl.drawArrays(gl.TRIANGLE_STRIP, 0, 4); e1 = gl.getError()
+same1 = bool((gl.readPixels(0, 0, 256, 256, gl.RGBA, gl.UNSIGNED_BYTE) == before).all())
+gl.set_memory_budget(in_use + (4 << 20) - 1)                         # 2^20 index words need 4 MiB
+gl.drawElements(gl.POINTS, 1 << 20, gl.UNSIGNED_BYTE, 0); e2 = gl.getError()
+same2 = bool((gl.readPixels(0, 0, 256, 256, gl.RGBA, gl.UNSIGNED_BYTE) == before).all())
+gl.set_memory_budget(in_use + (4 << 20) + 256 * 256 * 8)
+gl.drawElements(gl.POINTS, 1 << 20, gl.UNSIGNED_BYTE, 0); e3 = gl.getError()
+gl.drawArrays(gl.TRIANGLE_STRIP, 0, 4); e4 = gl.getError()
+drawn = int(gl.readPixels(128, 128, 1, 1, gl.RGBA, gl.UNSIGNED_BYTE)[0, 0, 0])
+print(e1, int(same1), e2, int(same2), e3, e4, drawn, gl.memory_budget()["in_use"] - in_use)
+""")
+    v = [int(x) for x in out]
+    assert v == [softgl.OUT_OF_MEMORY, 1, softgl.OUT_OF_MEMORY, 1, softgl.NO_ERROR, softgl.NO_ERROR, 128, 0]
+
+
+def test_an_allocation_failure_anywhere_is_out_of_memory_naming_the_call():
+    # Under an address-space limit (RLIMIT_AS) an allocation the ledger allowed can still fail:
+    # the std::bad_alloc becomes OUT_OF_MEMORY naming the call (one mechanism for every method,
+    # cpp/bindings/arguments.h), not a bare MemoryError; the context stays usable.
+    out = run_child("""
+import resource, warnings, numpy as np
+msgs = []
+warnings.showwarning = lambda message, *a, **k: msgs.append(str(message))
+warnings.simplefilter('always')
+gl = softgl.Context(16, 16, antialias=False, version=2)
+vs = "#version 300 es\\nin vec2 p;\\nvoid main() { gl_Position = vec4(p, 0.0, 1.0); gl_PointSize = 1.0; }"
+fs = "#version 300 es\\nprecision highp float;\\nout vec4 o;\\nvoid main() { o = vec4(1.0); }"
+prog = softgl.program(gl, vs, fs, {"p": 0}); gl.useProgram(prog)
+b = gl.createBuffer(); gl.bindBuffer(gl.ARRAY_BUFFER, b)
+gl.bufferData(gl.ARRAY_BUFFER, np.zeros(2, np.float32), gl.STATIC_DRAW)
+gl.enableVertexAttribArray(0); gl.vertexAttribPointer(0, 2, gl.FLOAT, False, 0, 0)
+e = gl.createBuffer(); gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, e)
+gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, 64 << 20, gl.STATIC_DRAW)      # 2^26 zero indices
+vm = [int(l.split()[1]) * 1024 for l in open('/proc/self/status') if l.startswith('VmSize:')][0]
+resource.setrlimit(resource.RLIMIT_AS, (vm + (96 << 20), resource.RLIM_INFINITY))
+try:
+    gl.drawElements(gl.POINTS, 64 << 20, gl.UNSIGNED_BYTE, 0)          # 256 MiB of index words
+    outcome = 'returned'
+except MemoryError:
+    outcome = 'MemoryError'
+resource.setrlimit(resource.RLIMIT_AS, (resource.RLIM_INFINITY, resource.RLIM_INFINITY))
+err = gl.getError()
+gl.drawArrays(gl.POINTS, 0, 1)
+print(outcome, err, gl.getError())
+print('|'.join(msgs))
+""")
+    assert out[:3] == ["returned", str(softgl.OUT_OF_MEMORY), str(softgl.NO_ERROR)], out
+    assert "drawElements" in " ".join(out[3:]) and "bad_alloc" in " ".join(out[3:])

@@ -543,3 +543,45 @@ def test_ctrl_c_during_ordinary_draws_never_leaves_a_half_drawn_picture(threads)
     assert r["rollbacks"] == 0, r
     assert r["draws_counted"] >= r["draws"] > 0, r
     assert r["values"] == [r["draws_counted"] % 256], r
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_a_stopped_draw_leaves_no_blend_lab_records(threads):
+    """The blend lab's records (A-buffer fragments, introspection events) of a stopped draw go
+    with its pixels: a draw that runs out of budget adds none, and the next draw records as if
+    the stopped one never ran."""
+    import softgl
+    gl = softgl.Context(64, 64, threads=threads, antialias=False)
+    exact = gl.getExtension("SOFTGL_exact_transparency")
+    intro = gl.getExtension("SOFTGL_introspection")
+    gl.enable(exact.EXACT_TRANSPARENCY_SOFTGL)
+    gl.enable(intro.INTROSPECTION_SOFTGL)
+    gl.enable(gl.BLEND)
+    gl.blendFunc(gl.SRC_ALPHA, gl.ONE_MINUS_SRC_ALPHA)
+    vs = "#version 300 es\nin vec2 p;\nvoid main() { gl_Position = vec4(p, 0.0, 1.0); }"
+    plain = softgl.program(gl, vs, _fragment_shader("x = 0.5;"), {"p": 0})
+    # A loop of n iterations: under the small budget below some tiles finish (and record) first.
+    endless = softgl.program(gl, vs, _fragment_shader(
+        "x = gl_FragCoord.x * 1e-9; for (int i = 0; i < n; i++) x += 0.001;"), {"p": 0})
+    buf = gl.createBuffer()
+    gl.bindBuffer(gl.ARRAY_BUFFER, buf)
+    gl.bufferData(gl.ARRAY_BUFFER, np.array([-1, -1, 1, -1, -1, 1, 1, 1], np.float32), gl.STATIC_DRAW)
+    gl.enableVertexAttribArray(0)
+    gl.vertexAttribPointer(0, 2, gl.FLOAT, False, 0, 0)
+    gl.useProgram(plain)
+    gl.drawArrays(gl.TRIANGLE_STRIP, 0, 4)
+    assert gl.getError() == 0
+    fragments, events = exact.memory()["fragments"], gl.fragments(5, 5)
+    assert fragments == 64 * 64 and len(events) == 1
+    gl.useProgram(endless)
+    gl.uniform1i(gl.getUniformLocation(endless, "n"), 1000)
+    gl.set_work_budget(draw=1 << 22)
+    with pytest.warns(softgl.GLWarning, match="drawArrays: stopped"):
+        gl.drawArrays(gl.TRIANGLE_STRIP, 0, 4)
+    assert gl.getError() == gl.OUT_OF_MEMORY
+    assert exact.memory()["fragments"] == fragments        # before: the finished tiles' fragments were kept
+    assert gl.fragments(5, 5) == events
+    gl.useProgram(plain)
+    gl.drawArrays(gl.TRIANGLE_STRIP, 0, 4)
+    after = gl.fragments(5, 5)
+    assert len(after) == 2 and after[1]["draw"] == events[0]["draw"] + 1, after

@@ -25,6 +25,9 @@ public:
     FragmentSink* sink_for_draw();
     // After the draw: reports a memory limit that the draw went over (OUT_OF_MEMORY).
     void end_draw();
+    // After a draw that stopped part-way: its records go, as its pixels did (pipeline/draw_rollback.h),
+    // and the next draw takes its number.
+    void abort_draw();
     void on_clear(Rect region, uint32_t mask, const DefaultFramebuffer& fb);
     void on_present(const DefaultFramebuffer& fb);
 
@@ -63,6 +66,7 @@ private:
     bool capture_ = false;           // the current draw's blended samples go to the A-buffer
     bool log_draw_ = false;          // the current draw is logged for introspection
     uint32_t capture_draw_ = 0;      // the current draw in the A-buffer's table
+    bool began_ = false;             // begin_draw marked the records (abort_draw rolls back to the mark)
     bool abuffer_overflow_reported_ = false, log_overflow_reported_ = false;
 };
 

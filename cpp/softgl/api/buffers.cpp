@@ -32,7 +32,7 @@ bool Context::check_object(const char* call, const Object* object) const {
     return true;
 }
 
-std::shared_ptr<Buffer>* Context::buffer_binding(GLenum target) {
+InUse<Buffer>* Context::buffer_binding(GLenum target) {
     switch (target) {
         case gl::ARRAY_BUFFER: return &array_buffer_;
         case gl::ELEMENT_ARRAY_BUFFER: return &vertex_array_->element_buffer;
@@ -51,7 +51,7 @@ std::shared_ptr<Buffer>* Context::buffer_binding(GLenum target) {
 }
 
 Buffer* Context::bound_buffer(const char* call, GLenum target) {
-    std::shared_ptr<Buffer>* slot = buffer_binding(target);
+    InUse<Buffer>* slot = buffer_binding(target);
     if (!slot) {
         error(gl::INVALID_ENUM, call, enum_name(target) + " is not a buffer target here");
         return nullptr;
@@ -71,7 +71,7 @@ std::shared_ptr<Buffer> Context::create_buffer() {
 
 void Context::bind_buffer(GLenum target, const std::shared_ptr<Buffer>& buffer) {
     const char* call = "bindBuffer";
-    std::shared_ptr<Buffer>* slot = buffer_binding(target);
+    InUse<Buffer>* slot = buffer_binding(target);
     if (!slot) return error(gl::INVALID_ENUM, call, enum_name(target) + " is not a buffer target here");
     if (!check_object(call, buffer.get())) return;
     if (buffer) {
@@ -94,13 +94,14 @@ void Context::delete_buffer(const std::shared_ptr<Buffer>& buffer) {
     if (buffer->owner != identity())
         return error(gl::INVALID_OPERATION, "deleteBuffer", "the object belongs to another context");
     if (buffer->deleted) return;
-    buffer->deleted = true;
     // ES 3.0 §5.1.2: deleting unbinds it from this context's bind points and from the attribute
-    // pointers of the currently bound vertex array only.
+    // pointers of the currently bound vertex array only; its data goes at once unless another
+    // vertex array still uses it (then when the last one lets go: Object::mark_deleted).
+    buffer->mark_deleted();
     for (auto* slot : {&array_buffer_, &copy_read_buffer_, &copy_write_buffer_, &pixel_pack_buffer_,
-                       &pixel_unpack_buffer_, &uniform_buffer_, &transform_feedback_buffer_,
-                       &vertex_array_->element_buffer})
+                       &pixel_unpack_buffer_, &uniform_buffer_, &transform_feedback_buffer_})
         if (*slot == buffer) slot->reset();
+    if (vertex_array_->element_buffer == buffer) vertex_array_->element_buffer.reset();
     for (auto& attrib : vertex_array_->attribs)
         if (attrib.buffer == buffer) attrib.buffer.reset();
 }
@@ -117,9 +118,9 @@ void Context::buffer_data_size(GLenum target, int64_t size, GLenum usage) {
     Buffer* buffer = bound_buffer(call, target);
     if (!buffer) return;
     // The limit bounds all objects together (core/memory_ledger.h), not this call alone.
-    MemoryReservation reservation;
+    MemoryReservation reservation(memory_account_);
     if (!reservation.reserve(uint64_t(size)))
-        return error(gl::OUT_OF_MEMORY, call, "a buffer of " + std::to_string(size) + " bytes " + over_memory_limit(uint64_t(size)));
+        return error(gl::OUT_OF_MEMORY, call, "a buffer of " + std::to_string(size) + " bytes " + reservation.over_limit(uint64_t(size)));
     std::vector<uint8_t> data;
     try {
         data.assign(size_t(size), 0);   // WebGL: a buffer created with a size reads as zeros
@@ -138,9 +139,9 @@ void Context::buffer_data(GLenum target, const uint8_t* data, int64_t size, GLen
     if (!data) return error(gl::INVALID_VALUE, call, "data is null");
     Buffer* buffer = bound_buffer(call, target);
     if (!buffer) return;
-    MemoryReservation reservation;
+    MemoryReservation reservation(memory_account_);
     if (!reservation.reserve(uint64_t(size)))
-        return error(gl::OUT_OF_MEMORY, call, "a buffer of " + std::to_string(size) + " bytes " + over_memory_limit(uint64_t(size)));
+        return error(gl::OUT_OF_MEMORY, call, "a buffer of " + std::to_string(size) + " bytes " + reservation.over_limit(uint64_t(size)));
     try {
         buffer->data.assign(data, data + size);
     } catch (const std::bad_alloc&) {

@@ -87,7 +87,7 @@ static FramebufferConfig framebuffer_config(int32_t width, int32_t height, const
 static std::atomic<uintptr_t> next_context_id{1};
 
 Context::Context(int32_t width, int32_t height, const ContextAttributes& attributes)
-    : id_(next_context_id++), attributes_(attributes), framebuffer_(framebuffer_config(width, height, attributes)) {
+    : id_(next_context_id++), attributes_(attributes), framebuffer_(framebuffer_config(width, height, attributes), memory_account_) {
     // WebGL: antialias is a request; report what the drawing buffer really has.
     attributes_.antialias = framebuffer_.config().samples > 1;
     attributes_.samples = framebuffer_.config().samples;
@@ -621,7 +621,7 @@ ThreadPool& Context::pool() {
 
 void Context::present() {
     if (attributes_.preserve_drawing_buffer) return;
-    framebuffer_ = DefaultFramebuffer(framebuffer_.config());
+    framebuffer_ = DefaultFramebuffer(framebuffer_.config(), memory_account_);
     if (blendlab_) blendlab_->on_present(framebuffer_);
 }
 
@@ -629,10 +629,10 @@ std::string Context::resize(int32_t width, int32_t height) {
     FramebufferConfig config = framebuffer_.config();
     config.width = width;
     config.height = height;
-    std::string why = DefaultFramebuffer::check(config, framebuffer_.memory_bytes());
+    std::string why = DefaultFramebuffer::check(config, framebuffer_.memory_bytes(), memory_account_.get());
     if (!why.empty()) return why;
     try {
-        framebuffer_ = DefaultFramebuffer(config);
+        framebuffer_ = DefaultFramebuffer(config, memory_account_);
     } catch (const std::bad_alloc&) {
         return "could not allocate the " + std::to_string(DefaultFramebuffer::bytes_needed(config)) +
                "-byte drawing buffer";

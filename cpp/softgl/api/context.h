@@ -73,6 +73,8 @@ public:
     const void* identity() const { return reinterpret_cast<const void*>(id_); }
     // Set while a call runs without the GIL (bindings/exclusive.h).
     std::atomic<uint64_t>& busy() { return busy_; }   // 0 or the using thread
+    // The bytes this context's objects hold and its limit (docs/reliability.md, "Memory").
+    MemoryAccount& memory_account() { return *memory_account_; }
     int version() const { return attributes_.version; }
     int32_t drawing_buffer_width() const { return framebuffer_.width(); }
     int32_t drawing_buffer_height() const { return framebuffer_.height(); }
@@ -331,7 +333,7 @@ private:
     bool valid_blend_equation(GLenum mode) const;
     bool check_blend_factors(const char* call, GLenum src_rgb, GLenum dst_rgb, GLenum src_alpha,
                              GLenum dst_alpha);
-    std::shared_ptr<Buffer>* buffer_binding(GLenum target);
+    InUse<Buffer>* buffer_binding(GLenum target);   // the context's bind points, or the vertex array's element buffer
     void set_attrib_pointer(const char* call, uint32_t index, int32_t size, GLenum type, bool normalized,
                             bool integer, int32_t stride, int64_t offset);
     Value vertex_array_binding() const;
@@ -349,6 +351,8 @@ private:
     std::atomic<uint64_t> busy_{0};
     ContextAttributes attributes_;
     State state_;
+    // This context's bytes and limit (core/memory_ledger.h); before framebuffer_, which charges it.
+    std::shared_ptr<MemoryAccount> memory_account_ = std::make_shared<MemoryAccount>();
     DefaultFramebuffer framebuffer_;
     ErrorState errors_;
     bool ext_blend_minmax_ = false;
@@ -361,7 +365,7 @@ private:
     std::shared_ptr<BlendLab> blendlab_;   // shared_ptr: deletable where BlendLab is incomplete
 
     // Object bindings
-    std::shared_ptr<Buffer> array_buffer_, copy_read_buffer_, copy_write_buffer_,
+    InUse<Buffer> array_buffer_, copy_read_buffer_, copy_write_buffer_,
         pixel_pack_buffer_, pixel_unpack_buffer_, uniform_buffer_, transform_feedback_buffer_;
     std::shared_ptr<VertexArray> default_vertex_array_, vertex_array_;
     std::array<CurrentAttrib, kMaxVertexAttribs> current_attribs_;

@@ -79,6 +79,7 @@ void Context::run_draw(const DrawCall& call, const char* call_name) {
     DrawInputs in{*state, *vertex_array_, current_attribs_, *p.vertex_stage, *p.fragment_stage, target, pool(), tuning_};
     in.sink = blendlab_sink();                  // blend lab hooks; null unless enabled
     in.budget = &work_budget_;
+    in.memory = memory_account_;
     work_budget_.begin(work_limits_.draw);
     p.vertex_stage->set_budget(&work_budget_);
     p.fragment_stage->set_budget(&work_budget_);
@@ -86,9 +87,14 @@ void Context::run_draw(const DrawCall& call, const char* call_name) {
         last_draw_plan_ = draw(in, call, stats_);
     } catch (const WorkStopped& stopped) {
         // The pipeline put back every pixel, depth and stencil value it wrote (pipeline/draw_rollback.h).
-        if (in.sink) blendlab().end_draw();
+        if (in.sink) blendlab().abort_draw();   // and the blend lab's records of this draw
         return report_stopped(call_name, stopped.reason, work_limits_.draw,
                               "nothing was drawn: every pixel, depth and stencil value is as before the call");
+    } catch (const DrawOutOfMemory& oom) {
+        if (in.sink) blendlab().abort_draw();
+        return error(gl::OUT_OF_MEMORY, call_name,
+                     oom.why + (oom.unchanged ? "; nothing was drawn: every pixel, depth and stencil value is as before the call"
+                                              : "; the picture may be partly drawn (the draw kept no copies to undo it)"));
     }
     // Counted per worker by the stages (no shared writes while drawing); summed here, per draw.
     stats_.texture_queries_fast +=
@@ -123,7 +129,7 @@ void Context::draw_elements(GLenum mode, int32_t count, GLenum type, int64_t off
     if (offset < 0) return error(gl::INVALID_VALUE, call, "offset must not be negative");
     if (offset % size != 0) return error(gl::INVALID_OPERATION, call, "offset must be a multiple of the index size");
     if (!validate_draw_state(call)) return;
-    const std::shared_ptr<Buffer>& elements = vertex_array_->element_buffer;
+    const InUse<Buffer>& elements = vertex_array_->element_buffer;
     if (!elements) return error(gl::INVALID_OPERATION, call, "no ELEMENT_ARRAY_BUFFER is bound");
     // Nothing is read for an empty draw, so its offset is not range-checked (as the WebGL
     // conformance test draw-elements-out-of-bounds expects).
@@ -137,11 +143,13 @@ void Context::draw_elements(GLenum mode, int32_t count, GLenum type, int64_t off
     const bool restart_enabled = version() >= 2;
     // The pipeline's working memory is bounded (it draws in batches of primitives), but the
     // indices are read into 32-bit words here, and a restart expands them into up to 3 words each:
-    // refuse what cannot fit rather than fail halfway.
+    // they are charged to the memory ledger for the call's length (core/memory_ledger.h), and
+    // refused before anything is allocated when they would pass a limit.
+    MemoryReservation index_memory(memory_account_);
     auto too_large = [&](uint64_t words) {
-        if (words * 4 <= memory_budget()) return false;
-        error(gl::OUT_OF_MEMORY, call, "the draw's " + std::to_string(words) +
-              " index words would need more than half of this machine's memory");
+        if (index_memory.resize(words * 4)) return false;
+        error(gl::OUT_OF_MEMORY, call, "the draw's " + std::to_string(words) + " index words (" +
+              std::to_string(words * 4) + " bytes) " + index_memory.over_limit(words * 4 - index_memory.bytes()));
         return true;
     };
     if (too_large(uint64_t(count))) return;
@@ -164,7 +172,7 @@ void Context::draw_elements(GLenum mode, int32_t count, GLenum type, int64_t off
     DrawCall dc;
     dc.mode = mode;
     if (restarts) {
-        if (too_large(4 * uint64_t(count))) return;   // the indices and their expansion
+        if (too_large(4 * uint64_t(count))) return;   // the indices and their expansion (with them, 4 words each)
         // Assemble each run between restart indices on its own, as an independent list of points,
         // lines or triangles (the provoking vertex stays last, strips keep their winding).
         std::vector<uint32_t> expanded, positions;

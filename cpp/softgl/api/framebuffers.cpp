@@ -25,6 +25,8 @@ Value object_value(const std::shared_ptr<T>& p) {
     if (!p) return Value(Null{});
     return Value(std::shared_ptr<Object>(p));
 }
+template <class T>
+Value object_value(const InUse<T>& p) { return object_value(p.shared()); }
 
 bool is_cube_face(GLenum target) {
     return target >= gl::TEXTURE_CUBE_MAP_POSITIVE_X && target <= gl::TEXTURE_CUBE_MAP_NEGATIVE_Z;
@@ -109,6 +111,11 @@ void Context::delete_framebuffer(const std::shared_ptr<Framebuffer>& fb) {
     fb->deleted = true;
     if (draw_framebuffer_ == fb) draw_framebuffer_.reset();   // ES 3.0 §4.4.1: reverts to the default
     if (read_framebuffer_ == fb) read_framebuffer_.reset();
+    // A deleted framebuffer can never be bound again, so its attachments are unobservable: it
+    // lets go of them, which frees deleted images it alone kept (Object::mark_deleted).
+    for (Attachment& a : fb->color) a = Attachment{};
+    fb->depth = Attachment{};
+    fb->stencil = Attachment{};
 }
 
 bool Context::is_framebuffer(const std::shared_ptr<Framebuffer>& fb) const {
@@ -133,7 +140,7 @@ void Context::delete_renderbuffer(const std::shared_ptr<Renderbuffer>& rb) {
     if (!rb) return;
     if (rb->owner != identity()) return error(gl::INVALID_OPERATION, "deleteRenderbuffer", "the object belongs to another context");
     if (rb->deleted) return;
-    rb->deleted = true;
+    rb->mark_deleted();   // its image goes now, or when the last framebuffer lets go of it
     if (renderbuffer_ == rb) renderbuffer_.reset();
     detach_from_framebuffers(nullptr, rb.get());
 }
@@ -213,11 +220,11 @@ void Context::renderbuffer_storage(const char* call, GLenum target, int32_t samp
     if (samples > 0) for (int32_t n : {2, 4, 8, 16}) if (n >= samples) { actual = n; break; }
     // Charged before allocating, so the limit bounds all objects together (core/memory_ledger.h).
     const uint64_t bytes = Image::allocation_bytes(f, width, height, 1, actual);
-    MemoryReservation reservation;
+    MemoryReservation reservation(memory_account_);
     if (!reservation.reserve(bytes))
         return error(gl::OUT_OF_MEMORY, call, "a " + std::to_string(width) + "x" + std::to_string(height) + "x" +
                      std::to_string(actual) + "-sample renderbuffer needs " + std::to_string(bytes) +
-                     " bytes, which " + over_memory_limit(bytes));
+                     " bytes, which " + reservation.over_limit(bytes));
     Image image;
     try {
         image.allocate(f, width, height, 1, actual);
@@ -696,7 +703,7 @@ void Context::copy_tex_image_2d(GLenum target, int32_t level, GLenum internal_fo
     if (!t->memory.resize(before - std::min(before, released) + bytes))
         return error(gl::OUT_OF_MEMORY, call, "a " + std::to_string(width) + "x" + std::to_string(height) +
                      " image needs " + std::to_string(bytes) + " bytes, which " +
-                     over_memory_limit(bytes - std::min(bytes, released)));
+                     t->memory.over_limit(bytes - std::min(bytes, released)));
     Image fresh;
     try {
         fresh.allocate(fi, width, height, 1);

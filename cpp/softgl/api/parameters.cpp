@@ -223,6 +223,8 @@ static Value object(const std::shared_ptr<T>& p) {
     if (!p) return Value(Null{});
     return Value(std::shared_ptr<Object>(p));
 }
+template <class T>
+static Value object(const InUse<T>& p) { return object(p.shared()); }
 
 Value Context::vertex_array_binding() const {
     // The default vertex array reads as null (WebGL 2.0 §3.7.2).

@@ -261,6 +261,7 @@ CompletenessRules Context::completeness_rules() const {
 std::shared_ptr<Texture> Context::create_texture() {
     auto t = std::make_shared<Texture>();
     t->owner = identity();
+    t->memory = MemoryReservation(memory_account_);
     return t;
 }
 
@@ -297,9 +298,10 @@ void Context::delete_texture(const std::shared_ptr<Texture>& texture) {
     if (!texture) return;
     if (texture->owner != identity()) return error(gl::INVALID_OPERATION, "deleteTexture", "the object belongs to another context");
     if (texture->deleted) return;
-    texture->deleted = true;
     // ES 3.0 §3.8.1: deleting unbinds it from every unit (and, §4.4.2.3, detaches it from the
-    // bound framebuffers: framebuffers.cpp).
+    // bound framebuffers: framebuffers.cpp). Its images go at once unless a framebuffer that is
+    // not bound keeps it attached (then when the last one lets go: Object::mark_deleted).
+    texture->mark_deleted();
     for (TextureUnit& u : texture_units_)
         for (auto* slot : {&u.tex_2d, &u.cube, &u.tex_3d, &u.array_2d})
             if (*slot == texture) slot->reset();
@@ -563,7 +565,7 @@ void Context::tex_image(const char* call, GLenum target, int32_t level, GLenum i
     if (!t->memory.resize(before - std::min(before, released) + bytes))
         return error(gl::OUT_OF_MEMORY, call, "a " + std::to_string(width) + "x" + std::to_string(height) + "x" +
                      std::to_string(depth) + " image needs " + std::to_string(bytes) + " bytes, which " +
-                     over_memory_limit(bytes - std::min(bytes, released)));
+                     t->memory.over_limit(bytes - std::min(bytes, released)));
     try {
         Image fresh;
         fresh.allocate(fi, width, height, depth);
@@ -671,7 +673,7 @@ void Context::tex_storage(const char* call, GLenum target, int32_t levels, GLenu
     const uint64_t before = t.memory.bytes();
     if (!t.memory.resize(bytes))
         return error(gl::OUT_OF_MEMORY, call, "the " + std::to_string(levels) + " levels need " + std::to_string(bytes) +
-                     " bytes, which " + over_memory_limit(bytes - std::min(bytes, before)));
+                     " bytes, which " + t.memory.over_limit(bytes - std::min(bytes, before)));
     std::vector<std::vector<Image>> fresh(size_t(t.faces()));
     try {
         for (int f = 0; f < t.faces(); ++f)
@@ -723,7 +725,7 @@ void Context::generate_mipmap(GLenum target) {
     const uint64_t before = t.memory.bytes(), after = storage_bytes_after_mipmaps(t);
     if (!t.memory.resize(after))
         return error(gl::OUT_OF_MEMORY, call, "the mipmap levels need " + std::to_string(after - std::min(after, before)) +
-                     " more bytes, which " + over_memory_limit(after - std::min(after, before)));
+                     " more bytes, which " + t.memory.over_limit(after - std::min(after, before)));
     try {
         generate_mipmaps(t);
     } catch (const std::bad_alloc&) {

@@ -30,15 +30,21 @@ struct TexSource {
 class Renderbuffer : public Object {
 public:
     Image image;                      // samples > 1 for multisample storage
-    MemoryReservation reservation;    // image's bytes, charged to the process-wide total
+    MemoryReservation reservation;    // image's bytes, charged to the ledger (core/memory_ledger.h)
     GLenum internal_format = gl::RGBA4;
     int32_t samples = 0;              // as requested (0 = single-sampled)
     uint64_t generation = 0;
+    void release_storage() override {   // deleted and unused (Object)
+        image.clear();
+        reservation.release();
+        ++generation;
+    }
 };
 
 struct Attachment {
-    std::shared_ptr<Texture> texture;
-    std::shared_ptr<Renderbuffer> renderbuffer;
+    // InUse: a deleted texture or renderbuffer keeps its storage while attached here.
+    InUse<Texture> texture;
+    InUse<Renderbuffer> renderbuffer;
     int face = 0;                     // cube map face of the texture
     int32_t level = 0, layer = 0;
     bool empty() const { return !texture && !renderbuffer; }

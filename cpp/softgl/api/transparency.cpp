@@ -51,7 +51,17 @@ void BlendLab::on_clear(Rect region, uint32_t mask, const DefaultFramebuffer& fb
     if (full) next_draw_ = 0, abuffer_overflow_reported_ = log_overflow_reported_ = false;
 }
 
+void BlendLab::abort_draw() {
+    if (began_) {
+        abuffer_.roll_back();
+        log_.roll_back();
+    }
+    began_ = false;
+    next_draw_ = draw_;
+}
+
 void BlendLab::end_draw() {
+    began_ = false;
     // Reported once per overflow (until the next full clear), never silently.
     if (abuffer_.overflowed() && !abuffer_overflow_reported_) {
         abuffer_overflow_reported_ = true;
@@ -150,6 +160,9 @@ FragmentEvent BlendLab::event(FragmentEvent::Kind kind, const PrimitiveSetup& p,
 void BlendLab::begin_draw(const State& state, const DefaultFramebuffer& fb) {
     const BlendOp blend = BlendOp::from_state(state, fb.config().alpha);
     const DepthStencilOp ds = DepthStencilOp::from_state(state, fb.config().depth, fb.config().stencil);
+    abuffer_.mark();
+    log_.mark();
+    began_ = true;
     // Only draws that blend are captured: the others are opaque and write the buffer as usual.
     capture_ = exact_transparency && !blend.is_plain_write();
     if (capture_) {

@@ -127,7 +127,7 @@ Value Context::get_vertex_attrib(uint32_t index, GLenum pname) {
     const VertexAttribPointer& a = vertex_array_->attribs[index];
     switch (pname) {
         case gl::VERTEX_ATTRIB_ARRAY_BUFFER_BINDING:
-            if (a.buffer) return Value(std::shared_ptr<Object>(a.buffer));
+            if (a.buffer) return Value(std::shared_ptr<Object>(a.buffer.shared()));
             return Value(Null{});
         case gl::VERTEX_ATTRIB_ARRAY_ENABLED: return Value(a.enabled);
         case gl::VERTEX_ATTRIB_ARRAY_SIZE: return Value(int64_t(a.size));
@@ -181,6 +181,10 @@ void Context::delete_vertex_array(const std::shared_ptr<VertexArray>& vao) {
     if (vao->deleted) return;
     vao->deleted = true;
     if (vertex_array_ == vao) vertex_array_ = default_vertex_array_;   // ES 3.0 §2.10
+    // It can never be bound again: it lets go of its buffers, which frees deleted buffers it
+    // alone kept (Object::mark_deleted).
+    for (auto& attrib : vao->attribs) attrib.buffer.reset();
+    vao->element_buffer.reset();
 }
 
 bool Context::is_vertex_array(const std::shared_ptr<VertexArray>& vao) const {

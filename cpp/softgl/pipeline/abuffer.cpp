@@ -65,6 +65,21 @@ void ABuffer::configure(int32_t width, int32_t height, int32_t samples) {
 
 void ABuffer::reset() { configure(width_, height_, samples_); }
 
+void ABuffer::mark() {
+    mark_sizes_.resize(tiles_.size());
+    for (size_t t = 0; t < tiles_.size(); ++t) mark_sizes_[t] = tiles_[t].size();
+    mark_draws_ = draws_.size();
+    mark_stored_ = stored_.load();
+    mark_attempted_ = attempted_.load();
+}
+
+void ABuffer::roll_back() {
+    for (size_t t = 0; t < tiles_.size() && t < mark_sizes_.size(); ++t) tiles_[t].resize(mark_sizes_[t]);
+    draws_.resize(mark_draws_);
+    stored_ = mark_stored_;
+    attempted_ = mark_attempted_;
+}
+
 size_t ABuffer::tile_of(uint32_t pixel) const {
     const uint32_t x = pixel % uint32_t(width_), y = pixel / uint32_t(width_);
     return size_t(y / kTileSize) * size_t(tiles_x_) + x / kTileSize;

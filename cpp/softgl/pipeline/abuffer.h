@@ -78,6 +78,11 @@ public:
     // overflow state and frees memory.
     void clear(Rect region);
     void reset();
+    // A draw that stops part-way (work budget, Ctrl-C, no memory) leaves no record: mark() at
+    // its start remembers where every tile's records end, roll_back() drops what came after
+    // (docs/reliability.md, "Work budget and Ctrl-C").
+    void mark();
+    void roll_back();
 
     // Composites every pixel sample that has fragments over its color in `fb`. With `write`, the
     // result is rounded into `fb` (and the buffer should then be reset). `image` (may be null)
@@ -99,6 +104,9 @@ private:
     std::vector<CapturedDraw> draws_;
     std::vector<std::vector<CapturedFragment>> tiles_;
     std::atomic<uint64_t> stored_{0}, attempted_{0};
+    std::vector<size_t> mark_sizes_;   // mark(): per tile
+    size_t mark_draws_ = 0;
+    uint64_t mark_stored_ = 0, mark_attempted_ = 0;
 };
 
 // McGuire & Bavoil, "Weighted Blended Order-Independent Transparency", JCGT 2(2), 2013:

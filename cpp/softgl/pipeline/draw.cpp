@@ -164,6 +164,8 @@ public:
 
     // After run_all, or when it threw: whether the draw kept copies, and putting them back.
     bool keeps_copies() const { return rollback_.has_value(); }
+    // Whether a tile pass began (pixels may have been written).
+    bool began_writing() const { return decided_; }
     void roll_back() {
         if (rollback_) rollback_->restore();
     }
@@ -194,6 +196,14 @@ private:
         for (size_t c = 0; c < setup_chunks_; ++c) pixels += s_.chunk_bins[c].quad_pixels_bound;
         const uint64_t estimate = fragment_work_estimate(pairs, pixels, in_.fragment_shader.instructions_bound());
         if (rollback_needed(several_batches_, estimate, in_.budget->remaining())) {
+            // The copies are charged to the memory ledger at their bound (every pixel of every
+            // attachment) for the draw's length; over the limit, the draw stops before writing.
+            const uint64_t bound = DrawRollback::bytes_bound(in_.target);
+            copies_memory_ = MemoryReservation(in_.memory);
+            if (!copies_memory_.reserve(bound))
+                throw DrawOutOfMemory("the copies of the pixels it may write (kept to undo a stopped draw) need " +
+                                          std::to_string(bound) + " bytes, which " + copies_memory_.over_limit(bound),
+                                      true);
             rollback_.emplace(in_.target, grid_);
             tile_pass_.set_rollback(&*rollback_);
         } else {
@@ -394,6 +404,7 @@ private:
     size_t setup_chunks_ = 0;   // the last batch's
     bool decided_ = false;
     std::optional<DrawRollback> rollback_;
+    MemoryReservation copies_memory_;   // rollback_'s bound, charged for the draw's length
 };
 
 }  // namespace
@@ -418,6 +429,11 @@ DrawPlan draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
     // leaves every pixel as it was: the tiles it wrote are put back (pipeline/draw_rollback.h).
     try {
         batches.run_all();
+    } catch (const std::bad_alloc&) {
+        batches.roll_back();
+        if (in.budget) in.budget->defer_stops(false);
+        throw DrawOutOfMemory("an allocation of its working memory failed (std::bad_alloc)",
+                              batches.keeps_copies() || !batches.began_writing());
     } catch (...) {
         batches.roll_back();
         if (in.budget) in.budget->defer_stops(false);

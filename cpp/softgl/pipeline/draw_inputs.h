@@ -39,6 +39,9 @@ struct DrawInputs {
     // The call's work budget (core/work_budget.h); null: unbudgeted. The draw charges it per
     // vertex, primitive, (primitive, tile) pair and fragment, the shaders' executors per loop iteration.
     WorkBudget* budget = nullptr;
+    // The context's memory account (core/memory_ledger.h): the draw's copies for a rollback are
+    // charged to it for the draw's length. Null: the process total only.
+    std::shared_ptr<MemoryAccount> memory{};
 };
 
 }  // namespace softgl

@@ -75,6 +75,14 @@ DrawRollback::DrawRollback(RenderTarget& target, const TileGrid& grid)
     add_image(target.stencil_image(), target.stencil_offset());
 }
 
+uint64_t DrawRollback::bytes_bound(RenderTarget& target) {
+    const TileGrid none;
+    DrawRollback planes(target, none);
+    uint64_t bytes = 0;
+    for (const Plane& p : planes.planes_) bytes += uint64_t(p.pixel_bytes) * uint64_t(target.width()) * uint64_t(target.height());
+    return bytes;
+}
+
 void DrawRollback::save_tile(size_t tile, const TileRect& r) {
     size_t bytes = 0;
     for (const Plane& p : planes_) bytes += size_t(r.x1 - r.x0) * p.pixel_bytes * size_t(r.y1 - r.y0);

@@ -24,8 +24,12 @@ namespace softgl {
 // over its primitives of (bounding box width + 2) x (height + 2) pixels (Bins::quad_pixels_bound)
 // times (the fragment shader's instruction bound + kFragmentWorkUnits), plus kTilePrimitiveWorkUnits
 // per (primitive, tile) pair: an upper bound of what the tile pass charges the budget, and a
-// measure of its time. Past kRollbackWorkThreshold (2^28 units: about 0.3-1 s of work here) a
-// Ctrl-C mid-draw matters, so the draw keeps copies.
+// measure of its time. Past kRollbackWorkThreshold a Ctrl-C mid-draw matters, so the draw keeps
+// copies. 2^28 units is calibrated by benchmarks/work_units.py (docs/reliability.md): 0.02-0.10 s
+// of one thread's work for the single-batch draws this rule decides (fragment loops 0.1 ns a
+// unit, blended full-screen layers 0.36), so a draw without copies defers a Ctrl-C by at most
+// about the poll's 0.1 s target, while copying a whole 512 x 512 target (2 MiB) costs
+// milliseconds, a few percent of such a draw at most.
 inline constexpr uint64_t kRollbackWorkThreshold = uint64_t(1) << 28;
 
 // Whether a draw keeps copies of the pixels it writes: when it runs in more than one batch (a
@@ -47,6 +51,8 @@ public:
     }
     // Puts every saved tile back (the draw stopped).
     void restore();
+    // The most the copies of a draw into `target` can take: every pixel of every attachment.
+    static uint64_t bytes_bound(RenderTarget& target);
     // Bytes copied so far (the cost of the mechanism, for docs/reliability.md).
     size_t bytes_saved() const;
 

@@ -43,6 +43,23 @@ bool IntrospectionLog::push(const FragmentEvent& e) {
     return true;
 }
 
+void IntrospectionLog::mark() {
+    mark_sizes_.resize(tiles_.size());
+    for (size_t t = 0; t < tiles_.size(); ++t) mark_sizes_[t] = tiles_[t].size();
+    mark_draws_ = draws_.size();
+    mark_first_draw_ = first_draw_;
+    mark_stored_ = stored_.load();
+    mark_attempted_ = attempted_.load();
+}
+
+void IntrospectionLog::roll_back() {
+    for (size_t t = 0; t < tiles_.size() && t < mark_sizes_.size(); ++t) tiles_[t].resize(mark_sizes_[t]);
+    draws_.resize(mark_draws_);
+    first_draw_ = mark_first_draw_;
+    stored_ = mark_stored_;
+    attempted_ = mark_attempted_;
+}
+
 FragmentEvent* IntrospectionLog::last(uint32_t pixel) {
     std::vector<FragmentEvent>& v = tiles_[tile_of(pixel)];
     return v.empty() || v.back().pixel != pixel ? nullptr : &v.back();

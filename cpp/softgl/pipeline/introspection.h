@@ -72,6 +72,11 @@ public:
     bool push(const FragmentEvent& e);
     FragmentEvent* last(uint32_t pixel);   // the tile's newest event (to complete a Blend event)
     void clear(Rect region);               // forget the pixels in region; full clear: everything
+    // A draw that stops part-way (work budget, Ctrl-C, no memory) leaves no record: mark() at
+    // its start remembers where every tile's records end, roll_back() drops what came after
+    // (docs/reliability.md, "Work budget and Ctrl-C").
+    void mark();
+    void roll_back();
     std::vector<FragmentReport> fragments(int32_t x, int32_t y) const;
 
 private:
@@ -82,6 +87,10 @@ private:
     std::vector<DrawDescription> draws_;
     uint32_t first_draw_ = 0;             // draws_[k] describes draw first_draw_ + k
     std::atomic<uint64_t> stored_{0}, attempted_{0};
+    std::vector<size_t> mark_sizes_;      // mark(): per tile
+    size_t mark_draws_ = 0;
+    uint32_t mark_first_draw_ = 0;
+    uint64_t mark_stored_ = 0, mark_attempted_ = 0;
 };
 
 }  // namespace softgl

@@ -101,7 +101,7 @@ uint64_t DefaultFramebuffer::bytes_needed(const FramebufferConfig& c) {
     return samples * per_sample;
 }
 
-std::string DefaultFramebuffer::check(const FramebufferConfig& c, uint64_t released) {
+std::string DefaultFramebuffer::check(const FramebufferConfig& c, uint64_t released, const MemoryAccount* account) {
     if (c.width <= 0 || c.height <= 0)
         return "drawing buffer size must be positive, got " + std::to_string(c.width) + "x" +
                std::to_string(c.height);
@@ -113,14 +113,16 @@ std::string DefaultFramebuffer::check(const FramebufferConfig& c, uint64_t relea
     if (need > budget)
         return "drawing buffer needs " + std::to_string(need >> 20) + " MiB, more than half of " +
                "this machine's memory (" + std::to_string(budget >> 20) + " MiB)";
-    // With the other objects' memory (the ledger), less what the buffer it replaces frees.
-    const uint64_t limit = memory_limit(), in_use = memory_in_use() - std::min(memory_in_use(), released);
-    if (need > limit || in_use > limit - need)
-        return "drawing buffer needs " + std::to_string(need) + " bytes, which " + over_memory_limit(need - std::min(need, released));
+    // With the other objects' memory (the ledger, the process's and the context's), less what
+    // the buffer it replaces frees.
+    const uint64_t more = need - std::min(need, released);
+    if (!memory_fits(account, more))
+        return "drawing buffer needs " + std::to_string(need) + " bytes, which " + over_memory_limit(account, more);
     return {};
 }
 
-DefaultFramebuffer::DefaultFramebuffer(const FramebufferConfig& config) : config_(config) {
+DefaultFramebuffer::DefaultFramebuffer(const FramebufferConfig& config, std::shared_ptr<MemoryAccount> account)
+    : config_(config), memory_(std::move(account)) {
     const size_t n = size_t(config.width) * size_t(config.height) * size_t(config.samples);
     memory_.force(bytes_needed(config));   // check() compared it with the limit
     // Initial contents are zero (WebGL clears a new drawing buffer to transparent black, depth 1,

@@ -67,10 +67,13 @@ public:
     // Empty string when `config` can be allocated; otherwise why not. Allocates nothing. The
     // bytes must fit in the memory ledger's room (core/memory_ledger.h) plus `released`, the
     // bytes of a drawing buffer this one replaces.
-    static std::string check(const FramebufferConfig& config, uint64_t released = 0);
+    // `account`: the context's, whose limit must hold too.
+    static std::string check(const FramebufferConfig& config, uint64_t released = 0,
+                             const MemoryAccount* account = nullptr);
     static uint64_t bytes_needed(const FramebufferConfig& config);
 
-    explicit DefaultFramebuffer(const FramebufferConfig& config);
+    // Charges bytes_needed(config) to the process and `account` (check() passed).
+    explicit DefaultFramebuffer(const FramebufferConfig& config, std::shared_ptr<MemoryAccount> account = nullptr);
 
     const FramebufferConfig& config() const { return config_; }
     uint64_t memory_bytes() const { return memory_.bytes(); }   // charged to the memory ledger

@@ -551,6 +551,14 @@ size_t Texture::storage_bytes() const {
     return total;
 }
 
+void Texture::release_storage() {
+    std::vector<std::vector<Image>>().swap(images);
+    std::vector<SampledLevel>().swap(sampled_levels);
+    sampled_count = 0;
+    memory.release();
+    ++generation;
+}
+
 void Texture::refresh_sampling(int32_t base, int32_t q) {
     // Every level a sampler could use, so that units that bind this texture with other filters
     // (another q) in the same draw find theirs too.

@@ -203,7 +203,8 @@ public:
     // images[face][level]; one face except for cube maps (faces in TEXTURE_CUBE_MAP_POSITIVE_X order).
     std::vector<std::vector<Image>> images;
     uint64_t generation = 0;            // bumps on every change (render targets, caches)
-    MemoryReservation memory;           // storage_bytes(), charged to the process-wide total
+    MemoryReservation memory;           // storage_bytes(), charged to the ledger (core/memory_ledger.h)
+    void release_storage() override;    // every image goes (deleted and unused: Object)
 
     int faces() const { return target == gl::TEXTURE_CUBE_MAP ? 6 : 1; }
     Image& image(int face, int level);  // grows the arrays as needed
