@@ -8,7 +8,7 @@ import numpy
 import numpy.typing
 import typing
 import typing_extensions
-__all__: list[str] = ['Context', 'ContextAttributes', 'ENUMS', 'WebGLActiveInfo', 'WebGLBuffer', 'WebGLFramebuffer', 'WebGLObject', 'WebGLProgram', 'WebGLRenderbuffer', 'WebGLSampler', 'WebGLShader', 'WebGLShaderPrecisionFormat', 'WebGLTexture', 'WebGLUniformLocation', 'WebGLVertexArrayObject', 'check_context', 'disk_rect_area', 'enum_name', 'error_name', 'glsl_compile', 'glsl_link', 'glsl_run', 'glsl_simd_levels', 'memory_in_use', 'memory_limit', 'raster_area', 'raster_coverage', 'sampled_error_bound', 'set_memory_limit']
+__all__: list[str] = ['Context', 'ContextAttributes', 'ENUMS', 'WebGLActiveInfo', 'WebGLBuffer', 'WebGLFramebuffer', 'WebGLObject', 'WebGLProgram', 'WebGLRenderbuffer', 'WebGLSampler', 'WebGLShader', 'WebGLShaderPrecisionFormat', 'WebGLTexture', 'WebGLUniformLocation', 'WebGLVertexArrayObject', 'check_context', 'disk_rect_area', 'enum_name', 'error_name', 'glsl_compile', 'glsl_executor_ops', 'glsl_ir', 'glsl_link', 'glsl_run', 'glsl_simd_levels', 'memory_in_use', 'memory_limit', 'raster_area', 'raster_coverage', 'sampled_error_bound', 'set_memory_limit']
 class WebGLObject:
     pass
 class WebGLBuffer(WebGLObject):
@@ -903,6 +903,14 @@ def error_name(arg0: typing.SupportsInt | typing.SupportsIndex) -> str:
 def glsl_compile(source: str, stage: str, version: typing.SupportsInt | typing.SupportsIndex = 2) -> tuple:
     """
     Compile GLSL ES source -> (ok, info_log, reflection dict or None)
+    """
+def glsl_executor_ops(source: str, stage: str, version: typing.SupportsInt | typing.SupportsIndex = 2) -> list[str]:
+    """
+    The op names of the code the executor runs for a shader, its fused instructions included (tests)
+    """
+def glsl_ir(source: str, stage: str, version: typing.SupportsInt | typing.SupportsIndex = 2) -> str:
+    """
+    The optimised IR of a shader as a readable listing (for tests and profiling)
     """
 def glsl_link(vertex: str, fragment: str, version: typing.SupportsInt | typing.SupportsIndex = 2, limits: dict = {}, bound_attributes: collections.abc.Mapping[str, typing.SupportsInt | typing.SupportsIndex] = {}) -> tuple:
     """
