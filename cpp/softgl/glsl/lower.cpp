@@ -102,6 +102,8 @@ private:
     std::map<uint32_t, Reg> uniform_cache_;
     struct ReturnTarget { Ref ref; bool has_value; };
     std::vector<ReturnTarget> return_targets_;
+    // The index of each loop being unrolled, with its value in the copy being lowered.
+    std::unordered_map<const Symbol*, int32_t> unrolled_index_;
 
     int depth_ = 0;
     struct DepthGuard {
@@ -357,8 +359,11 @@ private:
         int elements = static_cast<int>(base.places.size()) / std::max(n, 1);
         Ref r;
         r.type = element_type;
-        if (index.is_constant && !index.constant.empty()) {
-            int64_t i = index.type.base == BaseType::Int ? index.constant[0].i : static_cast<int64_t>(index.constant[0].u);
+        auto unrolled = index.kind == ExprKind::Identifier ? unrolled_index_.find(index.symbol) : unrolled_index_.end();
+        if ((index.is_constant && !index.constant.empty()) || unrolled != unrolled_index_.end()) {
+            // A constant index, or an unrolled loop's index: clamped like the dynamic index below.
+            int64_t i = unrolled != unrolled_index_.end() ? unrolled->second
+                        : index.type.base == BaseType::Int ? index.constant[0].i : static_cast<int64_t>(index.constant[0].u);
             if (i < 0) i = 0;
             if (i >= elements) i = elements - 1;
             r.places.assign(base.places.begin() + i * n, base.places.begin() + (i + 1) * n);
@@ -416,6 +421,11 @@ private:
         case ExprKind::FloatLiteral:
         case ExprKind::BoolLiteral: return constant_value(e.type, {e.literal});
         case ExprKind::Identifier:
+            if (auto u = unrolled_index_.find(e.symbol); u != unrolled_index_.end()) {
+                const_cast<Symbol*>(e.symbol)->statically_used = true;
+                return Value{e.type, {b_.int_constant(u->second)}};
+            }
+            [[fallthrough]];
         case ExprKind::Field:
         case ExprKind::Index:
             if (e.kind == ExprKind::Field && !is_reference(*e.kids[0])) {
@@ -798,6 +808,71 @@ private:
         return load(target.ref);
     }
 
+    // ---------------------------------------------------------------- loop unrolling
+    // A counted for loop with an int index (checker: constant start, bound and step; the body
+    // never writes the index) runs the same trips in every lane, so it can be lowered as that
+    // many copies of its body with the index a constant in each: indexed loads become direct
+    // ones. Each copy runs the same operations in the same order as the loop's trip, so the
+    // results are the same bits. Not unrolled: bodies that leave the trip early (break,
+    // continue, return, discard), bodies that declare a variable without an initialiser (it
+    // would keep the previous trip's value in the loop), and loops whose copies would be large.
+    static constexpr int64_t kMaxUnrolledTrips = 16;
+    static constexpr int64_t kMaxUnrolledNodes = 1500;   // trips x syntax nodes of the body
+
+    // Syntax nodes of a statement (a nested counted loop counted once per trip); -1 if it
+    // cannot be unrolled.
+    static int64_t unroll_cost(const Stmt& root) {
+        int64_t nodes = 0;
+        std::vector<std::pair<const Stmt*, int64_t>> pending{{&root, 1}};
+        std::vector<const Expr*> exprs;
+        while (!pending.empty()) {
+            auto [s, times] = pending.back();
+            pending.pop_back();
+            nodes += times;
+            switch (s->kind) {
+            case StmtKind::Break: case StmtKind::Continue: case StmtKind::Return: case StmtKind::Discard: return -1;
+            case StmtKind::Declaration:
+                for (const VarDecl& v : s->decls) {
+                    if (v.symbol && !v.initializer) return -1;
+                    if (v.initializer) exprs.push_back(v.initializer.get());
+                }
+                break;
+            default: break;
+            }
+            if (s->kind == StmtKind::Switch) return -1;   // its breaks are not worth telling apart
+            const int64_t inner = s->kind == StmtKind::For && s->max_trips > 0 ? s->max_trips : 1;
+            for (const StmtPtr& k : s->body) if (k) pending.push_back({k.get(), times * inner});
+            for (const Expr* e : {s->condition.get(), s->expression.get()}) if (e) exprs.push_back(e);
+            while (!exprs.empty()) {
+                const Expr* e = exprs.back();
+                exprs.pop_back();
+                nodes += times;
+                for (const ExprPtr& k : e->kids) if (k) exprs.push_back(k.get());
+            }
+            if (nodes > kMaxUnrolledNodes) return -1;
+        }
+        return nodes;
+    }
+
+    static bool unrollable(const Stmt& s) {
+        if (!s.counted_int_index || s.max_trips < 0 || s.max_trips > kMaxUnrolledTrips) return false;
+        const int64_t cost = unroll_cost(*s.body[1]);
+        return cost >= 0 && cost * std::max<int64_t>(s.max_trips, 1) <= kMaxUnrolledNodes;
+    }
+
+    void unrolled_for(const Stmt& s) {
+        frames_.emplace_back();
+        statement(*s.body[0]);   // the index's register is written but never read
+        for (int64_t k = 0; k < s.max_trips; ++k) {
+            unrolled_index_[s.counted_int_index] = static_cast<int32_t>(s.counted_start + k * s.counted_step);
+            frames_.emplace_back();
+            statement(*s.body[1]);
+            frames_.pop_back();
+        }
+        unrolled_index_.erase(s.counted_int_index);
+        frames_.pop_back();
+    }
+
     // ---------------------------------------------------------------- statements
     void statement(const Stmt& s) {
         DepthGuard guard(*this, s.line);
@@ -837,6 +912,7 @@ private:
             break;
         }
         case StmtKind::For: {
+            if (unrollable(s)) { unrolled_for(s); break; }
             frames_.emplace_back();
             statement(*s.body[0]);
             // imm[1]: the most times the condition runs, when the checker counted the loop (ir.h).
