@@ -359,10 +359,11 @@ private:
         int elements = static_cast<int>(base.places.size()) / std::max(n, 1);
         Ref r;
         r.type = element_type;
-        auto unrolled = index.kind == ExprKind::Identifier ? unrolled_index_.find(index.symbol) : unrolled_index_.end();
-        if ((index.is_constant && !index.constant.empty()) || unrolled != unrolled_index_.end()) {
-            // A constant index, or an unrolled loop's index: clamped like the dynamic index below.
-            int64_t i = unrolled != unrolled_index_.end() ? unrolled->second
+        int32_t known = 0;
+        const bool unrolled = !(index.is_constant && !index.constant.empty()) && unrolled_index_value(index, known);
+        if ((index.is_constant && !index.constant.empty()) || unrolled) {
+            // A constant index, or one made of unrolled loops' indices: clamped like the dynamic index below.
+            int64_t i = unrolled ? known
                         : index.type.base == BaseType::Int ? index.constant[0].i : static_cast<int64_t>(index.constant[0].u);
             if (i < 0) i = 0;
             if (i >= elements) i = elements - 1;
@@ -852,6 +853,30 @@ private:
             if (nodes > kMaxUnrolledNodes) return -1;
         }
         return nodes;
+    }
+
+    // The value of an int expression of unrolled loops' indices and constants with + - * (the
+    // wrapping int32 arithmetic the executor's IAdd/ISub/IMul/INeg do); false if it is not one
+    // (or nested deeper than a handful of levels: sources may hold very long chains).
+    bool unrolled_index_value(const Expr& e, int32_t& value, int depth = 0) const {
+        if (depth > 16 || !(e.type == Type::scalar(BaseType::Int))) return false;
+        if (e.is_constant && e.constant.size() == 1) { value = e.constant[0].i; return true; }
+        if (e.kind == ExprKind::Identifier) {
+            auto u = unrolled_index_.find(e.symbol);
+            if (u == unrolled_index_.end()) return false;
+            value = u->second;
+            return true;
+        }
+        int32_t x = 0, y = 0;
+        if (e.kind == ExprKind::Unary && (e.op == "-" || e.op == "+") && unrolled_index_value(*e.kids[0], x, depth + 1)) {
+            value = e.op == "-" ? static_cast<int32_t>(0u - static_cast<uint32_t>(x)) : x;
+            return true;
+        }
+        if (e.kind != ExprKind::Binary || (e.op != "+" && e.op != "-" && e.op != "*")) return false;
+        if (!unrolled_index_value(*e.kids[0], x, depth + 1) || !unrolled_index_value(*e.kids[1], y, depth + 1)) return false;
+        const uint32_t ux = static_cast<uint32_t>(x), uy = static_cast<uint32_t>(y);
+        value = static_cast<int32_t>(e.op == "+" ? ux + uy : e.op == "-" ? ux - uy : ux * uy);
+        return true;
     }
 
     static bool unrollable(const Stmt& s) {
