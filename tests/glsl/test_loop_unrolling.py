@@ -131,3 +131,13 @@ def test_loops_that_stay_loops(loop):
     outs = [run(src, simd, uM=4) for simd in SIMD]
     for out in outs[1:]:
         assert out.tobytes() == outs[0].tobytes()
+
+
+def test_loop_calling_a_user_function_stays_a_loop():
+    # Functions with loops calling each other would multiply their copies.
+    src = """float g(float x) { float t = 0.0; for (int j = 0; j < 4; j++) t += x * float(j); return t; }
+    void main() { float s = 0.0; for (int i = 0; i < 4; i++) s += g(a.x + float(i)); o = vec4(s); }"""
+    assert ir(src).count("endloop") == 1   # main's loop stays; g's (no call) is unrolled
+    outs = [run(src, simd).tobytes() for simd in SIMD]
+    looped = [run(src.replace("j < 4", "j < uN"), simd, uN=4).tobytes() for simd in SIMD]
+    assert outs == looped

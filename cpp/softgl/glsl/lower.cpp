@@ -816,7 +816,8 @@ private:
     // ones. Each copy runs the same operations in the same order as the loop's trip, so the
     // results are the same bits. Not unrolled: bodies that leave the trip early (break,
     // continue, return, discard), bodies that declare a variable without an initialiser (it
-    // would keep the previous trip's value in the loop), and loops whose copies would be large.
+    // would keep the previous trip's value in the loop), bodies that call a user function (its
+    // inlined size is unknown here), and loops whose copies would be large.
     static constexpr int64_t kMaxUnrolledTrips = 16;
     static constexpr int64_t kMaxUnrolledNodes = 1500;   // trips x syntax nodes of the body
 
@@ -848,6 +849,8 @@ private:
                 const Expr* e = exprs.back();
                 exprs.pop_back();
                 nodes += times;
+                // An inlined function's size is not seen here (and its own loops would multiply).
+                if (e->kind == ExprKind::Call && e->callee) return -1;
                 for (const ExprPtr& k : e->kids) if (k) exprs.push_back(k.get());
             }
             if (nodes > kMaxUnrolledNodes) return -1;
