@@ -48,7 +48,7 @@ BODY = """void main() {
         s.x = s.x * 1.0001 + sin(f * a.y) / (a.z * a.z + f + 1.0);
         s.y += uW[i] * exp2(a.w * 0.25) - uL[i].y * f;
         s.z = fract(s.z * 3.7 + uL[i + 1].x);
-        s.w += float(i * i - 2 * i) * a.x;
+        s.w += float(i * i - 2 * i) * a.x + float(i.x) * 0.5 + float(ivec2(i).y);
     }
     o = s;
 }"""

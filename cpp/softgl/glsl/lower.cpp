@@ -890,9 +890,13 @@ private:
 
     void unrolled_for(const Stmt& s) {
         frames_.emplace_back();
-        statement(*s.body[0]);   // the index's register is written but never read
+        statement(*s.body[0]);
         for (int64_t k = 0; k < s.max_trips; ++k) {
-            unrolled_index_[s.counted_int_index] = static_cast<int32_t>(s.counted_start + k * s.counted_step);
+            const int32_t index = static_cast<int32_t>(s.counted_start + k * s.counted_step);
+            // Reads of the index through a reference (e.g. the swizzle `i.x`) see its register:
+            // set it as the loop's increment would (dead code elimination drops it if unread).
+            store(variable_ref(s.counted_int_index), Value{Type::scalar(BaseType::Int), {b_.int_constant(index)}});
+            unrolled_index_[s.counted_int_index] = index;
             frames_.emplace_back();
             statement(*s.body[1]);
             frames_.pop_back();
