@@ -157,6 +157,10 @@ struct Stmt {
     // For: the most iterations it can run when it is a counted loop (constant start, bound and
     // step; the body never writes the index), else -1. Set by the checker; bounds a shader's work.
     int64_t max_trips = -1;
+    // For with an int index among those counted: the index and its first value and step (the
+    // lowering unrolls small such loops, lower.cpp).
+    const Symbol* counted_int_index = nullptr;
+    int64_t counted_start = 0, counted_step = 0;
 
     Stmt(StmtKind k, int l) : kind(k), line(l) {}
 };

@@ -722,7 +722,10 @@ private:
             ++loop_depth_;
             sub_statement(*s.body[1]);
             --loop_depth_;
-            if (trips >= 0 && index->writes == index_writes) s.max_trips = trips;
+            if (trips >= 0 && index->writes == index_writes) {
+                s.max_trips = trips;
+                if (index->type == Type::scalar(BaseType::Int)) record_int_index(s, index);
+            }
             if (!es3() && !loop_indices_.empty()) loop_indices_.pop_back();
             scopes_.pop_back();
             break;
@@ -808,6 +811,16 @@ private:
     // loop: the caller checks that the body does not write it. The pipeline uses the count to bound
     // a fragment shader's work (docs/reliability.md, "Work budget and Ctrl-C").
     static constexpr int64_t kMaxCountedTrips = 1 << 16;
+    // For a counted loop with an int index (counted_loop_trips accepted it): its start and step.
+    static void record_int_index(Stmt& s, const Symbol* index) {
+        const Expr* e = s.expression.get();
+        int64_t step = e->op == "++" || e->op == "+=" ? 1 : -1;
+        if (e->kind == ExprKind::Assign) step *= int64_t(e->kids[1]->constant[0].i);
+        s.counted_int_index = index;
+        s.counted_start = s.body[0]->decls[0].initializer->constant[0].i;
+        s.counted_step = step;
+    }
+
     static int64_t counted_loop_trips(const Stmt& s, Symbol*& index) {
         index = nullptr;
         const Stmt& init = *s.body[0];

@@ -102,6 +102,8 @@ private:
     std::map<uint32_t, Reg> uniform_cache_;
     struct ReturnTarget { Ref ref; bool has_value; };
     std::vector<ReturnTarget> return_targets_;
+    // The index of each loop being unrolled, with its value in the copy being lowered.
+    std::unordered_map<const Symbol*, int32_t> unrolled_index_;
 
     int depth_ = 0;
     struct DepthGuard {
@@ -357,8 +359,12 @@ private:
         int elements = static_cast<int>(base.places.size()) / std::max(n, 1);
         Ref r;
         r.type = element_type;
-        if (index.is_constant && !index.constant.empty()) {
-            int64_t i = index.type.base == BaseType::Int ? index.constant[0].i : static_cast<int64_t>(index.constant[0].u);
+        int32_t known = 0;
+        const bool unrolled = !(index.is_constant && !index.constant.empty()) && unrolled_index_value(index, known);
+        if ((index.is_constant && !index.constant.empty()) || unrolled) {
+            // A constant index, or one made of unrolled loops' indices: clamped like the dynamic index below.
+            int64_t i = unrolled ? known
+                        : index.type.base == BaseType::Int ? index.constant[0].i : static_cast<int64_t>(index.constant[0].u);
             if (i < 0) i = 0;
             if (i >= elements) i = elements - 1;
             r.places.assign(base.places.begin() + i * n, base.places.begin() + (i + 1) * n);
@@ -416,6 +422,11 @@ private:
         case ExprKind::FloatLiteral:
         case ExprKind::BoolLiteral: return constant_value(e.type, {e.literal});
         case ExprKind::Identifier:
+            if (auto u = unrolled_index_.find(e.symbol); u != unrolled_index_.end()) {
+                const_cast<Symbol*>(e.symbol)->statically_used = true;
+                return Value{e.type, {b_.int_constant(u->second)}};
+            }
+            [[fallthrough]];
         case ExprKind::Field:
         case ExprKind::Index:
             if (e.kind == ExprKind::Field && !is_reference(*e.kids[0])) {
@@ -798,6 +809,102 @@ private:
         return load(target.ref);
     }
 
+    // ---------------------------------------------------------------- loop unrolling
+    // A counted for loop with an int index (checker: constant start, bound and step; the body
+    // never writes the index) runs the same trips in every lane, so it can be lowered as that
+    // many copies of its body with the index a constant in each: indexed loads become direct
+    // ones. Each copy runs the same operations in the same order as the loop's trip, so the
+    // results are the same bits. Not unrolled: bodies that leave the trip early (break,
+    // continue, return, discard), bodies that declare a variable without an initialiser (it
+    // would keep the previous trip's value in the loop), bodies that call a user function (its
+    // inlined size is unknown here), and loops whose copies would be large.
+    static constexpr int64_t kMaxUnrolledTrips = 16;
+    static constexpr int64_t kMaxUnrolledNodes = 1500;   // trips x syntax nodes of the body
+
+    // Syntax nodes of a statement (a nested counted loop counted once per trip); -1 if it
+    // cannot be unrolled.
+    static int64_t unroll_cost(const Stmt& root) {
+        int64_t nodes = 0;
+        std::vector<std::pair<const Stmt*, int64_t>> pending{{&root, 1}};
+        std::vector<const Expr*> exprs;
+        while (!pending.empty()) {
+            auto [s, times] = pending.back();
+            pending.pop_back();
+            nodes += times;
+            switch (s->kind) {
+            case StmtKind::Break: case StmtKind::Continue: case StmtKind::Return: case StmtKind::Discard: return -1;
+            case StmtKind::Declaration:
+                for (const VarDecl& v : s->decls) {
+                    if (v.symbol && !v.initializer) return -1;
+                    if (v.initializer) exprs.push_back(v.initializer.get());
+                }
+                break;
+            default: break;
+            }
+            if (s->kind == StmtKind::Switch) return -1;   // its breaks are not worth telling apart
+            const int64_t inner = s->kind == StmtKind::For && s->max_trips > 0 ? s->max_trips : 1;
+            for (const StmtPtr& k : s->body) if (k) pending.push_back({k.get(), times * inner});
+            for (const Expr* e : {s->condition.get(), s->expression.get()}) if (e) exprs.push_back(e);
+            while (!exprs.empty()) {
+                const Expr* e = exprs.back();
+                exprs.pop_back();
+                nodes += times;
+                // An inlined function's size is not seen here (and its own loops would multiply).
+                if (e->kind == ExprKind::Call && e->callee) return -1;
+                for (const ExprPtr& k : e->kids) if (k) exprs.push_back(k.get());
+            }
+            if (nodes > kMaxUnrolledNodes) return -1;
+        }
+        return nodes;
+    }
+
+    // The value of an int expression of unrolled loops' indices and constants with + - * (the
+    // wrapping int32 arithmetic the executor's IAdd/ISub/IMul/INeg do); false if it is not one
+    // (or nested deeper than a handful of levels: sources may hold very long chains).
+    bool unrolled_index_value(const Expr& e, int32_t& value, int depth = 0) const {
+        if (depth > 16 || !(e.type == Type::scalar(BaseType::Int))) return false;
+        if (e.is_constant && e.constant.size() == 1) { value = e.constant[0].i; return true; }
+        if (e.kind == ExprKind::Identifier) {
+            auto u = unrolled_index_.find(e.symbol);
+            if (u == unrolled_index_.end()) return false;
+            value = u->second;
+            return true;
+        }
+        int32_t x = 0, y = 0;
+        if (e.kind == ExprKind::Unary && (e.op == "-" || e.op == "+") && unrolled_index_value(*e.kids[0], x, depth + 1)) {
+            value = e.op == "-" ? static_cast<int32_t>(0u - static_cast<uint32_t>(x)) : x;
+            return true;
+        }
+        if (e.kind != ExprKind::Binary || (e.op != "+" && e.op != "-" && e.op != "*")) return false;
+        if (!unrolled_index_value(*e.kids[0], x, depth + 1) || !unrolled_index_value(*e.kids[1], y, depth + 1)) return false;
+        const uint32_t ux = static_cast<uint32_t>(x), uy = static_cast<uint32_t>(y);
+        value = static_cast<int32_t>(e.op == "+" ? ux + uy : e.op == "-" ? ux - uy : ux * uy);
+        return true;
+    }
+
+    static bool unrollable(const Stmt& s) {
+        if (!s.counted_int_index || s.max_trips < 0 || s.max_trips > kMaxUnrolledTrips) return false;
+        const int64_t cost = unroll_cost(*s.body[1]);
+        return cost >= 0 && cost * std::max<int64_t>(s.max_trips, 1) <= kMaxUnrolledNodes;
+    }
+
+    void unrolled_for(const Stmt& s) {
+        frames_.emplace_back();
+        statement(*s.body[0]);
+        for (int64_t k = 0; k < s.max_trips; ++k) {
+            const int32_t index = static_cast<int32_t>(s.counted_start + k * s.counted_step);
+            // Reads of the index through a reference (e.g. the swizzle `i.x`) see its register:
+            // set it as the loop's increment would (dead code elimination drops it if unread).
+            store(variable_ref(s.counted_int_index), Value{Type::scalar(BaseType::Int), {b_.int_constant(index)}});
+            unrolled_index_[s.counted_int_index] = index;
+            frames_.emplace_back();
+            statement(*s.body[1]);
+            frames_.pop_back();
+        }
+        unrolled_index_.erase(s.counted_int_index);
+        frames_.pop_back();
+    }
+
     // ---------------------------------------------------------------- statements
     void statement(const Stmt& s) {
         DepthGuard guard(*this, s.line);
@@ -837,6 +944,7 @@ private:
             break;
         }
         case StmtKind::For: {
+            if (unrollable(s)) { unrolled_for(s); break; }
             frames_.emplace_back();
             statement(*s.body[0]);
             // imm[1]: the most times the condition runs, when the checker counted the loop (ir.h).
