@@ -446,6 +446,21 @@ namespace {
 // One level of a 2D / 2D array texture or of a cube-map face (texture.h).
 using Plane = SampledLevel;
 
+// Texel n of an 8-bit unorm plane as its RGBA bytes R | G << 8 | B << 16 | A << 24 (Image::rgba8's
+// word): read, or made from a narrow texel (Image::narrow) with the absent channels' defaults of
+// ES 3.0 table 3.24 (0, alpha 255; luminance in r, g and b), as Image::read_color gives them.
+inline uint32_t narrow_rgba8(const Plane& p, size_t n) {
+    const uint8_t* b = p.narrow + n * p.narrow_bytes;
+    const uint32_t k0 = b[0], k1 = p.narrow_bytes == 2 ? b[1] : 0u;
+    switch (p.narrow_base) {
+        case gl::ALPHA: return k0 << 24;
+        case gl::LUMINANCE: return k0 | k0 << 8 | k0 << 16 | 0xFF000000u;
+        case gl::LUMINANCE_ALPHA: return k0 | k0 << 8 | k0 << 16 | k1 << 24;
+        default: return k0 | k1 << 8 | 0xFF000000u;   // RED, RG
+    }
+}
+inline uint32_t unorm8_texel(const Plane& p, size_t n) { return p.rgba8 ? p.rgba8[n] : narrow_rgba8(p, n); }
+
 // wrap() of a texel coordinate and of its right/upper neighbour, as LINEAR uses them (REPEAT of
 // a power of two masks: the same as the modulo for any int in two's complement).
 inline void wrap_pair(GLenum mode, int32_t i, int32_t size, bool pot, int32_t& a, int32_t& b) {
@@ -511,9 +526,9 @@ struct Fast2D {
 
     // Texel n of plane p as Level::fetch_image gives it (ref: the lane's depth reference).
     void texel(const Plane& p, size_t n, float ref, float out[4]) const {
-        if (p.rgba8) {
+        if (p.rgba8 || p.narrow) {
             // 8-bit unorm storage: k / 255 is unorm(k, 8).
-            const uint32_t v = p.rgba8[n];
+            const uint32_t v = unorm8_texel(p, n);
             for (int c = 0; c < 4; ++c) out[c] = float((v >> (8 * c)) & 255u) / 255.0f;
             return;
         }
@@ -556,7 +571,7 @@ struct Fast2D {
             const size_t at[4] = {row0 + size_t(i0), row0 + size_t(i1), row1 + size_t(i0), row1 + size_t(i1)};
             for (int n = 0; n < 4; ++n)
                 for (int c = 0; c < 4; ++c)
-                    k[n][c] = float((p.rgba8[at[n]] >> (8 * c)) & 255u);
+                    k[n][c] = float((unorm8_texel(p, at[n]) >> (8 * c)) & 255u);
             for (int c = 0; c < 4; ++c)
                 out[c] = (w8[0] * k[0][c] + w8[1] * k[1][c] + w8[2] * k[2][c] + w8[3] * k[3][c]) / kUnorm8Divisor;
             return;
@@ -2372,7 +2387,9 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
 #ifdef SOFTGL_SAMPLER_AVX2
     // Colour: blocks of 16 (AVX-512) or 8 lanes whose levels are at most 3, straight into the
     // registers; the other blocks lane by lane.
-    if (simd != SimdBlocks::None && !cube && !depth && q.coord[0] && q.coord[1]) {
+    // (Narrow 8-bit planes, Image::narrow, take no blocks: their lanes go one by one.)
+    const bool narrow = f.planes[0].narrow != nullptr;
+    if (simd != SimdBlocks::None && !cube && !depth && !narrow && q.coord[0] && q.coord[1]) {
         const ColourQuery cq{&f, &q, f.planes[0].layers > 1 && q.coord[2] ? &q.coord[2][0].f : nullptr,
                              needs_lambda, fixed, w, h, &lambda_of};
         const Blocks8 blocks8 = shaped_blocks8(f, cq, one_storage, pot);
@@ -2442,7 +2459,7 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
     // and lanes whose footprint leaves the face with seamless filtering then go to sample_lane
     // (as one_lane sends them). Other blocks: faces lane by lane (cube_coords, as one_lane), and
     // blocks on one face, one level and inside the face filtered by filter8, else lane by lane.
-    if (simd != SimdBlocks::None && cube && q.coord[0] && q.coord[1] && q.coord[2]) {
+    if (simd != SimdBlocks::None && cube && !narrow && q.coord[0] && q.coord[1] && q.coord[2]) {
         glsl::Scalar* const out[4] = {q.out[0], q.out[1], q.out[2], q.out[3]};
         const auto all_active = [&](int first) {
             if (!q.active) return true;
