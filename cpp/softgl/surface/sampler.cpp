@@ -654,6 +654,30 @@ __attribute__((target("avx2"))) inline __m256i ifloor_floored8(__m256 fl) {
     return _mm256_and_si256(i, _mm256_castps_si256(_mm256_cmp_ps(fl, fl, _CMP_ORD_Q)));
 }
 
+// narrow_rgba8 of 8 lanes: each texel's 4 bytes read at byte narrow_bytes * index (the channels'
+// bytes first; Image::kNarrowPad keeps the last texel's read inside the storage), then the
+// absent channels made as narrow_rgba8 makes them.
+__attribute__((target("avx2"))) inline __m256i narrow_words8(const Plane& p, __m256i index) {
+    const int* base = reinterpret_cast<const int*>(p.narrow);
+    const __m256i w = p.narrow_bytes == 2 ? _mm256_i32gather_epi32(base, index, 2) : _mm256_i32gather_epi32(base, index, 1);
+    const __m256i opaque = _mm256_set1_epi32(int(0xFF000000u)), k0 = _mm256_and_si256(w, _mm256_set1_epi32(0xFF));
+    const __m256i grey = _mm256_or_si256(_mm256_or_si256(k0, _mm256_slli_epi32(k0, 8)), _mm256_slli_epi32(k0, 16));
+    switch (p.narrow_base) {
+        case gl::ALPHA: return _mm256_slli_epi32(w, 24);
+        case gl::LUMINANCE: return _mm256_or_si256(grey, opaque);
+        case gl::LUMINANCE_ALPHA: return _mm256_or_si256(grey, _mm256_slli_epi32(_mm256_srli_epi32(w, 8), 24));
+        case gl::RG: return _mm256_or_si256(_mm256_and_si256(w, _mm256_set1_epi32(0xFFFF)), opaque);
+        default: return _mm256_or_si256(k0, opaque);   // RED
+    }
+}
+
+// The RGBA bytes (Image::rgba8's words) of the texels numbered `index` of an 8-bit unorm plane
+// (rgba8 or narrow) for 8 lanes: one gather.
+__attribute__((target("avx2"), always_inline)) inline __m256i unorm8_words8(const Plane& p, __m256i index) {
+    if (p.rgba8) return _mm256_i32gather_epi32(reinterpret_cast<const int*>(p.rgba8), index, 4);
+    return narrow_words8(p, index);
+}
+
 // wrap_pair / wrap_one of 8 lanes: REPEAT of a power of two and CLAMP_TO_EDGE here, the rest
 // lane by lane.
 __attribute__((target("avx2"))) inline void wrap8(GLenum mode, __m256i i, int32_t size, bool pot, bool pair,
@@ -797,7 +821,7 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bo
             for (int l = 0; l < 8; ++l) out[l][0] = d[l], out[l][1] = out[l][2] = grey ? d[l] : 0.0f, out[l][3] = 1.0f;
             return;
         }
-        if (p.rgba8) {   // 8-bit unorm storage (Fast2D::texel)
+        if (p.rgba8 || p.narrow) {   // 8-bit unorm storage (Fast2D::texel)
             for (int l = 0; l < 8; ++l)
                 f.texel(p, layer_at[l] + size_t(j0[l]) * size_t(p.width) + size_t(i0[l]), 0.0f, out[l]);
             return;
@@ -818,7 +842,7 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bo
         const __m256 nA = _mm256_sub_ps(k256, A), nB = _mm256_sub_ps(k256, B);
         const __m256 w[4] = {_mm256_mul_ps(nA, nB), _mm256_mul_ps(A, nB), _mm256_mul_ps(nA, B), _mm256_mul_ps(A, B)};
         __m256 sum[4];   // channel c of the 8 lanes' integer sums
-        if (p.rgba8 && !r) {
+        if ((p.rgba8 || p.narrow) && !r) {
             // The bytes of each of the 4 texels of 8 lanes by one gather (2D: no layers).
             const __m256i width = _mm256_set1_epi32(p.width);
             const __m256i row0 = _mm256_mullo_epi32(_mm256_load_si256(reinterpret_cast<const __m256i*>(j0)), width);
@@ -829,7 +853,7 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bo
                                    _mm256_add_epi32(row1, c1)};
             const __m256i byte = _mm256_set1_epi32(255);
             for (int n = 0; n < 4; ++n) {
-                const __m256i t = _mm256_i32gather_epi32(reinterpret_cast<const int*>(p.rgba8), at[n], 4);
+                const __m256i t = unorm8_words8(p, at[n]);
                 for (int c = 0; c < 4; ++c) {
                     const __m256 k = _mm256_cvtepi32_ps(_mm256_and_si256(_mm256_srli_epi32(t, 8 * c), byte));
                     sum[c] = n ? _mm256_add_ps(sum[c], _mm256_mul_ps(w[n], k)) : _mm256_mul_ps(w[n], k);
@@ -844,7 +868,7 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bo
                 const size_t at[4] = {row0 + size_t(i0[l]), row0 + size_t(i1[l]), row1 + size_t(i0[l]), row1 + size_t(i1[l])};
                 __m128 lane = _mm_setzero_ps();
                 for (int n = 0; n < 4; ++n) {
-                    const __m128i k = _mm_cvtepu8_epi32(_mm_cvtsi32_si128(int(p.rgba8[at[n]])));
+                    const __m128i k = _mm_cvtepu8_epi32(_mm_cvtsi32_si128(int(unorm8_texel(p, at[n]))));
                     lane = _mm_add_ps(lane, _mm_mul_ps(_mm_set1_ps(wl[n][l]), _mm_cvtepi32_ps(k)));
                 }
                 alignas(16) float v[4];
@@ -1242,8 +1266,8 @@ __attribute__((target("avx2"), always_inline)) inline void unpack8(__m256i t, __
 // from the floats (4 per texel) by 8 loads and a 4x4 transpose in each half. bytes: as k = 255 v
 // (exact for the unorm8 fixed-point rule), else as the floats v.
 __attribute__((target("avx2"), always_inline)) inline void texels8(const Plane& p, __m256i index, bool bytes, __m256 out[4]) {
-    if (p.rgba8) {
-        unpack8(_mm256_i32gather_epi32(reinterpret_cast<const int*>(p.rgba8), index, 4), out, bytes);
+    if (p.rgba8 || p.narrow) {
+        unpack8(unorm8_words8(p, index), out, bytes);
         return;
     }
     alignas(32) int32_t at[8];
@@ -1506,7 +1530,7 @@ __attribute__((target("avx2"), always_inline)) inline void wrap_shaped8(__m256i 
 template <bool kBytes>
 __attribute__((target("avx2"), always_inline)) inline void texels_shaped8(const Plane& p, __m256i index, bool bytes, __m256 out[4]) {
     if constexpr (kBytes) {
-        unpack8(_mm256_i32gather_epi32(reinterpret_cast<const int*>(p.rgba8), index, 4), out, bytes);
+        unpack8(unorm8_words8(p, index), out, bytes);
     } else {
         alignas(32) int32_t at[8];
         _mm256_store_si256(reinterpret_cast<__m256i*>(at), index);
@@ -1579,9 +1603,7 @@ __attribute__((target("avx2"), always_inline)) inline void filter8_shaped(const 
                                _mm256_add_epi32(row1, i1)};
         __m256 w[4];
         if constexpr (kBytes) {
-            const int* texels = reinterpret_cast<const int*>(p.rgba8);
-            unorm8_rows8(_mm256_i32gather_epi32(texels, at[0], 4), _mm256_i32gather_epi32(texels, at[1], 4),
-                         _mm256_i32gather_epi32(texels, at[2], 4), _mm256_i32gather_epi32(texels, at[3], 4),
+            unorm8_rows8(unorm8_words8(p, at[0]), unorm8_words8(p, at[1]), unorm8_words8(p, at[2]), unorm8_words8(p, at[3]),
                          weight8x8(a), weight8x8(b), out);
             return;
         } else {
@@ -1683,7 +1705,7 @@ using Blocks8 = int (*)(const ColourQuery&, int, int);
 // int32 texel numbers; pot: every one has power-of-two sizes.
 inline Blocks8 shaped_blocks8(const Fast2D& f, const ColourQuery& cq, bool one_storage, bool pot) {
     if (cq.r || !one_storage) return colour_blocks8;
-    const bool bytes = f.planes[0].rgba8 != nullptr;
+    const bool bytes = f.planes[0].rgba8 != nullptr || f.planes[0].narrow != nullptr;
     WrapKind wrap;
     if (f.wrap_s == gl::REPEAT && f.wrap_t == gl::REPEAT && pot) wrap = WrapKind::RepeatPot;
     else if (f.wrap_s == gl::CLAMP_TO_EDGE && f.wrap_t == gl::CLAMP_TO_EDGE) wrap = WrapKind::Clamp;
@@ -1803,10 +1825,30 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) inline void unpack16(__m51
     }
 }
 
-// texels16 from a byte copy (Texture::rgba8): one gather.
-__attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) inline void texels16(const uint32_t* rgba8, __m512i index, __m512 out[4],
+// narrow_words8 of 16 lanes.
+__attribute__((target(SOFTGL_SAMPLER_AVX512))) inline __m512i narrow_words16(const Plane& p, __m512i index) {
+    const __m512i w = p.narrow_bytes == 2 ? _mm512_i32gather_epi32(index, p.narrow, 2) : _mm512_i32gather_epi32(index, p.narrow, 1);
+    const __m512i opaque = _mm512_set1_epi32(int(0xFF000000u)), k0 = _mm512_and_si512(w, _mm512_set1_epi32(0xFF));
+    const __m512i grey = _mm512_or_si512(_mm512_or_si512(k0, _mm512_slli_epi32(k0, 8)), _mm512_slli_epi32(k0, 16));
+    switch (p.narrow_base) {
+        case gl::ALPHA: return _mm512_slli_epi32(w, 24);
+        case gl::LUMINANCE: return _mm512_or_si512(grey, opaque);
+        case gl::LUMINANCE_ALPHA: return _mm512_or_si512(grey, _mm512_slli_epi32(_mm512_srli_epi32(w, 8), 24));
+        case gl::RG: return _mm512_or_si512(_mm512_and_si512(w, _mm512_set1_epi32(0xFFFF)), opaque);
+        default: return _mm512_or_si512(k0, opaque);   // RED
+    }
+}
+
+// unorm8_words8 of 16 lanes.
+__attribute__((target(SOFTGL_SAMPLER_AVX512), always_inline)) inline __m512i unorm8_words16(const Plane& p, __m512i index) {
+    if (p.rgba8) return _mm512_i32gather_epi32(index, p.rgba8, 4);
+    return narrow_words16(p, index);
+}
+
+// texels16 from 8-bit unorm storage (Image::rgba8 or Image::narrow): one gather.
+__attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) inline void texels16(const Plane& p, __m512i index, __m512 out[4],
                                                                           bool bytes = false) {
-    unpack16(_mm512_i32gather_epi32(index, rgba8, 4), out, bytes);
+    unpack16(unorm8_words16(p, index), out, bytes);
 }
 
 // texel_pairs16 from a byte copy: two gathers of 8-byte pairs.
@@ -1866,7 +1908,7 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) void filter16(const Fast2D
     if constexpr (kLayered)
         for (int l = 0; l < 16; ++l) {
             const size_t start = size_t(std::clamp(ifloor(r[l] + 0.5f), 0, p.layers - 1)) * size_t(p.height) * size_t(p.width);
-            if (p.rgba8) layer_start[l] = int32_t(start);
+            if (p.rgba8 || p.narrow) layer_start[l] = int32_t(start);
             else layers.lane[l] = p.color + start * 4;
         }
     const __m512i layer0 = _mm512_load_si512(layer_start);
@@ -1879,7 +1921,7 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) void filter16(const Fast2D
         wrap16(f.wrap_t, ifloor_floored16(_mm512_floor_ps(v)), p.height, p.height_pot, false, j0, j1);
         // Texel indices in int32: 4 * w * h <= 2^30 floats (kMaxTextureSize is 16384).
         const __m512i index = _mm512_add_epi32(_mm512_mullo_epi32(j0, width), i0);
-        if (p.rgba8) texels16(p.rgba8, _mm512_add_epi32(layer0, index), out);
+        if (p.rgba8 || p.narrow) texels16(p, _mm512_add_epi32(layer0, index), out);
         else texels16(layers, index, out);
         return;
     }
@@ -1907,11 +1949,11 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) void filter16(const Fast2D
     if (p.rgba8 && pairs) {
         texel_pairs16(p.rgba8, _mm512_add_epi32(brow0, i0), texel[0], texel[1], bytes);
         texel_pairs16(p.rgba8, _mm512_add_epi32(brow1, i0), texel[2], texel[3], bytes);
-    } else if (p.rgba8) {
-        texels16(p.rgba8, _mm512_add_epi32(brow0, i0), texel[0], bytes);
-        texels16(p.rgba8, _mm512_add_epi32(brow0, i1), texel[1], bytes);
-        texels16(p.rgba8, _mm512_add_epi32(brow1, i0), texel[2], bytes);
-        texels16(p.rgba8, _mm512_add_epi32(brow1, i1), texel[3], bytes);
+    } else if (p.rgba8 || p.narrow) {   // (narrow planes: no pair gathers)
+        texels16(p, _mm512_add_epi32(brow0, i0), texel[0], bytes);
+        texels16(p, _mm512_add_epi32(brow0, i1), texel[1], bytes);
+        texels16(p, _mm512_add_epi32(brow1, i0), texel[2], bytes);
+        texels16(p, _mm512_add_epi32(brow1, i1), texel[3], bytes);
     } else if (pairs) {
         // No lane wraps between its columns: each row's two texels are neighbours in memory.
         texel_pairs16(layers, _mm512_add_epi32(row0, i0), texel[0], texel[1]);
@@ -1927,7 +1969,7 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) void filter16(const Fast2D
         const __m512 k255 = _mm512_set1_ps(255.0f), divisor = _mm512_set1_ps(kUnorm8Divisor);
         for (int c = 0; c < 4; ++c) {
             __m512 k[4];
-            for (int n = 0; n < 4; ++n) k[n] = p.rgba8 ? texel[n][c] : _mm512_mul_ps(texel[n][c], k255);
+            for (int n = 0; n < 4; ++n) k[n] = p.rgba8 || p.narrow ? texel[n][c] : _mm512_mul_ps(texel[n][c], k255);
             __m512 sum = _mm512_mul_ps(w[0], k[0]);
             for (int n = 1; n < 4; ++n) sum = _mm512_fmadd_ps(w[n], k[n], sum);
             out[c] = _mm512_div_ps(sum, divisor);
@@ -2099,7 +2141,7 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"), always_inline)) inline void
         wrap_shaped16<kWrap, false>(ifloor_floored16(_mm512_floor_ps(u)), last_i, i0, i1);
         wrap_shaped16<kWrap, false>(ifloor_floored16(_mm512_floor_ps(v)), last_j, j0, j1);
         const __m512i index = _mm512_add_epi32(_mm512_mullo_epi32(j0, width), i0);
-        if constexpr (kBytes) texels16(p.rgba8, index, out);
+        if constexpr (kBytes) texels16(p, index, out);
         else texels16(layers, index, out);
     } else {
         const __m512 half = _mm512_set1_ps(0.5f), one = _mm512_set1_ps(1.0f);
@@ -2113,14 +2155,14 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"), always_inline)) inline void
             // The fixed-point rule by rows (unorm8_rows16): the texels as their packed bytes.
             const __m512i row0 = _mm512_mullo_epi32(j0, width), row1 = _mm512_mullo_epi32(j1, width);
             __m512i t[4];   // t00, t10, t01, t11
-            if (_mm512_cmpeq_epi32_mask(i1, _mm512_add_epi32(i0, _mm512_set1_epi32(1))) == 0xFFFF) {
+            if (p.rgba8 && _mm512_cmpeq_epi32_mask(i1, _mm512_add_epi32(i0, _mm512_set1_epi32(1))) == 0xFFFF) {
                 packed_pairs16(p.rgba8, _mm512_add_epi32(row0, i0), t[0], t[1]);
                 packed_pairs16(p.rgba8, _mm512_add_epi32(row1, i0), t[2], t[3]);
             } else {
-                t[0] = _mm512_i32gather_epi32(_mm512_add_epi32(row0, i0), p.rgba8, 4);
-                t[1] = _mm512_i32gather_epi32(_mm512_add_epi32(row0, i1), p.rgba8, 4);
-                t[2] = _mm512_i32gather_epi32(_mm512_add_epi32(row1, i0), p.rgba8, 4);
-                t[3] = _mm512_i32gather_epi32(_mm512_add_epi32(row1, i1), p.rgba8, 4);
+                t[0] = unorm8_words16(p, _mm512_add_epi32(row0, i0));   // (narrow planes: here)
+                t[1] = unorm8_words16(p, _mm512_add_epi32(row0, i1));
+                t[2] = unorm8_words16(p, _mm512_add_epi32(row1, i0));
+                t[3] = unorm8_words16(p, _mm512_add_epi32(row1, i1));
             }
             unorm8_rows16(t[0], t[1], t[2], t[3], weight8x16(a), weight8x16(b), out);
             return;
@@ -2305,7 +2347,7 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
     const bool depth = f.planes[0].depth != nullptr;
     // Also what shaped_blocks8 needs: every level of one storage (bytes or floats) with int32
     // texel numbers, and whether all have power-of-two sizes.
-    const bool bytes = f.planes[0].rgba8 != nullptr;
+    const bool bytes = f.planes[0].rgba8 != nullptr || f.planes[0].narrow != nullptr;
     [[maybe_unused]] bool one_storage = true, pot = true;
     for (int face = 0; face < faces; ++face)
         for (int32_t k = 0; k <= bt.q - bt.base; ++k) {
@@ -2313,8 +2355,9 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
             if (level.width == 0 || (level.depth != nullptr) != depth) return false;
             // The vector paths index texels in int32 (8-bit unorm planes: across layers too).
             const bool fits = int32_indices(level);
-            if (level.rgba8 && !fits) return false;
-            one_storage = one_storage && (level.rgba8 != nullptr) == bytes && level.unorm8 == bytes &&
+            const bool level_bytes = level.rgba8 != nullptr || level.narrow != nullptr;
+            if (level_bytes && !fits) return false;
+            one_storage = one_storage && level_bytes == bytes && level.unorm8 == bytes &&
                           (bytes || level.color != nullptr) && fits;
             pot = pot && level.width_pot && level.height_pot;
         }
@@ -2387,9 +2430,8 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
 #ifdef SOFTGL_SAMPLER_AVX2
     // Colour: blocks of 16 (AVX-512) or 8 lanes whose levels are at most 3, straight into the
     // registers; the other blocks lane by lane.
-    // (Narrow 8-bit planes, Image::narrow, take no blocks: their lanes go one by one.)
-    const bool narrow = f.planes[0].narrow != nullptr;
-    if (simd != SimdBlocks::None && !cube && !depth && !narrow && q.coord[0] && q.coord[1]) {
+    // (Narrow 8-bit planes, Image::narrow, too: unorm8_words8/16 decode their texels.)
+    if (simd != SimdBlocks::None && !cube && !depth && q.coord[0] && q.coord[1]) {
         const ColourQuery cq{&f, &q, f.planes[0].layers > 1 && q.coord[2] ? &q.coord[2][0].f : nullptr,
                              needs_lambda, fixed, w, h, &lambda_of};
         const Blocks8 blocks8 = shaped_blocks8(f, cq, one_storage, pot);
@@ -2459,7 +2501,7 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
     // and lanes whose footprint leaves the face with seamless filtering then go to sample_lane
     // (as one_lane sends them). Other blocks: faces lane by lane (cube_coords, as one_lane), and
     // blocks on one face, one level and inside the face filtered by filter8, else lane by lane.
-    if (simd != SimdBlocks::None && cube && !narrow && q.coord[0] && q.coord[1] && q.coord[2]) {
+    if (simd != SimdBlocks::None && cube && q.coord[0] && q.coord[1] && q.coord[2]) {
         glsl::Scalar* const out[4] = {q.out[0], q.out[1], q.out[2], q.out[3]};
         const auto all_active = [&](int first) {
             if (!q.active) return true;

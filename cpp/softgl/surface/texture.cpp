@@ -246,7 +246,7 @@ float depth_value(Encoding e, uint32_t w) {
 uint64_t Image::allocation_bytes(const FormatInfo* fmt, int32_t w, int32_t h, int32_t d, int32_t s) {
     const uint64_t n = uint64_t(w) * uint64_t(h) * uint64_t(d) * uint64_t(s);
     if (stores_bytes(fmt)) return n * 4;                      // RGBA bytes per sample
-    if (const int b = narrow_bytes(fmt)) return n * uint64_t(b);   // their channels' bytes
+    if (const int b = narrow_bytes(fmt)) return n * uint64_t(b) + kNarrowPad;   // their channels' bytes
     if (fmt->kind() != SampleKind::Depth) return n * 4 * 4;   // four 4-byte words per sample
     return n * ((fmt->encoding != Encoding::Stencil8 ? 4 : 0) + (fmt->has_stencil ? 1 : 0));
 }
@@ -260,7 +260,7 @@ void Image::allocate(const FormatInfo* fmt, int32_t w, int32_t h, int32_t d, int
         case SampleKind::Float:
             // Absent alpha reads as 1 from the start (e.g. RGB8).
             if (stores_bytes(fmt)) rgba8.assign(n, fmt->bits[3] ? 0u : 0xFF000000u);
-            else if (stores_narrow(fmt)) narrow.assign(n * size_t(narrow_bytes(fmt)), 0);   // absent channels are implied
+            else if (stores_narrow(fmt)) narrow.assign(n * size_t(narrow_bytes(fmt)) + kNarrowPad, 0);   // absent channels are implied
             else color.assign(n * 4, 0.0f);
             break;
         case SampleKind::Int: case SampleKind::Uint: integer.assign(n * 4, 0u); break;
@@ -601,7 +601,7 @@ void Texture::refresh_sampling(int32_t base, int32_t q) {
                 s.rgba8 = img->rgba8.data();
                 s.unorm8 = true;
             } else if (const int nb = Image::narrow_bytes(img->format);
-                       nb && img->narrow.size() == img->texel_count() * size_t(nb)) {
+                       nb && img->narrow.size() == img->texel_count() * size_t(nb) + Image::kNarrowPad) {
                 s.narrow = img->narrow.data();
                 s.narrow_bytes = uint8_t(nb);
                 s.narrow_base = img->format->base_format;

@@ -121,9 +121,11 @@ struct Image {
     std::vector<uint32_t> rgba8;
     // 8-bit unorm formats of one or two channels (stores_narrow: R8, RG8, LUMINANCE8, ALPHA8,
     // LUMINANCE8_ALPHA8): only their channels' bytes, narrow_bytes() per texel (sample), in the
-    // order r, g / luminance, alpha. Read and written through read_color / store_color (the
-    // sampler's general path; the byte paths of RGBA8 do not take them).
+    // order r, g / luminance, alpha, then kNarrowPad bytes (0) so that the sampler's 4-byte
+    // gathers at any texel stay inside the vector. Read and written through read_color /
+    // store_color; the sampler's vector paths decode them (narrow_words8/16, surface/sampler.cpp).
     std::vector<uint8_t> narrow;
+    static constexpr size_t kNarrowPad = 3;
     std::vector<uint32_t> integer;               // Int/Uint kind: 4 per texel (sample)
     std::vector<uint32_t> depth_words;           // Depth kind: 1 per texel (sample)
     std::vector<uint8_t> stencil;                // depth-stencil and stencil formats
@@ -201,7 +203,8 @@ struct SampledLevel {
                                        // filters with 8-bit weights (surface/sampler.cpp)
     const uint32_t* rgba8 = nullptr;   // 8-bit unorm texels (Image::rgba8), layer-major then row-major
     // 8-bit unorm texels of one or two channels (Image::narrow; unorm8 set, rgba8 null):
-    // narrow_bytes per texel, decoded by narrow_rgba8 (surface/sampler.cpp); lane by lane only.
+    // narrow_bytes per texel and Image::kNarrowPad bytes after the last, decoded to RGBA bytes by
+    // narrow_rgba8 / narrow_words8 / narrow_words16 (surface/sampler.cpp).
     const uint8_t* narrow = nullptr;
     uint8_t narrow_bytes = 0;
     GLenum narrow_base = 0;            // the format's base format (RED, RG, LUMINANCE, ...)
