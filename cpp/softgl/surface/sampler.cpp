@@ -637,10 +637,11 @@ private:
     Entry entries_[kEntries] = {};
 };
 
-// Whether every texel number of p fits an int32 (gathers take int32 indices); larger 2D arrays
-// are filtered lane by lane (filter8_lanes).
+// Whether every texel number of p fits an int32 (gathers take int32 indices; narrow planes: their
+// byte offsets, narrow_words8); larger 2D arrays are filtered lane by lane (filter8_lanes).
 inline bool int32_indices(const Plane& p) {
-    return uint64_t(p.width) * uint64_t(p.height) * uint64_t(p.layers) <= uint64_t(INT32_MAX);
+    return uint64_t(p.width) * uint64_t(p.height) * uint64_t(p.layers) * uint64_t(p.narrow ? p.narrow_bytes : 1) <=
+           uint64_t(INT32_MAX);
 }
 
 #if defined(__x86_64__) || defined(__i386__)
@@ -655,20 +656,13 @@ __attribute__((target("avx2"))) inline __m256i ifloor_floored8(__m256 fl) {
 }
 
 // narrow_rgba8 of 8 lanes: each texel's 4 bytes read at byte narrow_bytes * index (the channels'
-// bytes first; Image::kNarrowPad keeps the last texel's read inside the storage), then the
-// absent channels made as narrow_rgba8 makes them.
-__attribute__((target("avx2"))) inline __m256i narrow_words8(const Plane& p, __m256i index) {
-    const int* base = reinterpret_cast<const int*>(p.narrow);
-    const __m256i w = p.narrow_bytes == 2 ? _mm256_i32gather_epi32(base, index, 2) : _mm256_i32gather_epi32(base, index, 1);
-    const __m256i opaque = _mm256_set1_epi32(int(0xFF000000u)), k0 = _mm256_and_si256(w, _mm256_set1_epi32(0xFF));
-    const __m256i grey = _mm256_or_si256(_mm256_or_si256(k0, _mm256_slli_epi32(k0, 8)), _mm256_slli_epi32(k0, 16));
-    switch (p.narrow_base) {
-        case gl::ALPHA: return _mm256_slli_epi32(w, 24);
-        case gl::LUMINANCE: return _mm256_or_si256(grey, opaque);
-        case gl::LUMINANCE_ALPHA: return _mm256_or_si256(grey, _mm256_slli_epi32(_mm256_srli_epi32(w, 8), 24));
-        case gl::RG: return _mm256_or_si256(_mm256_and_si256(w, _mm256_set1_epi32(0xFFFF)), opaque);
-        default: return _mm256_or_si256(k0, opaque);   // RED
-    }
+// bytes first; Image::kNarrowPad keeps the last texel's read inside the storage), then moved to
+// their RGBA places and the absent channels filled (SampledLevel::narrow_shuffle, narrow_fill).
+__attribute__((target("avx2"), always_inline)) inline __m256i narrow_words8(const Plane& p, __m256i index) {
+    const __m256i at = _mm256_sll_epi32(index, _mm_cvtsi32_si128(p.narrow_bytes - 1));
+    const __m256i w = _mm256_i32gather_epi32(reinterpret_cast<const int*>(p.narrow), at, 1);
+    const __m256i order = _mm256_broadcastsi128_si256(_mm_loadu_si128(reinterpret_cast<const __m128i*>(p.narrow_shuffle)));
+    return _mm256_or_si256(_mm256_shuffle_epi8(w, order), _mm256_set1_epi32(int(p.narrow_fill)));
 }
 
 // The RGBA bytes (Image::rgba8's words) of the texels numbered `index` of an 8-bit unorm plane
@@ -1826,17 +1820,11 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) inline void unpack16(__m51
 }
 
 // narrow_words8 of 16 lanes.
-__attribute__((target(SOFTGL_SAMPLER_AVX512))) inline __m512i narrow_words16(const Plane& p, __m512i index) {
-    const __m512i w = p.narrow_bytes == 2 ? _mm512_i32gather_epi32(index, p.narrow, 2) : _mm512_i32gather_epi32(index, p.narrow, 1);
-    const __m512i opaque = _mm512_set1_epi32(int(0xFF000000u)), k0 = _mm512_and_si512(w, _mm512_set1_epi32(0xFF));
-    const __m512i grey = _mm512_or_si512(_mm512_or_si512(k0, _mm512_slli_epi32(k0, 8)), _mm512_slli_epi32(k0, 16));
-    switch (p.narrow_base) {
-        case gl::ALPHA: return _mm512_slli_epi32(w, 24);
-        case gl::LUMINANCE: return _mm512_or_si512(grey, opaque);
-        case gl::LUMINANCE_ALPHA: return _mm512_or_si512(grey, _mm512_slli_epi32(_mm512_srli_epi32(w, 8), 24));
-        case gl::RG: return _mm512_or_si512(_mm512_and_si512(w, _mm512_set1_epi32(0xFFFF)), opaque);
-        default: return _mm512_or_si512(k0, opaque);   // RED
-    }
+__attribute__((target(SOFTGL_SAMPLER_AVX512), always_inline)) inline __m512i narrow_words16(const Plane& p, __m512i index) {
+    const __m512i at = _mm512_sll_epi32(index, _mm_cvtsi32_si128(p.narrow_bytes - 1));
+    const __m512i w = _mm512_i32gather_epi32(at, p.narrow, 1);
+    const __m512i order = _mm512_broadcast_i32x4(_mm_loadu_si128(reinterpret_cast<const __m128i*>(p.narrow_shuffle)));
+    return _mm512_or_si512(_mm512_shuffle_epi8(w, order), _mm512_set1_epi32(int(p.narrow_fill)));
 }
 
 // unorm8_words8 of 16 lanes.

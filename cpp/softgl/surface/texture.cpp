@@ -606,6 +606,16 @@ void Texture::refresh_sampling(int32_t base, int32_t q) {
                 s.narrow_bytes = uint8_t(nb);
                 s.narrow_base = img->format->base_format;
                 s.unorm8 = true;
+                // Channel c of RGBA from the texel's byte src[c] (-1: none; ES 3.0 table 3.24).
+                const GLenum b = s.narrow_base;
+                const int red[4] = {0, -1, -1, -1}, rg[4] = {0, 1, -1, -1}, lum[4] = {0, 0, 0, -1},
+                          alpha[4] = {-1, -1, -1, 0}, lum_alpha[4] = {0, 0, 0, 1};
+                const int* src = b == gl::RG ? rg : b == gl::LUMINANCE ? lum : b == gl::ALPHA ? alpha
+                               : b == gl::LUMINANCE_ALPHA ? lum_alpha : red;
+                for (int j = 0; j < 4; ++j)
+                    for (int c = 0; c < 4; ++c)
+                        s.narrow_shuffle[4 * j + c] = src[c] < 0 ? uint8_t(0x80) : uint8_t(4 * j + src[c]);
+                s.narrow_fill = b == gl::ALPHA || b == gl::LUMINANCE_ALPHA ? 0u : 0xFF000000u;
             } else if (img->format->kind() == SampleKind::Float && img->color.size() == img->texel_count() * 4) {
                 s.color = img->color.data();
             } else if (img->format->is_depth() && img->depth_words.size() == img->texel_count()) {

@@ -208,6 +208,11 @@ struct SampledLevel {
     const uint8_t* narrow = nullptr;
     uint8_t narrow_bytes = 0;
     GLenum narrow_base = 0;            // the format's base format (RED, RG, LUMINANCE, ...)
+    // The RGBA word of 4 narrow texels read as 4-byte words: byte 4j + c of 16 (a byte shuffle's
+    // order; 0x80: zero) is where word j's channel c comes from, then OR narrow_fill (alpha 255
+    // where the format has none): narrow_rgba8's values (surface/sampler.cpp).
+    uint8_t narrow_shuffle[16] = {};
+    uint32_t narrow_fill = 0;
     const uint32_t* depth = nullptr;   // depth words, one per texel
     Encoding depth_encoding = Encoding::Depth16;
     int32_t width = 0, height = 0, layers = 0;   // layers: of a 2D array (1 otherwise)
