@@ -672,6 +672,13 @@ __attribute__((target("avx2"), always_inline)) inline __m256i unorm8_words8(cons
     return narrow_words8(p, index);
 }
 
+// unorm8_words8 of a storage known from the block loop's shape (kBytes: 1 rgba8, 2 narrow).
+template <int kBytes>
+__attribute__((target("avx2"), always_inline)) inline __m256i shaped_words8(const Plane& p, __m256i index) {
+    if constexpr (kBytes == 2) return narrow_words8(p, index);
+    else return _mm256_i32gather_epi32(reinterpret_cast<const int*>(p.rgba8), index, 4);
+}
+
 // wrap_pair / wrap_one of 8 lanes: REPEAT of a power of two and CLAMP_TO_EDGE here, the rest
 // lane by lane.
 __attribute__((target("avx2"))) inline void wrap8(GLenum mode, __m256i i, int32_t size, bool pot, bool pair,
@@ -1520,11 +1527,11 @@ __attribute__((target("avx2"), always_inline)) inline void wrap_shaped8(__m256i 
     }
 }
 
-// texels8 of one storage (kBytes: p.rgba8, else p.color).
-template <bool kBytes>
+// texels8 of one storage (kBytes: 1 p.rgba8, 2 p.narrow, 0 p.color).
+template <int kBytes>
 __attribute__((target("avx2"), always_inline)) inline void texels_shaped8(const Plane& p, __m256i index, bool bytes, __m256 out[4]) {
     if constexpr (kBytes) {
-        unpack8(unorm8_words8(p, index), out, bytes);
+        unpack8(shaped_words8<kBytes>(p, index), out, bytes);
     } else {
         alignas(32) int32_t at[8];
         _mm256_store_si256(reinterpret_cast<__m256i*>(at), index);
@@ -1572,9 +1579,9 @@ __attribute__((target("avx2"), always_inline)) inline void unorm8_rows8(__m256i 
         out[c] = _mm256_div_ps(_mm256_add_ps(_mm256_mul_ps(nB, h0[c]), _mm256_mul_ps(B, h1[c])), divisor);
 }
 
-// filter8_color of one plane of one layer (kBytes: 8-bit unorm bytes and the fixed-point rule,
+// filter8_color of one plane of one layer (kBytes: 8-bit unorm bytes, 1 rgba8 or 2 narrow, and the fixed-point rule,
 // else floats).
-template <bool kBytes, bool kLinear, WrapKind kWrap>
+template <int kBytes, bool kLinear, WrapKind kWrap>
 __attribute__((target("avx2"), always_inline)) inline void filter8_shaped(const Plane8& P, const float* s, const float* t,
                                                                           __m256 out[4]) {
     const Plane& p = *P.p;
@@ -1597,7 +1604,8 @@ __attribute__((target("avx2"), always_inline)) inline void filter8_shaped(const 
                                _mm256_add_epi32(row1, i1)};
         __m256 w[4];
         if constexpr (kBytes) {
-            unorm8_rows8(unorm8_words8(p, at[0]), unorm8_words8(p, at[1]), unorm8_words8(p, at[2]), unorm8_words8(p, at[3]),
+            unorm8_rows8(shaped_words8<kBytes>(p, at[0]), shaped_words8<kBytes>(p, at[1]), shaped_words8<kBytes>(p, at[2]),
+                         shaped_words8<kBytes>(p, at[3]),
                          weight8x8(a), weight8x8(b), out);
             return;
         } else {
@@ -1626,7 +1634,7 @@ struct Planes8 {
 };
 
 // The colour lookups of lanes [l, end) in blocks of 8 of one query shape (as colour_blocks8).
-template <bool kBytes, WrapKind kWrap, LevelMode kMode>
+template <int kBytes, WrapKind kWrap, LevelMode kMode>
 __attribute__((target("avx2"))) int colour_blocks8_shaped(const ColourQuery& cq, int l, int end) {
     const glsl::TextureQuery& q = *cq.q;
     const Fast2D& f = *cq.f;
@@ -1699,7 +1707,7 @@ using Blocks8 = int (*)(const ColourQuery&, int, int);
 // int32 texel numbers; pot: every one has power-of-two sizes.
 inline Blocks8 shaped_blocks8(const Fast2D& f, const ColourQuery& cq, bool one_storage, bool pot) {
     if (cq.r || !one_storage) return colour_blocks8;
-    const bool bytes = f.planes[0].rgba8 != nullptr || f.planes[0].narrow != nullptr;
+    const bool bytes = f.planes[0].rgba8 != nullptr, narrow = f.planes[0].narrow != nullptr;
     WrapKind wrap;
     if (f.wrap_s == gl::REPEAT && f.wrap_t == gl::REPEAT && pot) wrap = WrapKind::RepeatPot;
     else if (f.wrap_s == gl::CLAMP_TO_EDGE && f.wrap_t == gl::CLAMP_TO_EDGE) wrap = WrapKind::Clamp;
@@ -1712,11 +1720,15 @@ inline Blocks8 shaped_blocks8(const Fast2D& f, const ColourQuery& cq, bool one_s
         default: return colour_blocks8_shaped<B, W, LevelMode::PerBlock>;                            \
     }
     if (bytes) {
-        if (wrap == WrapKind::RepeatPot) SOFTGL_SHAPED(true, WrapKind::RepeatPot)
-        SOFTGL_SHAPED(true, WrapKind::Clamp)
+        if (wrap == WrapKind::RepeatPot) SOFTGL_SHAPED(1, WrapKind::RepeatPot)
+        SOFTGL_SHAPED(1, WrapKind::Clamp)
     }
-    if (wrap == WrapKind::RepeatPot) SOFTGL_SHAPED(false, WrapKind::RepeatPot)
-    SOFTGL_SHAPED(false, WrapKind::Clamp)
+    if (narrow) {   // Image::narrow: shaped_words8 decodes the texels
+        if (wrap == WrapKind::RepeatPot) SOFTGL_SHAPED(2, WrapKind::RepeatPot)
+        SOFTGL_SHAPED(2, WrapKind::Clamp)
+    }
+    if (wrap == WrapKind::RepeatPot) SOFTGL_SHAPED(0, WrapKind::RepeatPot)
+    SOFTGL_SHAPED(0, WrapKind::Clamp)
 #undef SOFTGL_SHAPED
 }
 
@@ -1831,6 +1843,13 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512), always_inline)) inline __m512i nar
 __attribute__((target(SOFTGL_SAMPLER_AVX512), always_inline)) inline __m512i unorm8_words16(const Plane& p, __m512i index) {
     if (p.rgba8) return _mm512_i32gather_epi32(index, p.rgba8, 4);
     return narrow_words16(p, index);
+}
+
+// shaped_words8 of 16 lanes.
+template <int kBytes>
+__attribute__((target(SOFTGL_SAMPLER_AVX512), always_inline)) inline __m512i shaped_words16(const Plane& p, __m512i index) {
+    if constexpr (kBytes == 2) return narrow_words16(p, index);
+    else return _mm512_i32gather_epi32(index, p.rgba8, 4);
 }
 
 // texels16 from 8-bit unorm storage (Image::rgba8 or Image::narrow): one gather.
@@ -2115,7 +2134,7 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512), always_inline)) inline void packed
 }
 
 // filter16 of one plane of one layer (planes whose texel numbers fit int32).
-template <bool kBytes, bool kLinear, WrapKind kWrap>
+template <int kBytes, bool kLinear, WrapKind kWrap>
 __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"), always_inline)) inline void filter16_shaped(const Fast2D& f, const Plane& p,
                                                                                                const float* s, const float* t,
                                                                                                __m512 out[4]) {
@@ -2129,7 +2148,7 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"), always_inline)) inline void
         wrap_shaped16<kWrap, false>(ifloor_floored16(_mm512_floor_ps(u)), last_i, i0, i1);
         wrap_shaped16<kWrap, false>(ifloor_floored16(_mm512_floor_ps(v)), last_j, j0, j1);
         const __m512i index = _mm512_add_epi32(_mm512_mullo_epi32(j0, width), i0);
-        if constexpr (kBytes) texels16(p, index, out);
+        if constexpr (kBytes) unpack16(shaped_words16<kBytes>(p, index), out, false);
         else texels16(layers, index, out);
     } else {
         const __m512 half = _mm512_set1_ps(0.5f), one = _mm512_set1_ps(1.0f);
@@ -2143,14 +2162,14 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"), always_inline)) inline void
             // The fixed-point rule by rows (unorm8_rows16): the texels as their packed bytes.
             const __m512i row0 = _mm512_mullo_epi32(j0, width), row1 = _mm512_mullo_epi32(j1, width);
             __m512i t[4];   // t00, t10, t01, t11
-            if (p.rgba8 && _mm512_cmpeq_epi32_mask(i1, _mm512_add_epi32(i0, _mm512_set1_epi32(1))) == 0xFFFF) {
+            if (kBytes == 1 && _mm512_cmpeq_epi32_mask(i1, _mm512_add_epi32(i0, _mm512_set1_epi32(1))) == 0xFFFF) {
                 packed_pairs16(p.rgba8, _mm512_add_epi32(row0, i0), t[0], t[1]);
                 packed_pairs16(p.rgba8, _mm512_add_epi32(row1, i0), t[2], t[3]);
             } else {
-                t[0] = unorm8_words16(p, _mm512_add_epi32(row0, i0));   // (narrow planes: here)
-                t[1] = unorm8_words16(p, _mm512_add_epi32(row0, i1));
-                t[2] = unorm8_words16(p, _mm512_add_epi32(row1, i0));
-                t[3] = unorm8_words16(p, _mm512_add_epi32(row1, i1));
+                t[0] = shaped_words16<kBytes>(p, _mm512_add_epi32(row0, i0));   // (narrow planes: here)
+                t[1] = shaped_words16<kBytes>(p, _mm512_add_epi32(row0, i1));
+                t[2] = shaped_words16<kBytes>(p, _mm512_add_epi32(row1, i0));
+                t[3] = shaped_words16<kBytes>(p, _mm512_add_epi32(row1, i1));
             }
             unorm8_rows16(t[0], t[1], t[2], t[3], weight8x16(a), weight8x16(b), out);
             return;
@@ -2180,7 +2199,7 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"), always_inline)) inline void
     }
 }
 
-template <bool kBytes, WrapKind kWrap>
+template <int kBytes, WrapKind kWrap>
 __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"), always_inline)) inline void filter16_shaped(const Fast2D& f, const Plane& p,
                                                                                                bool linear, const float* s,
                                                                                                const float* t, __m512 out[4]) {
@@ -2189,7 +2208,7 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"), always_inline)) inline void
 }
 
 // colour_blocks16 of one query shape: returns where it stopped (as colour_blocks16).
-template <bool kBytes, WrapKind kWrap, LevelMode kMode>
+template <int kBytes, WrapKind kWrap, LevelMode kMode>
 __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) int colour_blocks16_shaped(const ColourQuery& cq, int l) {
     const glsl::TextureQuery& q = *cq.q;
     const Fast2D& f = *cq.f;
@@ -2262,10 +2281,12 @@ inline Blocks16 shaped_blocks16(Blocks8 shape) {
     SOFTGL_SHAPED16(B, W, LevelMode::FixedNearest)       \
     SOFTGL_SHAPED16(B, W, LevelMode::FixedLinear)        \
     SOFTGL_SHAPED16(B, W, LevelMode::PerBlock)
-    SOFTGL_SHAPED16_MODES(true, WrapKind::RepeatPot)
-    SOFTGL_SHAPED16_MODES(true, WrapKind::Clamp)
-    SOFTGL_SHAPED16_MODES(false, WrapKind::RepeatPot)
-    SOFTGL_SHAPED16_MODES(false, WrapKind::Clamp)
+    SOFTGL_SHAPED16_MODES(1, WrapKind::RepeatPot)
+    SOFTGL_SHAPED16_MODES(1, WrapKind::Clamp)
+    SOFTGL_SHAPED16_MODES(2, WrapKind::RepeatPot)
+    SOFTGL_SHAPED16_MODES(2, WrapKind::Clamp)
+    SOFTGL_SHAPED16_MODES(0, WrapKind::RepeatPot)
+    SOFTGL_SHAPED16_MODES(0, WrapKind::Clamp)
 #undef SOFTGL_SHAPED16_MODES
 #undef SOFTGL_SHAPED16
     return colour_blocks16;
