@@ -101,3 +101,65 @@ def test_narrow_formats_sample_as_their_rgba8_expansion(name, filters, wrap, siz
         if path == "best":   # and RGBA8 itself, at this configuration: the same bits
             rgba = draw([expand(name, k) for k in levels], "RGBA8", "RGBA", filters, wrap, threads, level, path)
             np.testing.assert_array_equal(rgba.view(np.uint32), want.view(np.uint32))
+
+
+FS_ARRAY = """#version 300 es
+precision highp float; uniform highp sampler2DArray tex; in vec2 uv; out vec4 o;
+void main() { o = texture(tex, vec3(uv, uv.y * 0.7)); }"""
+FS_CUBE = """#version 300 es
+precision highp float; uniform samplerCube tex; in vec2 uv; out vec4 o;
+void main() { o = texture(tex, vec3(uv.x - 0.5, 0.8 - uv.y * 0.4, 0.6)); }"""
+
+
+def draw_layers(layers, internal, fmt, kind, threads, simd, path):
+    """layers: (n, h, w, channels) bytes; kind: "array" (n layers) or "cube" (6 faces)."""
+    gl = softgl.Context(W, H, threads=threads, antialias=False, version=2)
+    _core.testing.set_tuning(gl, simd=simd, sampler_path=path)
+    assert gl.getExtension("EXT_color_buffer_float") is not None
+    rb = gl.createRenderbuffer()
+    gl.bindRenderbuffer(gl.RENDERBUFFER, rb)
+    gl.renderbufferStorage(gl.RENDERBUFFER, gl.RGBA32F, W, H)
+    fb = gl.createFramebuffer()
+    gl.bindFramebuffer(gl.FRAMEBUFFER, fb)
+    gl.framebufferRenderbuffer(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.RENDERBUFFER, rb)
+    gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1)
+    n, h, w = layers.shape[:3]
+    target = gl.TEXTURE_2D_ARRAY if kind == "array" else gl.TEXTURE_CUBE_MAP
+    tex = gl.createTexture()
+    gl.bindTexture(target, tex)
+    if kind == "array":
+        gl.texImage3D(target, 0, getattr(gl, internal), w, h, n, 0, getattr(gl, fmt), gl.UNSIGNED_BYTE,
+                      np.ascontiguousarray(layers))
+    else:
+        for face in range(6):
+            gl.texImage2D(gl.TEXTURE_CUBE_MAP_POSITIVE_X + face, 0, getattr(gl, internal), w, h, 0, getattr(gl, fmt),
+                          gl.UNSIGNED_BYTE, np.ascontiguousarray(layers[face]))
+    gl.generateMipmap(target)
+    gl.texParameteri(target, gl.TEXTURE_MIN_FILTER, gl.LINEAR_MIPMAP_LINEAR)
+    gl.texParameteri(target, gl.TEXTURE_MAG_FILTER, gl.LINEAR)
+    gl.useProgram(softgl.program(gl, VS, FS_ARRAY if kind == "array" else FS_CUBE))
+    buf = gl.createBuffer()
+    gl.bindBuffer(gl.ARRAY_BUFFER, buf)
+    gl.bufferData(gl.ARRAY_BUFFER, np.array([-1, -1, 1, -1, -1, 1, -1, 1, 1, -1, 1, 1], np.float32), gl.STATIC_DRAW)
+    gl.enableVertexAttribArray(0)
+    gl.vertexAttribPointer(0, 2, gl.FLOAT, False, 0, 0)
+    gl.drawArrays(gl.TRIANGLES, 0, 6)
+    out = np.asarray(gl.readPixels(0, 0, W, H, gl.RGBA, gl.FLOAT), np.float32)
+    assert gl.getError() == gl.NO_ERROR
+    return out
+
+
+@pytest.mark.parametrize("name", list(FORMATS))
+@pytest.mark.parametrize("kind", ["array", "cube"])
+def test_narrow_arrays_and_cube_maps_sample_as_their_rgba8_expansion(name, kind):
+    """2D arrays (layers in the gathers' indices) and cube maps (faces filtered per block), trilinear."""
+    internal, fmt, channels = FORMATS[name]
+    rng = np.random.default_rng(sum(map(ord, name + kind)))
+    layers = rng.integers(0, 256, (4 if kind == "array" else 6, 16, 16, channels)).astype(np.uint8)
+    simd = ["scalar", "sse2", "avx2", "avx512"][:_core.testing.simd_level() + 1]
+    want = draw_layers(expand(name, layers), "RGBA8", "RGBA", kind, 1, "scalar", "best")
+    assert np.ptp(want.reshape(-1, 4), axis=0).max() > 0.1
+    for threads, level, path in [(1, lv, "best") for lv in simd] + [(2, simd[-1], "best"), (1, simd[-1], "general")]:
+        got = draw_layers(layers, internal, fmt, kind, threads, level, path)
+        np.testing.assert_array_equal(got.view(np.uint32), want.view(np.uint32),
+                                      err_msg=f"{name} {kind} threads {threads} {level} {path}")
