@@ -773,7 +773,9 @@ void Context::copy_tex_sub_image(const char* call, GLenum target, int32_t level,
                 img->rgba8[tt] = quantize_unorm8(fi, rgba);
                 continue;
             }
-            quantize_color(fi, rgba, &img->color[tt * 4]);
+            float stored[4];
+            quantize_color(fi, rgba, stored);
+            img->store_color(tt, stored);
         }
     ++t->generation;
 }
@@ -1130,6 +1132,19 @@ void read_source_row(const ColorSource& cs, int64_t ix0, int64_t iy, size_t n, f
                     }
                 return;
         }
+    }
+    if (!img.narrow.empty()) {
+        // Image::narrow: each sample's floats (k / 255), their mean in double in sample order.
+        for (size_t i = 0; i < n; ++i) {
+            double sum[4] = {0, 0, 0, 0};
+            for (size_t s = 0; s < S; ++s) {
+                float v[4];
+                img.read_color(t + i * S + s, v);
+                for (int c = 0; c < 4; ++c) sum[c] += double(v[c]);
+            }
+            for (int c = 0; c < 4; ++c) out[i * 4 + size_t(c)] = float(sum[c] / double(S));
+        }
+        return;
     }
     const float* in = &img.color[t * 4];
     switch (S) {

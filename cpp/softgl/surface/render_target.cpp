@@ -100,6 +100,18 @@ void write_image_color(Image& img, size_t offset, const BlendOp& op, const float
             if (op.write[size_t(c)]) px[c] = uint8_t(stored >> (8 * c));
         return;
     }
+    if (!img.narrow.empty()) {
+        // One or two bytes per texel (Image::narrow): through the floats, clamped as unorm.
+        float dst[4], blended[4], stored[4];
+        img.read_color(t, dst);
+        BlendOp o = op;
+        o.has_alpha = true;
+        blend_float(o, src, dst, true, blended);
+        quantize_color(f, blended, stored);
+        const bool mask[4] = {op.write[0], op.write[1], op.write[2], op.write[3]};
+        img.store_color(t, stored, mask);
+        return;
+    }
     float* dst = &img.color[t * 4];
     float blended[4], stored[4];
     BlendOp o = op;
@@ -156,6 +168,18 @@ void clear_image_color(Image& img, size_t offset, Rect r, const float src[4], co
             uint32_t* p = img.rgba8.data() + at;
             if (!keep) return void(std::fill_n(p, n, texel));
             for (size_t i = 0; i < n; ++i) p[i] = (p[i] & keep) | (texel & ~keep);
+        });
+    } else if (!img.narrow.empty()) {
+        // The first texel's bytes (all of them: a masked channel kept its value there, so each
+        // texel keeps its own masked bytes below), copied with the mask of the channels written.
+        const size_t n = size_t(Image::narrow_bytes(img.format));
+        const GLenum base = img.format->base_format;
+        const int from[2] = {base == gl::ALPHA ? 3 : 0, base == gl::LUMINANCE_ALPHA ? 3 : 1};
+        uint8_t texel[2] = {img.narrow[first * n], n == 2 ? img.narrow[first * n + 1] : uint8_t(0)};
+        for_rows(img, offset, r, 1, [&](size_t at, size_t count) {
+            for (size_t i = 0; i < count; ++i)
+                for (size_t b = 0; b < n; ++b)
+                    if (mask[size_t(from[b])]) img.narrow[(at + i) * n + b] = texel[b];
         });
     } else if (img.format->is_integer()) {
         uint32_t texel[4];

@@ -446,6 +446,21 @@ namespace {
 // One level of a 2D / 2D array texture or of a cube-map face (texture.h).
 using Plane = SampledLevel;
 
+// Texel n of an 8-bit unorm plane as its RGBA bytes R | G << 8 | B << 16 | A << 24 (Image::rgba8's
+// word): read, or made from a narrow texel (Image::narrow) with the absent channels' defaults of
+// ES 3.0 table 3.24 (0, alpha 255; luminance in r, g and b), as Image::read_color gives them.
+inline uint32_t narrow_rgba8(const Plane& p, size_t n) {
+    const uint8_t* b = p.narrow + n * p.narrow_bytes;
+    const uint32_t k0 = b[0], k1 = p.narrow_bytes == 2 ? b[1] : 0u;
+    switch (p.narrow_base) {
+        case gl::ALPHA: return k0 << 24;
+        case gl::LUMINANCE: return k0 | k0 << 8 | k0 << 16 | 0xFF000000u;
+        case gl::LUMINANCE_ALPHA: return k0 | k0 << 8 | k0 << 16 | k1 << 24;
+        default: return k0 | k1 << 8 | 0xFF000000u;   // RED, RG
+    }
+}
+inline uint32_t unorm8_texel(const Plane& p, size_t n) { return p.rgba8 ? p.rgba8[n] : narrow_rgba8(p, n); }
+
 // wrap() of a texel coordinate and of its right/upper neighbour, as LINEAR uses them (REPEAT of
 // a power of two masks: the same as the modulo for any int in two's complement).
 inline void wrap_pair(GLenum mode, int32_t i, int32_t size, bool pot, int32_t& a, int32_t& b) {
@@ -511,9 +526,9 @@ struct Fast2D {
 
     // Texel n of plane p as Level::fetch_image gives it (ref: the lane's depth reference).
     void texel(const Plane& p, size_t n, float ref, float out[4]) const {
-        if (p.rgba8) {
+        if (p.rgba8 || p.narrow) {
             // 8-bit unorm storage: k / 255 is unorm(k, 8).
-            const uint32_t v = p.rgba8[n];
+            const uint32_t v = unorm8_texel(p, n);
             for (int c = 0; c < 4; ++c) out[c] = float((v >> (8 * c)) & 255u) / 255.0f;
             return;
         }
@@ -556,7 +571,7 @@ struct Fast2D {
             const size_t at[4] = {row0 + size_t(i0), row0 + size_t(i1), row1 + size_t(i0), row1 + size_t(i1)};
             for (int n = 0; n < 4; ++n)
                 for (int c = 0; c < 4; ++c)
-                    k[n][c] = float((p.rgba8[at[n]] >> (8 * c)) & 255u);
+                    k[n][c] = float((unorm8_texel(p, at[n]) >> (8 * c)) & 255u);
             for (int c = 0; c < 4; ++c)
                 out[c] = (w8[0] * k[0][c] + w8[1] * k[1][c] + w8[2] * k[2][c] + w8[3] * k[3][c]) / kUnorm8Divisor;
             return;
@@ -622,10 +637,11 @@ private:
     Entry entries_[kEntries] = {};
 };
 
-// Whether every texel number of p fits an int32 (gathers take int32 indices); larger 2D arrays
-// are filtered lane by lane (filter8_lanes).
+// Whether every texel number of p fits an int32 (gathers take int32 indices; narrow planes: their
+// byte offsets, narrow_words8); larger 2D arrays are filtered lane by lane (filter8_lanes).
 inline bool int32_indices(const Plane& p) {
-    return uint64_t(p.width) * uint64_t(p.height) * uint64_t(p.layers) <= uint64_t(INT32_MAX);
+    return uint64_t(p.width) * uint64_t(p.height) * uint64_t(p.layers) * uint64_t(p.narrow ? p.narrow_bytes : 1) <=
+           uint64_t(INT32_MAX);
 }
 
 #if defined(__x86_64__) || defined(__i386__)
@@ -637,6 +653,30 @@ __attribute__((target("avx2"))) inline __m256i ifloor_floored8(__m256 fl) {
     __m256i i = _mm256_cvttps_epi32(_mm256_min_ps(_mm256_max_ps(fl, lo), hi));   // NaN -> lo here
     i = _mm256_min_epi32(i, _mm256_set1_epi32(1073741823));
     return _mm256_and_si256(i, _mm256_castps_si256(_mm256_cmp_ps(fl, fl, _CMP_ORD_Q)));
+}
+
+// narrow_rgba8 of 8 lanes: each texel's 4 bytes read at byte narrow_bytes * index (the channels'
+// bytes first; Image::kNarrowPad keeps the last texel's read inside the storage), then moved to
+// their RGBA places and the absent channels filled (SampledLevel::narrow_shuffle, narrow_fill).
+__attribute__((target("avx2"), always_inline)) inline __m256i narrow_words8(const Plane& p, __m256i index) {
+    const __m256i at = _mm256_sll_epi32(index, _mm_cvtsi32_si128(p.narrow_bytes - 1));
+    const __m256i w = _mm256_i32gather_epi32(reinterpret_cast<const int*>(p.narrow), at, 1);
+    const __m256i order = _mm256_broadcastsi128_si256(_mm_loadu_si128(reinterpret_cast<const __m128i*>(p.narrow_shuffle)));
+    return _mm256_or_si256(_mm256_shuffle_epi8(w, order), _mm256_set1_epi32(int(p.narrow_fill)));
+}
+
+// The RGBA bytes (Image::rgba8's words) of the texels numbered `index` of an 8-bit unorm plane
+// (rgba8 or narrow) for 8 lanes: one gather.
+__attribute__((target("avx2"), always_inline)) inline __m256i unorm8_words8(const Plane& p, __m256i index) {
+    if (p.rgba8) return _mm256_i32gather_epi32(reinterpret_cast<const int*>(p.rgba8), index, 4);
+    return narrow_words8(p, index);
+}
+
+// unorm8_words8 of a storage known from the block loop's shape (kBytes: 1 rgba8, 2 narrow).
+template <int kBytes>
+__attribute__((target("avx2"), always_inline)) inline __m256i shaped_words8(const Plane& p, __m256i index) {
+    if constexpr (kBytes == 2) return narrow_words8(p, index);
+    else return _mm256_i32gather_epi32(reinterpret_cast<const int*>(p.rgba8), index, 4);
 }
 
 // wrap_pair / wrap_one of 8 lanes: REPEAT of a power of two and CLAMP_TO_EDGE here, the rest
@@ -782,7 +822,7 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bo
             for (int l = 0; l < 8; ++l) out[l][0] = d[l], out[l][1] = out[l][2] = grey ? d[l] : 0.0f, out[l][3] = 1.0f;
             return;
         }
-        if (p.rgba8) {   // 8-bit unorm storage (Fast2D::texel)
+        if (p.rgba8 || p.narrow) {   // 8-bit unorm storage (Fast2D::texel)
             for (int l = 0; l < 8; ++l)
                 f.texel(p, layer_at[l] + size_t(j0[l]) * size_t(p.width) + size_t(i0[l]), 0.0f, out[l]);
             return;
@@ -803,7 +843,7 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bo
         const __m256 nA = _mm256_sub_ps(k256, A), nB = _mm256_sub_ps(k256, B);
         const __m256 w[4] = {_mm256_mul_ps(nA, nB), _mm256_mul_ps(A, nB), _mm256_mul_ps(nA, B), _mm256_mul_ps(A, B)};
         __m256 sum[4];   // channel c of the 8 lanes' integer sums
-        if (p.rgba8 && !r) {
+        if ((p.rgba8 || p.narrow) && !r) {
             // The bytes of each of the 4 texels of 8 lanes by one gather (2D: no layers).
             const __m256i width = _mm256_set1_epi32(p.width);
             const __m256i row0 = _mm256_mullo_epi32(_mm256_load_si256(reinterpret_cast<const __m256i*>(j0)), width);
@@ -814,7 +854,7 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bo
                                    _mm256_add_epi32(row1, c1)};
             const __m256i byte = _mm256_set1_epi32(255);
             for (int n = 0; n < 4; ++n) {
-                const __m256i t = _mm256_i32gather_epi32(reinterpret_cast<const int*>(p.rgba8), at[n], 4);
+                const __m256i t = unorm8_words8(p, at[n]);
                 for (int c = 0; c < 4; ++c) {
                     const __m256 k = _mm256_cvtepi32_ps(_mm256_and_si256(_mm256_srli_epi32(t, 8 * c), byte));
                     sum[c] = n ? _mm256_add_ps(sum[c], _mm256_mul_ps(w[n], k)) : _mm256_mul_ps(w[n], k);
@@ -829,7 +869,7 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bo
                 const size_t at[4] = {row0 + size_t(i0[l]), row0 + size_t(i1[l]), row1 + size_t(i0[l]), row1 + size_t(i1[l])};
                 __m128 lane = _mm_setzero_ps();
                 for (int n = 0; n < 4; ++n) {
-                    const __m128i k = _mm_cvtepu8_epi32(_mm_cvtsi32_si128(int(p.rgba8[at[n]])));
+                    const __m128i k = _mm_cvtepu8_epi32(_mm_cvtsi32_si128(int(unorm8_texel(p, at[n]))));
                     lane = _mm_add_ps(lane, _mm_mul_ps(_mm_set1_ps(wl[n][l]), _mm_cvtepi32_ps(k)));
                 }
                 alignas(16) float v[4];
@@ -1227,8 +1267,8 @@ __attribute__((target("avx2"), always_inline)) inline void unpack8(__m256i t, __
 // from the floats (4 per texel) by 8 loads and a 4x4 transpose in each half. bytes: as k = 255 v
 // (exact for the unorm8 fixed-point rule), else as the floats v.
 __attribute__((target("avx2"), always_inline)) inline void texels8(const Plane& p, __m256i index, bool bytes, __m256 out[4]) {
-    if (p.rgba8) {
-        unpack8(_mm256_i32gather_epi32(reinterpret_cast<const int*>(p.rgba8), index, 4), out, bytes);
+    if (p.rgba8 || p.narrow) {
+        unpack8(unorm8_words8(p, index), out, bytes);
         return;
     }
     alignas(32) int32_t at[8];
@@ -1487,11 +1527,11 @@ __attribute__((target("avx2"), always_inline)) inline void wrap_shaped8(__m256i 
     }
 }
 
-// texels8 of one storage (kBytes: p.rgba8, else p.color).
-template <bool kBytes>
+// texels8 of one storage (kBytes: 1 p.rgba8, 2 p.narrow, 0 p.color).
+template <int kBytes>
 __attribute__((target("avx2"), always_inline)) inline void texels_shaped8(const Plane& p, __m256i index, bool bytes, __m256 out[4]) {
     if constexpr (kBytes) {
-        unpack8(_mm256_i32gather_epi32(reinterpret_cast<const int*>(p.rgba8), index, 4), out, bytes);
+        unpack8(shaped_words8<kBytes>(p, index), out, bytes);
     } else {
         alignas(32) int32_t at[8];
         _mm256_store_si256(reinterpret_cast<__m256i*>(at), index);
@@ -1539,9 +1579,9 @@ __attribute__((target("avx2"), always_inline)) inline void unorm8_rows8(__m256i 
         out[c] = _mm256_div_ps(_mm256_add_ps(_mm256_mul_ps(nB, h0[c]), _mm256_mul_ps(B, h1[c])), divisor);
 }
 
-// filter8_color of one plane of one layer (kBytes: 8-bit unorm bytes and the fixed-point rule,
+// filter8_color of one plane of one layer (kBytes: 8-bit unorm bytes, 1 rgba8 or 2 narrow, and the fixed-point rule,
 // else floats).
-template <bool kBytes, bool kLinear, WrapKind kWrap>
+template <int kBytes, bool kLinear, WrapKind kWrap>
 __attribute__((target("avx2"), always_inline)) inline void filter8_shaped(const Plane8& P, const float* s, const float* t,
                                                                           __m256 out[4]) {
     const Plane& p = *P.p;
@@ -1564,9 +1604,8 @@ __attribute__((target("avx2"), always_inline)) inline void filter8_shaped(const 
                                _mm256_add_epi32(row1, i1)};
         __m256 w[4];
         if constexpr (kBytes) {
-            const int* texels = reinterpret_cast<const int*>(p.rgba8);
-            unorm8_rows8(_mm256_i32gather_epi32(texels, at[0], 4), _mm256_i32gather_epi32(texels, at[1], 4),
-                         _mm256_i32gather_epi32(texels, at[2], 4), _mm256_i32gather_epi32(texels, at[3], 4),
+            unorm8_rows8(shaped_words8<kBytes>(p, at[0]), shaped_words8<kBytes>(p, at[1]), shaped_words8<kBytes>(p, at[2]),
+                         shaped_words8<kBytes>(p, at[3]),
                          weight8x8(a), weight8x8(b), out);
             return;
         } else {
@@ -1595,7 +1634,7 @@ struct Planes8 {
 };
 
 // The colour lookups of lanes [l, end) in blocks of 8 of one query shape (as colour_blocks8).
-template <bool kBytes, WrapKind kWrap, LevelMode kMode>
+template <int kBytes, WrapKind kWrap, LevelMode kMode>
 __attribute__((target("avx2"))) int colour_blocks8_shaped(const ColourQuery& cq, int l, int end) {
     const glsl::TextureQuery& q = *cq.q;
     const Fast2D& f = *cq.f;
@@ -1668,7 +1707,7 @@ using Blocks8 = int (*)(const ColourQuery&, int, int);
 // int32 texel numbers; pot: every one has power-of-two sizes.
 inline Blocks8 shaped_blocks8(const Fast2D& f, const ColourQuery& cq, bool one_storage, bool pot) {
     if (cq.r || !one_storage) return colour_blocks8;
-    const bool bytes = f.planes[0].rgba8 != nullptr;
+    const bool bytes = f.planes[0].rgba8 != nullptr, narrow = f.planes[0].narrow != nullptr;
     WrapKind wrap;
     if (f.wrap_s == gl::REPEAT && f.wrap_t == gl::REPEAT && pot) wrap = WrapKind::RepeatPot;
     else if (f.wrap_s == gl::CLAMP_TO_EDGE && f.wrap_t == gl::CLAMP_TO_EDGE) wrap = WrapKind::Clamp;
@@ -1681,11 +1720,15 @@ inline Blocks8 shaped_blocks8(const Fast2D& f, const ColourQuery& cq, bool one_s
         default: return colour_blocks8_shaped<B, W, LevelMode::PerBlock>;                            \
     }
     if (bytes) {
-        if (wrap == WrapKind::RepeatPot) SOFTGL_SHAPED(true, WrapKind::RepeatPot)
-        SOFTGL_SHAPED(true, WrapKind::Clamp)
+        if (wrap == WrapKind::RepeatPot) SOFTGL_SHAPED(1, WrapKind::RepeatPot)
+        SOFTGL_SHAPED(1, WrapKind::Clamp)
     }
-    if (wrap == WrapKind::RepeatPot) SOFTGL_SHAPED(false, WrapKind::RepeatPot)
-    SOFTGL_SHAPED(false, WrapKind::Clamp)
+    if (narrow) {   // Image::narrow: shaped_words8 decodes the texels
+        if (wrap == WrapKind::RepeatPot) SOFTGL_SHAPED(2, WrapKind::RepeatPot)
+        SOFTGL_SHAPED(2, WrapKind::Clamp)
+    }
+    if (wrap == WrapKind::RepeatPot) SOFTGL_SHAPED(0, WrapKind::RepeatPot)
+    SOFTGL_SHAPED(0, WrapKind::Clamp)
 #undef SOFTGL_SHAPED
 }
 
@@ -1788,10 +1831,31 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) inline void unpack16(__m51
     }
 }
 
-// texels16 from a byte copy (Texture::rgba8): one gather.
-__attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) inline void texels16(const uint32_t* rgba8, __m512i index, __m512 out[4],
+// narrow_words8 of 16 lanes.
+__attribute__((target(SOFTGL_SAMPLER_AVX512), always_inline)) inline __m512i narrow_words16(const Plane& p, __m512i index) {
+    const __m512i at = _mm512_sll_epi32(index, _mm_cvtsi32_si128(p.narrow_bytes - 1));
+    const __m512i w = _mm512_i32gather_epi32(at, p.narrow, 1);
+    const __m512i order = _mm512_broadcast_i32x4(_mm_loadu_si128(reinterpret_cast<const __m128i*>(p.narrow_shuffle)));
+    return _mm512_or_si512(_mm512_shuffle_epi8(w, order), _mm512_set1_epi32(int(p.narrow_fill)));
+}
+
+// unorm8_words8 of 16 lanes.
+__attribute__((target(SOFTGL_SAMPLER_AVX512), always_inline)) inline __m512i unorm8_words16(const Plane& p, __m512i index) {
+    if (p.rgba8) return _mm512_i32gather_epi32(index, p.rgba8, 4);
+    return narrow_words16(p, index);
+}
+
+// shaped_words8 of 16 lanes.
+template <int kBytes>
+__attribute__((target(SOFTGL_SAMPLER_AVX512), always_inline)) inline __m512i shaped_words16(const Plane& p, __m512i index) {
+    if constexpr (kBytes == 2) return narrow_words16(p, index);
+    else return _mm512_i32gather_epi32(index, p.rgba8, 4);
+}
+
+// texels16 from 8-bit unorm storage (Image::rgba8 or Image::narrow): one gather.
+__attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) inline void texels16(const Plane& p, __m512i index, __m512 out[4],
                                                                           bool bytes = false) {
-    unpack16(_mm512_i32gather_epi32(index, rgba8, 4), out, bytes);
+    unpack16(unorm8_words16(p, index), out, bytes);
 }
 
 // texel_pairs16 from a byte copy: two gathers of 8-byte pairs.
@@ -1851,7 +1915,7 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) void filter16(const Fast2D
     if constexpr (kLayered)
         for (int l = 0; l < 16; ++l) {
             const size_t start = size_t(std::clamp(ifloor(r[l] + 0.5f), 0, p.layers - 1)) * size_t(p.height) * size_t(p.width);
-            if (p.rgba8) layer_start[l] = int32_t(start);
+            if (p.rgba8 || p.narrow) layer_start[l] = int32_t(start);
             else layers.lane[l] = p.color + start * 4;
         }
     const __m512i layer0 = _mm512_load_si512(layer_start);
@@ -1864,7 +1928,7 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) void filter16(const Fast2D
         wrap16(f.wrap_t, ifloor_floored16(_mm512_floor_ps(v)), p.height, p.height_pot, false, j0, j1);
         // Texel indices in int32: 4 * w * h <= 2^30 floats (kMaxTextureSize is 16384).
         const __m512i index = _mm512_add_epi32(_mm512_mullo_epi32(j0, width), i0);
-        if (p.rgba8) texels16(p.rgba8, _mm512_add_epi32(layer0, index), out);
+        if (p.rgba8 || p.narrow) texels16(p, _mm512_add_epi32(layer0, index), out);
         else texels16(layers, index, out);
         return;
     }
@@ -1892,11 +1956,11 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) void filter16(const Fast2D
     if (p.rgba8 && pairs) {
         texel_pairs16(p.rgba8, _mm512_add_epi32(brow0, i0), texel[0], texel[1], bytes);
         texel_pairs16(p.rgba8, _mm512_add_epi32(brow1, i0), texel[2], texel[3], bytes);
-    } else if (p.rgba8) {
-        texels16(p.rgba8, _mm512_add_epi32(brow0, i0), texel[0], bytes);
-        texels16(p.rgba8, _mm512_add_epi32(brow0, i1), texel[1], bytes);
-        texels16(p.rgba8, _mm512_add_epi32(brow1, i0), texel[2], bytes);
-        texels16(p.rgba8, _mm512_add_epi32(brow1, i1), texel[3], bytes);
+    } else if (p.rgba8 || p.narrow) {   // (narrow planes: no pair gathers)
+        texels16(p, _mm512_add_epi32(brow0, i0), texel[0], bytes);
+        texels16(p, _mm512_add_epi32(brow0, i1), texel[1], bytes);
+        texels16(p, _mm512_add_epi32(brow1, i0), texel[2], bytes);
+        texels16(p, _mm512_add_epi32(brow1, i1), texel[3], bytes);
     } else if (pairs) {
         // No lane wraps between its columns: each row's two texels are neighbours in memory.
         texel_pairs16(layers, _mm512_add_epi32(row0, i0), texel[0], texel[1]);
@@ -1912,7 +1976,7 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) void filter16(const Fast2D
         const __m512 k255 = _mm512_set1_ps(255.0f), divisor = _mm512_set1_ps(kUnorm8Divisor);
         for (int c = 0; c < 4; ++c) {
             __m512 k[4];
-            for (int n = 0; n < 4; ++n) k[n] = p.rgba8 ? texel[n][c] : _mm512_mul_ps(texel[n][c], k255);
+            for (int n = 0; n < 4; ++n) k[n] = p.rgba8 || p.narrow ? texel[n][c] : _mm512_mul_ps(texel[n][c], k255);
             __m512 sum = _mm512_mul_ps(w[0], k[0]);
             for (int n = 1; n < 4; ++n) sum = _mm512_fmadd_ps(w[n], k[n], sum);
             out[c] = _mm512_div_ps(sum, divisor);
@@ -2070,7 +2134,7 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512), always_inline)) inline void packed
 }
 
 // filter16 of one plane of one layer (planes whose texel numbers fit int32).
-template <bool kBytes, bool kLinear, WrapKind kWrap>
+template <int kBytes, bool kLinear, WrapKind kWrap>
 __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"), always_inline)) inline void filter16_shaped(const Fast2D& f, const Plane& p,
                                                                                                const float* s, const float* t,
                                                                                                __m512 out[4]) {
@@ -2084,7 +2148,7 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"), always_inline)) inline void
         wrap_shaped16<kWrap, false>(ifloor_floored16(_mm512_floor_ps(u)), last_i, i0, i1);
         wrap_shaped16<kWrap, false>(ifloor_floored16(_mm512_floor_ps(v)), last_j, j0, j1);
         const __m512i index = _mm512_add_epi32(_mm512_mullo_epi32(j0, width), i0);
-        if constexpr (kBytes) texels16(p.rgba8, index, out);
+        if constexpr (kBytes) unpack16(shaped_words16<kBytes>(p, index), out, false);
         else texels16(layers, index, out);
     } else {
         const __m512 half = _mm512_set1_ps(0.5f), one = _mm512_set1_ps(1.0f);
@@ -2098,14 +2162,14 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"), always_inline)) inline void
             // The fixed-point rule by rows (unorm8_rows16): the texels as their packed bytes.
             const __m512i row0 = _mm512_mullo_epi32(j0, width), row1 = _mm512_mullo_epi32(j1, width);
             __m512i t[4];   // t00, t10, t01, t11
-            if (_mm512_cmpeq_epi32_mask(i1, _mm512_add_epi32(i0, _mm512_set1_epi32(1))) == 0xFFFF) {
+            if (kBytes == 1 && _mm512_cmpeq_epi32_mask(i1, _mm512_add_epi32(i0, _mm512_set1_epi32(1))) == 0xFFFF) {
                 packed_pairs16(p.rgba8, _mm512_add_epi32(row0, i0), t[0], t[1]);
                 packed_pairs16(p.rgba8, _mm512_add_epi32(row1, i0), t[2], t[3]);
             } else {
-                t[0] = _mm512_i32gather_epi32(_mm512_add_epi32(row0, i0), p.rgba8, 4);
-                t[1] = _mm512_i32gather_epi32(_mm512_add_epi32(row0, i1), p.rgba8, 4);
-                t[2] = _mm512_i32gather_epi32(_mm512_add_epi32(row1, i0), p.rgba8, 4);
-                t[3] = _mm512_i32gather_epi32(_mm512_add_epi32(row1, i1), p.rgba8, 4);
+                t[0] = shaped_words16<kBytes>(p, _mm512_add_epi32(row0, i0));   // (narrow planes: here)
+                t[1] = shaped_words16<kBytes>(p, _mm512_add_epi32(row0, i1));
+                t[2] = shaped_words16<kBytes>(p, _mm512_add_epi32(row1, i0));
+                t[3] = shaped_words16<kBytes>(p, _mm512_add_epi32(row1, i1));
             }
             unorm8_rows16(t[0], t[1], t[2], t[3], weight8x16(a), weight8x16(b), out);
             return;
@@ -2135,7 +2199,7 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"), always_inline)) inline void
     }
 }
 
-template <bool kBytes, WrapKind kWrap>
+template <int kBytes, WrapKind kWrap>
 __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"), always_inline)) inline void filter16_shaped(const Fast2D& f, const Plane& p,
                                                                                                bool linear, const float* s,
                                                                                                const float* t, __m512 out[4]) {
@@ -2144,7 +2208,7 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"), always_inline)) inline void
 }
 
 // colour_blocks16 of one query shape: returns where it stopped (as colour_blocks16).
-template <bool kBytes, WrapKind kWrap, LevelMode kMode>
+template <int kBytes, WrapKind kWrap, LevelMode kMode>
 __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) int colour_blocks16_shaped(const ColourQuery& cq, int l) {
     const glsl::TextureQuery& q = *cq.q;
     const Fast2D& f = *cq.f;
@@ -2217,10 +2281,12 @@ inline Blocks16 shaped_blocks16(Blocks8 shape) {
     SOFTGL_SHAPED16(B, W, LevelMode::FixedNearest)       \
     SOFTGL_SHAPED16(B, W, LevelMode::FixedLinear)        \
     SOFTGL_SHAPED16(B, W, LevelMode::PerBlock)
-    SOFTGL_SHAPED16_MODES(true, WrapKind::RepeatPot)
-    SOFTGL_SHAPED16_MODES(true, WrapKind::Clamp)
-    SOFTGL_SHAPED16_MODES(false, WrapKind::RepeatPot)
-    SOFTGL_SHAPED16_MODES(false, WrapKind::Clamp)
+    SOFTGL_SHAPED16_MODES(1, WrapKind::RepeatPot)
+    SOFTGL_SHAPED16_MODES(1, WrapKind::Clamp)
+    SOFTGL_SHAPED16_MODES(2, WrapKind::RepeatPot)
+    SOFTGL_SHAPED16_MODES(2, WrapKind::Clamp)
+    SOFTGL_SHAPED16_MODES(0, WrapKind::RepeatPot)
+    SOFTGL_SHAPED16_MODES(0, WrapKind::Clamp)
 #undef SOFTGL_SHAPED16_MODES
 #undef SOFTGL_SHAPED16
     return colour_blocks16;
@@ -2290,7 +2356,7 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
     const bool depth = f.planes[0].depth != nullptr;
     // Also what shaped_blocks8 needs: every level of one storage (bytes or floats) with int32
     // texel numbers, and whether all have power-of-two sizes.
-    const bool bytes = f.planes[0].rgba8 != nullptr;
+    const bool bytes = f.planes[0].rgba8 != nullptr || f.planes[0].narrow != nullptr;
     [[maybe_unused]] bool one_storage = true, pot = true;
     for (int face = 0; face < faces; ++face)
         for (int32_t k = 0; k <= bt.q - bt.base; ++k) {
@@ -2298,8 +2364,9 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
             if (level.width == 0 || (level.depth != nullptr) != depth) return false;
             // The vector paths index texels in int32 (8-bit unorm planes: across layers too).
             const bool fits = int32_indices(level);
-            if (level.rgba8 && !fits) return false;
-            one_storage = one_storage && (level.rgba8 != nullptr) == bytes && level.unorm8 == bytes &&
+            const bool level_bytes = level.rgba8 != nullptr || level.narrow != nullptr;
+            if (level_bytes && !fits) return false;
+            one_storage = one_storage && level_bytes == bytes && level.unorm8 == bytes &&
                           (bytes || level.color != nullptr) && fits;
             pot = pot && level.width_pot && level.height_pot;
         }
@@ -2372,6 +2439,7 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
 #ifdef SOFTGL_SAMPLER_AVX2
     // Colour: blocks of 16 (AVX-512) or 8 lanes whose levels are at most 3, straight into the
     // registers; the other blocks lane by lane.
+    // (Narrow 8-bit planes, Image::narrow, too: unorm8_words8/16 decode their texels.)
     if (simd != SimdBlocks::None && !cube && !depth && q.coord[0] && q.coord[1]) {
         const ColourQuery cq{&f, &q, f.planes[0].layers > 1 && q.coord[2] ? &q.coord[2][0].f : nullptr,
                              needs_lambda, fixed, w, h, &lambda_of};

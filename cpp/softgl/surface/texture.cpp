@@ -246,6 +246,7 @@ float depth_value(Encoding e, uint32_t w) {
 uint64_t Image::allocation_bytes(const FormatInfo* fmt, int32_t w, int32_t h, int32_t d, int32_t s) {
     const uint64_t n = uint64_t(w) * uint64_t(h) * uint64_t(d) * uint64_t(s);
     if (stores_bytes(fmt)) return n * 4;                      // RGBA bytes per sample
+    if (const int b = narrow_bytes(fmt)) return n * uint64_t(b) + kNarrowPad;   // their channels' bytes
     if (fmt->kind() != SampleKind::Depth) return n * 4 * 4;   // four 4-byte words per sample
     return n * ((fmt->encoding != Encoding::Stencil8 ? 4 : 0) + (fmt->has_stencil ? 1 : 0));
 }
@@ -259,6 +260,7 @@ void Image::allocate(const FormatInfo* fmt, int32_t w, int32_t h, int32_t d, int
         case SampleKind::Float:
             // Absent alpha reads as 1 from the start (e.g. RGB8).
             if (stores_bytes(fmt)) rgba8.assign(n, fmt->bits[3] ? 0u : 0xFF000000u);
+            else if (stores_narrow(fmt)) narrow.assign(n * size_t(narrow_bytes(fmt)) + kNarrowPad, 0);   // absent channels are implied
             else color.assign(n * 4, 0.0f);
             break;
         case SampleKind::Int: case SampleKind::Uint: integer.assign(n * 4, 0u); break;
@@ -268,7 +270,7 @@ void Image::allocate(const FormatInfo* fmt, int32_t w, int32_t h, int32_t d, int
             break;
     }
     // Absent channels read as their defaults from the start (e.g. alpha 1 of RGB8).
-    if (fmt->kind() == SampleKind::Float && !stores_bytes(fmt) && !fmt->bits[3])
+    if (fmt->kind() == SampleKind::Float && !stores_bytes(fmt) && !stores_narrow(fmt) && !fmt->bits[3])
         for (size_t i = 0; i < n; ++i) color[i * 4 + 3] = 1.0f;
     if ((fmt->kind() == SampleKind::Int || fmt->kind() == SampleKind::Uint) && !fmt->bits[3])
         for (size_t i = 0; i < n; ++i) integer[i * 4 + 3] = 1u;
@@ -278,6 +280,16 @@ void Image::read_color(size_t t, float out[4]) const {
     if (!rgba8.empty()) {
         const uint32_t v = rgba8[t];
         for (int c = 0; c < 4; ++c) out[c] = unorm((v >> (8 * c)) & 255u, 8);
+        return;
+    }
+    if (!narrow.empty()) {
+        // The absent channels' defaults (ES 3.0 table 3.24): 0, alpha 1; luminance in r, g and b.
+        const GLenum base = format->base_format;
+        const size_t n = size_t(narrow_bytes(format));
+        const float k0 = unorm(narrow[t * n], 8), k1 = n == 2 ? unorm(narrow[t * n + 1], 8) : 0.0f;
+        if (base == gl::ALPHA) out[0] = out[1] = out[2] = 0.0f, out[3] = k0;
+        else if (base == gl::LUMINANCE || base == gl::LUMINANCE_ALPHA) out[0] = out[1] = out[2] = k0, out[3] = n == 2 ? k1 : 1.0f;
+        else out[0] = k0, out[1] = k1, out[2] = 0.0f, out[3] = 1.0f;
         return;
     }
     for (int c = 0; c < 4; ++c) out[c] = color[t * 4 + size_t(c)];
@@ -292,6 +304,15 @@ void Image::store_color(size_t t, const float q[4], const bool mask[4]) {
             v = (v & ~(255u << (8 * c))) | (float_to_unorm(q[c], 8) << (8 * c));
         }
         rgba8[t] = v;
+        return;
+    }
+    if (!narrow.empty()) {
+        // Byte i holds channel `from[i]` of RGBA (q holds k / 255: the byte is k again).
+        const GLenum base = format->base_format;
+        const size_t n = size_t(narrow_bytes(format));
+        const int from[2] = {base == gl::ALPHA ? 3 : 0, base == gl::LUMINANCE_ALPHA ? 3 : 1};
+        for (size_t i = 0; i < n; ++i)
+            if (!mask || mask[from[i]]) narrow[t * n + i] = uint8_t(float_to_unorm(q[from[i]], 8));
         return;
     }
     for (int c = 0; c < 4; ++c)
@@ -505,6 +526,12 @@ void unpack_into(Image& img, int32_t x0, int32_t y0, int32_t z0, int32_t w, int3
                         img.rgba8[t] = quantize_unorm8(f, in);
                         continue;
                     }
+                    if (!img.narrow.empty()) {
+                        float q[4];
+                        quantize_color(f, in, q);
+                        img.store_color(t, q);
+                        continue;
+                    }
                     if (f.encoding == Encoding::Srgb) {
                         // Client data of sRGB formats is sRGB-encoded: keep the byte, store its
                         // linear value (ES 3.0 §3.8.15 decodes each texel before filtering).
@@ -573,6 +600,22 @@ void Texture::refresh_sampling(int32_t base, int32_t q) {
             if (img->bytes() && img->rgba8.size() == img->texel_count()) {
                 s.rgba8 = img->rgba8.data();
                 s.unorm8 = true;
+            } else if (const int nb = Image::narrow_bytes(img->format);
+                       nb && img->narrow.size() == img->texel_count() * size_t(nb) + Image::kNarrowPad) {
+                s.narrow = img->narrow.data();
+                s.narrow_bytes = uint8_t(nb);
+                s.narrow_base = img->format->base_format;
+                s.unorm8 = true;
+                // Channel c of RGBA from the texel's byte src[c] (-1: none; ES 3.0 table 3.24).
+                const GLenum b = s.narrow_base;
+                const int red[4] = {0, -1, -1, -1}, rg[4] = {0, 1, -1, -1}, lum[4] = {0, 0, 0, -1},
+                          alpha[4] = {-1, -1, -1, 0}, lum_alpha[4] = {0, 0, 0, 1};
+                const int* src = b == gl::RG ? rg : b == gl::LUMINANCE ? lum : b == gl::ALPHA ? alpha
+                               : b == gl::LUMINANCE_ALPHA ? lum_alpha : red;
+                for (int j = 0; j < 4; ++j)
+                    for (int c = 0; c < 4; ++c)
+                        s.narrow_shuffle[4 * j + c] = src[c] < 0 ? uint8_t(0x80) : uint8_t(4 * j + src[c]);
+                s.narrow_fill = b == gl::ALPHA || b == gl::LUMINANCE_ALPHA ? 0u : 0xFF000000u;
             } else if (img->format->kind() == SampleKind::Float && img->color.size() == img->texel_count() * 4) {
                 s.color = img->color.data();
             } else if (img->format->is_depth() && img->depth_words.size() == img->texel_count()) {

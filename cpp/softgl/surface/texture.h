@@ -119,12 +119,27 @@ struct Image {
     // 8-bit unorm formats (stores_bytes): R | G << 8 | B << 16 | A << 24 per texel (sample), k
     // for k / 255 (in memory the bytes R, G, B, A: the drawing buffer's layout).
     std::vector<uint32_t> rgba8;
+    // 8-bit unorm formats of one or two channels (stores_narrow: R8, RG8, LUMINANCE8, ALPHA8,
+    // LUMINANCE8_ALPHA8): only their channels' bytes, narrow_bytes() per texel (sample), in the
+    // order r, g / luminance, alpha, then kNarrowPad bytes (0) so that the sampler's 4-byte
+    // gathers at any texel stay inside the vector. Read and written through read_color /
+    // store_color; the sampler's vector paths decode them (narrow_words8/16, surface/sampler.cpp).
+    std::vector<uint8_t> narrow;
+    static constexpr size_t kNarrowPad = 3;
     std::vector<uint32_t> integer;               // Int/Uint kind: 4 per texel (sample)
     std::vector<uint32_t> depth_words;           // Depth kind: 1 per texel (sample)
     std::vector<uint8_t> stencil;                // depth-stencil and stencil formats
 
-    // Whether images of `fmt` keep bytes (rgba8) rather than floats (color).
-    static bool stores_bytes(const FormatInfo* fmt) { return fmt && fmt->is_unorm8(); }
+    // Bytes per texel of a narrow format (see `narrow`), 0 for the others.
+    static int narrow_bytes(const FormatInfo* fmt) {
+        if (!fmt || !fmt->is_unorm8()) return 0;
+        const GLenum b = fmt->base_format;
+        return b == gl::RED || b == gl::LUMINANCE || b == gl::ALPHA ? 1 : b == gl::RG || b == gl::LUMINANCE_ALPHA ? 2 : 0;
+    }
+    static bool stores_narrow(const FormatInfo* fmt) { return narrow_bytes(fmt) != 0; }
+    // Whether images of `fmt` keep RGBA bytes (rgba8) rather than floats (color): the 8-bit unorm
+    // formats of three or four channels (RGBA8, RGB8).
+    static bool stores_bytes(const FormatInfo* fmt) { return fmt && fmt->is_unorm8() && !stores_narrow(fmt); }
     bool bytes() const { return stores_bytes(format); }
     bool defined() const { return format != nullptr; }
     size_t texel_count() const { return size_t(width) * size_t(height) * size_t(depth) * size_t(samples); }
@@ -144,7 +159,7 @@ struct Image {
     // Bytes of texel storage this image holds (all its vectors).
     size_t storage_bytes() const {
         return color.size() * sizeof(float) + integer.size() * sizeof(uint32_t) + depth_words.size() * sizeof(uint32_t) +
-               stencil.size() + rgba8.size() * sizeof(uint32_t);
+               stencil.size() + rgba8.size() * sizeof(uint32_t) + narrow.size();
     }
 };
 
@@ -187,6 +202,17 @@ struct SampledLevel {
     bool unorm8 = false;               // an 8-bit unorm format (FormatInfo::is_unorm8): LINEAR
                                        // filters with 8-bit weights (surface/sampler.cpp)
     const uint32_t* rgba8 = nullptr;   // 8-bit unorm texels (Image::rgba8), layer-major then row-major
+    // 8-bit unorm texels of one or two channels (Image::narrow; unorm8 set, rgba8 null):
+    // narrow_bytes per texel and Image::kNarrowPad bytes after the last, decoded to RGBA bytes by
+    // narrow_rgba8 / narrow_words8 / narrow_words16 (surface/sampler.cpp).
+    const uint8_t* narrow = nullptr;
+    uint8_t narrow_bytes = 0;
+    GLenum narrow_base = 0;            // the format's base format (RED, RG, LUMINANCE, ...)
+    // The RGBA word of 4 narrow texels read as 4-byte words: byte 4j + c of 16 (a byte shuffle's
+    // order; 0x80: zero) is where word j's channel c comes from, then OR narrow_fill (alpha 255
+    // where the format has none): narrow_rgba8's values (surface/sampler.cpp).
+    uint8_t narrow_shuffle[16] = {};
+    uint32_t narrow_fill = 0;
     const uint32_t* depth = nullptr;   // depth words, one per texel
     Encoding depth_encoding = Encoding::Depth16;
     int32_t width = 0, height = 0, layers = 0;   // layers: of a 2D array (1 otherwise)
