@@ -1263,14 +1263,9 @@ __attribute__((target("avx2"), always_inline)) inline void unpack8(__m256i t, __
     }
 }
 
-// The texels numbered `index` of 8 lanes as channel vectors: from the bytes by one gather, or
-// from the floats (4 per texel) by 8 loads and a 4x4 transpose in each half. bytes: as k = 255 v
-// (exact for the unorm8 fixed-point rule), else as the floats v.
-__attribute__((target("avx2"), always_inline)) inline void texels8(const Plane& p, __m256i index, bool bytes, __m256 out[4]) {
-    if (p.rgba8 || p.narrow) {
-        unpack8(unorm8_words8(p, index), out, bytes);
-        return;
-    }
+// The float texels (4 per texel) numbered `index` of 8 lanes as channel vectors: 8 loads and a
+// 4x4 transpose in each half.
+__attribute__((target("avx2"), always_inline)) inline void float_texels8(const Plane& p, __m256i index, __m256 out[4]) {
     alignas(32) int32_t at[8];
     _mm256_store_si256(reinterpret_cast<__m256i*>(at), index);
     // Register k: lane k's texel in the low half, lane k + 4's in the high half.
@@ -1284,6 +1279,16 @@ __attribute__((target("avx2"), always_inline)) inline void texels8(const Plane& 
     out[1] = _mm256_shuffle_ps(t0, t2, 0xEE);
     out[2] = _mm256_shuffle_ps(t1, t3, 0x44);
     out[3] = _mm256_shuffle_ps(t1, t3, 0xEE);
+}
+
+// The texels numbered `index` of 8 lanes as channel vectors: from the bytes by one gather, or
+// from the floats. bytes: as k = 255 v (exact for the unorm8 fixed-point rule), else as the floats v.
+__attribute__((target("avx2"), always_inline)) inline void texels8(const Plane& p, __m256i index, bool bytes, __m256 out[4]) {
+    if (p.rgba8 || p.narrow) {
+        unpack8(unorm8_words8(p, index), out, bytes);
+        return;
+    }
+    float_texels8(p, index, out);
     if (bytes)
         for (int c = 0; c < 4; ++c) out[c] = _mm256_mul_ps(out[c], _mm256_set1_ps(255.0f));
 }
@@ -1533,18 +1538,7 @@ __attribute__((target("avx2"), always_inline)) inline void texels_shaped8(const 
     if constexpr (kBytes) {
         unpack8(shaped_words8<kBytes>(p, index), out, bytes);
     } else {
-        alignas(32) int32_t at[8];
-        _mm256_store_si256(reinterpret_cast<__m256i*>(at), index);
-        __m256 r[4];
-        for (int k = 0; k < 4; ++k)
-            r[k] = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(p.color + size_t(at[k]) * 4)),
-                                        _mm_loadu_ps(p.color + size_t(at[k + 4]) * 4), 1);
-        const __m256 t0 = _mm256_unpacklo_ps(r[0], r[1]), t1 = _mm256_unpackhi_ps(r[0], r[1]);
-        const __m256 t2 = _mm256_unpacklo_ps(r[2], r[3]), t3 = _mm256_unpackhi_ps(r[2], r[3]);
-        out[0] = _mm256_shuffle_ps(t0, t2, 0x44);
-        out[1] = _mm256_shuffle_ps(t0, t2, 0xEE);
-        out[2] = _mm256_shuffle_ps(t1, t3, 0x44);
-        out[3] = _mm256_shuffle_ps(t1, t3, 0xEE);
+        float_texels8(p, index, out);
     }
 }
 
