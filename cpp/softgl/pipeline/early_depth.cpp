@@ -477,14 +477,22 @@ bool DepthBounds::hides_box(const PrimitiveSetup& p, int32_t x0, int32_t y0, int
         const bool low_x = (a >= 0) == (nearest != sabotaged_), low_y = (b >= 0) == (nearest != sabotaged_);
         const double corner = ((c + a * fx(low_x ? x0 : x1 - 1)) + b * fy(low_y ? y0 : y1 - 1)) + offset;
         const uint32_t word = depth24_word(nearest ? corner - margin : corner + margin);
-        uint32_t lo = UINT32_MAX, hi = 0;
-        for (uint64_t rest = blocks; rest; rest &= rest - 1) {
+        // Hidden when every block's stored words are on the failing side of `word`. One block that
+        // is not decides "not hidden": the blocks already known are looked at first, and no further
+        // block is read after the first that decides (a primitive in front of what is drawn, the
+        // common case, read every block of its box before, only to be drawn). The decision is the
+        // same as over all blocks.
+        const auto fails_at = [&](int block) {
+            return func_ == gl::LESS ? word >= max_[block] : func_ == gl::LEQUAL ? word > max_[block]
+                 : func_ == gl::GREATER ? word <= min_[block] : word < min_[block];
+        };
+        hidden = true;
+        for (uint64_t rest = blocks & known_; hidden && rest; rest &= rest - 1) hidden = fails_at(__builtin_ctzll(rest));
+        for (uint64_t rest = blocks & ~known_; hidden && rest; rest &= rest - 1) {
             const int block = __builtin_ctzll(rest);
-            if (!(known_ >> block & 1)) read_block(block);
-            lo = std::min(lo, min_[block]), hi = std::max(hi, max_[block]);
+            read_block(block);
+            hidden = fails_at(block);
         }
-        hidden = func_ == gl::LESS ? word >= hi : func_ == gl::LEQUAL ? word > hi
-               : func_ == gl::GREATER ? word <= lo : word < lo;
     }
     if (!hidden && write_) known_ &= ~blocks;   // its test may change these blocks' words
     return hidden;
