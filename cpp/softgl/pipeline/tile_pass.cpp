@@ -311,6 +311,7 @@ TilePass::TilePass(const DrawInputs& in, const FragmentOps& ops, const TileGrid&
         if (samples_ == 1) depth_pixels_ = quad_depth_test_.depth;
     }
     if (color_bytes_ && samples_ == 1 && plan.writes_color) color_pixels_ = reinterpret_cast<const uint32_t*>(color_bytes_);
+    if (depth_pixels_) quad_depth_test_.prefetch_color = color_pixels_;   // same pitch (prefetch_ahead)
     for (Scratch& w : tile_pass_scratch().workers) w.raster = RasterStats{}, w.stats = DrawStats{};
 }
 
