@@ -198,7 +198,10 @@ def test_colours_in_turns_keep_their_own_tables(name):
     sf, df = SPECIAL[name]
     rng = np.random.default_rng(29)
     palette = rng.uniform(-0.1, 1.1, (7, 4)).astype(np.float32)
-    palette[6] = np.nextafter(palette[5], np.float32(2))   # one ulp from another colour
+    palette[6] = palette[5]
+    palette[6][3] = 1 - palette[5][3]   # another's colour but for alpha
+    palette[4] = palette[3]
+    palette[4][1] = np.nextafter(palette[3][1], np.float32(-1))   # another's but one ulp in green
     for turn in range(120):
         k = int(rng.integers(0, 3 if turn < 40 else 7))
         n = int(rng.integers(1, 300))

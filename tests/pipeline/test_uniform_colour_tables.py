@@ -72,11 +72,15 @@ def test_a_colour_mask_change_between_draws_reaches_every_channel(name, threads)
 @pytest.mark.parametrize("threads", [1, 2])
 @pytest.mark.parametrize("name", sorted(FUNCS))
 def test_colours_in_turns_between_draws(name, threads):
-    # More colours than tables kept, in turns and repeated, one of them an ulp from another.
+    # More colours than tables kept, in turns and repeated; one differs from another in alpha
+    # only, one in green only, by one ulp.
     gl, loc = context(threads, FUNCS[name])
     rng = np.random.default_rng(11)
     palette = rng.uniform(0.05, 0.95, (6, 4)).astype(np.float32)
-    palette[5] = np.nextafter(palette[4], np.float32(1))
+    palette[5] = palette[4]
+    palette[5][3] = 1 - palette[4][3]
+    palette[3] = palette[2]
+    palette[3][1] = np.nextafter(palette[2][1], np.float32(0))
     order = [0, 1, 0, 1, 2, 0, 3, 4, 5, 4, 5, 1, 2, 3, 0, 5, 5, 4]
     for k in order:
         draw_and_check(gl, loc, FUNCS[name], tuple(palette[k]), (True,) * 4)
