@@ -176,6 +176,40 @@ def test_one_colour_in_every_lane_over_every_destination(name):
         check((sf, df, sf, df), ("FUNC_ADD", "FUNC_ADD"), mask, i % 2 == 1, src[:37], dst[100:137])
 
 
+@pytest.mark.parametrize("name", ["alpha_over", "additive"])
+def test_one_colour_under_changing_colour_masks(name):
+    # The AVX-512 kernel keeps a table per recent colour (per thread, built at the colour's second
+    # call in a row of misses): a table made while the colour mask left a channel out must still
+    # blend that channel when a later call with the same colour writes it.
+    sf, df = SPECIAL[name]
+    src = np.repeat(np.array([[0.3, 0.6, 0.9, 0.5]], np.float32), 256, axis=0)
+    d = np.arange(256)
+    dst = np.stack([d, d[::-1], (d * 7) % 256, (d * 13 + 5) % 256], axis=1).astype(np.uint8)
+    some, every = (True, False, True, False), (True,) * 4
+    for mask in [some, some, some, every, every, some, every]:
+        check((sf, df, sf, df), ("FUNC_ADD", "FUNC_ADD"), mask, True, src, dst)
+
+
+@pytest.mark.parametrize("name", ["alpha_over", "additive"])
+def test_colours_in_turns_keep_their_own_tables(name):
+    # A lit box's faces: a few colours in turns, more of them than the kernel keeps tables for and
+    # fewer, each call a different lane count and destination; every call's bytes are the
+    # reference's.
+    sf, df = SPECIAL[name]
+    rng = np.random.default_rng(29)
+    palette = rng.uniform(-0.1, 1.1, (7, 4)).astype(np.float32)
+    palette[6] = palette[5]
+    palette[6][3] = 1 - palette[5][3]   # another's colour but for alpha
+    palette[4] = palette[3]
+    palette[4][1] = np.nextafter(palette[3][1], np.float32(-1))   # another's but one ulp in green
+    for turn in range(120):
+        k = int(rng.integers(0, 3 if turn < 40 else 7))
+        n = int(rng.integers(1, 300))
+        src = np.repeat(palette[k][None], n, axis=0)
+        dst = rng.integers(0, 256, (n, 4)).astype(np.uint8)
+        check((sf, df, sf, df), ("FUNC_ADD", "FUNC_ADD"), (True,) * 4, turn % 5 != 0, src, dst)
+
+
 def test_results_at_the_ends_of_the_range_over_many_alphas():
     # The SIMD kernels skip the clamp after SRC_ALPHA, ONE_MINUS_SRC_ALPHA (the result is at most
     # just above 1). Sources 1, just below 1 and 0 (the largest and smallest results) against

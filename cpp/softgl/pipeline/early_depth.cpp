@@ -93,6 +93,7 @@ __attribute__((target("avx2"))) size_t early_depth_avx2(const EarlyDepth& t, con
     const int64_t x_origin = t.pattern->x[0] - p.origin_x, y_origin = t.pattern->y[0] - p.origin_y;
     uint32_t* const buffer = t.depth;
     const size_t pitch = t.pitch;
+    const uint32_t* const colour = t.prefetch_color;
     const bool write = t.write;
     // b * fy of the current row of quads (the rasterizer emits a block's quads row by row): the
     // product words() forms, once per row.
@@ -116,7 +117,20 @@ __attribute__((target("avx2"))) size_t early_depth_avx2(const EarlyDepth& t, con
         const __m128i covered =
             _mm_srai_epi32(_mm_slli_epi32(_mm_cvtepu16_epi32(_mm_cvtsi64_si128(int64_t(cov))), 31), 31);
         const int tested = _mm_movemask_ps(_mm_castsi128_ps(covered));
-        uint32_t* row0 = &buffer[size_t(quad.y) * pitch + size_t(quad.x)];
+        const size_t at = size_t(quad.y) * pitch + size_t(quad.x);
+        uint32_t* row0 = &buffer[at];
+        {
+            // Hints (EarlyDepth::prefetch_color): the depth of the quad eight rows down, the
+            // colour of this one. Never fault, change no byte.
+            const uintptr_t below = reinterpret_cast<uintptr_t>(row0) + 8 * 4 * pitch;
+            __builtin_prefetch(reinterpret_cast<const void*>(below), 1);
+            __builtin_prefetch(reinterpret_cast<const void*>(below + 4 * pitch), 1);
+            if (colour) {
+                const uintptr_t c0 = reinterpret_cast<uintptr_t>(colour + at);
+                __builtin_prefetch(reinterpret_cast<const void*>(c0), 1);
+                __builtin_prefetch(reinterpret_cast<const void*>(c0 + 4 * pitch), 1);
+            }
+        }
         const bool upper = (cov >> 32) & 0x10001u;
         uint32_t* row1 = upper ? row0 + pitch : row0;   // a pointer into the buffer either way
         // A fully covered quad (most quads of large primitives) is four pixels of this tile:
@@ -247,6 +261,7 @@ SOFTGL_AVX512_EARLY_DEPTH size_t early_depth_avx512(const EarlyDepth& t, const Q
     const int64_t x_origin = t.pattern->x[0] - p.origin_x, y_origin = t.pattern->y[0] - p.origin_y;
     uint32_t* const depth = t.depth;
     const size_t pitch = t.pitch;
+    const uint32_t* const colour = t.prefetch_color;
     const __m256i flat_word = row_words(c, _mm512_setzero_pd(), add_offset, offset);
     const __m512i pixel_steps = _mm512_setr_epi64(0, kSubPixel, 2 * kSubPixel, 3 * kSubPixel, 4 * kSubPixel,
                                                   5 * kSubPixel, 6 * kSubPixel, 7 * kSubPixel);
@@ -269,8 +284,25 @@ SOFTGL_AVX512_EARLY_DEPTH size_t early_depth_avx512(const EarlyDepth& t, const Q
                 covered |= uint32_t(_pext_u64(quads[i + q].coverage, 0x0001000100010001ull)) << (4 * q);
             covered0 = __mmask8(_pext_u32(covered, 0x3333u)), covered1 = __mmask8(_pext_u32(covered, 0xCCCCu));
         }
-        uint32_t* row0 = &depth[size_t(first.y) * pitch + size_t(first.x)];
+        const size_t at = size_t(first.y) * pitch + size_t(first.x);
+        uint32_t* row0 = &depth[at];
         uint32_t* row1 = covered1 ? row0 + pitch : row0;   // a pointer into the buffer either way
+        {
+            // Hints (EarlyDepth::prefetch_color): never fault, change no byte. The first and last
+            // pixel of a row of 8 may lie in two lines.
+            const uintptr_t below = reinterpret_cast<uintptr_t>(row0) + 8 * 4 * pitch;
+            __builtin_prefetch(reinterpret_cast<const void*>(below), 1);
+            __builtin_prefetch(reinterpret_cast<const void*>(below + 28), 1);
+            __builtin_prefetch(reinterpret_cast<const void*>(below + 4 * pitch), 1);
+            __builtin_prefetch(reinterpret_cast<const void*>(below + 4 * pitch + 28), 1);
+            if (colour) {
+                const uintptr_t c0 = reinterpret_cast<uintptr_t>(colour + at);
+                __builtin_prefetch(reinterpret_cast<const void*>(c0), 1);
+                __builtin_prefetch(reinterpret_cast<const void*>(c0 + 28), 1);
+                __builtin_prefetch(reinterpret_cast<const void*>(c0 + 4 * pitch), 1);
+                __builtin_prefetch(reinterpret_cast<const void*>(c0 + 4 * pitch + 28), 1);
+            }
+        }
         __m256i word0 = flat_word, word1 = flat_word;
         if constexpr (!kFlat) {
             if (first.x != cax_x) {
@@ -477,14 +509,22 @@ bool DepthBounds::hides_box(const PrimitiveSetup& p, int32_t x0, int32_t y0, int
         const bool low_x = (a >= 0) == (nearest != sabotaged_), low_y = (b >= 0) == (nearest != sabotaged_);
         const double corner = ((c + a * fx(low_x ? x0 : x1 - 1)) + b * fy(low_y ? y0 : y1 - 1)) + offset;
         const uint32_t word = depth24_word(nearest ? corner - margin : corner + margin);
-        uint32_t lo = UINT32_MAX, hi = 0;
-        for (uint64_t rest = blocks; rest; rest &= rest - 1) {
+        // Hidden when every block's stored words are on the failing side of `word`. One block that
+        // is not decides "not hidden": the blocks already known are looked at first, and no further
+        // block is read after the first that decides (a primitive in front of what is drawn, the
+        // common case, read every block of its box before, only to be drawn). The decision is the
+        // same as over all blocks.
+        const auto fails_at = [&](int block) {
+            return func_ == gl::LESS ? word >= max_[block] : func_ == gl::LEQUAL ? word > max_[block]
+                 : func_ == gl::GREATER ? word <= min_[block] : word < min_[block];
+        };
+        hidden = true;
+        for (uint64_t rest = blocks & known_; hidden && rest; rest &= rest - 1) hidden = fails_at(__builtin_ctzll(rest));
+        for (uint64_t rest = blocks & ~known_; hidden && rest; rest &= rest - 1) {
             const int block = __builtin_ctzll(rest);
-            if (!(known_ >> block & 1)) read_block(block);
-            lo = std::min(lo, min_[block]), hi = std::max(hi, max_[block]);
+            read_block(block);
+            hidden = fails_at(block);
         }
-        hidden = func_ == gl::LESS ? word >= hi : func_ == gl::LEQUAL ? word > hi
-               : func_ == gl::GREATER ? word <= lo : word < lo;
     }
     if (!hidden && write_) known_ &= ~blocks;   // its test may change these blocks' words
     return hidden;

@@ -28,6 +28,12 @@ struct EarlyDepth {
     bool write = true;
     uint32_t* depth = nullptr;                // word of sample s of pixel (x, y): depth[(y * pitch + x) * samples + s]
     size_t pitch = 0;
+    // Optional: colour pixels with the depth's layout (one sample, 4 bytes a pixel, `pitch`), which
+    // the draw reads after shading the survivors (blending) or writes: the AVX2 and AVX-512
+    // levels ask for a quad row's colour lines while they test their depth, and for the depth
+    // lines of the block row below (the rasterizer's next), since a tile's 256-byte rows are too
+    // short a run for the hardware prefetchers. Hints only: no byte depends on them.
+    const uint32_t* prefetch_color = nullptr;
 };
 
 // Tests the covered samples (quad_pixel_mask) of quads[0, n); survived[4*i + j] is the mask of

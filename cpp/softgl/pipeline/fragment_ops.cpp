@@ -275,15 +275,21 @@ __attribute__((target(SOFTGL_AVX512))) inline __m512i blend_ps16(const BlendOp& 
 
 // One colour for every lane (bit for bit), as a shader that reads only uniforms gives: lane l's
 // result is then a function of its destination byte per channel (K blends per channel), a
-// BlendTable, kept per thread for the next call with the same colour. Its entries for channels
-// the colour mask leaves out are not used (apply_table takes the channels from the call's op).
+// BlendTable, built with every channel written, so that a later call with another colour mask
+// finds every channel's entries (apply_table takes the channels to write from the call's op).
 struct UniformColorTable {
     uint32_t colour[4] = {};
     int kernel = -1;
     bool has_alpha = false;
     BlendTable table;
+    bool matches(int k, bool alpha, const uint32_t c[4]) const {
+        return kernel == k && has_alpha == alpha && std::memcmp(colour, c, 16) == 0;
+    }
+    void key(int k, bool alpha, const uint32_t c[4]) {
+        std::memcpy(colour, c, 16);
+        kernel = k, has_alpha = alpha;
+    }
 };
-
 // The bits in which lanes l .. l + 15 (those in `lanes`) differ from want[c], over the channels.
 __attribute__((target(SOFTGL_AVX512))) inline __m512i colour_difference(const float* src, size_t stride, size_t l,
                                                                        __mmask16 lanes, const __m512i want[4]) {
@@ -309,17 +315,37 @@ __attribute__((target(SOFTGL_AVX512))) inline bool uniform_colour(const float* s
     return _mm512_test_epi32_mask(differ, differ) == 0;
 }
 
+// The tables of the last few colours, per thread. A lit box's faces come in turns (a batch per
+// face and tile), so one entry was rebuilt at almost every call. Building a table costs about as
+// much as blending a few hundred lanes, more than a batch of at most 128, so a colour gets a table
+// at its second call since it was last seen missing (`candidate`); a first call blends its lanes.
+// Either way the bytes are the lane kernel's (the table holds its results), so the choice changes
+// only the time.
+struct UniformColorTables {
+    static constexpr size_t kEntries = 4;
+    UniformColorTable entry[kEntries];
+    size_t next = 0;                 // the entry replaced next (round robin)
+    UniformColorTable candidate;     // key only: the last colour that missed
+};
+
 template <ColorKernel K>
-const UniformColorTable& uniform_colour_table(const BlendOp& op, const uint32_t colour[4]) {
-    thread_local UniformColorTable t;
-    if (t.kernel == int(K) && t.has_alpha == op.has_alpha && std::memcmp(t.colour, colour, 16) == 0) return t;
+const UniformColorTable* uniform_colour_table(const BlendOp& op, const uint32_t colour[4]) {
+    thread_local UniformColorTables tables;
+    for (const UniformColorTable& t : tables.entry)
+        if (t.matches(int(K), op.has_alpha, colour)) return &t;
+    if (!tables.candidate.matches(int(K), op.has_alpha, colour)) {
+        tables.candidate.key(int(K), op.has_alpha, colour);
+        return nullptr;
+    }
+    UniformColorTable& t = tables.entry[tables.next];
+    tables.next = (tables.next + 1) % UniformColorTables::kEntries;
     float src[4];
     std::memcpy(src, colour, 16);
-    build_blend_table(K, op, src, t.table);
-    std::memcpy(t.colour, colour, 16);
-    t.kernel = int(K);
-    t.has_alpha = op.has_alpha;
-    return t;
+    BlendOp every_channel = op;
+    every_channel.write = {true, true, true, true};
+    build_blend_table(K, every_channel, src, t.table);
+    t.key(int(K), op.has_alpha, colour);
+    return &t;
 }
 
 // A table applied to 64 destination bytes (16 pixels): per channel c in `channels` (bit c) two
@@ -455,7 +481,7 @@ __attribute__((target(SOFTGL_AVX512))) void lanes_avx512(const BlendOp& op, cons
             }
             return;
         } else if (has_vbmi()) {
-            return apply_table(uniform_colour_table<K>(op, colour), op, dst, n);
+            if (const UniformColorTable* t = uniform_colour_table<K>(op, colour)) return apply_table(*t, op, dst, n);
         }
     }
     const __m512i keep_v = _mm512_set1_epi32(int(keep));
@@ -708,7 +734,10 @@ void build_blend_table(ColorKernel kernel, const BlendOp& op, const float colour
     uint32_t px[256];
     for (size_t c = 0; c < 4; ++c) std::fill_n(src + 256 * c, 256, colour[c]);
     for (uint32_t d = 0; d < 256; ++d) px[d] = d * 0x01010101u;
-    write_color_lanes_at(SimdLevel::Scalar, kernel, op, src, 256, px, 256);
+    // The lane kernels give the scalar level's bytes at every level (tests/pipeline/
+    // test_fragment_ops.py); AVX2 at most, since the AVX-512 level would look this uniform colour
+    // up in the tables being built.
+    write_color_lanes_at(std::min(best_simd_level(), SimdLevel::AVX2), kernel, op, src, 256, px, 256);
     for (size_t c = 0; c < 4; ++c)
         for (size_t d = 0; d < 256; ++d) table.bytes[c][d] = uint8_t(px[d] >> (8 * c));
     table.channels = 0;

@@ -135,8 +135,9 @@ struct BlendTable {
     alignas(64) uint8_t bytes[4][256];   // bytes[c][d]: channel c's result over destination byte d
     unsigned channels = 0xF;             // bit c: channel c is written (the others' entries are d)
 };
-// Runs the colour kernel (write_color_lanes_at, scalar level) on colour[] over the destinations
-// d * 0x01010101, d = 0..255; channels the colour mask leaves out come out as the identity.
+// Runs the colour kernel (write_color_lanes_at, the scalar level's bytes at up to AVX2) on
+// colour[] over the destinations d * 0x01010101, d = 0..255; channels the colour mask leaves out
+// come out as the identity.
 void build_blend_table(ColorKernel kernel, const BlendOp& op, const float colour[4], BlendTable& table);
 // The table applied to the lanes of quads[0 .. n) (dst as write_color_lanes) and, in place, to
 // the rows of four `rows` marks (as write_interpolated_color_lanes: their lanes are left as they

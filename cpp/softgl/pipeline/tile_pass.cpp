@@ -311,6 +311,7 @@ TilePass::TilePass(const DrawInputs& in, const FragmentOps& ops, const TileGrid&
         if (samples_ == 1) depth_pixels_ = quad_depth_test_.depth;
     }
     if (color_bytes_ && samples_ == 1 && plan.writes_color) color_pixels_ = reinterpret_cast<const uint32_t*>(color_bytes_);
+    if (depth_pixels_) quad_depth_test_.prefetch_color = color_pixels_;   // same pitch (prefetch_ahead)
     for (Scratch& w : tile_pass_scratch().workers) w.raster = RasterStats{}, w.stats = DrawStats{};
 }
 
@@ -562,12 +563,23 @@ SOFTGL_STEP void TilePass::prefetch_ahead(const Tile& t, size_t li) const {
         // (first and last pixel of each) while the ones before it are drawn.
         const int32_t x0 = std::max(next.x0, t.rect.x0), x1 = std::min(next.x1, t.rect.x1);
         const int32_t y0 = std::max(next.y0, t.rect.y0), y1 = std::min(next.y1, t.rect.y1);
-        if (x0 < x1 && y0 < y1 && y1 - y0 <= kPrefetchRows)
+        if (x0 < x1 && y0 < y1 && y1 - y0 <= kPrefetchRows) {
             for (int32_t y = y0; y < y1; ++y) {
                 const size_t first = size_t(y) * pitch_ + size_t(x0), last = size_t(y) * pitch_ + size_t(x1 - 1);
                 if (color_pixels_) __builtin_prefetch(color_pixels_ + first, 1), __builtin_prefetch(color_pixels_ + last, 1);
                 if (depth_pixels_) __builtin_prefetch(depth_pixels_ + first, 1), __builtin_prefetch(depth_pixels_ + last, 1);
             }
+        } else if (x0 < x1 && y0 < y1 && depth_pixels_) {
+            // A larger one: the depth lines of its first block row, which the early depth test
+            // reads first (it fetches each next block row's itself, and the colour of what it
+            // tests: EarlyDepth::prefetch_color).
+            const int32_t rows_end = std::min(y1, (y0 & ~int32_t(kBlockSize - 1)) + int32_t(kBlockSize));
+            for (int32_t y = y0; y < rows_end; ++y) {
+                const uintptr_t first = reinterpret_cast<uintptr_t>(depth_pixels_ + size_t(y) * pitch_ + size_t(x0));
+                const uintptr_t last = reinterpret_cast<uintptr_t>(depth_pixels_ + size_t(y) * pitch_ + size_t(x1 - 1));
+                for (uintptr_t a = first & ~uintptr_t(63); a <= last; a += 64) __builtin_prefetch(reinterpret_cast<const void*>(a), 1);
+            }
+        }
     }
 }
 
