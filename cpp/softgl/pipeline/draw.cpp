@@ -327,20 +327,49 @@ private:
             const size_t begin = c * kSetupChunk, end = std::min(batch_total, begin + kSetupChunk);
             if (in_.budget) in_.budget->charge((end - begin) * kPrimitiveWorkUnits);
             uint32_t j = uint32_t(begin / span), p = p0 + uint32_t(begin % span);
-            for (size_t k = begin; k < end; ++k, ++p) {
-                if (p == p1) p = p0, ++j;
-                uint32_t v[3];
-                primitive_vertices(call_.mode, call_.count, p, v);
-                const uint32_t base = uint32_t(j * n);
-                for (int i = 0; i < per; ++i) {
-                    const uint32_t position = v[i] >= range_.begin ? v[i] - range_.begin : inside;
-                    v[i] = base + (call_.indices ? s_.slot_of_position[position] : position);
+            // The primitive's number in the draw (modulo 2^32). A chunk's numbers are consecutive:
+            // a batch of whole instances holds all of each (p0 = 0, p1 = per_instance_), else one.
+            const uint32_t first_number = uint32_t(uint64_t(instance + j) * per_instance_ + p);
+            if (per == 3) {
+                // Triangles: their vertex slots, a block at a time, then setup.triangles over them.
+                constexpr size_t kBlock = 256;
+                uint32_t slots[3 * kBlock];
+                for (size_t k = begin; k < end;) {
+                    const size_t block = std::min(kBlock, end - k);
+                    for (size_t m = 0; m < block; ++m, ++p) {
+                        if (p == p1) p = p0, ++j;
+                        uint32_t* const v = slots + 3 * m;
+                        const uint32_t base = uint32_t(j * n);
+                        if (call_.mode == gl::TRIANGLES) {   // positions 3p .. 3p + 2, all inside the range
+                            const uint32_t at = 3 * p - range_.begin;
+                            for (int i = 0; i < 3; ++i)
+                                v[i] = base + (call_.indices ? s_.slot_of_position[at + i] : at + i);
+                            continue;
+                        }
+                        primitive_vertices(call_.mode, call_.count, p, v);
+                        for (int i = 0; i < 3; ++i) {
+                            const uint32_t position = v[i] >= range_.begin ? v[i] - range_.begin : inside;
+                            v[i] = base + (call_.indices ? s_.slot_of_position[position] : position);
+                        }
+                    }
+                    setup.triangles(all_position, all_window, slots, block,
+                                    first_number + uint32_t(k - begin), chunk.prims);
+                    k += block;
                 }
-                // The primitive's number in the draw (modulo 2^32).
-                const uint32_t number = uint32_t(uint64_t(instance + j) * per_instance_ + p);
-                if (per == 3) setup.triangle(all_position, all_window, v, number, chunk.prims);
-                else if (per == 2) setup.line(all_position + 4 * v[0], all_position + 4 * v[1], v[0], v[1], number, chunk.prims);
-                else setup.point(all_position + 4 * v[0], s_.all.point_size[v[0]], v[0], number, chunk.prims);
+            } else {
+                for (size_t k = begin; k < end; ++k, ++p) {
+                    if (p == p1) p = p0, ++j;
+                    uint32_t v[3];
+                    primitive_vertices(call_.mode, call_.count, p, v);
+                    const uint32_t base = uint32_t(j * n);
+                    for (int i = 0; i < per; ++i) {
+                        const uint32_t position = v[i] >= range_.begin ? v[i] - range_.begin : inside;
+                        v[i] = base + (call_.indices ? s_.slot_of_position[position] : position);
+                    }
+                    const uint32_t number = first_number + uint32_t(k - begin);
+                    if (per == 2) setup.line(all_position + 4 * v[0], all_position + 4 * v[1], v[0], v[1], number, chunk.prims);
+                    else setup.point(all_position + 4 * v[0], s_.all.point_size[v[0]], v[0], number, chunk.prims);
+                }
             }
             chunk.stats = setup.stats;
             if (!plan_.rasterizes()) return;
