@@ -11,7 +11,7 @@ from conftest import (GL_BACK, GL_CCW, GL_CW, GL_FRONT, GL_FRONT_AND_BACK, ref_t
 W, H = 96, 80
 
 
-def mixed_mesh(seed, n_vertices=400, n_triangles=1500):
+def mixed_mesh(seed, n_vertices=400, n_triangles=1499):   # blocks of 256 and a tail of 3
     """Clip-space vertices of every kind setup meets: small and large triangles, vertices behind the
     eye (w < 0), beyond the guard band, outside the frustum, NaN and infinite ones, repeated ones."""
     rng = np.random.default_rng(seed)
@@ -52,12 +52,19 @@ CASES = [dict(cull=0, front_face=GL_CCW), dict(cull=GL_BACK, front_face=GL_CCW),
          dict(cull=0, front_face=GL_CW, sample_bounds=True, polygon_offset=True, factor=-1.0, units=1.0)]
 
 
+LEVELS = ["scalar", "sse2", "avx2", "avx512"]
+
+
+@pytest.mark.parametrize("level", LEVELS)
 @pytest.mark.parametrize("case", range(len(CASES)))
 @pytest.mark.parametrize("seed", range(3))
-def test_batched_setup_gives_the_reference_records(case, seed):
+def test_batched_setup_gives_the_reference_records(case, seed, level):
+    if LEVELS.index(level) > _core.testing.simd_level():
+        pytest.skip(f"this CPU has no {level}")
     pos, tris = mixed_mesh(seed)
     kw = CASES[case]
-    ints, bits, stats = _core.testing.setup_triangles(pos, tris, W, H, first_primitive=7 + seed, batched=True, **kw)
+    ints, bits, stats = _core.testing.setup_triangles(pos, tris, W, H, first_primitive=7 + seed, batched=True,
+                                                      level=LEVELS.index(level), **kw)
     ref_ints, ref_bits, ref_stats = _core.testing.setup_triangles(pos, tris, W, H, first_primitive=7 + seed,
                                                                    batched=False, **kw)
     assert stats == ref_stats
@@ -81,7 +88,8 @@ def test_batched_setup_against_int64_and_float64(cull, front_face, sample_bounds
     keep = unclipped(pos)[tris].all(1)
     tris = tris[keep]
     ints, bits, stats = _core.testing.setup_triangles(pos, tris, W, H, cull=cull, front_face=front_face,
-                                                      sample_bounds=sample_bounds)
+                                                      sample_bounds=sample_bounds,
+                                                      level=_core.testing.simd_level())
     with np.errstate(invalid="ignore"):   # the clipped vertices' rows are not used
         fixed = snap(window_from_clip(pos, W, H))
     emitted = []

@@ -1,4 +1,5 @@
 // softgl._core.testing hooks for pipeline/setup.
+#include <algorithm>
 #include <array>
 #include <cstring>
 #include <vector>
@@ -57,12 +58,12 @@ py::tuple record_fields(const std::vector<PrimitiveSetup>& prims) {
 
 // Triangles (m, 3) of vertex indices into positions (n, 4) (clip coordinates) set up as a draw
 // does: the vertices projected (Setup::project_vertices), then each triangle with
-// Setup::triangle (the reference, batched=False) or all with Setup::triangles (batched=True),
-// numbered from first_primitive. Returns (ints, double bits, stats) of record_fields and the
+// Setup::triangle (the reference, batched=False) or all with Setup::triangles (batched=True) at
+// instruction-set level `level`, numbered from first_primitive. Returns (ints, double bits, stats) of record_fields and the
 // counters. cull: 0 (off), GL FRONT, BACK or FRONT_AND_BACK.
 py::tuple setup_triangles(Array<float> positions, Array<uint32_t> triangles, int32_t width, int32_t height,
                           uint32_t cull, uint32_t front_face, bool polygon_offset, double factor, double units,
-                          int samples, bool sample_bounds, uint32_t first_primitive, bool batched) {
+                          int samples, bool sample_bounds, uint32_t first_primitive, bool batched, int level) {
     if (positions.ndim() != 2 || positions.shape(1) != 4) throw py::value_error("positions (n, 4)");
     if (triangles.ndim() != 2 || triangles.shape(1) != 3) throw py::value_error("triangles (m, 3)");
     const size_t n = size_t(positions.shape(0)), m = size_t(triangles.shape(0));
@@ -81,7 +82,8 @@ py::tuple setup_triangles(Array<float> positions, Array<uint32_t> triangles, int
     setup.project_vertices(positions.data(), n, window.data(), SimdLevel::Scalar);
     std::vector<PrimitiveSetup> prims;
     if (batched) {
-        setup.triangles(positions.data(), window.data(), triangles.data(), m, first_primitive, prims);
+        setup.triangles(positions.data(), window.data(), triangles.data(), m, first_primitive, prims,
+                        std::min(SimdLevel(level), best_simd_level()));
     } else {
         for (size_t k = 0; k < m; ++k)
             setup.triangle(positions.data(), window.data(), triangles.data() + 3 * k, first_primitive + uint32_t(k), prims);
@@ -103,5 +105,5 @@ void bind_testing_setup(py::module_& t) {
     t.def("setup_triangles", &setup_triangles, py::arg("positions"), py::arg("triangles"), py::arg("width"),
           py::arg("height"), py::arg("cull") = 0, py::arg("front_face") = 0x901, py::arg("polygon_offset") = false,
           py::arg("factor") = 0.0, py::arg("units") = 0.0, py::arg("samples") = 1, py::arg("sample_bounds") = false,
-          py::arg("first_primitive") = 0, py::arg("batched") = true);
+          py::arg("first_primitive") = 0, py::arg("batched") = true, py::arg("level") = 0);
 }

@@ -23,19 +23,22 @@ int index_size(GLenum type) {
 }
 
 // Copies `count` indices of type T from src (any alignment) into out as 32-bit words; returns the
-// largest, and whether `restart` occurs. Two passes the compiler vectorises; the largest index
-// other than `restart` is then only looked for again when it occurs.
+// largest, and sets the smallest and whether `restart` occurs. One pass without branches (the
+// largest index other than `restart` is looked for again only when it occurs).
 template <class T>
-uint32_t read_indices(const uint8_t* src, size_t count, uint32_t* out, uint32_t restart, bool& has_restart) {
-    uint32_t largest = 0, found = 0;
+uint32_t read_indices(const uint8_t* src, size_t count, uint32_t* out, uint32_t restart, uint32_t& smallest,
+                      bool& has_restart) {
+    uint32_t largest = 0, lowest = ~0u, found = 0;
     for (size_t i = 0; i < count; ++i) {
         T t;
         std::memcpy(&t, src + sizeof(T) * i, sizeof(T));
         const uint32_t v = t;
         out[i] = v;
         largest = std::max(largest, v);
+        lowest = std::min(lowest, v);
         found |= uint32_t(v == restart);
     }
+    smallest = lowest;
     has_restart = found != 0;
     return largest;
 }
@@ -176,9 +179,10 @@ void Context::draw_elements(GLenum mode, int32_t count, GLenum type, int64_t off
     const uint8_t* src = elements->data.data() + offset;
     uint32_t* const words = read.get();
     bool found = false;
-    uint32_t max_index = size == 1 ? read_indices<uint8_t>(src, size_t(count), words, restart, found)
-                       : size == 2 ? read_indices<uint16_t>(src, size_t(count), words, restart, found)
-                                   : read_indices<uint32_t>(src, size_t(count), words, restart, found);
+    uint32_t min_index = 0;
+    uint32_t max_index = size == 1 ? read_indices<uint8_t>(src, size_t(count), words, restart, min_index, found)
+                       : size == 2 ? read_indices<uint16_t>(src, size_t(count), words, restart, min_index, found)
+                                   : read_indices<uint32_t>(src, size_t(count), words, restart, min_index, found);
     // Without primitive restart (WebGL 1) the largest value is an index like any other.
     const bool restarts = restart_enabled && found;
     if (restarts) {
@@ -211,6 +215,8 @@ void Context::draw_elements(GLenum mode, int32_t count, GLenum type, int64_t off
     }
     dc.count = restarts ? uint32_t(expanded.size()) : uint32_t(count);
     dc.indices = restarts ? expanded.data() : words;
+    dc.index_bounds = !restarts;   // the expansion may leave some out
+    dc.lowest_index = min_index, dc.highest_index = max_index;
     dc.instance_count = uint32_t(instances);
     run_draw(dc, call);
 }

@@ -77,7 +77,7 @@ struct SetupChunk {
 // (docs/architecture.md, "Fast paths": no per-draw allocations; buffers only grow, so a repeated
 // draw touches no fresh pages). The tile pass keeps its own (pipeline/tile_pass.cpp).
 struct DrawScratch {
-    std::vector<uint32_t> ids, slot_of_position, tiles, index_base;
+    std::vector<uint32_t> ids, listed, slot_of_position, tiles, index_base;
     std::vector<uint32_t> slot_of_index;   // list_vertices: per index - lowest, its slot (~0u: none yet)
     std::unordered_map<uint32_t, uint32_t> slot;   // ... when the indices span too wide a range
     std::vector<VertexWorker> vertex_workers;
@@ -225,14 +225,18 @@ private:
             auto index_at = [&](uint32_t k) { return call_.indices[k < inside ? range_.begin + k : 0]; };
             const uint32_t* const run = call_.indices + range_.begin;   // positions 0 .. inside - 1
             uint32_t lowest = range_.and_zero ? call_.indices[0] : ~0u, highest = range_.and_zero ? lowest : 0;
-            for (uint32_t k = 0; k < inside; ++k) lowest = std::min(lowest, run[k]), highest = std::max(highest, run[k]);
+            if (whole_instances_ && call_.index_bounds) lowest = call_.lowest_index, highest = call_.highest_index;
+            else
+                for (uint32_t k = 0; k < inside; ++k) lowest = std::min(lowest, run[k]), highest = std::max(highest, run[k]);
             const uint64_t span = count ? uint64_t(highest) - lowest + 1 : 0;
             if (span <= std::max<uint64_t>(uint64_t(1) << 16, 8 * uint64_t(count))) {
                 // A table over the indices' span (8- and 16-bit indices always fit): the same slots
                 // as the hash map below without a node allocated and freed per vertex.
                 uint32_t* const slot = at_least(s_.slot_of_index, size_t(span));
                 std::fill_n(slot, size_t(span), ~0u);
-                uint32_t* const listed = at_least(ids, count);   // then cut to the distinct ones
+                // Listed in a buffer that only grows (ids, cut to the distinct ones, would be
+                // zero-filled again by the next draw's growth), then copied.
+                uint32_t* const listed = at_least(s_.listed, count);
                 uint32_t* const slot_of_position = s_.slot_of_position.data();
                 uint32_t distinct = 0;
                 auto visit = [&](uint32_t k, uint32_t index) {
@@ -242,7 +246,7 @@ private:
                 };
                 for (uint32_t k = 0; k < inside; ++k) visit(k, run[k]);
                 if (range_.and_zero) visit(inside, call_.indices[0]);
-                ids.resize(distinct);
+                ids.assign(listed, listed + distinct);
             } else {
                 std::unordered_map<uint32_t, uint32_t>& slot = s_.slot;
                 slot.clear();
@@ -353,7 +357,7 @@ private:
                         }
                     }
                     setup.triangles(all_position, all_window, slots, block,
-                                    first_number + uint32_t(k - begin), chunk.prims);
+                                    first_number + uint32_t(k - begin), chunk.prims, plan_.simd);
                     k += block;
                 }
             } else {

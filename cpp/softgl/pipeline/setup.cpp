@@ -359,6 +359,84 @@ SOFTGL_AVX2_PROJECTION void project_avx2(const float* positions, size_t count, c
 }
 #endif
 
+
+// ---- Facing and culling of a block of triangles (Setup::triangles) ----
+// What becomes of each triangle, from its projected vertices alone (Setup::unclipped_triangle's
+// tests): the integers decide, so every level gives the same classes.
+enum TriangleClass : uint8_t { kEmit, kZeroArea, kCulled, kClipped };
+
+// cull_bits: Setup::cull_bits_ (bit 1 culls front faces, bit 0 back faces).
+struct FacingRule {
+    uint8_t cull_bits;
+    bool ccw_is_front;
+};
+
+// One triangle: kClipped when a vertex failed the per-vertex acceptance (inv_w 0: clip it, or drop
+// it, on the reference path); else its doubled signed area (exact: snapped coordinates lie within
+// the guard band, |X| <= 2^28, so the products stay below 2^59) and what it decides.
+inline uint8_t classify_triangle(const WindowPosition& p0, const WindowPosition& p1, const WindowPosition& p2,
+                                 FacingRule rule, int64_t& area2) {
+    area2 = (p1.X - p0.X) * (p2.Y - p0.Y) - (p2.X - p0.X) * (p1.Y - p0.Y);
+    if (!((p0.inv_w > 0) & (p1.inv_w > 0) & (p2.inv_w > 0))) return kClipped;
+    if (area2 == 0) return kZeroArea;
+    const bool front = rule.ccw_is_front == (area2 > 0);
+    return (rule.cull_bits >> int(front)) & 1 ? kCulled : kEmit;
+}
+
+void classify_scalar(const WindowPosition* window, const uint32_t* vertices, size_t count, FacingRule rule,
+                     uint8_t* cls, int64_t* area2) {
+    for (size_t n = 0; n < count; ++n) {
+        const uint32_t* const v = vertices + 3 * n;
+        cls[n] = classify_triangle(window[v[0]], window[v[1]], window[v[2]], rule, area2[n]);
+    }
+}
+
+#if defined(SOFTGL_HAVE_SIMD_PROJECTION)
+// classify_scalar for 4 triangles at a time: the vertices' fields gathered, the area's products by
+// vpmuldq (signed 32 x 32 -> 64 bits: exact, the coordinate differences are below 2^29 because
+// snap() clamps every coordinate to the guard band), the same integer tests.
+SOFTGL_AVX2_PROJECTION void classify_avx2(const WindowPosition* window, const uint32_t* vertices, size_t count,
+                                          FacingRule rule, uint8_t* cls, int64_t* area2) {
+    static_assert(sizeof(WindowPosition) == 32, "4 words a vertex: X, Y, z, inv_w");
+    const long long* const base = reinterpret_cast<const long long*>(window);
+    const double* const inv_w_base = reinterpret_cast<const double*>(window) + 3;
+    const __m128i stride = _mm_setr_epi32(0, 3, 6, 9);
+    const __m256i zero = _mm256_setzero_si256();
+    const __m256d zero_d = _mm256_setzero_pd();
+    // Culled: front & cull front, or back & cull back (all-ones lanes where set).
+    const __m256i cull_front = _mm256_set1_epi64x((rule.cull_bits & 2) ? -1 : 0);
+    const __m256i cull_back = _mm256_set1_epi64x((rule.cull_bits & 1) ? -1 : 0);
+    const __m256i flip = _mm256_set1_epi64x(rule.ccw_is_front ? 0 : -1);   // positive area is front when CCW
+    size_t n = 0;
+    for (; n + 4 <= count; n += 4) {
+        const int* const v = reinterpret_cast<const int*>(vertices + 3 * n);
+        __m256i X[3], Y[3];
+        __m256d inside = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
+        for (int k = 0; k < 3; ++k) {
+            const __m128i word = _mm_slli_epi32(_mm_i32gather_epi32(v + k, stride, 4), 2);   // vertex * 4 words
+            X[k] = _mm256_i32gather_epi64(base, word, 8);
+            Y[k] = _mm256_i32gather_epi64(base + 1, word, 8);
+            inside = _mm256_and_pd(inside, _mm256_cmp_pd(_mm256_i32gather_pd(inv_w_base, word, 8), zero_d, _CMP_GT_OQ));
+        }
+        const __m256i dx1 = _mm256_sub_epi64(X[1], X[0]), dy1 = _mm256_sub_epi64(Y[1], Y[0]);
+        const __m256i dx2 = _mm256_sub_epi64(X[2], X[0]), dy2 = _mm256_sub_epi64(Y[2], Y[0]);
+        const __m256i area = _mm256_sub_epi64(_mm256_mul_epi32(dx1, dy2), _mm256_mul_epi32(dx2, dy1));
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(area2 + n), area);
+        const __m256i is_zero = _mm256_cmpeq_epi64(area, zero);
+        const __m256i front = _mm256_xor_si256(_mm256_cmpgt_epi64(area, zero), flip);
+        const __m256i culled = _mm256_or_si256(_mm256_and_si256(front, cull_front), _mm256_andnot_si256(front, cull_back));
+        const int in = _mm256_movemask_pd(inside);
+        const int zm = _mm256_movemask_pd(_mm256_castsi256_pd(is_zero));
+        const int cm = _mm256_movemask_pd(_mm256_castsi256_pd(culled));
+        for (int j = 0; j < 4; ++j) {
+            const int bit = 1 << j;
+            cls[n + size_t(j)] = !(in & bit) ? kClipped : (zm & bit) ? kZeroArea : (cm & bit) ? kCulled : kEmit;
+        }
+    }
+    classify_scalar(window, vertices + 3 * n, count - n, rule, cls + n, area2 + n);
+}
+#endif
+
 }  // namespace
 
 void Setup::project_vertices(const float* positions, size_t count, WindowPosition* out, SimdLevel level) const {
@@ -453,25 +531,40 @@ inline void Setup::unclipped_triangle(const WindowVertex w[3], const uint32_t ve
 }
 
 void Setup::triangles(const float* positions, const WindowPosition* window, const uint32_t* vertices,
-                      size_t count, uint32_t first_primitive, std::vector<PrimitiveSetup>& out) {
-    for (size_t n = 0; n < count; ++n) {
-        const uint32_t* const vertex = vertices + 3 * n;
-        const uint32_t primitive = first_primitive + uint32_t(n);
-        const WindowPosition& p0 = window[vertex[0]];
-        const WindowPosition& p1 = window[vertex[1]];
-        const WindowPosition& p2 = window[vertex[2]];
-        if (!((p0.inv_w > 0) & (p1.inv_w > 0) & (p2.inv_w > 0))) {   // clipped or dropped: the reference
-            triangle(positions, window, vertex, primitive, out);
-            continue;
+                      size_t count, uint32_t first_primitive, std::vector<PrimitiveSetup>& out, SimdLevel level) {
+    // A block at a time: classes and areas first (vectorised), then each triangle in order.
+    constexpr size_t kBlock = 256;
+    uint8_t cls[kBlock];
+    int64_t area2[kBlock];
+    const FacingRule rule{cull_bits_, ccw_is_front_};
+    for (size_t first = 0; first < count; first += kBlock) {
+        const size_t block = std::min(kBlock, count - first);
+        const uint32_t* const block_vertices = vertices + 3 * first;
+#if defined(SOFTGL_HAVE_SIMD_PROJECTION)
+        if (level >= SimdLevel::AVX2) classify_avx2(window, block_vertices, block, rule, cls, area2);
+        else
+#endif
+            classify_scalar(window, block_vertices, block, rule, cls, area2);
+        for (size_t n = 0; n < block; ++n) {
+            const uint32_t* const vertex = block_vertices + 3 * n;
+            const uint32_t primitive = first_primitive + uint32_t(first + n);
+            switch (cls[n]) {
+                case kEmit: {
+                    ++stats.primitives;
+                    const WindowPosition& p0 = window[vertex[0]];
+                    const WindowPosition& p1 = window[vertex[1]];
+                    const WindowPosition& p2 = window[vertex[2]];
+                    emit_triangle(UnitCorner(p0, 0), UnitCorner(p1, 1), UnitCorner(p2, 2), area2[n],
+                                  ccw_is_front_ == (area2[n] > 0), vertex, primitive, out);
+                    break;
+                }
+                case kZeroArea: ++stats.primitives, ++stats.zero_area; break;
+                case kCulled: ++stats.primitives, ++stats.culled; break;
+                default: triangle(positions, window, vertex, primitive, out); break;   // clipped or dropped: the reference
+            }
         }
-        // unclipped_triangle's steps on the projected vertices.
-        ++stats.primitives;
-        const int64_t area2 = (p1.X - p0.X) * (p2.Y - p0.Y) - (p2.X - p0.X) * (p1.Y - p0.Y);
-        if (area2 == 0) { ++stats.zero_area; continue; }
-        const bool front = ccw_is_front_ == (area2 > 0);
-        if (culled(front)) { ++stats.culled; continue; }
-        emit_triangle(UnitCorner(p0, 0), UnitCorner(p1, 1), UnitCorner(p2, 2), area2, front, vertex, primitive, out);
     }
+    (void)level;
 }
 
 template <class V>

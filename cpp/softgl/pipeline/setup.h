@@ -190,8 +190,10 @@ public:
     // first_primitive + k: the same records and counters as calling the overload above for each
     // in turn (the reference, tests/pipeline/test_setup_triangles.py), with less work per
     // triangle: facing and culling straight from the projected vertices, no vertex copies.
+    // Facing and culling run 4 triangles at a time at the AVX2 level and above (same classes).
     void triangles(const float* positions, const WindowPosition* window, const uint32_t* vertices,
-                   size_t count, uint32_t first_primitive, std::vector<PrimitiveSetup>& out);
+                   size_t count, uint32_t first_primitive, std::vector<PrimitiveSetup>& out,
+                   SimdLevel level = best_simd_level());
     // Projects positions[0 .. 4 * count) (clip coordinates) to out[0 .. count), vertex by vertex,
     // exactly as triangle() does; every level gives the same bits (AVX-512 and AVX2 kernels, 8 and
     // 4 vertices at a time; SSE2 runs the scalar code).
