@@ -395,6 +395,10 @@ void classify_scalar(const WindowPosition* window, const uint32_t* vertices, siz
 // classify_scalar for 4 triangles at a time: the vertices' fields gathered, the area's products by
 // vpmuldq (signed 32 x 32 -> 64 bits: exact, the coordinate differences are below 2^29 because
 // snap() clamps every coordinate to the guard band), the same integer tests.
+// GCC 12's gather intrinsics initialise their "undefined" operands from themselves.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 SOFTGL_AVX2_PROJECTION void classify_avx2(const WindowPosition* window, const uint32_t* vertices, size_t count,
                                           FacingRule rule, uint8_t* cls, int64_t* area2) {
     static_assert(sizeof(WindowPosition) == 32, "4 words a vertex: X, Y, z, inv_w");
@@ -435,6 +439,7 @@ SOFTGL_AVX2_PROJECTION void classify_avx2(const WindowPosition* window, const ui
     }
     classify_scalar(window, vertices + 3 * n, count - n, rule, cls + n, area2 + n);
 }
+#pragma GCC diagnostic pop
 #endif
 
 }  // namespace
