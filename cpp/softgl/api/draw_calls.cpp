@@ -2,6 +2,7 @@
 // §6.6 ranges, §6.11 stencil consistency, ANGLE_instanced_arrays / WebGL 2), then the pipeline.
 #include <algorithm>
 #include <cstring>
+#include <memory>
 
 #include "softgl/api/blendlab.h"
 #include "softgl/api/context.h"
@@ -19,6 +20,27 @@ int index_size(GLenum type) {
         case gl::UNSIGNED_INT: return 4;
         default: return 0;
     }
+}
+
+// Copies `count` indices of type T from src (any alignment) into out as 32-bit words; returns the
+// largest, and sets the smallest and whether `restart` occurs. One pass without branches (the
+// largest index other than `restart` is looked for again only when it occurs).
+template <class T>
+uint32_t read_indices(const uint8_t* src, size_t count, uint32_t* out, uint32_t restart, uint32_t& smallest,
+                      bool& has_restart) {
+    uint32_t largest = 0, lowest = ~0u, found = 0;
+    for (size_t i = 0; i < count; ++i) {
+        T t;
+        std::memcpy(&t, src + sizeof(T) * i, sizeof(T));
+        const uint32_t v = t;
+        out[i] = v;
+        largest = std::max(largest, v);
+        lowest = std::min(lowest, v);
+        found |= uint32_t(v == restart);
+    }
+    smallest = lowest;
+    has_restart = found != 0;
+    return largest;
 }
 
 }  // namespace
@@ -153,44 +175,48 @@ void Context::draw_elements(GLenum mode, int32_t count, GLenum type, int64_t off
         return true;
     };
     if (too_large(uint64_t(count))) return;
-    std::vector<uint32_t> indices(static_cast<size_t>(count));
+    const std::unique_ptr<uint32_t[]> read(new uint32_t[size_t(count)]);   // not zero-filled: all written below
     const uint8_t* src = elements->data.data() + offset;
-    uint32_t max_index = 0;
-    bool restarts = false;
-    for (int32_t i = 0; i < count; ++i) {
-        uint32_t v = 0;
-        if (size == 1) v = src[i];
-        else if (size == 2) { uint16_t s; std::memcpy(&s, src + 2 * i, 2); v = s; }
-        else std::memcpy(&v, src + 4 * i, 4);
-        indices[size_t(i)] = v;
-        if (restart_enabled && v == restart) restarts = true;
-        else max_index = std::max(max_index, v);
+    uint32_t* const words = read.get();
+    bool found = false;
+    uint32_t min_index = 0;
+    uint32_t max_index = size == 1 ? read_indices<uint8_t>(src, size_t(count), words, restart, min_index, found)
+                       : size == 2 ? read_indices<uint16_t>(src, size_t(count), words, restart, min_index, found)
+                                   : read_indices<uint32_t>(src, size_t(count), words, restart, min_index, found);
+    // Without primitive restart (WebGL 1) the largest value is an index like any other.
+    const bool restarts = restart_enabled && found;
+    if (restarts) {
+        max_index = 0;
+        for (int32_t i = 0; i < count; ++i)
+            if (words[i] != restart) max_index = std::max(max_index, words[i]);
     }
     const uint32_t used = current_program_->vertex_stage->used_attributes();
     const std::string range = check_attribute_ranges(*vertex_array_, used, max_index, uint64_t(instances));
     if (!range.empty()) return error(gl::INVALID_OPERATION, call, range);
     DrawCall dc;
     dc.mode = mode;
+    std::vector<uint32_t> expanded;
     if (restarts) {
         if (too_large(4 * uint64_t(count))) return;   // the indices and their expansion (with them, 4 words each)
         // Assemble each run between restart indices on its own, as an independent list of points,
         // lines or triangles (the provoking vertex stays last, strips keep their winding).
-        std::vector<uint32_t> expanded, positions;
+        std::vector<uint32_t> positions;
         size_t begin = 0;
-        for (size_t i = 0; i <= indices.size(); ++i) {
-            if (i < indices.size() && indices[i] != restart) continue;
+        for (size_t i = 0; i <= size_t(count); ++i) {
+            if (i < size_t(count) && words[i] != restart) continue;
             positions.clear();
             assemble(mode, uint32_t(i - begin), positions);
-            for (uint32_t k : positions) expanded.push_back(indices[begin + k]);
+            for (uint32_t k : positions) expanded.push_back(words[begin + k]);
             begin = i + 1;
         }
         const int per = vertices_per_primitive(mode);
         dc.mode = per == 1 ? gl::POINTS : per == 2 ? gl::LINES : gl::TRIANGLES;
-        indices.swap(expanded);
-        if (indices.empty()) return;
+        if (expanded.empty()) return;
     }
-    dc.count = uint32_t(indices.size());
-    dc.indices = indices.data();
+    dc.count = restarts ? uint32_t(expanded.size()) : uint32_t(count);
+    dc.indices = restarts ? expanded.data() : words;
+    dc.index_bounds = !restarts;   // the expansion may leave some out
+    dc.lowest_index = min_index, dc.highest_index = max_index;
     dc.instance_count = uint32_t(instances);
     run_draw(dc, call);
 }

@@ -76,8 +76,9 @@ void Bins::add(const PrimitiveSetup* prims, size_t count, uint32_t index_base) {
         const PrimitiveSetup& p = prims[i];
         const uint32_t n = index_base + uint32_t(i);
         quad_pixels_bound += uint64_t(p.x1 - p.x0 + 2) * uint64_t(p.y1 - p.y0 + 2);
-        const int32_t tx0 = p.x0 / kTileSize, tx1 = (p.x1 - 1) / kTileSize;
-        const int32_t ty0 = p.y0 / kTileSize, ty1 = (p.y1 - 1) / kTileSize;
+        // Boxes lie inside the target (0 <= x0 < x1): shifts, not signed divisions.
+        const int32_t tx0 = int32_t(uint32_t(p.x0) / kTileSize), tx1 = int32_t(uint32_t(p.x1 - 1) / kTileSize);
+        const int32_t ty0 = int32_t(uint32_t(p.y0) / kTileSize), ty1 = int32_t(uint32_t(p.y1 - 1) / kTileSize);
         if (tx0 == tx1 && ty0 == ty1) {   // the common case: a small primitive in one tile
             append(size_t(ty0) * grid_.tiles_x + tx0, n);
             continue;

@@ -77,7 +77,7 @@ struct SetupChunk {
 // (docs/architecture.md, "Fast paths": no per-draw allocations; buffers only grow, so a repeated
 // draw touches no fresh pages). The tile pass keeps its own (pipeline/tile_pass.cpp).
 struct DrawScratch {
-    std::vector<uint32_t> ids, slot_of_position, tiles, index_base;
+    std::vector<uint32_t> ids, listed, slot_of_position, tiles, index_base;
     std::vector<uint32_t> slot_of_index;   // list_vertices: per index - lowest, its slot (~0u: none yet)
     std::unordered_map<uint32_t, uint32_t> slot;   // ... when the indices span too wide a range
     std::vector<VertexWorker> vertex_workers;
@@ -225,14 +225,18 @@ private:
             auto index_at = [&](uint32_t k) { return call_.indices[k < inside ? range_.begin + k : 0]; };
             const uint32_t* const run = call_.indices + range_.begin;   // positions 0 .. inside - 1
             uint32_t lowest = range_.and_zero ? call_.indices[0] : ~0u, highest = range_.and_zero ? lowest : 0;
-            for (uint32_t k = 0; k < inside; ++k) lowest = std::min(lowest, run[k]), highest = std::max(highest, run[k]);
+            if (whole_instances_ && call_.index_bounds) lowest = call_.lowest_index, highest = call_.highest_index;
+            else
+                for (uint32_t k = 0; k < inside; ++k) lowest = std::min(lowest, run[k]), highest = std::max(highest, run[k]);
             const uint64_t span = count ? uint64_t(highest) - lowest + 1 : 0;
             if (span <= std::max<uint64_t>(uint64_t(1) << 16, 8 * uint64_t(count))) {
                 // A table over the indices' span (8- and 16-bit indices always fit): the same slots
                 // as the hash map below without a node allocated and freed per vertex.
                 uint32_t* const slot = at_least(s_.slot_of_index, size_t(span));
                 std::fill_n(slot, size_t(span), ~0u);
-                uint32_t* const listed = at_least(ids, count);   // then cut to the distinct ones
+                // Listed in a buffer that only grows (ids, cut to the distinct ones, would be
+                // zero-filled again by the next draw's growth), then copied.
+                uint32_t* const listed = at_least(s_.listed, count);
                 uint32_t* const slot_of_position = s_.slot_of_position.data();
                 uint32_t distinct = 0;
                 auto visit = [&](uint32_t k, uint32_t index) {
@@ -242,7 +246,7 @@ private:
                 };
                 for (uint32_t k = 0; k < inside; ++k) visit(k, run[k]);
                 if (range_.and_zero) visit(inside, call_.indices[0]);
-                ids.resize(distinct);
+                ids.assign(listed, listed + distinct);
             } else {
                 std::unordered_map<uint32_t, uint32_t>& slot = s_.slot;
                 slot.clear();
@@ -327,20 +331,49 @@ private:
             const size_t begin = c * kSetupChunk, end = std::min(batch_total, begin + kSetupChunk);
             if (in_.budget) in_.budget->charge((end - begin) * kPrimitiveWorkUnits);
             uint32_t j = uint32_t(begin / span), p = p0 + uint32_t(begin % span);
-            for (size_t k = begin; k < end; ++k, ++p) {
-                if (p == p1) p = p0, ++j;
-                uint32_t v[3];
-                primitive_vertices(call_.mode, call_.count, p, v);
-                const uint32_t base = uint32_t(j * n);
-                for (int i = 0; i < per; ++i) {
-                    const uint32_t position = v[i] >= range_.begin ? v[i] - range_.begin : inside;
-                    v[i] = base + (call_.indices ? s_.slot_of_position[position] : position);
+            // The primitive's number in the draw (modulo 2^32). A chunk's numbers are consecutive:
+            // a batch of whole instances holds all of each (p0 = 0, p1 = per_instance_), else one.
+            const uint32_t first_number = uint32_t(uint64_t(instance + j) * per_instance_ + p);
+            if (per == 3) {
+                // Triangles: their vertex slots, a block at a time, then setup.triangles over them.
+                constexpr size_t kBlock = 256;
+                uint32_t slots[3 * kBlock];
+                for (size_t k = begin; k < end;) {
+                    const size_t block = std::min(kBlock, end - k);
+                    for (size_t m = 0; m < block; ++m, ++p) {
+                        if (p == p1) p = p0, ++j;
+                        uint32_t* const v = slots + 3 * m;
+                        const uint32_t base = uint32_t(j * n);
+                        if (call_.mode == gl::TRIANGLES) {   // positions 3p .. 3p + 2, all inside the range
+                            const uint32_t at = 3 * p - range_.begin;
+                            for (int i = 0; i < 3; ++i)
+                                v[i] = base + (call_.indices ? s_.slot_of_position[at + i] : at + i);
+                            continue;
+                        }
+                        primitive_vertices(call_.mode, call_.count, p, v);
+                        for (int i = 0; i < 3; ++i) {
+                            const uint32_t position = v[i] >= range_.begin ? v[i] - range_.begin : inside;
+                            v[i] = base + (call_.indices ? s_.slot_of_position[position] : position);
+                        }
+                    }
+                    setup.triangles(all_position, all_window, slots, block,
+                                    first_number + uint32_t(k - begin), chunk.prims, plan_.simd);
+                    k += block;
                 }
-                // The primitive's number in the draw (modulo 2^32).
-                const uint32_t number = uint32_t(uint64_t(instance + j) * per_instance_ + p);
-                if (per == 3) setup.triangle(all_position, all_window, v, number, chunk.prims);
-                else if (per == 2) setup.line(all_position + 4 * v[0], all_position + 4 * v[1], v[0], v[1], number, chunk.prims);
-                else setup.point(all_position + 4 * v[0], s_.all.point_size[v[0]], v[0], number, chunk.prims);
+            } else {
+                for (size_t k = begin; k < end; ++k, ++p) {
+                    if (p == p1) p = p0, ++j;
+                    uint32_t v[3];
+                    primitive_vertices(call_.mode, call_.count, p, v);
+                    const uint32_t base = uint32_t(j * n);
+                    for (int i = 0; i < per; ++i) {
+                        const uint32_t position = v[i] >= range_.begin ? v[i] - range_.begin : inside;
+                        v[i] = base + (call_.indices ? s_.slot_of_position[position] : position);
+                    }
+                    const uint32_t number = first_number + uint32_t(k - begin);
+                    if (per == 2) setup.line(all_position + 4 * v[0], all_position + 4 * v[1], v[0], v[1], number, chunk.prims);
+                    else setup.point(all_position + 4 * v[0], s_.all.point_size[v[0]], v[0], number, chunk.prims);
+                }
             }
             chunk.stats = setup.stats;
             if (!plan_.rasterizes()) return;

@@ -21,6 +21,9 @@ struct DrawCall {
     uint32_t first = 0;               // drawArrays
     uint32_t count = 0;
     const uint32_t* indices = nullptr;   // drawElements: `count` indices, already range-checked
+    // When known (the API layer reads every index): the smallest and largest of indices[0, count).
+    bool index_bounds = false;
+    uint32_t lowest_index = 0, highest_index = 0;
     uint32_t instance_count = 1;
 };
 

@@ -14,8 +14,8 @@
 
 namespace softgl {
 
-void prepare_interpolation(const PrimitiveSetup& p, int vertices, int32_t base_x, int32_t base_y, const int* words,
-                           size_t count, float* values, VaryingInterpolation& v) {
+void set_interpolation_planes(const PrimitiveSetup& p, int vertices, int32_t base_x, int32_t base_y, const int* words,
+                              size_t count, const float* values, VaryingInterpolation& v) {
     const double ox = pixel_centre_offset(base_x, p.origin_x), oy = pixel_centre_offset(base_y, p.origin_y);
     // The plane's value at the base pixel's centre, in PrimitiveSetup::eval's order.
     auto rebase = [&](const Plane& pl) { return FloatPlane{float(pl.a), float(pl.b), float((pl.c + pl.a * ox) + pl.b * oy)}; };
@@ -27,13 +27,17 @@ void prepare_interpolation(const PrimitiveSetup& p, int vertices, int32_t base_x
     v.inv_w = rebase(p.inv_w);
     v.weight[0] = rebase(p.weight[1]);
     v.weight[1] = vertices == 3 ? rebase(p.weight[2]) : FloatPlane{};
-    // d_k = 0 where v_k == v_0, also for infinities (inf - inf would be NaN): a value equal at
-    // every vertex is then kept exactly.
+}
+
+void prepare_interpolation(const PrimitiveSetup& p, int vertices, int32_t base_x, int32_t base_y, const int* words,
+                           size_t count, float* values, VaryingInterpolation& v) {
+    // A value equal at every vertex is then kept exactly (vertex_difference).
     for (int k = 1; k < vertices; ++k)
         for (size_t i = 0; i < count; ++i) {
             float& d = values[size_t(k) * count + i];
-            d = d == values[i] ? 0.0f : d - values[i];
+            d = vertex_difference(d, values[i]);
         }
+    set_interpolation_planes(p, vertices, base_x, base_y, words, count, values, v);
 }
 
 namespace {

@@ -53,6 +53,12 @@ struct VaryingInterpolation {
 // into v_0, d_1, d_2; it must outlive the interpolation.
 void prepare_interpolation(const PrimitiveSetup& p, int vertices, int32_t base_x, int32_t base_y, const int* words,
                            size_t count, float* values, VaryingInterpolation& v);
+// prepare_interpolation's two parts: d_k from v_k and v_0 (0 where they are equal, infinities
+// included: inf - inf would be NaN), and the planes with `values` already v_0, d_1, d_2 (the tile
+// pass gathers the vertices' words straight into that form).
+inline float vertex_difference(float vk, float v0) { return vk == v0 ? 0.0f : vk - v0; }
+void set_interpolation_planes(const PrimitiveSetup& p, int vertices, int32_t base_x, int32_t base_y, const int* words,
+                              size_t count, const float* values, VaryingInterpolation& v);
 
 // Lane 4*i + j is pixel j (dx = j & 1, dy = j >> 1) of quads[i]; word words[k] of lane l goes to
 // out[words[k] * stride + l] as float bits. `level` picks the instruction set (tests); the

@@ -63,16 +63,47 @@ void plane3(Double2 v0, Double2 v1, Double2 v2, double dx1, double dy1, double d
 }
 
 // Whether the sample at the centre of some pixel of the bounding box is inside the triangle's
-// edges (the rasterizer's exact test, tie rule included): a few pixels at most.
+// edges (the rasterizer's exact test, tie rule included): a few pixels at most. The edge values
+// step from pixel to pixel by 256 a and 256 b, the same exact integers as evaluating each.
 bool covers_a_centre(const PrimitiveSetup& s) {
-    for (int32_t y = s.y0; y < s.y1; ++y)
+    const int64_t X = int64_t(s.x0) * kSubPixel + kSubPixel / 2, Y = int64_t(s.y0) * kSubPixel + kSubPixel / 2;
+    int64_t row0 = s.a[0] * X + s.b[0] * Y + s.c[0];
+    int64_t row1 = s.a[1] * X + s.b[1] * Y + s.c[1];
+    int64_t row2 = s.a[2] * X + s.b[2] * Y + s.c[2];
+    for (int32_t y = s.y0; y < s.y1; ++y) {
+        int64_t e0 = row0, e1 = row1, e2 = row2;
         for (int32_t x = s.x0; x < s.x1; ++x) {
-            const int64_t X = int64_t(x) * kSubPixel + kSubPixel / 2, Y = int64_t(y) * kSubPixel + kSubPixel / 2;
-            bool inside = true;
-            for (int i = 0; i < 3; ++i) inside &= s.a[i] * X + s.b[i] * Y + s.c[i] >= 0;
-            if (inside) return true;
+            if ((e0 | e1 | e2) >= 0) return true;   // every edge >= 0
+            e0 += s.a[0] * kSubPixel, e1 += s.a[1] * kSubPixel, e2 += s.a[2] * kSubPixel;
         }
+        row0 += s.b[0] * kSubPixel, row1 += s.b[1] * kSubPixel, row2 += s.b[2] * kSubPixel;
+    }
     return false;
+}
+
+// What Setup::emit_triangle reads of a vertex: its snapped position, window z, and the values its
+// planes interpolate, in three pairs: (z, 1/w), (weight_0/w, weight_1/w), (weight_2/w, 0).
+template <class V>
+std::array<Double2, 3> plane_values(const V& v) {   // Setup::WindowVertex: weights of its own
+    const Double2 inv_w = {v.inv_w, v.inv_w};
+    const Double2 w01 = Double2{v.weight[0], v.weight[1]} * inv_w;
+    const Double2 w2 = Double2{v.weight[2], 0} * inv_w;
+    return {Double2{v.z, v.inv_w}, w01, w2};
+}
+
+// A projected vertex of an unclipped triangle, corner k: its weights are 1 for vertex k and 0 for
+// the others, so weight_j/w is 1/w or 0 -- the products 1 * (1/w) and 0 * (1/w) (1/w > 0 and
+// finite) that plane_values computes for a WindowVertex with those weights.
+struct UnitCorner {
+    int64_t X, Y;
+    double z, inv_w;
+    int k;
+    UnitCorner(const WindowPosition& p, int corner) : X(p.X), Y(p.Y), z(p.z), inv_w(p.inv_w), k(corner) {}
+};
+
+inline std::array<Double2, 3> plane_values(const UnitCorner& v) {
+    return {Double2{v.z, v.inv_w}, Double2{v.k == 0 ? v.inv_w : 0.0, v.k == 1 ? v.inv_w : 0.0},
+            Double2{v.k == 2 ? v.inv_w : 0.0, 0.0}};
 }
 
 Plane constant_plane(double v) {
@@ -109,7 +140,13 @@ void SetupStats::add(const SetupStats& o) {
 Setup::Setup(const RasterState& state)
     : state_(state), clipper_(state.viewport),
       transform_{state.viewport.scale_x(), state.viewport.offset_x(), state.viewport.scale_y(),
-                 state.viewport.offset_y(), state.viewport.scale_z(), state.viewport.offset_z()} {}
+                 state.viewport.offset_y(), state.viewport.scale_z(), state.viewport.offset_z()} {
+    // ES 3.0 §3.6.1: which faces cullFace drops (none when culling is off).
+    const bool front = state.cull_face && (state.cull_face_mode == kGlFront || state.cull_face_mode == kGlFrontAndBack);
+    const bool back = state.cull_face && (state.cull_face_mode == kGlBack || state.cull_face_mode == kGlFrontAndBack);
+    cull_bits_ = uint8_t(front << 1 | back);
+    ccw_is_front_ = state.front_face == kGlCcw;
+}
 
 inline Setup::WindowVertex Setup::project(const Vec4d& p, const double weight[3]) const {
     // ES 3.0 §2.12: perspective division, then the viewport transform.
@@ -322,6 +359,89 @@ SOFTGL_AVX2_PROJECTION void project_avx2(const float* positions, size_t count, c
 }
 #endif
 
+
+// ---- Facing and culling of a block of triangles (Setup::triangles) ----
+// What becomes of each triangle, from its projected vertices alone (Setup::unclipped_triangle's
+// tests): the integers decide, so every level gives the same classes.
+enum TriangleClass : uint8_t { kEmit, kZeroArea, kCulled, kClipped };
+
+// cull_bits: Setup::cull_bits_ (bit 1 culls front faces, bit 0 back faces).
+struct FacingRule {
+    uint8_t cull_bits;
+    bool ccw_is_front;
+};
+
+// One triangle: kClipped when a vertex failed the per-vertex acceptance (inv_w 0: clip it, or drop
+// it, on the reference path); else its doubled signed area (exact: snapped coordinates lie within
+// the guard band, |X| <= 2^28, so the products stay below 2^59) and what it decides.
+inline uint8_t classify_triangle(const WindowPosition& p0, const WindowPosition& p1, const WindowPosition& p2,
+                                 FacingRule rule, int64_t& area2) {
+    area2 = (p1.X - p0.X) * (p2.Y - p0.Y) - (p2.X - p0.X) * (p1.Y - p0.Y);
+    if (!((p0.inv_w > 0) & (p1.inv_w > 0) & (p2.inv_w > 0))) return kClipped;
+    if (area2 == 0) return kZeroArea;
+    const bool front = rule.ccw_is_front == (area2 > 0);
+    return (rule.cull_bits >> int(front)) & 1 ? kCulled : kEmit;
+}
+
+void classify_scalar(const WindowPosition* window, const uint32_t* vertices, size_t count, FacingRule rule,
+                     uint8_t* cls, int64_t* area2) {
+    for (size_t n = 0; n < count; ++n) {
+        const uint32_t* const v = vertices + 3 * n;
+        cls[n] = classify_triangle(window[v[0]], window[v[1]], window[v[2]], rule, area2[n]);
+    }
+}
+
+#if defined(SOFTGL_HAVE_SIMD_PROJECTION)
+// classify_scalar for 4 triangles at a time: the vertices' fields gathered, the area's products by
+// vpmuldq (signed 32 x 32 -> 64 bits: exact, the coordinate differences are below 2^29 because
+// snap() clamps every coordinate to the guard band), the same integer tests.
+// GCC 12's gather intrinsics initialise their "undefined" operands from themselves.
+#pragma GCC diagnostic push
+#pragma GCC diagnostic ignored "-Wuninitialized"
+#pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
+SOFTGL_AVX2_PROJECTION void classify_avx2(const WindowPosition* window, const uint32_t* vertices, size_t count,
+                                          FacingRule rule, uint8_t* cls, int64_t* area2) {
+    static_assert(sizeof(WindowPosition) == 32, "4 words a vertex: X, Y, z, inv_w");
+    const long long* const base = reinterpret_cast<const long long*>(window);
+    const double* const inv_w_base = reinterpret_cast<const double*>(window) + 3;
+    const __m128i stride = _mm_setr_epi32(0, 3, 6, 9);
+    const __m256i zero = _mm256_setzero_si256();
+    const __m256d zero_d = _mm256_setzero_pd();
+    // Culled: front & cull front, or back & cull back (all-ones lanes where set).
+    const __m256i cull_front = _mm256_set1_epi64x((rule.cull_bits & 2) ? -1 : 0);
+    const __m256i cull_back = _mm256_set1_epi64x((rule.cull_bits & 1) ? -1 : 0);
+    const __m256i flip = _mm256_set1_epi64x(rule.ccw_is_front ? 0 : -1);   // positive area is front when CCW
+    size_t n = 0;
+    for (; n + 4 <= count; n += 4) {
+        const int* const v = reinterpret_cast<const int*>(vertices + 3 * n);
+        __m256i X[3], Y[3];
+        __m256d inside = _mm256_castsi256_pd(_mm256_set1_epi64x(-1));
+        for (int k = 0; k < 3; ++k) {
+            const __m128i word = _mm_slli_epi32(_mm_i32gather_epi32(v + k, stride, 4), 2);   // vertex * 4 words
+            X[k] = _mm256_i32gather_epi64(base, word, 8);
+            Y[k] = _mm256_i32gather_epi64(base + 1, word, 8);
+            inside = _mm256_and_pd(inside, _mm256_cmp_pd(_mm256_i32gather_pd(inv_w_base, word, 8), zero_d, _CMP_GT_OQ));
+        }
+        const __m256i dx1 = _mm256_sub_epi64(X[1], X[0]), dy1 = _mm256_sub_epi64(Y[1], Y[0]);
+        const __m256i dx2 = _mm256_sub_epi64(X[2], X[0]), dy2 = _mm256_sub_epi64(Y[2], Y[0]);
+        const __m256i area = _mm256_sub_epi64(_mm256_mul_epi32(dx1, dy2), _mm256_mul_epi32(dx2, dy1));
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(area2 + n), area);
+        const __m256i is_zero = _mm256_cmpeq_epi64(area, zero);
+        const __m256i front = _mm256_xor_si256(_mm256_cmpgt_epi64(area, zero), flip);
+        const __m256i culled = _mm256_or_si256(_mm256_and_si256(front, cull_front), _mm256_andnot_si256(front, cull_back));
+        const int in = _mm256_movemask_pd(inside);
+        const int zm = _mm256_movemask_pd(_mm256_castsi256_pd(is_zero));
+        const int cm = _mm256_movemask_pd(_mm256_castsi256_pd(culled));
+        for (int j = 0; j < 4; ++j) {
+            const int bit = 1 << j;
+            cls[n + size_t(j)] = !(in & bit) ? kClipped : (zm & bit) ? kZeroArea : (cm & bit) ? kCulled : kEmit;
+        }
+    }
+    classify_scalar(window, vertices + 3 * n, count - n, rule, cls + n, area2 + n);
+}
+#pragma GCC diagnostic pop
+#endif
+
 }  // namespace
 
 void Setup::project_vertices(const float* positions, size_t count, WindowPosition* out, SimdLevel level) const {
@@ -402,12 +522,7 @@ inline void Setup::triangle(const float* const p[3], const WindowPosition* const
     }
 }
 
-inline bool Setup::culled(bool front) const {
-    return state_.cull_face &&
-           (state_.cull_face_mode == kGlFrontAndBack ||
-            (state_.cull_face_mode == kGlFront && front) ||
-            (state_.cull_face_mode == kGlBack && !front));
-}
+inline bool Setup::culled(bool front) const { return (cull_bits_ >> int(front)) & 1; }
 
 inline void Setup::unclipped_triangle(const WindowVertex w[3], const uint32_t vertex[3],
                                uint32_t primitive, std::vector<PrimitiveSetup>& out) {
@@ -415,18 +530,55 @@ inline void Setup::unclipped_triangle(const WindowVertex w[3], const uint32_t ve
     const int64_t area2 = (w[1].X - w[0].X) * (w[2].Y - w[0].Y) -
                           (w[2].X - w[0].X) * (w[1].Y - w[0].Y);
     if (area2 == 0) { ++stats.zero_area; return; }
-    const bool front = (state_.front_face == kGlCcw) == (area2 > 0);
+    const bool front = ccw_is_front_ == (area2 > 0);
     if (culled(front)) { ++stats.culled; return; }
     emit_triangle(w[0], w[1], w[2], area2, front, vertex, primitive, out);
 }
 
-inline void Setup::emit_triangle(const WindowVertex& w0, const WindowVertex& w1, const WindowVertex& w2,
-                          int64_t area2, bool front, const uint32_t vertex[3], uint32_t primitive,
-                          std::vector<PrimitiveSetup>& out) {
+void Setup::triangles(const float* positions, const WindowPosition* window, const uint32_t* vertices,
+                      size_t count, uint32_t first_primitive, std::vector<PrimitiveSetup>& out, SimdLevel level) {
+    // A block at a time: classes and areas first (vectorised), then each triangle in order.
+    constexpr size_t kBlock = 256;
+    uint8_t cls[kBlock];
+    int64_t area2[kBlock];
+    const FacingRule rule{cull_bits_, ccw_is_front_};
+    for (size_t first = 0; first < count; first += kBlock) {
+        const size_t block = std::min(kBlock, count - first);
+        const uint32_t* const block_vertices = vertices + 3 * first;
+#if defined(SOFTGL_HAVE_SIMD_PROJECTION)
+        if (level >= SimdLevel::AVX2) classify_avx2(window, block_vertices, block, rule, cls, area2);
+        else
+#endif
+            classify_scalar(window, block_vertices, block, rule, cls, area2);
+        for (size_t n = 0; n < block; ++n) {
+            const uint32_t* const vertex = block_vertices + 3 * n;
+            const uint32_t primitive = first_primitive + uint32_t(first + n);
+            switch (cls[n]) {
+                case kEmit: {
+                    ++stats.primitives;
+                    const WindowPosition& p0 = window[vertex[0]];
+                    const WindowPosition& p1 = window[vertex[1]];
+                    const WindowPosition& p2 = window[vertex[2]];
+                    emit_triangle(UnitCorner(p0, 0), UnitCorner(p1, 1), UnitCorner(p2, 2), area2[n],
+                                  ccw_is_front_ == (area2[n] > 0), vertex, primitive, out);
+                    break;
+                }
+                case kZeroArea: ++stats.primitives, ++stats.zero_area; break;
+                case kCulled: ++stats.primitives, ++stats.culled; break;
+                default: triangle(positions, window, vertex, primitive, out); break;   // clipped or dropped: the reference
+            }
+        }
+    }
+    (void)level;
+}
+
+template <class V>
+inline void Setup::emit_triangle(const V& w0, const V& w1, const V& w2, int64_t area2, bool front,
+                                 const uint32_t vertex[3], uint32_t primitive, std::vector<PrimitiveSetup>& out) {
     // Counter-clockwise vertex order (interior has E >= 0).
-    const WindowVertex& v0 = w0;
-    const WindowVertex& v1 = area2 < 0 ? w2 : w1;
-    const WindowVertex& v2 = area2 < 0 ? w1 : w2;
+    const V& v0 = w0;
+    const V& v1 = area2 < 0 ? w2 : w1;
+    const V& v2 = area2 < 0 ? w1 : w2;
     if (area2 < 0) area2 = -area2;
     // Nested min/max: conditional moves (min({...}) is a loop of unpredictable branches).
     int64_t xmin = std::min(v0.X, std::min(v1.X, v2.X)), xmax = std::max(v0.X, std::max(v1.X, v2.X));
@@ -441,12 +593,9 @@ inline void Setup::emit_triangle(const WindowVertex& w0, const WindowVertex& w1,
     }
     PrimitiveSetup& s = out.emplace_back();   // built in place (no copy of the large record)
     if (!finish_bbox(s, xmin, ymin, xmax, ymax)) { ++stats.outside; out.pop_back(); return; }
-    const WindowVertex* v[3] = {&v0, &v1, &v2};
-    for (int i = 0; i < 3; ++i) {
-        const WindowVertex& j = *v[(i + 1) % 3];
-        const WindowVertex& k = *v[(i + 2) % 3];
-        make_edge(s, i, j.X, j.Y, k.X, k.Y);     // edge i is opposite vertex i
-    }
+    make_edge(s, 0, v1.X, v1.Y, v2.X, v2.Y);     // edge i is opposite vertex i
+    make_edge(s, 1, v2.X, v2.Y, v0.X, v0.Y);
+    make_edge(s, 2, v0.X, v0.Y, v1.X, v1.Y);
     s.a[3] = s.b[3] = s.c[3] = 0;
     s.area_offset[3] = 0;
     s.area_shape = AreaShape::Polygon;
@@ -458,13 +607,7 @@ inline void Setup::emit_triangle(const WindowVertex& w0, const WindowVertex& w1,
     const double dx1 = double(v1.X - v0.X) * inv, dy1 = double(v1.Y - v0.Y) * inv;
     const double dx2 = double(v2.X - v0.X) * inv, dy2 = double(v2.Y - v0.Y) * inv;
     const double inv_det = double(kSubPixel * kSubPixel) / double(area2);
-    auto values = [](const WindowVertex& v) {   // depth, 1/w, weight_k / w (k = 0, 1, 2)
-        const Double2 inv_w = {v.inv_w, v.inv_w};
-        const Double2 w01 = Double2{v.weight[0], v.weight[1]} * inv_w;
-        const Double2 w2 = Double2{v.weight[2], 0} * inv_w;
-        return std::array<Double2, 3>{Double2{v.z, v.inv_w}, w01, w2};
-    };
-    const std::array<Double2, 3> q0 = values(v0), q1 = values(v1), q2 = values(v2);
+    const std::array<Double2, 3> q0 = plane_values(v0), q1 = plane_values(v1), q2 = plane_values(v2);
     Plane unused;
     plane3(q0[0], q1[0], q2[0], dx1, dy1, dx2, dy2, inv_det, s.depth, s.inv_w);
     plane3(q0[1], q1[1], q2[1], dx1, dy1, dx2, dy2, inv_det, s.weight[0], s.weight[1]);

@@ -186,6 +186,14 @@ public:
     // positions[4 * vertex[k]...], its window position window[vertex[k]].
     void triangle(const float* positions, const WindowPosition* window, const uint32_t vertex[3],
                   uint32_t primitive, std::vector<PrimitiveSetup>& out);
+    // Triangles k < count, of vertices vertices[3k .. 3k + 2] (as above) and primitive numbers
+    // first_primitive + k: the same records and counters as calling the overload above for each
+    // in turn (the reference, tests/pipeline/test_setup_triangles.py), with less work per
+    // triangle: facing and culling straight from the projected vertices, no vertex copies.
+    // Facing and culling run 4 triangles at a time at the AVX2 level and above (same classes).
+    void triangles(const float* positions, const WindowPosition* window, const uint32_t* vertices,
+                   size_t count, uint32_t first_primitive, std::vector<PrimitiveSetup>& out,
+                   SimdLevel level = best_simd_level());
     // Projects positions[0 .. 4 * count) (clip coordinates) to out[0 .. count), vertex by vertex,
     // exactly as triangle() does; every level gives the same bits (AVX-512 and AVX2 kernels, 8 and
     // 4 vertices at a time; SSE2 runs the scalar code).
@@ -212,13 +220,17 @@ private:
     bool culled(bool front) const;   // by cullFace (ES 3.0 §3.6.1)
     void unclipped_triangle(const WindowVertex w[3], const uint32_t vertex[3], uint32_t primitive,
                             std::vector<PrimitiveSetup>& out);
-    void emit_triangle(const WindowVertex& v0, const WindowVertex& v1, const WindowVertex& v2,
-                       int64_t area2, bool front, const uint32_t vertex[3], uint32_t primitive,
-                       std::vector<PrimitiveSetup>& out);
+    // V: WindowVertex, or a projected vertex with its weights implied (setup.cpp, UnitCorner).
+    template <class V>
+    void emit_triangle(const V& v0, const V& v1, const V& v2, int64_t area2, bool front,
+                       const uint32_t vertex[3], uint32_t primitive, std::vector<PrimitiveSetup>& out);
     bool finish_bbox(PrimitiveSetup& s, int64_t xmin, int64_t ymin, int64_t xmax, int64_t ymax);
     double resolvable_difference(double max_abs_z) const;
 
     RasterState state_;
+    // culled(front) as a table: bit 1 culls front faces, bit 0 back faces.
+    uint8_t cull_bits_;
+    bool ccw_is_front_;
     Clipper clipper_;
     ViewportTransform transform_;
 };

@@ -832,12 +832,29 @@ void TilePass::prepare_varyings(Tile& t, Primitive& prim) {
     if (!prim.interpolate) return;
     std::vector<float>& values = t.w.values;
     const size_t count = smooth.size();
-    values.resize(size_t(interpolated) * count);
+    if (values.size() < 3 * count) values.resize(3 * count);
+    // Each vertex's words straight into prepare_interpolation's form: v_0, then d_1 (and d_2).
     const uint32_t* const varyings = vertices_->varyings.data();
-    for (int v = 0; v < interpolated; ++v)
-        for (size_t i = 0; i < count; ++i)
-            values[size_t(v) * count + i] = as_float(varyings[size_t(p.vertex[v]) * size_t(words_) + size_t(smooth[i])]);
-    prepare_interpolation(p, interpolated, t.rect.x0, t.rect.y0, smooth.data(), count, values.data(), prim.vi);
+    const uint32_t* const v0 = varyings + size_t(p.vertex[0]) * size_t(words_);
+    const uint32_t* const v1 = varyings + size_t(p.vertex[1]) * size_t(words_);
+    const uint32_t* const v2 = varyings + size_t(p.vertex[2]) * size_t(words_);
+    const int* const words = smooth.data();
+    float* const out = values.data();
+    if (interpolated == 3) {
+        for (size_t i = 0; i < count; ++i) {
+            const float a = as_float(v0[words[i]]);
+            out[i] = a;
+            out[count + i] = vertex_difference(as_float(v1[words[i]]), a);
+            out[2 * count + i] = vertex_difference(as_float(v2[words[i]]), a);
+        }
+    } else {
+        for (size_t i = 0; i < count; ++i) {
+            const float a = as_float(v0[words[i]]);
+            out[i] = a;
+            out[count + i] = vertex_difference(as_float(v1[words[i]]), a);
+        }
+    }
+    set_interpolation_planes(p, interpolated, t.rect.x0, t.rect.y0, words, count, out, prim.vi);
 }
 
 // The chunk's surviving samples, its quads with one compacted to the front: the pixels the
