@@ -615,11 +615,11 @@ bool diamond_exit_in(int64_t ax, int64_t ay, int64_t bx, int64_t by, bool x_majo
     return false;
 }
 
-// The first and last major-axis pixel index with a fragment. Every column strictly between them has
-// one (the segment crosses its centre line inside the diamond), so only the ends need the exact
-// test; for long lines each scan stops after at most three columns. False: no fragment at all.
-bool diamond_exit_span(int64_t ax, int64_t ay, int64_t bx, int64_t by, bool x_major,
-                       int64_t& first, int64_t& last) {
+// The first and last major-axis pixel index with a fragment, column by column. Every column
+// strictly between them has one (the segment crosses its centre line inside the diamond), so only
+// the ends need the exact test; for long lines each scan stops after at most three columns. False:
+// no fragment at all.
+bool diamond_exit_scan(int64_t ax, int64_t ay, int64_t bx, int64_t by, bool x_major, int64_t& first, int64_t& last) {
     // Only columns whose diamonds reach the segment's major range [mn, mx] can have a fragment
     // (diamond_exit_in's first test): m * 256 <= mx and (m + 1) * 256 >= mn, i.e. from
     // ceil(mn / 256) - 1 to floor(mx / 256). The scans start there, not one column further out.
@@ -634,20 +634,98 @@ bool diamond_exit_span(int64_t ax, int64_t ay, int64_t bx, int64_t by, bool x_ma
     return true;
 }
 
+// Whether the (perturbed) point (x, y) is inside the diamond of centre (cx, cy): diamond_exit's
+// test.
+inline bool in_diamond(int64_t x, int64_t y, int64_t cx, int64_t cy) {
+    const int64_t d = std::abs(x - cx) + std::abs(y - cy) - kDiamondRadius;
+    return d < 0 || (d == 0 && x > cx);
+}
+
+// The same range from the two end points only, for a segment steeper along its major axis than
+// along its minor one (|slope| < 1; the scan decides the slope +-1). Along such a segment the L1
+// distance to a diamond's centre strictly grows with the distance to the centre's major line
+// (|major - C| grows at rate 1, |minor - f| at a rate below 1), so, with the perturbed ends never
+// on a centre line (the perturbation moves them by less than the integer gap):
+//  - a column whose centre line C the segment crosses (C in [a, b) by major coordinate, or
+//    (b, a]... exactly diamond_exit's x-crossing condition) has a fragment unless the end point
+//    is inside the diamond it crosses; the end point can only be in that of the last such column
+//    (the one nearest the end; there it is the diamond of the end's minor pixel, found without a
+//    division: an end inside makes the crossing strictly inside the same diamond);
+//  - a column the segment does not cross has its nearest point at an end: beyond the start, a
+//    fragment when the start is inside the diamond of its minor pixel and the end is not; beyond
+//    the end, none (the segment would have to enter the diamond through the end).
+// The minor pixel of an end at minor coordinate n is floor((n - 1) / 256): on a pixel border the
+// diamond to its left, which the tie of in_diamond (x > cx) may hold; for y either one is outside.
+bool diamond_exit_ends(int64_t ax, int64_t ay, int64_t bx, int64_t by, bool x_major, int64_t& first, int64_t& last) {
+    const int64_t am = x_major ? ax : ay, bm = x_major ? bx : by;
+    const bool up = bm > am;
+    const int64_t step = up ? 1 : -1;
+    // The crossed columns (centres in [am, bm) going up, [bm, am) going down), from the one nearest
+    // the start to the one nearest the end; the column beyond the start.
+    const int64_t cross_a = up ? floor_pixel(am + kSubPixel / 2 - 1) : floor_pixel(am - kSubPixel / 2 - 1);
+    const int64_t cross_b = up ? floor_pixel(bm - kSubPixel / 2 - 1) : floor_pixel(bm + kSubPixel / 2 - 1);
+    const int64_t before = cross_a - step;
+    auto centre = [](int64_t pixel) { return pixel * kSubPixel + kSubPixel / 2; };
+    auto inside = [&](int64_t x, int64_t y, int64_t major_centre, int64_t minor_centre) {
+        return x_major ? in_diamond(x, y, major_centre, minor_centre) : in_diamond(x, y, minor_centre, major_centre);
+    };
+    const int64_t fa = centre(floor_pixel((x_major ? ay : ax) - 1)), fb = centre(floor_pixel((x_major ? by : bx) - 1));
+    const bool start = inside(ax, ay, centre(before), fa) && !inside(bx, by, centre(before), fa);
+    // The crossed columns with a fragment: cross_a .. end (none when end is before cross_a).
+    const bool crosses = up ? cross_a <= cross_b : cross_b <= cross_a;
+    const int64_t end = crosses && inside(bx, by, centre(cross_b), fb) ? cross_b - step : cross_b;
+    const bool crossed = up ? cross_a <= end : end <= cross_a;
+    if (!start && !crossed) return false;
+    const int64_t from = start ? before : cross_a, to = crossed ? end : before;
+    first = std::min(from, to);
+    last = std::max(from, to);
+    return true;
+}
+
 }  // namespace
+
+bool diamond_exit_span(int64_t ax, int64_t ay, int64_t bx, int64_t by, int64_t& first, int64_t& last,
+                       DiamondExitMethod method) {
+    const int64_t dx = std::abs(bx - ax), dy = std::abs(by - ay);
+    const bool x_major = dx >= dy;
+    if (method == DiamondExitMethod::Scan || dx == dy) return diamond_exit_scan(ax, ay, bx, by, x_major, first, last);
+    return diamond_exit_ends(ax, ay, bx, by, x_major, first, last);
+}
 
 void Setup::line(const float* p0, const float* p1, uint32_t i0, uint32_t i1, uint32_t primitive,
                  std::vector<PrimitiveSetup>& out) {
+    WindowPosition w[2];
+    project_vertex(p0, clipper_, transform_, w[0]);
+    project_vertex(p1, clipper_, transform_, w[1]);
+    line(p0, p1, w[0], w[1], i0, i1, primitive, out);
+}
+
+void Setup::line(const float* positions, const WindowPosition* window, const uint32_t vertex[2], uint32_t primitive,
+                 std::vector<PrimitiveSetup>& out) {
+    line(positions + 4 * size_t(vertex[0]), positions + 4 * size_t(vertex[1]), window[vertex[0]], window[vertex[1]],
+         vertex[0], vertex[1], primitive, out);
+}
+
+inline void Setup::line(const float* p0, const float* p1, const WindowPosition& w0, const WindowPosition& w1,
+                        uint32_t i0, uint32_t i1, uint32_t primitive, std::vector<PrimitiveSetup>& out) {
     ++stats.primitives;
-    const Vec4d v[2] = {{p0[0], p0[1], p0[2], p0[3]}, {p1[0], p1[1], p1[2], p1[3]}};
-    ClipVertex c[2];
-    if (!clipper_.clip_line(v, c)) {
-        if (!finite_vertex(v[0]) || !finite_vertex(v[1])) ++stats.invalid;
-        else ++stats.outside;
-        return;
+    WindowVertex a, e;
+    if ((w0.inv_w > 0) & (w1.inv_w > 0)) {
+        // The common case (Clipper::accepts for both ends): what clip_line and project would give,
+        // the ends unchanged with weights (1, 0, 0) and (0, 1, 0).
+        a = WindowVertex{w0.X, w0.Y, w0.z, w0.inv_w, {1, 0, 0}};
+        e = WindowVertex{w1.X, w1.Y, w1.z, w1.inv_w, {0, 1, 0}};
+    } else {
+        const Vec4d v[2] = {{p0[0], p0[1], p0[2], p0[3]}, {p1[0], p1[1], p1[2], p1[3]}};
+        ClipVertex c[2];
+        if (!clipper_.clip_line(v, c)) {
+            if (!finite_vertex(v[0]) || !finite_vertex(v[1])) ++stats.invalid;
+            else ++stats.outside;
+            return;
+        }
+        if (c[0].weight[0] != 1 || c[1].weight[1] != 1) ++stats.clipped;
+        a = project(c[0].position, c[0].weight), e = project(c[1].position, c[1].weight);
     }
-    if (c[0].weight[0] != 1 || c[1].weight[1] != 1) ++stats.clipped;
-    const WindowVertex a = project(c[0].position, c[0].weight), e = project(c[1].position, c[1].weight);
     const int64_t dx = e.X - a.X, dy = e.Y - a.Y;
     if (dx == 0 && dy == 0) { ++stats.zero_area; return; }
     const bool x_major = (dx < 0 ? -dx : dx) >= (dy < 0 ? -dy : dy);
@@ -715,7 +793,7 @@ void Setup::line(const float* p0, const float* p1, uint32_t i0, uint32_t i1, uin
             const int64_t sax = x_major ? a.X : a.X - shift, say = x_major ? a.Y - shift : a.Y;
             const int64_t sbx = x_major ? e.X : e.X - shift, sby = x_major ? e.Y - shift : e.Y;
             int64_t first, last;
-            if (!diamond_exit_span(sax, say, sbx, sby, x_major, first, last)) {
+            if (!diamond_exit_span(sax, say, sbx, sby, first, last)) {
                 ++stats.zero_area;
                 out.pop_back();
                 return;
