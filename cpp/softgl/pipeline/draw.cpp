@@ -262,9 +262,9 @@ private:
 
     // The vertex stage: each of the batch's vertices once per instance, instance i's vertex v at
     // i * n + v. Triangles and lines project and snap each vertex once, vectorised, while its
-    // position is hot. A job shades up to kVertexChunk vertices: a chunk of one instance's, or, when an instance
-    // has fewer, the vertices of as many whole instances as fit (10k instances of 8 vertices are
-    // 79 executor runs of 1,024 lanes, not 10k runs of 8).
+    // position is hot. A job shades up to kVertexChunk vertices: a chunk of one instance's, or,
+    // when an instance has fewer, the vertices of as many whole instances as fit (10k instances
+    // of 8 vertices are 79 executor runs of 1,024 lanes, not 10k runs of 8).
     void shade_vertices(uint32_t instance, uint32_t instances, uint32_t p0, uint32_t p1) {
         if (!whole_instances_) list_vertices(p0, p1);
         const std::vector<uint32_t>& ids = s_.ids;

@@ -646,9 +646,9 @@ inline bool in_diamond(int64_t x, int64_t y, int64_t cx, int64_t cy) {
 // distance to a diamond's centre strictly grows with the distance to the centre's major line
 // (|major - C| grows at rate 1, |minor - f| at a rate below 1), so, with the perturbed ends never
 // on a centre line (the perturbation moves them by less than the integer gap):
-//  - a column whose centre line C the segment crosses (C in [a, b) by major coordinate, or
-//    (b, a]... exactly diamond_exit's x-crossing condition) has a fragment unless the end point
-//    is inside the diamond it crosses; the end point can only be in that of the last such column
+//  - a column whose centre line C the segment crosses (by major coordinate C in [a, b) going up,
+//    [b, a) going down: diamond_exit's crossing condition) has a fragment unless the end point is
+//    inside the diamond it crosses; the end point can only be in that of the last such column
 //    (the one nearest the end; there it is the diamond of the end's minor pixel, found without a
 //    division: an end inside makes the crossing strictly inside the same diamond);
 //  - a column the segment does not cross has its nearest point at an end: beyond the start, a
