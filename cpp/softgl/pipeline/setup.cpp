@@ -634,13 +634,6 @@ bool diamond_exit_scan(int64_t ax, int64_t ay, int64_t bx, int64_t by, bool x_ma
     return true;
 }
 
-// Whether the (perturbed) point (x, y) is inside the diamond of centre (cx, cy): diamond_exit's
-// test.
-inline bool in_diamond(int64_t x, int64_t y, int64_t cx, int64_t cy) {
-    const int64_t d = std::abs(x - cx) + std::abs(y - cy) - kDiamondRadius;
-    return d < 0 || (d == 0 && x > cx);
-}
-
 // The same range from the two end points only, for a segment steeper along its major axis than
 // along its minor one (|slope| < 1; the scan decides the slope +-1). Along such a segment the L1
 // distance to a diamond's centre strictly grows with the distance to the centre's major line
@@ -655,25 +648,30 @@ inline bool in_diamond(int64_t x, int64_t y, int64_t cx, int64_t cy) {
 //    fragment when the start is inside the diamond of its minor pixel and the end is not; beyond
 //    the end, none (the segment would have to enter the diamond through the end).
 // The minor pixel of an end at minor coordinate n is floor((n - 1) / 256): on a pixel border the
-// diamond to its left, which the tie of in_diamond (x > cx) may hold; for y either one is outside.
-bool diamond_exit_ends(int64_t ax, int64_t ay, int64_t bx, int64_t by, bool x_major, int64_t& first, int64_t& last) {
-    const int64_t am = x_major ? ax : ay, bm = x_major ? bx : by;
+// diamond to its left, which diamond_exit's tie (x > cx) may hold; for y either one is outside.
+inline bool diamond_exit_ends(int64_t ax, int64_t ay, int64_t bx, int64_t by, bool x_major, int64_t& first,
+                              int64_t& last) {
+    // Major (m) and minor (n) coordinates; diamond_exit's tie (x > cx) is on the major axis when
+    // the segment is x-major.
+    const int64_t am = x_major ? ax : ay, an = x_major ? ay : ax, bm = x_major ? bx : by, bn = x_major ? by : bx;
+    auto inside = [x_major](int64_t m, int64_t n, int64_t cm, int64_t cn) {
+        const int64_t d = std::abs(m - cm) + std::abs(n - cn) - kDiamondRadius;
+        return d < 0 || (d == 0 && (x_major ? m > cm : n > cn));
+    };
+    auto centre = [](int64_t pixel) { return pixel * kSubPixel + kSubPixel / 2; };
     const bool up = bm > am;
     const int64_t step = up ? 1 : -1;
     // The crossed columns (centres in [am, bm) going up, [bm, am) going down), from the one nearest
     // the start to the one nearest the end; the column beyond the start.
-    const int64_t cross_a = up ? floor_pixel(am + kSubPixel / 2 - 1) : floor_pixel(am - kSubPixel / 2 - 1);
-    const int64_t cross_b = up ? floor_pixel(bm - kSubPixel / 2 - 1) : floor_pixel(bm + kSubPixel / 2 - 1);
+    const int64_t cross_a = floor_pixel(am + (up ? kSubPixel / 2 - 1 : -kSubPixel / 2 - 1));
+    const int64_t cross_b = floor_pixel(bm + (up ? -kSubPixel / 2 - 1 : kSubPixel / 2 - 1));
     const int64_t before = cross_a - step;
-    auto centre = [](int64_t pixel) { return pixel * kSubPixel + kSubPixel / 2; };
-    auto inside = [&](int64_t x, int64_t y, int64_t major_centre, int64_t minor_centre) {
-        return x_major ? in_diamond(x, y, major_centre, minor_centre) : in_diamond(x, y, minor_centre, major_centre);
-    };
-    const int64_t fa = centre(floor_pixel((x_major ? ay : ax) - 1)), fb = centre(floor_pixel((x_major ? by : bx) - 1));
-    const bool start = inside(ax, ay, centre(before), fa) && !inside(bx, by, centre(before), fa);
+    const int64_t fa = centre(floor_pixel(an - 1)), fb = centre(floor_pixel(bn - 1));
+    const int64_t c_before = centre(before);
+    const bool start = inside(am, an, c_before, fa) && !inside(bm, bn, c_before, fa);
     // The crossed columns with a fragment: cross_a .. end (none when end is before cross_a).
     const bool crosses = up ? cross_a <= cross_b : cross_b <= cross_a;
-    const int64_t end = crosses && inside(bx, by, centre(cross_b), fb) ? cross_b - step : cross_b;
+    const int64_t end = crosses && inside(bm, bn, centre(cross_b), fb) ? cross_b - step : cross_b;
     const bool crossed = up ? cross_a <= end : end <= cross_a;
     if (!start && !crossed) return false;
     const int64_t from = start ? before : cross_a, to = crossed ? end : before;
@@ -682,14 +680,20 @@ bool diamond_exit_ends(int64_t ax, int64_t ay, int64_t bx, int64_t by, bool x_ma
     return true;
 }
 
+// diamond_exit_span for Setup::line, which knows the major axis.
+inline bool diamond_exit_columns(int64_t ax, int64_t ay, int64_t bx, int64_t by, bool x_major, int64_t& first,
+                                 int64_t& last) {
+    if (std::abs(bx - ax) == std::abs(by - ay)) return diamond_exit_scan(ax, ay, bx, by, x_major, first, last);
+    return diamond_exit_ends(ax, ay, bx, by, x_major, first, last);
+}
+
 }  // namespace
 
 bool diamond_exit_span(int64_t ax, int64_t ay, int64_t bx, int64_t by, int64_t& first, int64_t& last,
                        DiamondExitMethod method) {
-    const int64_t dx = std::abs(bx - ax), dy = std::abs(by - ay);
-    const bool x_major = dx >= dy;
-    if (method == DiamondExitMethod::Scan || dx == dy) return diamond_exit_scan(ax, ay, bx, by, x_major, first, last);
-    return diamond_exit_ends(ax, ay, bx, by, x_major, first, last);
+    const bool x_major = std::abs(bx - ax) >= std::abs(by - ay);
+    if (method == DiamondExitMethod::Scan) return diamond_exit_scan(ax, ay, bx, by, x_major, first, last);
+    return diamond_exit_columns(ax, ay, bx, by, x_major, first, last);
 }
 
 void Setup::line(const float* p0, const float* p1, uint32_t i0, uint32_t i1, uint32_t primitive,
@@ -765,7 +769,7 @@ inline void Setup::line(const float* p0, const float* p1, const WindowPosition& 
         // with the tie rule (exactly the diamond rule's choice, including centres on the band's
         // border, which the eps perturbation of §3.5.1 resolves the same way); along the major
         // axis the diamond-exit rule decides which end pixels the offset segment produces.
-        const int64_t w = std::max<int64_t>(1, int64_t(std::floor(state_.line_width + 0.5)));
+        const int64_t w = std::max<int64_t>(1, floor_int(state_.line_width + 0.5));
         const int64_t h = w * (kSubPixel / 2);
         int64_t px[4], py[4];
         if (x_major) {
@@ -793,7 +797,7 @@ inline void Setup::line(const float* p0, const float* p1, const WindowPosition& 
             const int64_t sax = x_major ? a.X : a.X - shift, say = x_major ? a.Y - shift : a.Y;
             const int64_t sbx = x_major ? e.X : e.X - shift, sby = x_major ? e.Y - shift : e.Y;
             int64_t first, last;
-            if (!diamond_exit_span(sax, say, sbx, sby, first, last)) {
+            if (!diamond_exit_columns(sax, say, sbx, sby, x_major, first, last)) {
                 ++stats.zero_area;
                 out.pop_back();
                 return;
