@@ -10,6 +10,7 @@
        out = (v_0 + l_1 d_1) + l_2 d_2                          (lines: two terms)
        d_k = v_k - v_0, or 0 where v_k == v_0 (infinities too)
 
+   So does the pixel-by-pixel form (gathered single pixels), at every level, count and order.
    The SIMD levels compute q once per primitive when Q is constant (all vertices have the same w)
    and skip the multiply when that q is 1; the cases include such planes, with c of both signs,
    and c = +-0 (infinite q), where the shortcut must not be taken.
@@ -70,6 +71,26 @@ def check(planes, ox, oy, quads, values, base=(0, 0)):
     got = [interpolate(level, planes, ox, oy, quads, values, base) for level in levels]
     for level, g in zip(levels, got):
         same_bits(g, want, f"simd level {level}")
+    # Pixel by pixel (interpolate_pixels_at): each pixel the bits of its lane in the quads, for
+    # every count (the SIMD tails) and in any order.
+    pixels = quad_pixels(quads)
+    order = np.random.default_rng(len(pixels)).permutation(len(pixels))
+    for level in levels:
+        for m in sorted({len(pixels), max(len(pixels) - 1, 0), min(len(pixels), 9), min(len(pixels), 3)}):
+            g = _core.testing.interpolate_pixels(level, planes, ox, oy, pixels[:m], values, base[0], base[1])
+            same_bits(g, want[:, :m], f"pixels, simd level {level}, {m} pixels")
+        g = _core.testing.interpolate_pixels(level, planes, ox, oy, pixels[order], values, base[0], base[1])
+        same_bits(g, want[:, order], f"shuffled pixels, simd level {level}")
+
+
+def quad_pixels(quads):
+    """The pixels of the quads in lane order (lane 4*i + j: pixel j of quad i), (4n, 2) int32 with
+    int32 wrapping as the lanes compute it."""
+    dx, dy = np.array([0, 1, 0, 1]), np.array([0, 0, 1, 1])
+    x = (quads[:, 0:1].astype(np.int64) + dx).ravel()
+    y = (quads[:, 1:2].astype(np.int64) + dy).ravel()
+    wrap = lambda v: ((v + 2**31) % 2**32 - 2**31).astype(np.int32)
+    return np.stack([wrap(x), wrap(y)], 1)
 
 
 def random_case(rng, n, vertices, constant_w, inv_w_c=None):

@@ -39,9 +39,24 @@ py::array_t<float> interpolate_varyings_hook(int level, Array<double> planes, in
     return out;
 }
 
+// interpolate_pixels_at one instruction-set level: the same inputs with `pixels` (m, 2) int32 in
+// place of quads. Returns (words, m) float32, lane l = pixel l.
+py::array_t<float> interpolate_pixels_hook(int level, Array<double> planes, int64_t origin_x, int64_t origin_y,
+                                           Array<int32_t> pixels, Array<float> values, int32_t base_x, int32_t base_y) {
+    const InterpolationInputs in(planes, origin_x, origin_y, pixels, values, base_x, base_y);
+    const size_t m = size_t(pixels.shape(0)), count = in.words.size();
+    std::vector<int32_t> xy(2 * m);
+    for (size_t l = 0; l < m; ++l) xy[2 * l] = pixels.at(l, 0), xy[2 * l + 1] = pixels.at(l, 1);
+    py::array_t<float> out({py::ssize_t(count), py::ssize_t(m)});
+    interpolate_pixels_at(SimdLevel(level), in.vi, xy.data(), m, reinterpret_cast<uint32_t*>(out.mutable_data()), m);
+    return out;
+}
+
 }  // namespace
 
 void bind_testing_interpolate(py::module_& t) {
+    t.def("interpolate_pixels", &interpolate_pixels_hook, py::arg("level"), py::arg("planes"), py::arg("origin_x"),
+          py::arg("origin_y"), py::arg("pixels"), py::arg("values"), py::arg("base_x") = 0, py::arg("base_y") = 0);
     t.def("interpolate_varyings", &interpolate_varyings_hook, py::arg("level"), py::arg("planes"), py::arg("origin_x"),
           py::arg("origin_y"), py::arg("quads"), py::arg("values"), py::arg("base_x") = 0, py::arg("base_y") = 0);
 }

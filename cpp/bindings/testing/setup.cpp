@@ -2,6 +2,7 @@
 #include <algorithm>
 #include <array>
 #include <cstring>
+#include <string>
 #include <vector>
 
 #include <pybind11/stl.h>
@@ -97,6 +98,29 @@ py::tuple setup_triangles(Array<float> positions, Array<uint32_t> triangles, int
     return py::make_tuple(fields[0], fields[1], stats);
 }
 
+// diamond_exit_span of each segment of `segments` (n, 4) int64, fixed-point (ax, ay, bx, by) with
+// distinct ends, by `method` ("auto" or "scan"). Returns (n, 3) int64: produced (0 or 1), first, last.
+py::array_t<int64_t> diamond_exit_spans(Array<int64_t> segments, const std::string& method) {
+    if (segments.ndim() != 2 || segments.shape(1) != 4) throw py::value_error("segments (n, 4)");
+    if (method != "auto" && method != "scan") throw py::value_error("method must be 'auto' or 'scan'");
+    const DiamondExitMethod m = method == "scan" ? DiamondExitMethod::Scan : DiamondExitMethod::Auto;
+    const size_t n = size_t(segments.shape(0));
+    const int64_t* const s = segments.data();
+    // Inside the guard band (viewport.h) plus the wide-line shift, as setup's snapped ends are.
+    constexpr int64_t kLimit = (int64_t(1) << 28) + (int64_t(1) << 16);
+    for (size_t i = 0; i < 4 * n; ++i)
+        if (s[i] < -kLimit || s[i] > kLimit) throw py::value_error("coordinate outside the guard band");
+    for (size_t i = 0; i < n; ++i)
+        if (s[4 * i] == s[4 * i + 2] && s[4 * i + 1] == s[4 * i + 3]) throw py::value_error("a segment's ends are equal");
+    py::array_t<int64_t> out({n, size_t(3)});
+    for (size_t i = 0; i < n; ++i) {
+        int64_t first = 0, last = 0;
+        const bool produced = diamond_exit_span(s[4 * i], s[4 * i + 1], s[4 * i + 2], s[4 * i + 3], first, last, m);
+        out.mutable_at(i, 0) = produced, out.mutable_at(i, 1) = produced ? first : 0, out.mutable_at(i, 2) = produced ? last : 0;
+    }
+    return out;
+}
+
 }  // namespace
 
 void bind_testing_setup(py::module_& t) {
@@ -106,4 +130,5 @@ void bind_testing_setup(py::module_& t) {
           py::arg("height"), py::arg("cull") = 0, py::arg("front_face") = 0x901, py::arg("polygon_offset") = false,
           py::arg("factor") = 0.0, py::arg("units") = 0.0, py::arg("samples") = 1, py::arg("sample_bounds") = false,
           py::arg("first_primitive") = 0, py::arg("batched") = true, py::arg("level") = 0);
+    t.def("diamond_exit_spans", &diamond_exit_spans, py::arg("segments"), py::arg("method") = "auto");
 }

@@ -82,7 +82,7 @@ struct DrawScratch {
     std::unordered_map<uint32_t, uint32_t> slot;   // ... when the indices span too wide a range
     std::vector<VertexWorker> vertex_workers;
     VertexShaderOutputs all;
-    std::vector<WindowPosition> window;   // triangles: the batch's vertices projected by setup
+    std::vector<WindowPosition> window;   // triangles and lines: the batch's vertices projected by setup
     std::vector<SetupChunk> chunks;
     std::vector<Bins> chunk_bins;
     PrimitiveTable prims;
@@ -265,10 +265,10 @@ private:
     }
 
     // The vertex stage: each of the batch's vertices once per instance, instance i's vertex v at
-    // i * n + v. Triangles project and snap each vertex once, vectorised, while its position is hot.
-    // A job shades up to kVertexChunk vertices: a chunk of one instance's, or, when an instance
-    // has fewer, the vertices of as many whole instances as fit (10k instances of 8 vertices are
-    // 79 executor runs of 1,024 lanes, not 10k runs of 8).
+    // i * n + v. Triangles and lines project and snap each vertex once, vectorised, while its
+    // position is hot. A job shades up to kVertexChunk vertices: a chunk of one instance's, or,
+    // when an instance has fewer, the vertices of as many whole instances as fit (10k instances
+    // of 8 vertices are 79 executor runs of 1,024 lanes, not 10k runs of 8).
     void shade_vertices(uint32_t instance, uint32_t instances, uint32_t p0, uint32_t p1) {
         if (!whole_instances_) list_vertices(p0, p1);
         const std::vector<uint32_t>& ids = s_.ids;
@@ -278,7 +278,7 @@ private:
         float* const all_position = at_least(all.position, all.count * 4);
         float* const all_point_size = at_least(all.point_size, all.count);
         uint32_t* const all_varyings = at_least(all.varyings, all.count * size_t(words_));
-        const bool project = plan_.vertices_per_primitive == 3 && plan_.skip != DrawSkip::RasterizerDiscard;
+        const bool project = plan_.vertices_per_primitive >= 2 && plan_.skip != DrawSkip::RasterizerDiscard;
         WindowPosition* const all_window = project ? at_least(s_.window, all.count) : nullptr;
         if (s_.vertex_workers.size() < in_.pool.size()) s_.vertex_workers.resize(in_.pool.size());
         const uint32_t used = in_.vertex_shader.used_attributes();
@@ -371,7 +371,7 @@ private:
                         v[i] = base + (call_.indices ? s_.slot_of_position[position] : position);
                     }
                     const uint32_t number = first_number + uint32_t(k - begin);
-                    if (per == 2) setup.line(all_position + 4 * v[0], all_position + 4 * v[1], v[0], v[1], number, chunk.prims);
+                    if (per == 2) setup.line(all_position, all_window, v, number, chunk.prims);
                     else setup.point(all_position + 4 * v[0], s_.all.point_size[v[0]], v[0], number, chunk.prims);
                 }
             }

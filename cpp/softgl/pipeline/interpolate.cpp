@@ -49,23 +49,31 @@ inline float lane_offset(int32_t coordinate, int32_t pixel, int32_t base) {
 }
 
 // The reference: one lane at a time, the expressions of the header comment.
-void interpolate_scalar(const VaryingInterpolation& v, const Quad* quads, size_t n, uint32_t* out, size_t stride) {
+inline void interpolate_lane(const VaryingInterpolation& v, float dx, float dy, uint32_t* out, size_t stride,
+                             size_t lane) {
     auto eval = [](const FloatPlane& pl, float dx, float dy) { return (pl.c + pl.a * dx) + pl.b * dy; };
     const size_t count = v.count;
-    for (size_t i = 0; i < n; ++i) {
-        for (int j = 0; j < 4; ++j) {
-            const size_t lane = 4 * i + size_t(j);
-            const float dx = lane_offset(quads[i].x, j & 1, v.base_x), dy = lane_offset(quads[i].y, j >> 1, v.base_y);
-            const float q = 1.0f / eval(v.inv_w, dx, dy);
-            const float l1 = eval(v.weight[0], dx, dy) * q;
-            const float l2 = v.vertices == 3 ? eval(v.weight[1], dx, dy) * q : 0.0f;
-            for (size_t k = 0; k < count; ++k) {
-                float s = v.values[k] + l1 * v.values[count + k];
-                if (v.vertices == 3) s = s + l2 * v.values[2 * count + k];
-                std::memcpy(&out[size_t(v.words[k]) * stride + lane], &s, 4);
-            }
-        }
+    const float q = 1.0f / eval(v.inv_w, dx, dy);
+    const float l1 = eval(v.weight[0], dx, dy) * q;
+    const float l2 = v.vertices == 3 ? eval(v.weight[1], dx, dy) * q : 0.0f;
+    for (size_t k = 0; k < count; ++k) {
+        float s = v.values[k] + l1 * v.values[count + k];
+        if (v.vertices == 3) s = s + l2 * v.values[2 * count + k];
+        std::memcpy(&out[size_t(v.words[k]) * stride + lane], &s, 4);
     }
+}
+
+void interpolate_scalar(const VaryingInterpolation& v, const Quad* quads, size_t n, uint32_t* out, size_t stride) {
+    for (size_t i = 0; i < n; ++i)
+        for (int j = 0; j < 4; ++j)
+            interpolate_lane(v, lane_offset(quads[i].x, j & 1, v.base_x), lane_offset(quads[i].y, j >> 1, v.base_y), out,
+                             stride, 4 * i + size_t(j));
+}
+
+void interpolate_pixels_scalar(const VaryingInterpolation& v, const int32_t* xy, size_t n, uint32_t* out,
+                               size_t stride) {
+    for (size_t l = 0; l < n; ++l)
+        interpolate_lane(v, lane_offset(xy[2 * l], 0, v.base_x), lane_offset(xy[2 * l + 1], 0, v.base_y), out, stride, l);
 }
 
 #if defined(__SSE2__)
@@ -140,6 +148,57 @@ __attribute__((target("avx2"))) void interpolate_avx2(const VaryingInterpolation
     }
 }
 
+// Eight pixels per register, their (x, y) pairs loaded as two rows of 8 int32 words and split
+// into x and y; a last group of fewer pixels is loaded and stored under a mask. The lanes'
+// arithmetic is interpolate_avx2's.
+template <int V>
+__attribute__((target("avx2"))) void interpolate_pixels_avx2(const VaryingInterpolation& v, const int32_t* xy,
+                                                             size_t n, uint32_t* out, size_t stride) {
+    const float* const values = v.values;
+    const int* const words = v.words;
+    const size_t count = v.count;
+    const ConstantQ cq(v.inv_w);
+    const __m256 one = _mm256_set1_ps(1.0f), q_constant = _mm256_set1_ps(cq.q);
+    const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
+    const __m256i split = _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7);   // x0..x3 y0..y3 of a row
+    const __m256i base_x = _mm256_set1_epi32(v.base_x), base_y = _mm256_set1_epi32(v.base_y);
+    __m256 pa[V], pb[V], pc[V];   // Q, L_1 (, L_2)
+    for (int k = 0; k < V; ++k) {
+        const FloatPlane& pl = k == 0 ? v.inv_w : v.weight[k - 1];
+        pa[k] = _mm256_set1_ps(pl.a), pb[k] = _mm256_set1_ps(pl.b), pc[k] = _mm256_set1_ps(pl.c);
+    }
+    for (size_t i = 0; i < n; i += 8) {
+        const bool full = i + 8 <= n;
+        const int m = full ? 8 : int(n - i);
+        const int* const at = reinterpret_cast<const int*>(xy + 2 * i);
+        __m256i lo, hi;   // pixels i .. i + 3 and i + 4 .. i + 7
+        if (full) {
+            lo = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(at));
+            hi = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(at + 8));
+        } else {
+            lo = _mm256_maskload_epi32(at, _mm256_cmpgt_epi32(_mm256_set1_epi32(2 * m), lane));
+            hi = _mm256_maskload_epi32(at + 8, _mm256_cmpgt_epi32(_mm256_set1_epi32(2 * m - 8), lane));
+        }
+        lo = _mm256_permutevar8x32_epi32(lo, split), hi = _mm256_permutevar8x32_epi32(hi, split);
+        const __m256 dx = _mm256_cvtepi32_ps(_mm256_sub_epi32(_mm256_permute2x128_si256(lo, hi, 0x20), base_x));
+        const __m256 dy = _mm256_cvtepi32_ps(_mm256_sub_epi32(_mm256_permute2x128_si256(lo, hi, 0x31), base_y));
+        auto eval = [&](int k) __attribute__((target("avx2"))) {
+            return _mm256_add_ps(_mm256_add_ps(pc[k], _mm256_mul_ps(pa[k], dx)), _mm256_mul_ps(pb[k], dy));
+        };
+        const __m256 q = cq.constant ? q_constant : _mm256_div_ps(one, eval(0));
+        const __m256 l1 = cq.unit ? eval(1) : _mm256_mul_ps(eval(1), q);
+        const __m256 l2 = V == 3 ? (cq.unit ? eval(2) : _mm256_mul_ps(eval(2), q)) : _mm256_setzero_ps();
+        const __m256i keep = _mm256_cmpgt_epi32(_mm256_set1_epi32(m), lane);
+        for (size_t k = 0; k < count; ++k) {
+            __m256 s = _mm256_add_ps(_mm256_broadcast_ss(values + k), _mm256_mul_ps(l1, _mm256_broadcast_ss(values + count + k)));
+            if constexpr (V == 3) s = _mm256_add_ps(s, _mm256_mul_ps(l2, _mm256_broadcast_ss(values + 2 * count + k)));
+            float* const dst = reinterpret_cast<float*>(out + size_t(words[k]) * stride + i);
+            if (full) _mm256_storeu_ps(dst, s);
+            else _mm256_maskstore_ps(dst, keep, s);
+        }
+    }
+}
+
 // Four quads per register, from 16 int32 words (x at 0, 4, 8, 12; y one after); a last group of
 // fewer quads is loaded and stored under a mask (masked stores are slow: only there). Words go
 // in batches of 16 whose destinations are computed once.
@@ -200,6 +259,18 @@ void interpolate_varyings_at(SimdLevel level, const VaryingInterpolation& v, con
             break;
     }
     interpolate_scalar(v, quads, n, out, stride);
+}
+
+void interpolate_pixels_at(SimdLevel level, const VaryingInterpolation& v, const int32_t* xy, size_t n, uint32_t* out,
+                           size_t stride) {
+#if defined(SOFTGL_HAVE_AVX2_INTERPOLATION)
+    // AVX-512 takes the AVX2 kernel: a batch's single pixels are few per primitive.
+    if (level >= SimdLevel::AVX2)
+        return v.vertices == 3 ? interpolate_pixels_avx2<3>(v, xy, n, out, stride)
+                               : interpolate_pixels_avx2<2>(v, xy, n, out, stride);
+#endif
+    (void)level;
+    interpolate_pixels_scalar(v, xy, n, out, stride);
 }
 
 }  // namespace softgl

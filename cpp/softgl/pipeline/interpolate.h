@@ -69,6 +69,12 @@ inline void interpolate_varyings(const VaryingInterpolation& v, const Quad* quad
                                  size_t stride) {
     interpolate_varyings_at(best_simd_level(), v, quads, n, out, stride);
 }
+// The same for single pixels (the tile pass's gathered batches without helper lanes): lane l is
+// pixel (xy[2l], xy[2l + 1]), with the bits interpolate_varyings_at gives that pixel in a quad.
+// Thin primitives fill a quad's four lanes with one or two pixels, so their pixels cost less
+// one by one than as quads.
+void interpolate_pixels_at(SimdLevel level, const VaryingInterpolation& v, const int32_t* xy, size_t n, uint32_t* out,
+                           size_t stride);
 
 // When all vertices have the same w (every 2D draw), Q is a constant plane (a = b = 0) and
 // (c + 0*dx) + 0*dy == c for any finite non-zero c and finite offsets (adding a zero of either

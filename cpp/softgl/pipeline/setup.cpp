@@ -758,11 +758,11 @@ bool diamond_exit_in(int64_t ax, int64_t ay, int64_t bx, int64_t by, bool x_majo
     return false;
 }
 
-// The first and last major-axis pixel index with a fragment. Every column strictly between them has
-// one (the segment crosses its centre line inside the diamond), so only the ends need the exact
-// test; for long lines each scan stops after at most three columns. False: no fragment at all.
-bool diamond_exit_span(int64_t ax, int64_t ay, int64_t bx, int64_t by, bool x_major,
-                       int64_t& first, int64_t& last) {
+// The first and last major-axis pixel index with a fragment, column by column. Every column
+// strictly between them has one (the segment crosses its centre line inside the diamond), so only
+// the ends need the exact test; for long lines each scan stops after at most three columns. False:
+// no fragment at all.
+bool diamond_exit_scan(int64_t ax, int64_t ay, int64_t bx, int64_t by, bool x_major, int64_t& first, int64_t& last) {
     // Only columns whose diamonds reach the segment's major range [mn, mx] can have a fragment
     // (diamond_exit_in's first test): m * 256 <= mx and (m + 1) * 256 >= mn, i.e. from
     // ceil(mn / 256) - 1 to floor(mx / 256). The scans start there, not one column further out.
@@ -777,20 +777,102 @@ bool diamond_exit_span(int64_t ax, int64_t ay, int64_t bx, int64_t by, bool x_ma
     return true;
 }
 
+// The same range from the two end points only, for a segment steeper along its major axis than
+// along its minor one (|slope| < 1; the scan decides the slope +-1). Along such a segment the L1
+// distance to a diamond's centre strictly grows with the distance to the centre's major line
+// (|major - C| grows at rate 1, |minor - f| at a rate below 1), so, with the perturbed ends never
+// on a centre line (the perturbation moves them by less than the integer gap):
+//  - a column whose centre line C the segment crosses (by major coordinate C in [a, b) going up,
+//    [b, a) going down: diamond_exit's crossing condition) has a fragment unless the end point is
+//    inside the diamond it crosses; the end point can only be in that of the last such column
+//    (the one nearest the end; there it is the diamond of the end's minor pixel, found without a
+//    division: an end inside makes the crossing strictly inside the same diamond);
+//  - a column the segment does not cross has its nearest point at an end: beyond the start, a
+//    fragment when the start is inside the diamond of its minor pixel and the end is not; beyond
+//    the end, none (the segment would have to enter the diamond through the end).
+// The minor pixel of an end at minor coordinate n is floor((n - 1) / 256): on a pixel border the
+// diamond to its left, which diamond_exit's tie (x > cx) may hold; for y either one is outside.
+inline bool diamond_exit_ends(int64_t ax, int64_t ay, int64_t bx, int64_t by, bool x_major, int64_t& first,
+                              int64_t& last) {
+    // Major (m) and minor (n) coordinates; diamond_exit's tie (x > cx) is on the major axis when
+    // the segment is x-major.
+    const int64_t am = x_major ? ax : ay, an = x_major ? ay : ax, bm = x_major ? bx : by, bn = x_major ? by : bx;
+    auto inside = [x_major](int64_t m, int64_t n, int64_t cm, int64_t cn) {
+        const int64_t d = std::abs(m - cm) + std::abs(n - cn) - kDiamondRadius;
+        return d < 0 || (d == 0 && (x_major ? m > cm : n > cn));
+    };
+    auto centre = [](int64_t pixel) { return pixel * kSubPixel + kSubPixel / 2; };
+    const bool up = bm > am;
+    const int64_t step = up ? 1 : -1;
+    // The crossed columns (centres in [am, bm) going up, [bm, am) going down), from the one nearest
+    // the start to the one nearest the end; the column beyond the start.
+    const int64_t cross_a = floor_pixel(am + (up ? kSubPixel / 2 - 1 : -kSubPixel / 2 - 1));
+    const int64_t cross_b = floor_pixel(bm + (up ? -kSubPixel / 2 - 1 : kSubPixel / 2 - 1));
+    const int64_t before = cross_a - step;
+    const int64_t fa = centre(floor_pixel(an - 1)), fb = centre(floor_pixel(bn - 1));
+    const int64_t c_before = centre(before);
+    const bool start = inside(am, an, c_before, fa) && !inside(bm, bn, c_before, fa);
+    // The crossed columns with a fragment: cross_a .. end (none when end is before cross_a).
+    const bool crosses = up ? cross_a <= cross_b : cross_b <= cross_a;
+    const int64_t end = crosses && inside(bm, bn, centre(cross_b), fb) ? cross_b - step : cross_b;
+    const bool crossed = up ? cross_a <= end : end <= cross_a;
+    if (!start && !crossed) return false;
+    const int64_t from = start ? before : cross_a, to = crossed ? end : before;
+    first = std::min(from, to);
+    last = std::max(from, to);
+    return true;
+}
+
+// diamond_exit_span for Setup::line, which knows the major axis.
+inline bool diamond_exit_columns(int64_t ax, int64_t ay, int64_t bx, int64_t by, bool x_major, int64_t& first,
+                                 int64_t& last) {
+    if (std::abs(bx - ax) == std::abs(by - ay)) return diamond_exit_scan(ax, ay, bx, by, x_major, first, last);
+    return diamond_exit_ends(ax, ay, bx, by, x_major, first, last);
+}
+
 }  // namespace
+
+bool diamond_exit_span(int64_t ax, int64_t ay, int64_t bx, int64_t by, int64_t& first, int64_t& last,
+                       DiamondExitMethod method) {
+    const bool x_major = std::abs(bx - ax) >= std::abs(by - ay);
+    if (method == DiamondExitMethod::Scan) return diamond_exit_scan(ax, ay, bx, by, x_major, first, last);
+    return diamond_exit_columns(ax, ay, bx, by, x_major, first, last);
+}
 
 void Setup::line(const float* p0, const float* p1, uint32_t i0, uint32_t i1, uint32_t primitive,
                  std::vector<PrimitiveSetup>& out) {
+    WindowPosition w[2];
+    project_vertex(p0, clipper_, transform_, w[0]);
+    project_vertex(p1, clipper_, transform_, w[1]);
+    line(p0, p1, w[0], w[1], i0, i1, primitive, out);
+}
+
+void Setup::line(const float* positions, const WindowPosition* window, const uint32_t vertex[2], uint32_t primitive,
+                 std::vector<PrimitiveSetup>& out) {
+    line(positions + 4 * size_t(vertex[0]), positions + 4 * size_t(vertex[1]), window[vertex[0]], window[vertex[1]],
+         vertex[0], vertex[1], primitive, out);
+}
+
+inline void Setup::line(const float* p0, const float* p1, const WindowPosition& w0, const WindowPosition& w1,
+                        uint32_t i0, uint32_t i1, uint32_t primitive, std::vector<PrimitiveSetup>& out) {
     ++stats.primitives;
-    const Vec4d v[2] = {{p0[0], p0[1], p0[2], p0[3]}, {p1[0], p1[1], p1[2], p1[3]}};
-    ClipVertex c[2];
-    if (!clipper_.clip_line(v, c)) {
-        if (!finite_vertex(v[0]) || !finite_vertex(v[1])) ++stats.invalid;
-        else ++stats.outside;
-        return;
+    WindowVertex a, e;
+    if ((w0.inv_w > 0) & (w1.inv_w > 0)) {
+        // The common case (Clipper::accepts for both ends): what clip_line and project would give,
+        // the ends unchanged with weights (1, 0, 0) and (0, 1, 0).
+        a = WindowVertex{w0.X, w0.Y, w0.z, w0.inv_w, {1, 0, 0}};
+        e = WindowVertex{w1.X, w1.Y, w1.z, w1.inv_w, {0, 1, 0}};
+    } else {
+        const Vec4d v[2] = {{p0[0], p0[1], p0[2], p0[3]}, {p1[0], p1[1], p1[2], p1[3]}};
+        ClipVertex c[2];
+        if (!clipper_.clip_line(v, c)) {
+            if (!finite_vertex(v[0]) || !finite_vertex(v[1])) ++stats.invalid;
+            else ++stats.outside;
+            return;
+        }
+        if (c[0].weight[0] != 1 || c[1].weight[1] != 1) ++stats.clipped;
+        a = project(c[0].position, c[0].weight), e = project(c[1].position, c[1].weight);
     }
-    if (c[0].weight[0] != 1 || c[1].weight[1] != 1) ++stats.clipped;
-    const WindowVertex a = project(c[0].position, c[0].weight), e = project(c[1].position, c[1].weight);
     const int64_t dx = e.X - a.X, dy = e.Y - a.Y;
     if (dx == 0 && dy == 0) { ++stats.zero_area; return; }
     const bool x_major = (dx < 0 ? -dx : dx) >= (dy < 0 ? -dy : dy);
@@ -830,7 +912,7 @@ void Setup::line(const float* p0, const float* p1, uint32_t i0, uint32_t i1, uin
         // with the tie rule (exactly the diamond rule's choice, including centres on the band's
         // border, which the eps perturbation of §3.5.1 resolves the same way); along the major
         // axis the diamond-exit rule decides which end pixels the offset segment produces.
-        const int64_t w = std::max<int64_t>(1, int64_t(std::floor(state_.line_width + 0.5)));
+        const int64_t w = std::max<int64_t>(1, floor_int(state_.line_width + 0.5));
         const int64_t h = w * (kSubPixel / 2);
         int64_t px[4], py[4];
         if (x_major) {
@@ -858,7 +940,7 @@ void Setup::line(const float* p0, const float* p1, uint32_t i0, uint32_t i1, uin
             const int64_t sax = x_major ? a.X : a.X - shift, say = x_major ? a.Y - shift : a.Y;
             const int64_t sbx = x_major ? e.X : e.X - shift, sby = x_major ? e.Y - shift : e.Y;
             int64_t first, last;
-            if (!diamond_exit_span(sax, say, sbx, sby, x_major, first, last)) {
+            if (!diamond_exit_columns(sax, say, sbx, sby, x_major, first, last)) {
                 ++stats.zero_area;
                 out.pop_back();
                 return;

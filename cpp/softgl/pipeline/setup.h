@@ -173,6 +173,14 @@ struct ViewportTransform {
     double scale_x, offset_x, scale_y, offset_y, scale_z, offset_z;
 };
 
+// The diamond-exit rule (ES 3.0 §3.5.1) for the width-1 segment from (ax, ay) to (bx, by) (fixed
+// point, not both equal): the first and last major-axis pixel index with a fragment (every one
+// between has one). False: no fragment. Auto decides a segment of |slope| != 1 from its end points
+// and scans a slope of +-1 column by column; Scan scans every segment (tests compare the two).
+enum class DiamondExitMethod : uint8_t { Auto, Scan };
+bool diamond_exit_span(int64_t ax, int64_t ay, int64_t bx, int64_t by, int64_t& first, int64_t& last,
+                       DiamondExitMethod method = DiamondExitMethod::Auto);
+
 class Setup {
 public:
     explicit Setup(const RasterState& state);
@@ -205,6 +213,9 @@ public:
     // A line segment of RasterState::line_width, ES 3.0 §3.5 (see setup.cpp for the rule used).
     void line(const float* p0, const float* p1, uint32_t i0, uint32_t i1, uint32_t primitive,
               std::vector<PrimitiveSetup>& out);
+    // The same for vertices project_vertices has projected (as triangle() above).
+    void line(const float* positions, const WindowPosition* window, const uint32_t vertex[2], uint32_t primitive,
+              std::vector<PrimitiveSetup>& out);
 
     SetupStats stats;
 
@@ -217,6 +228,8 @@ private:
     WindowVertex project(const Vec4d& position, const double weight[3]) const;
     void triangle(const float* const p[3], const WindowPosition* const w[3], const uint32_t vertex[3],
                   uint32_t primitive, std::vector<PrimitiveSetup>& out);
+    void line(const float* p0, const float* p1, const WindowPosition& w0, const WindowPosition& w1, uint32_t i0,
+              uint32_t i1, uint32_t primitive, std::vector<PrimitiveSetup>& out);
     bool culled(bool front) const;   // by cullFace (ES 3.0 §3.6.1)
     void unclipped_triangle(const WindowVertex w[3], const uint32_t vertex[3], uint32_t primitive,
                             std::vector<PrimitiveSetup>& out);

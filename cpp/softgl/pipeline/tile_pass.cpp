@@ -225,7 +225,6 @@ struct alignas(64) TilePass::Scratch {
     FragmentBatch batch;
     FragmentResults results;
     Gathered gathered;                // fragment_batches: the tile's batch being filled
-    std::vector<uint32_t> chunk_varyings;   // no helper lanes: a chunk's interpolated words, whole quads
     RasterStats raster;
     DrawStats stats;
 };
@@ -450,7 +449,6 @@ void TilePass::tile(size_t index, unsigned worker) {
         at_least(g.quad, kChunkQuads);
         at_least(g.masks, kChunkLanes);
         at_least(g.xy, 2 * kChunkLanes);
-        if (single_pixels_) at_least(w.chunk_varyings, size_t(words_) * kChunkLanes);
         g.quads = g.lanes = 0;
         g.runs.clear();
         std::fill_n(g.occupied, kTileSize, uint64_t(0));
@@ -645,39 +643,6 @@ SOFTGL_STEP void TilePass::draw_primitive(Tile& t, const PrimitiveSetup& p, size
 
 namespace {
 
-// dst[k] = src[from[k]] for k < n, for each of `words` rows of kChunkLanes lanes (the covered
-// pixels of a chunk moved to a gathered batch's lanes). A copy: every level gives the same bits.
-void move_lanes_scalar(const int* words, size_t count, const uint32_t* src, uint32_t* dst, const uint32_t* from,
-                       size_t n) {
-    for (size_t i = 0; i < count; ++i) {
-        const size_t row = size_t(words[i]) * kChunkLanes;
-        for (size_t k = 0; k < n; ++k) dst[row + k] = src[row + from[k]];
-    }
-}
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-// Eight lanes per gather; the last part under a mask (the row after a full one is another word's).
-__attribute__((target("avx2"))) void move_lanes_avx2(const int* words, size_t count, const uint32_t* src,
-                                                     uint32_t* dst, const uint32_t* from, size_t n) {
-    const __m256i lane = _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7);
-    for (size_t i = 0; i < count; ++i) {
-        const size_t row = size_t(words[i]) * kChunkLanes;
-        const int* const s = reinterpret_cast<const int*>(src + row);
-        int* const d = reinterpret_cast<int*>(dst + row);
-        size_t k = 0;
-        for (; k + 8 <= n; k += 8) {
-            const __m256i at = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(from + k));
-            _mm256_storeu_si256(reinterpret_cast<__m256i*>(d + k), _mm256_i32gather_epi32(s, at, 4));
-        }
-        if (k < n) {
-            const __m256i keep = _mm256_cmpgt_epi32(_mm256_set1_epi32(int(n - k)), lane);
-            const __m256i at = _mm256_maskload_epi32(reinterpret_cast<const int*>(from + k), keep);
-            const __m256i v = _mm256_mask_i32gather_epi32(_mm256_setzero_si256(), s, at, keep, 4);
-            _mm256_maskstore_epi32(d + k, keep, v);
-        }
-    }
-}
-#endif
-
 // Whether the covered pixels of a gathered batch's quad are free (no fragment of the batch yet);
 // if so, marks them. Only where the write step gathers pixels (exclusive_pixels_).
 SOFTGL_STEP bool take_pixels(Gathered& g, const TileRect& rect, const Quad& q, const uint16_t* masks) {
@@ -737,19 +702,16 @@ void TilePass::gather_quads(Tile& t, const Primitive& prim, const Chunk& c) {
 }
 
 // No helper lanes: the chunk's covered pixels into the tile's batch, one lane each (flushing as
-// gather_quads does). Their varyings are interpolated for the chunk's quads, then moved to the
-// lanes the pixels take.
+// gather_quads does), their varyings interpolated pixel by pixel in the lanes they take (thin
+// primitives cover one or two pixels of most quads).
 void TilePass::gather_pixels(Tile& t, const Primitive& prim, const Chunk& c) {
     Scratch& w = t.w;
     Gathered& g = w.gathered;
     FragmentBatch& b = w.batch;
     const PrimitiveSetup& p = prim.p;
     const uint32_t* const provoking = &vertices_->varyings[size_t(prim.provoking) * size_t(words_)];
-    const uint32_t* const chunk = w.chunk_varyings.data();
-    if (prim.interpolate) interpolate_varyings_at(plan_.simd, prim.vi, c.quads, c.kept, w.chunk_varyings.data(), kChunkLanes);
     const size_t total = 4 * c.kept;
     size_t from = 0;
-    uint32_t source[kChunkLanes];   // per lane taken: its lane in the chunk
     while (from < total) {
         const size_t L0 = g.lanes;
         size_t n = 0;
@@ -768,19 +730,14 @@ void TilePass::gather_pixels(Tile& t, const Primitive& prim, const Chunk& c) {
             const size_t lane = L0 + n;
             g.masks[lane] = mask;
             g.xy[2 * lane] = x, g.xy[2 * lane + 1] = y;
-            source[n++] = uint32_t(from);
+            ++n;
         }
         if (n) {
             uint32_t* const v = b.varyings.data() + L0;
-            const std::vector<int>& smooth = *smooth_words_;
-            if (!prim.interpolate) {
-                for (int word : smooth) std::fill_n(v + size_t(word) * kChunkLanes, n, provoking[word]);
+            if (prim.interpolate) {
+                interpolate_pixels_at(plan_.simd, prim.vi, g.xy.data() + 2 * L0, n, v, kChunkLanes);
             } else {
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-                if (plan_.simd >= SimdLevel::AVX2) move_lanes_avx2(smooth.data(), smooth.size(), chunk, v, source, n);
-                else
-#endif
-                    move_lanes_scalar(smooth.data(), smooth.size(), chunk, v, source, n);
+                for (int word : *smooth_words_) std::fill_n(v + size_t(word) * kChunkLanes, n, provoking[word]);
             }
             for (int word : *flat_words_) std::fill_n(v + size_t(word) * kChunkLanes, n, provoking[word]);
             if (builtins_ & kFrontFacing) std::fill_n(b.front_facing.data() + L0, n, uint8_t(p.front_facing ? 1 : 0));
