@@ -931,6 +931,43 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bo
     }
 }
 
+// filter8 of one depth plane as channel vectors (out[c]: channel c of the 8 lanes, the layout
+// of the executor's registers, so no transposes): the same texels (DepthTexels8), weights and
+// sums in the same order, so the same bits.
+__attribute__((target("avx2"))) void filter8_depth(const Fast2D& f, const Plane& p, bool linear, const float* s,
+                                                   const float* t, const float* r, const float* ref, __m256 out[4]) {
+    size_t layer_at[8] = {};   // the first texel of each lane's layer
+    if (r)
+        for (int l = 0; l < 8; ++l)
+            layer_at[l] = size_t(std::clamp(ifloor(r[l] + 0.5f), 0, p.layers - 1)) * size_t(p.height) * size_t(p.width);
+    const DepthTexels8 texels(f, p, layer_at, ref);
+    const __m256 u = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(s), _mm256_set1_ps(float(p.width))), _mm256_set1_ps(float(f.off_s)));
+    const __m256 v = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(t), _mm256_set1_ps(float(p.height))), _mm256_set1_ps(float(f.off_t)));
+    const bool grey = f.compare || f.luminance;   // Fast2D::texel: (d, d or 0, d or 0, 1)
+    const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f);
+    alignas(32) int32_t i0[8], i1[8], j0[8], j1[8];
+    if (!linear) {
+        wrap8(f.wrap_s, ifloor_floored8(_mm256_floor_ps(u)), p.width, p.width_pot, false, i0, i1);
+        wrap8(f.wrap_t, ifloor_floored8(_mm256_floor_ps(v)), p.height, p.height_pot, false, j0, j1);
+        out[0] = texels(i0, j0);
+        out[1] = out[2] = grey ? out[0] : zero;
+        out[3] = one;
+        return;
+    }
+    const __m256 half = _mm256_set1_ps(0.5f);
+    const __m256 u0 = _mm256_sub_ps(u, half), v0 = _mm256_sub_ps(v, half);
+    const __m256 fu = _mm256_floor_ps(u0), fv = _mm256_floor_ps(v0);
+    wrap8(f.wrap_s, ifloor_floored8(fu), p.width, p.width_pot, true, i0, i1);
+    wrap8(f.wrap_t, ifloor_floored8(fv), p.height, p.height_pot, true, j0, j1);
+    const __m256 a = _mm256_sub_ps(u0, fu), b = _mm256_sub_ps(v0, fv);
+    const __m256 na = _mm256_sub_ps(one, a), nb = _mm256_sub_ps(one, b);
+    const __m256 w00 = _mm256_mul_ps(na, nb), w10 = _mm256_mul_ps(a, nb), w01 = _mm256_mul_ps(na, b), w11 = _mm256_mul_ps(a, b);
+    out[0] = weighted_sum8(w00, w10, w01, w11, texels(i0, j0), texels(i1, j0), texels(i0, j1), texels(i1, j1));
+    // Channels 1 and 2 repeat the depth, else are the weighted zeros; alpha the weighted ones.
+    out[1] = out[2] = grey ? out[0] : weighted_sum8(w00, w10, w01, w11, zero, zero, zero, zero);
+    out[3] = weighted_sum8(w00, w10, w01, w11, one, one, one, one);
+}
+
 // result[k][c] of 8 lanes into out[c][l + k] (two 4x4 transposes).
 inline void store_lanes8(const float result[8][4], glsl::Scalar* const out[4], int l) {
     for (int half = 0; half < 2; ++half) {
@@ -992,6 +1029,37 @@ __attribute__((target("avx2"))) inline int lambda_exact4(__m256d rho2, __m128& l
     return same & _mm256_movemask_pd(finite);
 }
 
+// The lambdas of lanes l..l+7 from their rho² (max of the squared lengths along x and y, in
+// double), as lambda_at: float(log2(sqrt(rho²))) plus the lanes' bias.
+__attribute__((target("avx2"))) void lambdas_of_rho2_8(const glsl::TextureQuery& q, int l, const double rho2[8],
+                                                       LambdaMemo& lambda_of, float out[8]) {
+    // Each half of the block with one rho² in all its lanes (derivatives that differ in bits
+    // that do not reach rho²): one LambdaMemo lookup per half.
+    const __m256d lo2 = _mm256_load_pd(rho2), hi2 = _mm256_load_pd(rho2 + 4);
+    if ((_mm256_movemask_pd(_mm256_cmp_pd(lo2, _mm256_set1_pd(rho2[0]), _CMP_EQ_OQ)) &
+         _mm256_movemask_pd(_mm256_cmp_pd(hi2, _mm256_set1_pd(rho2[4]), _CMP_EQ_OQ))) == 0xF) {
+        const float a = lambda_of(rho2[0]), b = rho2[4] == rho2[0] ? a : lambda_of(rho2[4]);
+        __m256 lambda = _mm256_set_m128(_mm_set1_ps(b), _mm_set1_ps(a));
+        if (q.lod_mode == TextureLod::Bias && q.lod) lambda = _mm256_add_ps(lambda, _mm256_loadu_ps(&q.lod[l].f));
+        _mm256_storeu_ps(out, lambda);
+        return;
+    }
+    // Otherwise lambda = float(log2(sqrt(rho²))) 4 lanes at a time (lambda_exact4); the lanes it
+    // cannot vouch for (and 0, infinite or NaN rho²) from LambdaMemo, as the scalar path.
+    for (int half = 0; half < 2; ++half) {
+        const __m256d r2 = _mm256_load_pd(rho2 + 4 * half);
+        __m128 lambda;
+        int sure = lambda_exact4(r2, lambda);
+        if (q.lod_mode == TextureLod::Bias && q.lod) lambda = _mm_add_ps(lambda, _mm_loadu_ps(&q.lod[l + 4 * half].f));
+        _mm_storeu_ps(out + 4 * half, lambda);
+        for (int k = 0; sure != 0xF && k < 4; ++k) {
+            if (sure & (1 << k)) continue;
+            out[4 * half + k] = lambda_of(rho2[4 * half + k]);
+            if (q.lod_mode == TextureLod::Bias && q.lod) out[4 * half + k] += q.lod[l + 4 * half + k].f;
+        }
+    }
+}
+
 // The lambdas of lanes l..l+7 (Implicit, Bias, Gradient), as lambda_at in sample_2d computes them:
 // rho² 8 at a time (float products, widened, squared and summed in double), log2 lane by lane.
 __attribute__((target("avx2"))) void lambda8(const glsl::TextureQuery& q, int l, float w, float h, LambdaMemo& lambda_of,
@@ -1028,31 +1096,7 @@ __attribute__((target("avx2"))) void lambda8(const glsl::TextureQuery& q, int l,
         if (q.ddy[2]) ly2 = _mm256_add_pd(ly2, square_wide(y2, half));
         _mm256_store_pd(rho2 + 4 * half, _mm256_max_pd(ly2, lx2));   // = std::max(lx2, ly2), NaN included
     }
-    // Each half of the block with one rho² in all its lanes (derivatives that differ in bits
-    // that do not reach rho²): one LambdaMemo lookup per half.
-    const __m256d lo2 = _mm256_load_pd(rho2), hi2 = _mm256_load_pd(rho2 + 4);
-    if ((_mm256_movemask_pd(_mm256_cmp_pd(lo2, _mm256_set1_pd(rho2[0]), _CMP_EQ_OQ)) &
-         _mm256_movemask_pd(_mm256_cmp_pd(hi2, _mm256_set1_pd(rho2[4]), _CMP_EQ_OQ))) == 0xF) {
-        const float a = lambda_of(rho2[0]), b = rho2[4] == rho2[0] ? a : lambda_of(rho2[4]);
-        __m256 lambda = _mm256_set_m128(_mm_set1_ps(b), _mm_set1_ps(a));
-        if (q.lod_mode == TextureLod::Bias && q.lod) lambda = _mm256_add_ps(lambda, _mm256_loadu_ps(&q.lod[l].f));
-        _mm256_storeu_ps(out, lambda);
-        return;
-    }
-    // Otherwise lambda = float(log2(sqrt(rho²))) 4 lanes at a time (lambda_exact4); the lanes it
-    // cannot vouch for (and 0, infinite or NaN rho²) from LambdaMemo, as the scalar path.
-    for (int half = 0; half < 2; ++half) {
-        const __m256d r2 = _mm256_load_pd(rho2 + 4 * half);
-        __m128 lambda;
-        int sure = lambda_exact4(r2, lambda);
-        if (q.lod_mode == TextureLod::Bias && q.lod) lambda = _mm_add_ps(lambda, _mm_loadu_ps(&q.lod[l + 4 * half].f));
-        _mm_storeu_ps(out + 4 * half, lambda);
-        for (int k = 0; sure != 0xF && k < 4; ++k) {
-            if (sure & (1 << k)) continue;
-            out[4 * half + k] = lambda_of(rho2[4 * half + k]);
-            if (q.lod_mode == TextureLod::Bias && q.lod) out[4 * half + k] += q.lod[l + 4 * half + k].f;
-        }
-    }
+    lambdas_of_rho2_8(q, l, rho2, lambda_of, out);
 }
 
 // The levels every lane of a block of 8 takes (Fast2D::choose), when they are the same for all:
@@ -1476,6 +1520,53 @@ __attribute__((target("avx2"))) inline void choose_lanes(const ColourQuery& cq, 
             if (!(active >> k & 1)) ch[k] = ch[__builtin_ctz(active)];
 }
 
+// The depth lookups (with or without the comparison) of the block of lanes l .. l + 7 whose lanes
+// share their levels, channel-major straight into the outputs (filter8_depth; inactive lanes
+// (0, 0, 0, 1)): false (nothing written) when their levels differ.
+__attribute__((target("avx2"))) bool depth_block8(const ColourQuery& cq, int l) {
+    const glsl::TextureQuery& q = *cq.q;
+    const Fast2D& f = *cq.f;
+    glsl::Scalar* const out[4] = {q.out[0], q.out[1], q.out[2], q.out[3]};
+    const uint32_t active = active8(q, l);
+    __m256 result[4] = {_mm256_setzero_ps(), _mm256_setzero_ps(), _mm256_setzero_ps(), _mm256_setzero_ps()};
+    if (!active) return store8(result, out, l, 0xFFu), true;
+    const float* s = &q.coord[0][l].f;
+    const float* t = &q.coord[1][l].f;
+    const float* r = cq.r ? cq.r + l : nullptr;
+    const float* ref = q.compare ? &q.compare[l].f : nullptr;
+    BlockChoice bc;
+    if (!cq.needs_lambda) {
+        bc.first = cq.fixed.first, bc.linear = cq.fixed.linear;
+    } else {
+        alignas(32) float lambda[8];
+        if (q.lod_mode == TextureLod::Explicit) {
+            // lambda_at: the lanes' explicit level (0 without one), no bias.
+            _mm256_store_ps(lambda, q.lod ? _mm256_loadu_ps(&q.lod[l].f) : _mm256_setzero_ps());
+        } else {
+            lambda8(q, l, cq.w, cq.h, *cq.memo, lambda);
+        }
+        __m256 v = _mm256_load_ps(lambda);
+        if (active != 0xFFu) {
+            // Inactive lanes take the first active lane's lambda, so that they add no level.
+            const __m256i bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+            const __m256 off = _mm256_castsi256_ps(
+                _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(int(active)), bit), _mm256_setzero_si256()));
+            v = _mm256_blendv_ps(v, _mm256_set1_ps(lambda[__builtin_ctz(active)]), off);
+        }
+        if (!choose_block8(f, v, bc)) return false;
+    }
+    filter8_depth(f, f.planes[size_t(bc.first)], bc.linear, s, t, r, ref, result);
+    if (bc.second >= 0) {
+        __m256 b[4];
+        filter8_depth(f, f.planes[size_t(bc.second)], bc.linear, s, t, r, ref, b);
+        // (1 - frac) a + frac b per channel, as Fast2D::filter(LevelChoice).
+        const __m256 ng = _mm256_sub_ps(_mm256_set1_ps(1.0f), bc.frac);
+        for (int c = 0; c < 4; ++c) result[c] = _mm256_add_ps(_mm256_mul_ps(ng, result[c]), _mm256_mul_ps(bc.frac, b[c]));
+    }
+    store8(result, out, l, ~active & 0xFFu);
+    return true;
+}
+
 // The colour lookups of lanes [l, end) in blocks of 8: returns where it stopped, at the first
 // block whose lanes need more than 3 levels or two filters (the caller takes it lane by lane),
 // or at the last block that fits.
@@ -1574,17 +1665,24 @@ __attribute__((target("avx2"), always_inline)) inline void unorm8_rows8(__m256i 
 }
 
 // filter8_color of one plane of one layer (kBytes: 8-bit unorm bytes, 1 rgba8 or 2 narrow, and the fixed-point rule,
-// else floats).
+// else floats). face: another plane of P's size to read (a cube map's other faces), else P's own.
+// inside (CLAMP_TO_EDGE only): all ones in the lanes whose texels lie inside the plane, no clamp
+// applied (Fast2D::inside, as inside8: for LINEAR, i1 - i0 = 1 exactly when ifloor(u - 1/2) is in
+// [0, width - 2]; for NEAREST the clamp leaves i unchanged exactly when it is in [0, width - 1]).
 template <int kBytes, bool kLinear, WrapKind kWrap>
 __attribute__((target("avx2"), always_inline)) inline void filter8_shaped(const Plane8& P, const float* s, const float* t,
-                                                                          __m256 out[4]) {
-    const Plane& p = *P.p;
+                                                                          __m256 out[4], const Plane* face = nullptr,
+                                                                          __m256i* inside = nullptr) {
+    const Plane& p = face ? *face : *P.p;
     const __m256 u = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(s), P.width_f), P.off_s);
     const __m256 v = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(t), P.height_f), P.off_t);
     __m256i i0, i1, j0, j1;
     if constexpr (!kLinear) {
-        wrap_shaped8<kWrap, false>(ifloor_floored8(_mm256_floor_ps(u)), P.last_i, i0, i1);
-        wrap_shaped8<kWrap, false>(ifloor_floored8(_mm256_floor_ps(v)), P.last_j, j0, j1);
+        const __m256i i = ifloor_floored8(_mm256_floor_ps(u)), j = ifloor_floored8(_mm256_floor_ps(v));
+        wrap_shaped8<kWrap, false>(i, P.last_i, i0, i1);
+        wrap_shaped8<kWrap, false>(j, P.last_j, j0, j1);
+        if constexpr (kWrap == WrapKind::Clamp)
+            if (inside) *inside = _mm256_and_si256(_mm256_cmpeq_epi32(i, i0), _mm256_cmpeq_epi32(j, j0));
         texels_shaped8<kBytes>(p, _mm256_add_epi32(_mm256_mullo_epi32(j0, P.width), i0), false, out);
     } else {
         const __m256 half = _mm256_set1_ps(0.5f);
@@ -1592,6 +1690,12 @@ __attribute__((target("avx2"), always_inline)) inline void filter8_shaped(const 
         const __m256 fu = _mm256_floor_ps(u0), fv = _mm256_floor_ps(v0);
         wrap_shaped8<kWrap, true>(ifloor_floored8(fu), P.last_i, i0, i1);
         wrap_shaped8<kWrap, true>(ifloor_floored8(fv), P.last_j, j0, j1);
+        if constexpr (kWrap == WrapKind::Clamp)
+            if (inside) {
+                const __m256i one = _mm256_set1_epi32(1);
+                *inside = _mm256_and_si256(_mm256_cmpeq_epi32(_mm256_sub_epi32(i1, i0), one),
+                                           _mm256_cmpeq_epi32(_mm256_sub_epi32(j1, j0), one));
+            }
         const __m256 a = _mm256_sub_ps(u0, fu), b = _mm256_sub_ps(v0, fv);
         const __m256i row0 = _mm256_mullo_epi32(j0, P.width), row1 = _mm256_mullo_epi32(j1, P.width);
         const __m256i at[4] = {_mm256_add_epi32(row0, i0), _mm256_add_epi32(row0, i1), _mm256_add_epi32(row1, i0),
@@ -1724,6 +1828,137 @@ inline Blocks8 shaped_blocks8(const Fast2D& f, const ColourQuery& cq, bool one_s
     if (wrap == WrapKind::RepeatPot) SOFTGL_SHAPED(0, WrapKind::RepeatPot)
     SOFTGL_SHAPED(0, WrapKind::Clamp)
 #undef SOFTGL_SHAPED
+}
+
+// ---- Cube maps in blocks of 8 (AVX2), channel-major as the shaped colour blocks: faces, face
+// coordinates and (for a level choice) their derivatives of 8 lanes at once (cube_coords8), one
+// level choice for the block (choose_block8 on lambdas computed 8 at a time, as one_lane computes
+// them lane by lane), then each face the block's lanes select filtered for all 8 lanes by the
+// shaped filter of the query's storage (bytes: the fixed-point rule by rows) and each lane taking
+// its own face's result. Per lane the same operations in the same order as one_lane, so the same
+// bits. Every face of a cube level has one size, so face 0's Plane8 serves all six.
+
+struct CubeQuery {
+    const Fast2D* f;
+    const glsl::TextureQuery* q;
+    float w, h;          // the base level's size (lambda)
+    LambdaMemo* memo;
+    bool seamless;       // lanes whose footprint leaves the face go to sample_lane
+};
+
+// One face of a cube map filtered for 8 lanes at the block's levels: planes[level]'s sizes, the
+// face's texels. inside: the lanes whose texels lie inside the face at every level read (the
+// same for all faces).
+template <int kBytes, LevelMode kMode>
+__attribute__((target("avx2"), always_inline)) inline void cube_face8(const Fast2D& f, Planes8& planes, const BlockChoice& bc,
+                                                                      int face, const float* s8, const float* t8,
+                                                                      __m256 dst[4], __m256i& inside) {
+    const Plane* levels = f.planes + size_t(face) * size_t(f.face_stride);
+    if (bc.linear) filter8_shaped<kBytes, true, WrapKind::Clamp>(planes[bc.first], s8, t8, dst, &levels[bc.first], &inside);
+    else filter8_shaped<kBytes, false, WrapKind::Clamp>(planes[bc.first], s8, t8, dst, &levels[bc.first], &inside);
+    if (kMode != LevelMode::PerBlock || bc.second < 0) return;
+    __m256 b[4];
+    __m256i inside_second;
+    if (bc.linear) filter8_shaped<kBytes, true, WrapKind::Clamp>(planes[bc.second], s8, t8, b, &levels[bc.second], &inside_second);
+    else filter8_shaped<kBytes, false, WrapKind::Clamp>(planes[bc.second], s8, t8, b, &levels[bc.second], &inside_second);
+    inside = _mm256_and_si256(inside, inside_second);
+    // (1 - frac) a + frac b per channel, as Fast2D::filter(LevelChoice).
+    const __m256 ng = _mm256_sub_ps(_mm256_set1_ps(1.0f), bc.frac);
+    for (int c = 0; c < 4; ++c) dst[c] = _mm256_add_ps(_mm256_mul_ps(ng, dst[c]), _mm256_mul_ps(bc.frac, b[c]));
+}
+
+// One block of lanes l .. l + 7: false (nothing written) when its lanes do not share their levels
+// (the caller takes the block by the general code); else the results are stored and `outside`
+// holds the active lanes whose texels cross a face edge under seamless filtering, which the
+// caller samples again by sample_lane (ES 3.0 §3.8.9.1), as one_lane does.
+template <int kBytes, LevelMode kMode>
+__attribute__((target("avx2"))) bool cube_block8(const CubeQuery& cq, Planes8& planes, int l, uint32_t& outside) {
+    const glsl::TextureQuery& q = *cq.q;
+    const Fast2D& f = *cq.f;
+    glsl::Scalar* const out[4] = {q.out[0], q.out[1], q.out[2], q.out[3]};
+    outside = 0;
+    const uint32_t active = active8(q, l);
+    __m256 result[4] = {_mm256_setzero_ps(), _mm256_setzero_ps(), _mm256_setzero_ps(), _mm256_setzero_ps()};
+    if (!active) return store8(result, out, l, 0xFFu), true;
+    alignas(32) int32_t face8[8];
+    alignas(32) float s8[8], t8[8];
+    BlockChoice bc;
+    if constexpr (kMode != LevelMode::PerBlock) {
+        cube_coords8(&q.coord[0][l].f, &q.coord[1][l].f, &q.coord[2][l].f, face8, s8, t8);
+        bc.linear = kMode == LevelMode::FixedLinear;
+    } else {
+        alignas(32) float ds[2][8], dt[2][8], lambda[8];
+        const float* ddx[3], *ddy[3];
+        for (int k = 0; k < 3; ++k) ddx[k] = q.ddx[k] ? &q.ddx[k][l].f : nullptr, ddy[k] = q.ddy[k] ? &q.ddy[k][l].f : nullptr;
+        cube_coords8(&q.coord[0][l].f, &q.coord[1][l].f, &q.coord[2][l].f, face8, s8, t8, ddx, ddy, ds, dt);
+        if (q.lod_mode == TextureLod::Explicit) {
+            // lambda_at: the lanes' explicit level (0 without one), no bias.
+            _mm256_store_ps(lambda, q.lod ? _mm256_loadu_ps(&q.lod[l].f) : _mm256_setzero_ps());
+        } else {
+            // lambda_of_derivatives of the face derivatives (dx = ds[0], dt[0]; dy = ds[1], dt[1]):
+            // float products by the size, squared and summed in double, the larger of x and y.
+            // (Its third terms add +0 to a sum of squares, which changes nothing.)
+            const __m256 ws = _mm256_set1_ps(cq.w), hs = _mm256_set1_ps(cq.h);
+            const __m256 x0 = _mm256_mul_ps(_mm256_load_ps(ds[0]), ws), x1 = _mm256_mul_ps(_mm256_load_ps(dt[0]), hs);
+            const __m256 y0 = _mm256_mul_ps(_mm256_load_ps(ds[1]), ws), y1 = _mm256_mul_ps(_mm256_load_ps(dt[1]), hs);
+            alignas(32) double rho2[8];
+            for (int half = 0; half < 2; ++half) {
+                const __m256d lx2 = _mm256_add_pd(square_wide(x0, half), square_wide(x1, half));
+                const __m256d ly2 = _mm256_add_pd(square_wide(y0, half), square_wide(y1, half));
+                _mm256_store_pd(rho2 + 4 * half, _mm256_max_pd(ly2, lx2));   // = std::max(lx2, ly2)
+            }
+            lambdas_of_rho2_8(q, l, rho2, *cq.memo, lambda);
+        }
+        __m256 v = _mm256_load_ps(lambda);
+        if (active != 0xFFu) {
+            // Inactive lanes take the first active lane's lambda, so that they add no level.
+            const __m256i bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+            const __m256 off = _mm256_castsi256_ps(
+                _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(int(active)), bit), _mm256_setzero_si256()));
+            v = _mm256_blendv_ps(v, _mm256_set1_ps(lambda[__builtin_ctz(active)]), off);
+        }
+        if (!choose_block8(f, v, bc)) return false;
+    }
+    // The faces of the active lanes: usually one (the first active lane's).
+    const __m256i face_v = _mm256_load_si256(reinterpret_cast<const __m256i*>(face8));
+    const int first_face = face8[__builtin_ctz(active)];
+    const uint32_t on_first =
+        uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(face_v, _mm256_set1_epi32(first_face)))));
+    uint32_t faces = 1u << first_face;
+    for (uint32_t left = active & ~on_first; left; left &= left - 1) faces |= 1u << face8[__builtin_ctz(left)];
+    __m256i inside;
+    if (faces == 1u << first_face) {
+        cube_face8<kBytes, kMode>(f, planes, bc, first_face, s8, t8, result, inside);
+    } else {
+        for (uint32_t left = faces; left; left &= left - 1) {
+            const int face = __builtin_ctz(left);
+            __m256 part[4];
+            cube_face8<kBytes, kMode>(f, planes, bc, face, s8, t8, part, inside);
+            const __m256 mine = _mm256_castsi256_ps(_mm256_cmpeq_epi32(face_v, _mm256_set1_epi32(face)));
+            for (int c = 0; c < 4; ++c) result[c] = _mm256_blendv_ps(result[c], part[c], mine);
+        }
+    }
+    store8(result, out, l, ~active & 0xFFu);
+    if (cq.seamless) outside = ~uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(inside))) & active;
+    return true;
+}
+
+using CubeBlock8 = bool (*)(const CubeQuery&, Planes8&, int, uint32_t&);
+
+// The cube block for a query's storage and level mode, or null (levels of mixed storage, or
+// texel numbers beyond int32: the general code).
+inline CubeBlock8 cube_blocks8(const Fast2D& f, bool one_storage, LevelMode mode) {
+    if (!one_storage) return nullptr;
+#define SOFTGL_CUBE(B)                                                                         \
+    switch (mode) {                                                                            \
+        case LevelMode::FixedNearest: return cube_block8<B, LevelMode::FixedNearest>;          \
+        case LevelMode::FixedLinear: return cube_block8<B, LevelMode::FixedLinear>;            \
+        default: return cube_block8<B, LevelMode::PerBlock>;                                   \
+    }
+    if (f.planes[0].rgba8) SOFTGL_CUBE(1)
+    if (f.planes[0].narrow) SOFTGL_CUBE(2)   // Image::narrow: shaped_words8 decodes the texels
+    SOFTGL_CUBE(0)
+#undef SOFTGL_CUBE
 }
 
 // ---- AVX-512: blocks of 16 lanes, results straight into the structure-of-arrays outputs.
@@ -2470,6 +2705,10 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
         };
         glsl::Scalar* const out[4] = {q.out[0], q.out[1], q.out[2], q.out[3]};
         while (l + 8 <= q.lane_count) {
+            if (depth_block8(cq, l)) {
+                l += 8;
+                continue;
+            }
             const uint32_t active = active_lanes();
             const float* s = &q.coord[0][l].f;
             const float* t = &q.coord[1][l].f;
@@ -2506,6 +2745,11 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
     // blocks on one face, one level and inside the face filtered by filter8, else lane by lane.
     if (simd != SimdBlocks::None && cube && q.coord[0] && q.coord[1] && q.coord[2]) {
         glsl::Scalar* const out[4] = {q.out[0], q.out[1], q.out[2], q.out[3]};
+        // Colour cube maps of one storage: cube_block8 (blocks whose lanes share their levels).
+        const LevelMode mode = needs_lambda ? LevelMode::PerBlock : fixed.linear ? LevelMode::FixedLinear : LevelMode::FixedNearest;
+        const CubeBlock8 cube_block8 = depth ? nullptr : cube_blocks8(f, one_storage, mode);
+        const CubeQuery cube_query{&f, &q, w, h, &lambda_of, bt.seamless_cube};
+        Planes8 cube_planes(f);
         const auto all_active = [&](int first) {
             if (!q.active) return true;
             for (int k = 0; k < 8; ++k)
@@ -2566,6 +2810,12 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
             return true;
         };
         while (l + 8 <= q.lane_count) {
+            uint32_t outside;
+            if (cube_block8 && cube_block8(cube_query, cube_planes, l, outside)) {
+                for (; outside; outside &= outside - 1) sample_lane(q, l + __builtin_ctz(outside));
+                l += 8;
+                continue;
+            }
             if (all_active(l) && cube_block()) {
                 l += 8;
                 continue;
