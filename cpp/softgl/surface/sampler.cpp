@@ -766,12 +766,16 @@ struct DepthTexels8 {
     __m256i base;     // layer_at as int32 (indexable)
     __m256 ref;       // the references, clamped to [0, 1] for fixed-point formats (ES 3.0 §3.8.16)
 
+    // layer_at null: every lane in layer 0.
     __attribute__((target("avx2"))) DepthTexels8(const Fast2D& f_, const Plane& p_, const size_t layer_at_[8], const float* refs)
         : f(f_), p(p_), layer_at(layer_at_) {
         indexable = uint64_t(p.width) * uint64_t(p.height) * uint64_t(p.layers) <= uint64_t(INT32_MAX);
-        alignas(32) int32_t b[8];
-        for (int l = 0; l < 8; ++l) b[l] = indexable ? int32_t(layer_at[l]) : 0;
-        base = _mm256_load_si256(reinterpret_cast<const __m256i*>(b));
+        base = _mm256_setzero_si256();
+        if (layer_at && indexable) {
+            alignas(32) int32_t b[8];
+            for (int l = 0; l < 8; ++l) b[l] = int32_t(layer_at[l]);
+            base = _mm256_load_si256(reinterpret_cast<const __m256i*>(b));
+        }
         ref = refs ? _mm256_loadu_ps(refs) : _mm256_setzero_ps();
         if (f.compare && p.depth_encoding != Encoding::Depth32F) {
             // std::clamp(ref, 0, 1) = ref < 0 ? 0 : 1 < ref ? 1 : ref (NaN and -0 stay).
@@ -790,7 +794,7 @@ struct DepthTexels8 {
             words = _mm256_i32gather_epi32(reinterpret_cast<const int*>(p.depth), at, 4);
         } else {
             alignas(32) uint32_t w[8];
-            for (int l = 0; l < 8; ++l) w[l] = p.depth[layer_at[l] + size_t(j[l]) * size_t(p.width) + size_t(i[l])];
+            for (int l = 0; l < 8; ++l) w[l] = p.depth[(layer_at ? layer_at[l] : 0) + size_t(j[l]) * size_t(p.width) + size_t(i[l])];
             words = _mm256_load_si256(reinterpret_cast<const __m256i*>(w));
         }
         const __m256 d = depth_values8(p.depth_encoding, words);
@@ -936,11 +940,11 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bo
 // sums in the same order, so the same bits.
 __attribute__((target("avx2"))) void filter8_depth(const Fast2D& f, const Plane& p, bool linear, const float* s,
                                                    const float* t, const float* r, const float* ref, __m256 out[4]) {
-    size_t layer_at[8] = {};   // the first texel of each lane's layer
+    size_t layer_at[8];   // the first texel of each lane's layer (r: a 2D array's layers)
     if (r)
         for (int l = 0; l < 8; ++l)
             layer_at[l] = size_t(std::clamp(ifloor(r[l] + 0.5f), 0, p.layers - 1)) * size_t(p.height) * size_t(p.width);
-    const DepthTexels8 texels(f, p, layer_at, ref);
+    const DepthTexels8 texels(f, p, r ? layer_at : nullptr, ref);
     const __m256 u = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(s), _mm256_set1_ps(float(p.width))), _mm256_set1_ps(float(f.off_s)));
     const __m256 v = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(t), _mm256_set1_ps(float(p.height))), _mm256_set1_ps(float(f.off_t)));
     const bool grey = f.compare || f.luminance;   // Fast2D::texel: (d, d or 0, d or 0, 1)
