@@ -800,6 +800,12 @@ struct DepthTexels8 {
         const __m256 d = depth_values8(p.depth_encoding, words);
         return f.compare ? compare8(f.compare_func, ref, d) : d;
     }
+    // operator() of indexable planes with the texels' rows (j * width) and columns as vectors.
+    __attribute__((target("avx2"))) __m256 at(__m256i row, __m256i i) const {
+        const __m256i words = _mm256_i32gather_epi32(reinterpret_cast<const int*>(p.depth), _mm256_add_epi32(_mm256_add_epi32(base, row), i), 4);
+        const __m256 d = depth_values8(p.depth_encoding, words);
+        return f.compare ? compare8(f.compare_func, ref, d) : d;
+    }
 };
 
 // Fast2D::filter of one plane for 8 lanes (r: the layers of a 2D array, else null).
@@ -933,43 +939,6 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bo
         sum = _mm_add_ps(sum, _mm_mul_ps(_mm_set1_ps(w11[l]), _mm_loadu_ps(row1 + size_t(i1[l]) * 4)));
         _mm_storeu_ps(out[l], sum);
     }
-}
-
-// filter8 of one depth plane as channel vectors (out[c]: channel c of the 8 lanes, the layout
-// of the executor's registers, so no transposes): the same texels (DepthTexels8), weights and
-// sums in the same order, so the same bits.
-__attribute__((target("avx2"))) void filter8_depth(const Fast2D& f, const Plane& p, bool linear, const float* s,
-                                                   const float* t, const float* r, const float* ref, __m256 out[4]) {
-    size_t layer_at[8];   // the first texel of each lane's layer (r: a 2D array's layers)
-    if (r)
-        for (int l = 0; l < 8; ++l)
-            layer_at[l] = size_t(std::clamp(ifloor(r[l] + 0.5f), 0, p.layers - 1)) * size_t(p.height) * size_t(p.width);
-    const DepthTexels8 texels(f, p, r ? layer_at : nullptr, ref);
-    const __m256 u = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(s), _mm256_set1_ps(float(p.width))), _mm256_set1_ps(float(f.off_s)));
-    const __m256 v = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(t), _mm256_set1_ps(float(p.height))), _mm256_set1_ps(float(f.off_t)));
-    const bool grey = f.compare || f.luminance;   // Fast2D::texel: (d, d or 0, d or 0, 1)
-    const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f);
-    alignas(32) int32_t i0[8], i1[8], j0[8], j1[8];
-    if (!linear) {
-        wrap8(f.wrap_s, ifloor_floored8(_mm256_floor_ps(u)), p.width, p.width_pot, false, i0, i1);
-        wrap8(f.wrap_t, ifloor_floored8(_mm256_floor_ps(v)), p.height, p.height_pot, false, j0, j1);
-        out[0] = texels(i0, j0);
-        out[1] = out[2] = grey ? out[0] : zero;
-        out[3] = one;
-        return;
-    }
-    const __m256 half = _mm256_set1_ps(0.5f);
-    const __m256 u0 = _mm256_sub_ps(u, half), v0 = _mm256_sub_ps(v, half);
-    const __m256 fu = _mm256_floor_ps(u0), fv = _mm256_floor_ps(v0);
-    wrap8(f.wrap_s, ifloor_floored8(fu), p.width, p.width_pot, true, i0, i1);
-    wrap8(f.wrap_t, ifloor_floored8(fv), p.height, p.height_pot, true, j0, j1);
-    const __m256 a = _mm256_sub_ps(u0, fu), b = _mm256_sub_ps(v0, fv);
-    const __m256 na = _mm256_sub_ps(one, a), nb = _mm256_sub_ps(one, b);
-    const __m256 w00 = _mm256_mul_ps(na, nb), w10 = _mm256_mul_ps(a, nb), w01 = _mm256_mul_ps(na, b), w11 = _mm256_mul_ps(a, b);
-    out[0] = weighted_sum8(w00, w10, w01, w11, texels(i0, j0), texels(i1, j0), texels(i0, j1), texels(i1, j1));
-    // Channels 1 and 2 repeat the depth, else are the weighted zeros; alpha the weighted ones.
-    out[1] = out[2] = grey ? out[0] : weighted_sum8(w00, w10, w01, w11, zero, zero, zero, zero);
-    out[3] = weighted_sum8(w00, w10, w01, w11, one, one, one, one);
 }
 
 // result[k][c] of 8 lanes into out[c][l + k] (two 4x4 transposes).
@@ -1522,6 +1491,52 @@ __attribute__((target("avx2"))) inline void choose_lanes(const ColourQuery& cq, 
     if (active != all)
         for (int k = 0; k < n; ++k)
             if (!(active >> k & 1)) ch[k] = ch[__builtin_ctz(active)];
+}
+
+// filter8 of one depth plane as channel vectors (out[c]: channel c of the 8 lanes, the layout
+// of the executor's registers, so no transposes): the same texels (DepthTexels8), weights and
+// sums in the same order, so the same bits.
+__attribute__((target("avx2"))) void filter8_depth(const Fast2D& f, const Plane& p, bool linear, const float* s,
+                                                   const float* t, const float* r, const float* ref, __m256 out[4]) {
+    size_t layer_at[8];   // the first texel of each lane's layer (r: a 2D array's layers)
+    if (r)
+        for (int l = 0; l < 8; ++l)
+            layer_at[l] = size_t(std::clamp(ifloor(r[l] + 0.5f), 0, p.layers - 1)) * size_t(p.height) * size_t(p.width);
+    const DepthTexels8 texels(f, p, r ? layer_at : nullptr, ref);
+    const __m256 u = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(s), _mm256_set1_ps(float(p.width))), _mm256_set1_ps(float(f.off_s)));
+    const __m256 v = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(t), _mm256_set1_ps(float(p.height))), _mm256_set1_ps(float(f.off_t)));
+    const bool grey = f.compare || f.luminance;   // Fast2D::texel: (d, d or 0, d or 0, 1)
+    const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f);
+    const __m256i last_i = _mm256_set1_epi32(p.width - 1), last_j = _mm256_set1_epi32(p.height - 1);
+    const __m256i width = _mm256_set1_epi32(p.width);
+    __m256i i0, i1, j0, j1;
+    // The texels (i, j) of the 8 lanes: by vectors when every index fits an int32, else lane by lane.
+    const auto texel = [&texels, width](__m256i i, __m256i j) __attribute__((target("avx2"))) {
+        if (texels.indexable) return texels.at(_mm256_mullo_epi32(j, width), i);
+        alignas(32) int32_t ii[8], jj[8];
+        _mm256_store_si256(reinterpret_cast<__m256i*>(ii), i), _mm256_store_si256(reinterpret_cast<__m256i*>(jj), j);
+        return texels(ii, jj);
+    };
+    if (!linear) {
+        wrap8v(f.wrap_s, ifloor_floored8(_mm256_floor_ps(u)), last_i, p.width, p.width_pot, false, i0, i1);
+        wrap8v(f.wrap_t, ifloor_floored8(_mm256_floor_ps(v)), last_j, p.height, p.height_pot, false, j0, j1);
+        out[0] = texel(i0, j0);
+        out[1] = out[2] = grey ? out[0] : zero;
+        out[3] = one;
+        return;
+    }
+    const __m256 half = _mm256_set1_ps(0.5f);
+    const __m256 u0 = _mm256_sub_ps(u, half), v0 = _mm256_sub_ps(v, half);
+    const __m256 fu = _mm256_floor_ps(u0), fv = _mm256_floor_ps(v0);
+    wrap8v(f.wrap_s, ifloor_floored8(fu), last_i, p.width, p.width_pot, true, i0, i1);
+    wrap8v(f.wrap_t, ifloor_floored8(fv), last_j, p.height, p.height_pot, true, j0, j1);
+    const __m256 a = _mm256_sub_ps(u0, fu), b = _mm256_sub_ps(v0, fv);
+    const __m256 na = _mm256_sub_ps(one, a), nb = _mm256_sub_ps(one, b);
+    const __m256 w00 = _mm256_mul_ps(na, nb), w10 = _mm256_mul_ps(a, nb), w01 = _mm256_mul_ps(na, b), w11 = _mm256_mul_ps(a, b);
+    out[0] = weighted_sum8(w00, w10, w01, w11, texel(i0, j0), texel(i1, j0), texel(i0, j1), texel(i1, j1));
+    // Channels 1 and 2 repeat the depth, else are the weighted zeros; alpha the weighted ones.
+    out[1] = out[2] = grey ? out[0] : weighted_sum8(w00, w10, w01, w11, zero, zero, zero, zero);
+    out[3] = weighted_sum8(w00, w10, w01, w11, one, one, one, one);
 }
 
 // The depth lookups (with or without the comparison) of the block of lanes l .. l + 7 whose lanes
