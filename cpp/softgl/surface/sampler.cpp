@@ -1496,8 +1496,11 @@ __attribute__((target("avx2"))) inline void choose_lanes(const ColourQuery& cq, 
 // filter8 of one depth plane as channel vectors (out[c]: channel c of the 8 lanes, the layout
 // of the executor's registers, so no transposes): the same texels (DepthTexels8), weights and
 // sums in the same order, so the same bits.
-__attribute__((target("avx2"))) void filter8_depth(const Fast2D& f, const Plane& p, bool linear, const float* s,
-                                                   const float* t, const float* r, const float* ref, __m256 out[4]) {
+// kEncoding: the plane's depth_encoding; kFunc: the comparison (f.compare_func), 0 without one,
+// fixed at compile time so that no texel branches on them (filter8_depth picks the instance).
+template <Encoding kEncoding, GLenum kFunc>
+__attribute__((target("avx2"))) void filter8_depth_as(const Fast2D& f, const Plane& p, bool linear, const float* s,
+                                                      const float* t, const float* r, const float* ref, __m256 out[4]) {
     size_t layer_at[8];   // the first texel of each lane's layer (r: a 2D array's layers)
     if (r)
         for (int l = 0; l < 8; ++l)
@@ -1512,7 +1515,13 @@ __attribute__((target("avx2"))) void filter8_depth(const Fast2D& f, const Plane&
     __m256i i0, i1, j0, j1;
     // The texels (i, j) of the 8 lanes: by vectors when every index fits an int32, else lane by lane.
     const auto texel = [&texels, width](__m256i i, __m256i j) __attribute__((target("avx2"))) {
-        if (texels.indexable) return texels.at(_mm256_mullo_epi32(j, width), i);
+        if (texels.indexable) {
+            // DepthTexels8::at with the encoding and the comparison known.
+            const __m256i at = _mm256_add_epi32(_mm256_add_epi32(texels.base, _mm256_mullo_epi32(j, width)), i);
+            const __m256 d = depth_values8(kEncoding, _mm256_i32gather_epi32(reinterpret_cast<const int*>(texels.p.depth), at, 4));
+            if constexpr (kFunc == 0) return d;
+            else return compare8(kFunc, texels.ref, d);
+        }
         alignas(32) int32_t ii[8], jj[8];
         _mm256_store_si256(reinterpret_cast<__m256i*>(ii), i), _mm256_store_si256(reinterpret_cast<__m256i*>(jj), j);
         return texels(ii, jj);
@@ -1537,6 +1546,31 @@ __attribute__((target("avx2"))) void filter8_depth(const Fast2D& f, const Plane&
     // Channels 1 and 2 repeat the depth, else are the weighted zeros; alpha the weighted ones.
     out[1] = out[2] = grey ? out[0] : weighted_sum8(w00, w10, w01, w11, zero, zero, zero, zero);
     out[3] = weighted_sum8(w00, w10, w01, w11, one, one, one, one);
+}
+
+template <Encoding kEncoding>
+__attribute__((target("avx2"))) void filter8_depth_of(const Fast2D& f, const Plane& p, bool linear, const float* s,
+                                                      const float* t, const float* r, const float* ref, __m256 out[4]) {
+    switch (f.compare ? f.compare_func : 0) {
+        case 0: return filter8_depth_as<kEncoding, 0>(f, p, linear, s, t, r, ref, out);
+        case gl::LEQUAL: return filter8_depth_as<kEncoding, gl::LEQUAL>(f, p, linear, s, t, r, ref, out);
+        case gl::GEQUAL: return filter8_depth_as<kEncoding, gl::GEQUAL>(f, p, linear, s, t, r, ref, out);
+        case gl::LESS: return filter8_depth_as<kEncoding, gl::LESS>(f, p, linear, s, t, r, ref, out);
+        case gl::GREATER: return filter8_depth_as<kEncoding, gl::GREATER>(f, p, linear, s, t, r, ref, out);
+        case gl::EQUAL: return filter8_depth_as<kEncoding, gl::EQUAL>(f, p, linear, s, t, r, ref, out);
+        case gl::NOTEQUAL: return filter8_depth_as<kEncoding, gl::NOTEQUAL>(f, p, linear, s, t, r, ref, out);
+        case gl::ALWAYS: return filter8_depth_as<kEncoding, gl::ALWAYS>(f, p, linear, s, t, r, ref, out);
+        default: return filter8_depth_as<kEncoding, gl::NEVER>(f, p, linear, s, t, r, ref, out);   // as compare8
+    }
+}
+
+__attribute__((target("avx2"))) void filter8_depth(const Fast2D& f, const Plane& p, bool linear, const float* s,
+                                                   const float* t, const float* r, const float* ref, __m256 out[4]) {
+    switch (p.depth_encoding) {
+        case Encoding::Depth16: return filter8_depth_of<Encoding::Depth16>(f, p, linear, s, t, r, ref, out);
+        case Encoding::Depth32F: return filter8_depth_of<Encoding::Depth32F>(f, p, linear, s, t, r, ref, out);
+        default: return filter8_depth_of<Encoding::Depth24>(f, p, linear, s, t, r, ref, out);   // as depth_values8
+    }
 }
 
 // The depth lookups (with or without the comparison) of the block of lanes l .. l + 7 whose lanes
