@@ -1920,6 +1920,58 @@ __attribute__((target("avx2"), always_inline)) inline void cube_face8(const Fast
     for (int c = 0; c < 4; ++c) dst[c] = _mm256_add_ps(_mm256_mul_ps(ng, dst[c]), _mm256_mul_ps(bc.frac, b[c]));
 }
 
+// The block's lanes on up to 3 distinct levels (ch: each lane's choice, one filter for all; inactive
+// lanes take an active lane's): each face the active lanes select, each level filtered for all 8
+// lanes, each lane taking (or blending, as Fast2D::filter(LevelChoice)) its own levels' results
+// on its own face, as filter8_color(levels) does for one plane. inside: per lane, whether its
+// texels lie inside the face at each level it reads.
+template <int kBytes, bool kLinear>
+__attribute__((target("avx2"))) void cube_levels8(const Fast2D& f, Planes8& planes, const LevelChoice ch[8],
+                                                  const int32_t levels[3], int count, uint32_t active,
+                                                  const int32_t face8[8], const float* s8, const float* t8,
+                                                  __m256 result[4], __m256i& inside) {
+    // Per level, the lanes whose first / second level it is (all ones per lane).
+    alignas(32) int32_t first[3][8] = {}, second[3][8] = {}, blended[8] = {};
+    for (int k = 0; k < 8; ++k) {
+        for (int i = 0; i < count; ++i) {
+            if (ch[k].first == levels[i]) first[i][k] = -1;
+            if (ch[k].second == levels[i]) second[i][k] = -1;
+        }
+        blended[k] = ch[k].second >= 0 ? -1 : 0;
+    }
+    const __m256 g = fractions8(ch), ng = _mm256_sub_ps(_mm256_set1_ps(1.0f), g);
+    const __m256 blend = _mm256_load_ps(reinterpret_cast<const float*>(blended));
+    const __m256i face_v = _mm256_load_si256(reinterpret_cast<const __m256i*>(face8));
+    uint32_t faces = 0;
+    for (uint32_t left = active; left; left &= left - 1) faces |= 1u << face8[__builtin_ctz(left)];
+    __m256i in_level[3];
+    for (uint32_t left = faces; left; left &= left - 1) {
+        const int face = __builtin_ctz(left);
+        const Plane* face_levels = f.planes + size_t(face) * size_t(f.face_stride);
+        __m256 by_level[3][4];
+        for (int i = 0; i < count; ++i)
+            filter8_shaped<kBytes, kLinear, WrapKind::Clamp>(planes[levels[i]], s8, t8, by_level[i], &face_levels[levels[i]],
+                                                             &in_level[i]);
+        const __m256 mine = _mm256_castsi256_ps(_mm256_cmpeq_epi32(face_v, _mm256_set1_epi32(face)));
+        for (int c = 0; c < 4; ++c) {
+            __m256 a = by_level[0][c], b = by_level[0][c];
+            for (int i = 1; i < count; ++i) {
+                a = _mm256_blendv_ps(a, by_level[i][c], _mm256_load_ps(reinterpret_cast<const float*>(first[i])));
+                b = _mm256_blendv_ps(b, by_level[i][c], _mm256_load_ps(reinterpret_cast<const float*>(second[i])));
+            }
+            const __m256 part = _mm256_blendv_ps(a, _mm256_add_ps(_mm256_mul_ps(ng, a), _mm256_mul_ps(g, b)), blend);
+            result[c] = _mm256_blendv_ps(result[c], part, mine);
+        }
+    }
+    // A lane is inside when it is inside at every level it reads (the same at every face: one size).
+    inside = _mm256_set1_epi32(-1);
+    for (int i = 0; i < count; ++i) {
+        const __m256i reads = _mm256_or_si256(_mm256_load_si256(reinterpret_cast<const __m256i*>(first[i])),
+                                              _mm256_load_si256(reinterpret_cast<const __m256i*>(second[i])));
+        inside = _mm256_and_si256(inside, _mm256_or_si256(in_level[i], _mm256_xor_si256(reads, _mm256_set1_epi32(-1))));
+    }
+}
+
 // One block of lanes l .. l + 7: false (nothing written) when its lanes do not share their levels
 // (the caller takes the block by the general code); else the results are stored and `outside`
 // holds the active lanes whose texels cross a face edge under seamless filtering, which the
@@ -1970,7 +2022,22 @@ __attribute__((target("avx2"))) bool cube_block8(const CubeQuery& cq, Planes8& p
                 _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(int(active)), bit), _mm256_setzero_si256()));
             v = _mm256_blendv_ps(v, _mm256_set1_ps(lambda[__builtin_ctz(active)]), off);
         }
-        if (!choose_block8(f, v, bc)) return false;
+        if (!choose_block8(f, v, bc)) {
+            // Lanes on different levels: chosen lane by lane (as choose_lanes), at most 3 levels
+            // with one filter filtered for the block, else the general code.
+            _mm256_store_ps(lambda, v);
+            LevelChoice ch[8];
+            for (int k = 0; k < 8; ++k) ch[k] = f.choose(lambda[k]);
+            int32_t levels[3];
+            const int count = distinct_levels(ch, 8, levels);
+            if (!count) return false;
+            __m256i inside;
+            if (ch[0].linear) cube_levels8<kBytes, true>(f, planes, ch, levels, count, active, face8, s8, t8, result, inside);
+            else cube_levels8<kBytes, false>(f, planes, ch, levels, count, active, face8, s8, t8, result, inside);
+            store8(result, out, l, ~active & 0xFFu);
+            if (cq.seamless) outside = ~uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(inside))) & active;
+            return true;
+        }
     }
     // The faces of the active lanes: usually one (the first active lane's).
     const __m256i face_v = _mm256_load_si256(reinterpret_cast<const __m256i*>(face8));
@@ -2640,18 +2707,27 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
     // texel numbers, and whether all have power-of-two sizes.
     const bool bytes = f.planes[0].rgba8 != nullptr || f.planes[0].narrow != nullptr;
     [[maybe_unused]] bool one_storage = true, pot = true;
-    for (int face = 0; face < faces; ++face)
-        for (int32_t k = 0; k <= bt.q - bt.base; ++k) {
-            const Plane& level = f.planes[size_t(face) * size_t(f.face_stride) + size_t(k)];
-            if (level.width == 0 || (level.depth != nullptr) != depth) return false;
-            // The vector paths index texels in int32 (8-bit unorm planes: across layers too).
-            const bool fits = int32_indices(level);
-            const bool level_bytes = level.rgba8 != nullptr || level.narrow != nullptr;
-            if (level_bytes && !fits) return false;
-            one_storage = one_storage && level_bytes == bytes && level.unorm8 == bytes &&
-                          (bytes || level.color != nullptr) && fits;
-            pot = pot && level.width_pot && level.height_pot;
+    for (int32_t k = 0; k <= bt.q - bt.base; ++k) {
+        const Plane& level = f.planes[size_t(k)];
+        if (level.width == 0 || (level.depth != nullptr) != depth) return false;
+        // The vector paths index texels in int32 (8-bit unorm planes: across layers too).
+        const bool fits = int32_indices(level);
+        const bool level_bytes = level.rgba8 != nullptr || level.narrow != nullptr;
+        if (level_bytes && !fits) return false;
+        one_storage = one_storage && level_bytes == bytes && level.unorm8 == bytes &&
+                      (bytes || level.color != nullptr) && fits;
+        pot = pot && level.width_pot && level.height_pot;
+        // A complete cube map's faces have each level's size and format (ES 3.0 §3.8.14): the
+        // other faces' planes only need to be there and stored as face 0's (else: lane by lane).
+        for (int face = 1; face < faces; ++face) {
+            const Plane& other = f.planes[size_t(face) * size_t(f.face_stride) + size_t(k)];
+            if (other.width != level.width || other.height != level.height || other.layers != level.layers ||
+                (other.depth != nullptr) != depth || (other.rgba8 != nullptr) != (level.rgba8 != nullptr) ||
+                (other.narrow != nullptr) != (level.narrow != nullptr) || other.narrow_bytes != level.narrow_bytes ||
+                (other.color != nullptr) != (level.color != nullptr) || other.unorm8 != level.unorm8)
+                return false;
         }
+    }
     f.compare = q.shadow && p.compare_mode == gl::COMPARE_REF_TO_TEXTURE;
     f.compare_func = p.compare_func;
     f.luminance = bt.depth_as_luminance;
