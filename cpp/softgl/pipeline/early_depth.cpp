@@ -83,8 +83,49 @@ struct DepthWordsAvx2 {
     }
 };
 
-// A quad per step (DepthWordsAvx2). Pixels outside the coverage are neither read nor written
-// (they may lie outside the buffer).
+// Whether quads[0, 4) are side by side (x stepping by 2, the same y) with all four pixels covered
+// (sample 0 of each), as the rasterizer emits the quad-rows of a covered 8x8 block: two vector
+// compares of the four quads (x, y, coverage & sample 0 bits) with that.
+static_assert(sizeof(Quad) == 16 && offsetof(Quad, x) == 0 && offsetof(Quad, y) == 4 && offsetof(Quad, coverage) == 8);
+__attribute__((target("avx2"))) inline bool full_run_avx2(const Quad* quads) {
+    constexpr int32_t kPixel0 = 0x00010001;   // sample 0 of two pixels (a 32-bit half of the coverage)
+    const __m256i keep = _mm256_setr_epi32(-1, -1, kPixel0, kPixel0, -1, -1, kPixel0, kPixel0);
+    int64_t first_xy;
+    std::memcpy(&first_xy, quads, 8);
+    const __m256i first = _mm256_and_si256(_mm256_set1_epi64x(first_xy), _mm256_setr_epi32(-1, -1, 0, 0, -1, -1, 0, 0));
+    const __m256i lo = _mm256_add_epi32(first, _mm256_setr_epi32(0, 0, kPixel0, kPixel0, 2, 0, kPixel0, kPixel0));
+    const __m256i hi = _mm256_add_epi32(first, _mm256_setr_epi32(4, 0, kPixel0, kPixel0, 6, 0, kPixel0, kPixel0));
+    const __m256i q01 = _mm256_and_si256(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(quads)), keep);
+    const __m256i q23 = _mm256_and_si256(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(quads + 2)), keep);
+    return _mm256_movemask_epi8(_mm256_and_si256(_mm256_cmpeq_epi32(q01, lo), _mm256_cmpeq_epi32(q23, hi))) == -1;
+}
+
+// The 8 words of a pixel row of a full run: depth.words_by's operations on two halves of 4 pixels
+// (fx of pixel k is fx0 + k exactly: int64 positions below 2^53 scaled by a power of two).
+__attribute__((target("avx2"))) inline __m256i row_words_avx2(const DepthWordsAvx2& depth, __m256d fx_lo, __m256d fx_hi,
+                                                              __m256d b_fy) {
+    return _mm256_set_m128i(depth.words_by(fx_hi, b_fy), depth.words_by(fx_lo, b_fy));
+}
+
+// The passing pixels of a row of 8 (all covered) against the stored words, written when `write`.
+__attribute__((target("avx2"))) inline __m256i test_row_avx2(const DepthWordsAvx2& depth, bool write, __m256i word,
+                                                             uint32_t* row) {
+    const __m256i stored = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(row));
+    const __m256i sign = _mm256_set1_epi32(int32_t(0x80000000u));
+    const __m256i zs = _mm256_xor_si256(word, sign), ss = _mm256_xor_si256(stored, sign);
+    const __m256i lt = _mm256_cmpgt_epi32(ss, zs), eq = _mm256_cmpeq_epi32(zs, ss), gt = _mm256_cmpgt_epi32(zs, ss);
+    const __m256i pass = _mm256_or_si256(
+        _mm256_or_si256(_mm256_and_si256(lt, _mm256_broadcastsi128_si256(depth.less)),
+                        _mm256_and_si256(eq, _mm256_broadcastsi128_si256(depth.equal))),
+        _mm256_and_si256(gt, _mm256_broadcastsi128_si256(depth.greater)));
+    if (write) _mm256_storeu_si256(reinterpret_cast<__m256i*>(row), _mm256_blendv_epi8(stored, word, pass));
+    return pass;
+}
+
+// A quad per step (DepthWordsAvx2), or four side by side with every pixel covered (full_run_avx2:
+// the quad-rows of covered blocks) as two rows of 8 pixels. Pixels outside the coverage are
+// neither read nor written (they may lie outside the buffer). Each pixel's word and test are the
+// quad step's, and the pixels of a row are distinct, so testing them together is in order.
 __attribute__((target("avx2"))) size_t early_depth_avx2(const EarlyDepth& t, const Quad* quads, size_t n,
                                                        uint16_t* survived) {
     const PrimitiveSetup& p = *t.prim;
@@ -100,8 +141,33 @@ __attribute__((target("avx2"))) size_t early_depth_avx2(const EarlyDepth& t, con
     int64_t row_y = int64_t(INT32_MIN) - 1;   // none yet
     __m256d b_fy = _mm256_setzero_pd();
     size_t killed = 0;
+    int32_t run_x = quads[0].x + 1;   // the quad column fx_lo, fx_hi belong to (none yet)
+    __m256d fx_lo = _mm256_setzero_pd(), fx_hi = _mm256_setzero_pd();
     for (size_t i = 0; i < n; ++i) {
         const Quad& quad = quads[i];
+        if (i + 4 <= n && full_run_avx2(quads + i)) {
+            if (quad.x != run_x) {
+                const int64_t X = int64_t(quad.x) * kSubPixel + x_origin;
+                const __m256d fx0 = _mm256_set1_pd(double(X) * (1.0 / kSubPixel));
+                fx_lo = _mm256_add_pd(fx0, _mm256_setr_pd(0, 1, 2, 3)), fx_hi = _mm256_add_pd(fx0, _mm256_setr_pd(4, 5, 6, 7));
+                run_x = quad.x;
+            }
+            const int64_t Y = int64_t(quad.y) * kSubPixel + y_origin;
+            const __m256d b_fy0 = _mm256_mul_pd(depth.b, _mm256_set1_pd(double(Y) * (1.0 / kSubPixel)));
+            const __m256d b_fy1 = _mm256_mul_pd(depth.b, _mm256_set1_pd(double(Y + kSubPixel) * (1.0 / kSubPixel)));
+            uint32_t* row0 = &buffer[size_t(quad.y) * pitch + size_t(quad.x)];
+            const __m256i pass0 = test_row_avx2(depth, write, row_words_avx2(depth, fx_lo, fx_hi, b_fy0), row0);
+            const __m256i pass1 = test_row_avx2(depth, write, row_words_avx2(depth, fx_lo, fx_hi, b_fy1), row0 + pitch);
+            // survived's order, pixel j of quad q at 4q + j: rows a (pass0), b (pass1) as
+            // a0 a1 b0 b1 a2 a3 b2 b3 | a4 a5 b4 b5 a6 a7 b6 b7, then 0 / 1.
+            const __m256i lo = _mm256_unpacklo_epi64(pass0, pass1), hi = _mm256_unpackhi_epi64(pass0, pass1);
+            const __m256i masks = _mm256_and_si256(_mm256_packs_epi32(lo, hi), _mm256_set1_epi16(1));
+            _mm256_storeu_si256(reinterpret_cast<__m256i*>(survived + 4 * i), masks);
+            killed += size_t(16 - __builtin_popcount(unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(pass0))) |
+                                                     unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(pass1))) << 8));
+            i += 3;
+            continue;
+        }
         if (quad.y != row_y) {
             const int64_t Y = int64_t(quad.y) * kSubPixel + y_origin;
             const double fy0 = double(Y) * (1.0 / kSubPixel), fy1 = double(Y + kSubPixel) * (1.0 / kSubPixel);

@@ -766,12 +766,16 @@ struct DepthTexels8 {
     __m256i base;     // layer_at as int32 (indexable)
     __m256 ref;       // the references, clamped to [0, 1] for fixed-point formats (ES 3.0 §3.8.16)
 
+    // layer_at null: every lane in layer 0.
     __attribute__((target("avx2"))) DepthTexels8(const Fast2D& f_, const Plane& p_, const size_t layer_at_[8], const float* refs)
         : f(f_), p(p_), layer_at(layer_at_) {
         indexable = uint64_t(p.width) * uint64_t(p.height) * uint64_t(p.layers) <= uint64_t(INT32_MAX);
-        alignas(32) int32_t b[8];
-        for (int l = 0; l < 8; ++l) b[l] = indexable ? int32_t(layer_at[l]) : 0;
-        base = _mm256_load_si256(reinterpret_cast<const __m256i*>(b));
+        base = _mm256_setzero_si256();
+        if (layer_at && indexable) {
+            alignas(32) int32_t b[8];
+            for (int l = 0; l < 8; ++l) b[l] = int32_t(layer_at[l]);
+            base = _mm256_load_si256(reinterpret_cast<const __m256i*>(b));
+        }
         ref = refs ? _mm256_loadu_ps(refs) : _mm256_setzero_ps();
         if (f.compare && p.depth_encoding != Encoding::Depth32F) {
             // std::clamp(ref, 0, 1) = ref < 0 ? 0 : 1 < ref ? 1 : ref (NaN and -0 stay).
@@ -790,9 +794,15 @@ struct DepthTexels8 {
             words = _mm256_i32gather_epi32(reinterpret_cast<const int*>(p.depth), at, 4);
         } else {
             alignas(32) uint32_t w[8];
-            for (int l = 0; l < 8; ++l) w[l] = p.depth[layer_at[l] + size_t(j[l]) * size_t(p.width) + size_t(i[l])];
+            for (int l = 0; l < 8; ++l) w[l] = p.depth[(layer_at ? layer_at[l] : 0) + size_t(j[l]) * size_t(p.width) + size_t(i[l])];
             words = _mm256_load_si256(reinterpret_cast<const __m256i*>(w));
         }
+        const __m256 d = depth_values8(p.depth_encoding, words);
+        return f.compare ? compare8(f.compare_func, ref, d) : d;
+    }
+    // operator() of indexable planes with the texels' rows (j * width) and columns as vectors.
+    __attribute__((target("avx2"))) __m256 at(__m256i row, __m256i i) const {
+        const __m256i words = _mm256_i32gather_epi32(reinterpret_cast<const int*>(p.depth), _mm256_add_epi32(_mm256_add_epi32(base, row), i), 4);
         const __m256 d = depth_values8(p.depth_encoding, words);
         return f.compare ? compare8(f.compare_func, ref, d) : d;
     }
@@ -992,6 +1002,37 @@ __attribute__((target("avx2"))) inline int lambda_exact4(__m256d rho2, __m128& l
     return same & _mm256_movemask_pd(finite);
 }
 
+// The lambdas of lanes l..l+7 from their rho² (max of the squared lengths along x and y, in
+// double), as lambda_at: float(log2(sqrt(rho²))) plus the lanes' bias.
+__attribute__((target("avx2"))) void lambdas_of_rho2_8(const glsl::TextureQuery& q, int l, const double rho2[8],
+                                                       LambdaMemo& lambda_of, float out[8]) {
+    // Each half of the block with one rho² in all its lanes (derivatives that differ in bits
+    // that do not reach rho²): one LambdaMemo lookup per half.
+    const __m256d lo2 = _mm256_load_pd(rho2), hi2 = _mm256_load_pd(rho2 + 4);
+    if ((_mm256_movemask_pd(_mm256_cmp_pd(lo2, _mm256_set1_pd(rho2[0]), _CMP_EQ_OQ)) &
+         _mm256_movemask_pd(_mm256_cmp_pd(hi2, _mm256_set1_pd(rho2[4]), _CMP_EQ_OQ))) == 0xF) {
+        const float a = lambda_of(rho2[0]), b = rho2[4] == rho2[0] ? a : lambda_of(rho2[4]);
+        __m256 lambda = _mm256_set_m128(_mm_set1_ps(b), _mm_set1_ps(a));
+        if (q.lod_mode == TextureLod::Bias && q.lod) lambda = _mm256_add_ps(lambda, _mm256_loadu_ps(&q.lod[l].f));
+        _mm256_storeu_ps(out, lambda);
+        return;
+    }
+    // Otherwise lambda = float(log2(sqrt(rho²))) 4 lanes at a time (lambda_exact4); the lanes it
+    // cannot vouch for (and 0, infinite or NaN rho²) from LambdaMemo, as the scalar path.
+    for (int half = 0; half < 2; ++half) {
+        const __m256d r2 = _mm256_load_pd(rho2 + 4 * half);
+        __m128 lambda;
+        int sure = lambda_exact4(r2, lambda);
+        if (q.lod_mode == TextureLod::Bias && q.lod) lambda = _mm_add_ps(lambda, _mm_loadu_ps(&q.lod[l + 4 * half].f));
+        _mm_storeu_ps(out + 4 * half, lambda);
+        for (int k = 0; sure != 0xF && k < 4; ++k) {
+            if (sure & (1 << k)) continue;
+            out[4 * half + k] = lambda_of(rho2[4 * half + k]);
+            if (q.lod_mode == TextureLod::Bias && q.lod) out[4 * half + k] += q.lod[l + 4 * half + k].f;
+        }
+    }
+}
+
 // The lambdas of lanes l..l+7 (Implicit, Bias, Gradient), as lambda_at in sample_2d computes them:
 // rho² 8 at a time (float products, widened, squared and summed in double), log2 lane by lane.
 __attribute__((target("avx2"))) void lambda8(const glsl::TextureQuery& q, int l, float w, float h, LambdaMemo& lambda_of,
@@ -1028,31 +1069,7 @@ __attribute__((target("avx2"))) void lambda8(const glsl::TextureQuery& q, int l,
         if (q.ddy[2]) ly2 = _mm256_add_pd(ly2, square_wide(y2, half));
         _mm256_store_pd(rho2 + 4 * half, _mm256_max_pd(ly2, lx2));   // = std::max(lx2, ly2), NaN included
     }
-    // Each half of the block with one rho² in all its lanes (derivatives that differ in bits
-    // that do not reach rho²): one LambdaMemo lookup per half.
-    const __m256d lo2 = _mm256_load_pd(rho2), hi2 = _mm256_load_pd(rho2 + 4);
-    if ((_mm256_movemask_pd(_mm256_cmp_pd(lo2, _mm256_set1_pd(rho2[0]), _CMP_EQ_OQ)) &
-         _mm256_movemask_pd(_mm256_cmp_pd(hi2, _mm256_set1_pd(rho2[4]), _CMP_EQ_OQ))) == 0xF) {
-        const float a = lambda_of(rho2[0]), b = rho2[4] == rho2[0] ? a : lambda_of(rho2[4]);
-        __m256 lambda = _mm256_set_m128(_mm_set1_ps(b), _mm_set1_ps(a));
-        if (q.lod_mode == TextureLod::Bias && q.lod) lambda = _mm256_add_ps(lambda, _mm256_loadu_ps(&q.lod[l].f));
-        _mm256_storeu_ps(out, lambda);
-        return;
-    }
-    // Otherwise lambda = float(log2(sqrt(rho²))) 4 lanes at a time (lambda_exact4); the lanes it
-    // cannot vouch for (and 0, infinite or NaN rho²) from LambdaMemo, as the scalar path.
-    for (int half = 0; half < 2; ++half) {
-        const __m256d r2 = _mm256_load_pd(rho2 + 4 * half);
-        __m128 lambda;
-        int sure = lambda_exact4(r2, lambda);
-        if (q.lod_mode == TextureLod::Bias && q.lod) lambda = _mm_add_ps(lambda, _mm_loadu_ps(&q.lod[l + 4 * half].f));
-        _mm_storeu_ps(out + 4 * half, lambda);
-        for (int k = 0; sure != 0xF && k < 4; ++k) {
-            if (sure & (1 << k)) continue;
-            out[4 * half + k] = lambda_of(rho2[4 * half + k]);
-            if (q.lod_mode == TextureLod::Bias && q.lod) out[4 * half + k] += q.lod[l + 4 * half + k].f;
-        }
-    }
+    lambdas_of_rho2_8(q, l, rho2, lambda_of, out);
 }
 
 // The levels every lane of a block of 8 takes (Fast2D::choose), when they are the same for all:
@@ -1476,6 +1493,133 @@ __attribute__((target("avx2"))) inline void choose_lanes(const ColourQuery& cq, 
             if (!(active >> k & 1)) ch[k] = ch[__builtin_ctz(active)];
 }
 
+// filter8 of one depth plane as channel vectors (out[c]: channel c of the 8 lanes, the layout
+// of the executor's registers, so no transposes): the same texels (DepthTexels8), weights and
+// sums in the same order, so the same bits.
+// kEncoding: the plane's depth_encoding; kFunc: the comparison (f.compare_func), 0 without one,
+// fixed at compile time so that no texel branches on them (filter8_depth picks the instance).
+template <Encoding kEncoding, GLenum kFunc>
+__attribute__((target("avx2"))) void filter8_depth_as(const Fast2D& f, const Plane& p, bool linear, const float* s,
+                                                      const float* t, const float* r, const float* ref, __m256 out[4]) {
+    size_t layer_at[8];   // the first texel of each lane's layer (r: a 2D array's layers)
+    if (r)
+        for (int l = 0; l < 8; ++l)
+            layer_at[l] = size_t(std::clamp(ifloor(r[l] + 0.5f), 0, p.layers - 1)) * size_t(p.height) * size_t(p.width);
+    const DepthTexels8 texels(f, p, r ? layer_at : nullptr, ref);
+    const __m256 u = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(s), _mm256_set1_ps(float(p.width))), _mm256_set1_ps(float(f.off_s)));
+    const __m256 v = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(t), _mm256_set1_ps(float(p.height))), _mm256_set1_ps(float(f.off_t)));
+    const bool grey = f.compare || f.luminance;   // Fast2D::texel: (d, d or 0, d or 0, 1)
+    const __m256 zero = _mm256_setzero_ps(), one = _mm256_set1_ps(1.0f);
+    const __m256i last_i = _mm256_set1_epi32(p.width - 1), last_j = _mm256_set1_epi32(p.height - 1);
+    const __m256i width = _mm256_set1_epi32(p.width);
+    __m256i i0, i1, j0, j1;
+    // The texels (i, j) of the 8 lanes: by vectors when every index fits an int32, else lane by lane.
+    const auto texel = [&texels, width](__m256i i, __m256i j) __attribute__((target("avx2"))) {
+        if (texels.indexable) {
+            // DepthTexels8::at with the encoding and the comparison known.
+            const __m256i at = _mm256_add_epi32(_mm256_add_epi32(texels.base, _mm256_mullo_epi32(j, width)), i);
+            const __m256 d = depth_values8(kEncoding, _mm256_i32gather_epi32(reinterpret_cast<const int*>(texels.p.depth), at, 4));
+            if constexpr (kFunc == 0) return d;
+            else return compare8(kFunc, texels.ref, d);
+        }
+        alignas(32) int32_t ii[8], jj[8];
+        _mm256_store_si256(reinterpret_cast<__m256i*>(ii), i), _mm256_store_si256(reinterpret_cast<__m256i*>(jj), j);
+        return texels(ii, jj);
+    };
+    if (!linear) {
+        wrap8v(f.wrap_s, ifloor_floored8(_mm256_floor_ps(u)), last_i, p.width, p.width_pot, false, i0, i1);
+        wrap8v(f.wrap_t, ifloor_floored8(_mm256_floor_ps(v)), last_j, p.height, p.height_pot, false, j0, j1);
+        out[0] = texel(i0, j0);
+        out[1] = out[2] = grey ? out[0] : zero;
+        out[3] = one;
+        return;
+    }
+    const __m256 half = _mm256_set1_ps(0.5f);
+    const __m256 u0 = _mm256_sub_ps(u, half), v0 = _mm256_sub_ps(v, half);
+    const __m256 fu = _mm256_floor_ps(u0), fv = _mm256_floor_ps(v0);
+    wrap8v(f.wrap_s, ifloor_floored8(fu), last_i, p.width, p.width_pot, true, i0, i1);
+    wrap8v(f.wrap_t, ifloor_floored8(fv), last_j, p.height, p.height_pot, true, j0, j1);
+    const __m256 a = _mm256_sub_ps(u0, fu), b = _mm256_sub_ps(v0, fv);
+    const __m256 na = _mm256_sub_ps(one, a), nb = _mm256_sub_ps(one, b);
+    const __m256 w00 = _mm256_mul_ps(na, nb), w10 = _mm256_mul_ps(a, nb), w01 = _mm256_mul_ps(na, b), w11 = _mm256_mul_ps(a, b);
+    out[0] = weighted_sum8(w00, w10, w01, w11, texel(i0, j0), texel(i1, j0), texel(i0, j1), texel(i1, j1));
+    // Channels 1 and 2 repeat the depth, else are the weighted zeros; alpha the weighted ones.
+    out[1] = out[2] = grey ? out[0] : weighted_sum8(w00, w10, w01, w11, zero, zero, zero, zero);
+    out[3] = weighted_sum8(w00, w10, w01, w11, one, one, one, one);
+}
+
+template <Encoding kEncoding>
+__attribute__((target("avx2"))) void filter8_depth_of(const Fast2D& f, const Plane& p, bool linear, const float* s,
+                                                      const float* t, const float* r, const float* ref, __m256 out[4]) {
+    switch (f.compare ? f.compare_func : 0) {
+        case 0: return filter8_depth_as<kEncoding, 0>(f, p, linear, s, t, r, ref, out);
+        case gl::LEQUAL: return filter8_depth_as<kEncoding, gl::LEQUAL>(f, p, linear, s, t, r, ref, out);
+        case gl::GEQUAL: return filter8_depth_as<kEncoding, gl::GEQUAL>(f, p, linear, s, t, r, ref, out);
+        case gl::LESS: return filter8_depth_as<kEncoding, gl::LESS>(f, p, linear, s, t, r, ref, out);
+        case gl::GREATER: return filter8_depth_as<kEncoding, gl::GREATER>(f, p, linear, s, t, r, ref, out);
+        case gl::EQUAL: return filter8_depth_as<kEncoding, gl::EQUAL>(f, p, linear, s, t, r, ref, out);
+        case gl::NOTEQUAL: return filter8_depth_as<kEncoding, gl::NOTEQUAL>(f, p, linear, s, t, r, ref, out);
+        case gl::ALWAYS: return filter8_depth_as<kEncoding, gl::ALWAYS>(f, p, linear, s, t, r, ref, out);
+        default: return filter8_depth_as<kEncoding, gl::NEVER>(f, p, linear, s, t, r, ref, out);   // as compare8
+    }
+}
+
+__attribute__((target("avx2"))) void filter8_depth(const Fast2D& f, const Plane& p, bool linear, const float* s,
+                                                   const float* t, const float* r, const float* ref, __m256 out[4]) {
+    switch (p.depth_encoding) {
+        case Encoding::Depth16: return filter8_depth_of<Encoding::Depth16>(f, p, linear, s, t, r, ref, out);
+        case Encoding::Depth32F: return filter8_depth_of<Encoding::Depth32F>(f, p, linear, s, t, r, ref, out);
+        default: return filter8_depth_of<Encoding::Depth24>(f, p, linear, s, t, r, ref, out);   // as depth_values8
+    }
+}
+
+// The depth lookups (with or without the comparison) of the block of lanes l .. l + 7 whose lanes
+// share their levels, channel-major straight into the outputs (filter8_depth; inactive lanes
+// (0, 0, 0, 1)): false (nothing written) when their levels differ.
+__attribute__((target("avx2"))) bool depth_block8(const ColourQuery& cq, int l) {
+    const glsl::TextureQuery& q = *cq.q;
+    const Fast2D& f = *cq.f;
+    glsl::Scalar* const out[4] = {q.out[0], q.out[1], q.out[2], q.out[3]};
+    const uint32_t active = active8(q, l);
+    __m256 result[4] = {_mm256_setzero_ps(), _mm256_setzero_ps(), _mm256_setzero_ps(), _mm256_setzero_ps()};
+    if (!active) return store8(result, out, l, 0xFFu), true;
+    const float* s = &q.coord[0][l].f;
+    const float* t = &q.coord[1][l].f;
+    const float* r = cq.r ? cq.r + l : nullptr;
+    const float* ref = q.compare ? &q.compare[l].f : nullptr;
+    BlockChoice bc;
+    if (!cq.needs_lambda) {
+        bc.first = cq.fixed.first, bc.linear = cq.fixed.linear;
+    } else {
+        alignas(32) float lambda[8];
+        if (q.lod_mode == TextureLod::Explicit) {
+            // lambda_at: the lanes' explicit level (0 without one), no bias.
+            _mm256_store_ps(lambda, q.lod ? _mm256_loadu_ps(&q.lod[l].f) : _mm256_setzero_ps());
+        } else {
+            lambda8(q, l, cq.w, cq.h, *cq.memo, lambda);
+        }
+        __m256 v = _mm256_load_ps(lambda);
+        if (active != 0xFFu) {
+            // Inactive lanes take the first active lane's lambda, so that they add no level.
+            const __m256i bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+            const __m256 off = _mm256_castsi256_ps(
+                _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(int(active)), bit), _mm256_setzero_si256()));
+            v = _mm256_blendv_ps(v, _mm256_set1_ps(lambda[__builtin_ctz(active)]), off);
+        }
+        if (!choose_block8(f, v, bc)) return false;
+    }
+    filter8_depth(f, f.planes[size_t(bc.first)], bc.linear, s, t, r, ref, result);
+    if (bc.second >= 0) {
+        __m256 b[4];
+        filter8_depth(f, f.planes[size_t(bc.second)], bc.linear, s, t, r, ref, b);
+        // (1 - frac) a + frac b per channel, as Fast2D::filter(LevelChoice).
+        const __m256 ng = _mm256_sub_ps(_mm256_set1_ps(1.0f), bc.frac);
+        for (int c = 0; c < 4; ++c) result[c] = _mm256_add_ps(_mm256_mul_ps(ng, result[c]), _mm256_mul_ps(bc.frac, b[c]));
+    }
+    store8(result, out, l, ~active & 0xFFu);
+    return true;
+}
+
 // The colour lookups of lanes [l, end) in blocks of 8: returns where it stopped, at the first
 // block whose lanes need more than 3 levels or two filters (the caller takes it lane by lane),
 // or at the last block that fits.
@@ -1574,17 +1718,24 @@ __attribute__((target("avx2"), always_inline)) inline void unorm8_rows8(__m256i 
 }
 
 // filter8_color of one plane of one layer (kBytes: 8-bit unorm bytes, 1 rgba8 or 2 narrow, and the fixed-point rule,
-// else floats).
+// else floats). face: another plane of P's size to read (a cube map's other faces), else P's own.
+// inside (CLAMP_TO_EDGE only): all ones in the lanes whose texels lie inside the plane, no clamp
+// applied (Fast2D::inside, as inside8: for LINEAR, i1 - i0 = 1 exactly when ifloor(u - 1/2) is in
+// [0, width - 2]; for NEAREST the clamp leaves i unchanged exactly when it is in [0, width - 1]).
 template <int kBytes, bool kLinear, WrapKind kWrap>
 __attribute__((target("avx2"), always_inline)) inline void filter8_shaped(const Plane8& P, const float* s, const float* t,
-                                                                          __m256 out[4]) {
-    const Plane& p = *P.p;
+                                                                          __m256 out[4], const Plane* face = nullptr,
+                                                                          __m256i* inside = nullptr) {
+    const Plane& p = face ? *face : *P.p;
     const __m256 u = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(s), P.width_f), P.off_s);
     const __m256 v = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(t), P.height_f), P.off_t);
     __m256i i0, i1, j0, j1;
     if constexpr (!kLinear) {
-        wrap_shaped8<kWrap, false>(ifloor_floored8(_mm256_floor_ps(u)), P.last_i, i0, i1);
-        wrap_shaped8<kWrap, false>(ifloor_floored8(_mm256_floor_ps(v)), P.last_j, j0, j1);
+        const __m256i i = ifloor_floored8(_mm256_floor_ps(u)), j = ifloor_floored8(_mm256_floor_ps(v));
+        wrap_shaped8<kWrap, false>(i, P.last_i, i0, i1);
+        wrap_shaped8<kWrap, false>(j, P.last_j, j0, j1);
+        if constexpr (kWrap == WrapKind::Clamp)
+            if (inside) *inside = _mm256_and_si256(_mm256_cmpeq_epi32(i, i0), _mm256_cmpeq_epi32(j, j0));
         texels_shaped8<kBytes>(p, _mm256_add_epi32(_mm256_mullo_epi32(j0, P.width), i0), false, out);
     } else {
         const __m256 half = _mm256_set1_ps(0.5f);
@@ -1592,6 +1743,12 @@ __attribute__((target("avx2"), always_inline)) inline void filter8_shaped(const 
         const __m256 fu = _mm256_floor_ps(u0), fv = _mm256_floor_ps(v0);
         wrap_shaped8<kWrap, true>(ifloor_floored8(fu), P.last_i, i0, i1);
         wrap_shaped8<kWrap, true>(ifloor_floored8(fv), P.last_j, j0, j1);
+        if constexpr (kWrap == WrapKind::Clamp)
+            if (inside) {
+                const __m256i one = _mm256_set1_epi32(1);
+                *inside = _mm256_and_si256(_mm256_cmpeq_epi32(_mm256_sub_epi32(i1, i0), one),
+                                           _mm256_cmpeq_epi32(_mm256_sub_epi32(j1, j0), one));
+            }
         const __m256 a = _mm256_sub_ps(u0, fu), b = _mm256_sub_ps(v0, fv);
         const __m256i row0 = _mm256_mullo_epi32(j0, P.width), row1 = _mm256_mullo_epi32(j1, P.width);
         const __m256i at[4] = {_mm256_add_epi32(row0, i0), _mm256_add_epi32(row0, i1), _mm256_add_epi32(row1, i0),
@@ -1724,6 +1881,204 @@ inline Blocks8 shaped_blocks8(const Fast2D& f, const ColourQuery& cq, bool one_s
     if (wrap == WrapKind::RepeatPot) SOFTGL_SHAPED(0, WrapKind::RepeatPot)
     SOFTGL_SHAPED(0, WrapKind::Clamp)
 #undef SOFTGL_SHAPED
+}
+
+// ---- Cube maps in blocks of 8 (AVX2), channel-major as the shaped colour blocks: faces, face
+// coordinates and (for a level choice) their derivatives of 8 lanes at once (cube_coords8), one
+// level choice for the block (choose_block8 on lambdas computed 8 at a time, as one_lane computes
+// them lane by lane), then each face the block's lanes select filtered for all 8 lanes by the
+// shaped filter of the query's storage (bytes: the fixed-point rule by rows) and each lane taking
+// its own face's result. Per lane the same operations in the same order as one_lane, so the same
+// bits. Every face of a cube level has one size, so face 0's Plane8 serves all six.
+
+struct CubeQuery {
+    const Fast2D* f;
+    const glsl::TextureQuery* q;
+    float w, h;          // the base level's size (lambda)
+    LambdaMemo* memo;
+    bool seamless;       // lanes whose footprint leaves the face go to sample_lane
+};
+
+// One face of a cube map filtered for 8 lanes at the block's levels: planes[level]'s sizes, the
+// face's texels. inside: the lanes whose texels lie inside the face at every level read (the
+// same for all faces).
+template <int kBytes, LevelMode kMode>
+__attribute__((target("avx2"), always_inline)) inline void cube_face8(const Fast2D& f, Planes8& planes, const BlockChoice& bc,
+                                                                      int face, const float* s8, const float* t8,
+                                                                      __m256 dst[4], __m256i& inside) {
+    const Plane* levels = f.planes + size_t(face) * size_t(f.face_stride);
+    if (bc.linear) filter8_shaped<kBytes, true, WrapKind::Clamp>(planes[bc.first], s8, t8, dst, &levels[bc.first], &inside);
+    else filter8_shaped<kBytes, false, WrapKind::Clamp>(planes[bc.first], s8, t8, dst, &levels[bc.first], &inside);
+    if (kMode != LevelMode::PerBlock || bc.second < 0) return;
+    __m256 b[4];
+    __m256i inside_second;
+    if (bc.linear) filter8_shaped<kBytes, true, WrapKind::Clamp>(planes[bc.second], s8, t8, b, &levels[bc.second], &inside_second);
+    else filter8_shaped<kBytes, false, WrapKind::Clamp>(planes[bc.second], s8, t8, b, &levels[bc.second], &inside_second);
+    inside = _mm256_and_si256(inside, inside_second);
+    // (1 - frac) a + frac b per channel, as Fast2D::filter(LevelChoice).
+    const __m256 ng = _mm256_sub_ps(_mm256_set1_ps(1.0f), bc.frac);
+    for (int c = 0; c < 4; ++c) dst[c] = _mm256_add_ps(_mm256_mul_ps(ng, dst[c]), _mm256_mul_ps(bc.frac, b[c]));
+}
+
+// The block's lanes on up to 3 distinct levels (ch: each lane's choice, one filter for all; inactive
+// lanes take an active lane's): each face the active lanes select, each level filtered for all 8
+// lanes, each lane taking (or blending, as Fast2D::filter(LevelChoice)) its own levels' results
+// on its own face, as filter8_color(levels) does for one plane. inside: per lane, whether its
+// texels lie inside the face at each level it reads.
+template <int kBytes, bool kLinear>
+__attribute__((target("avx2"))) void cube_levels8(const Fast2D& f, Planes8& planes, const LevelChoice ch[8],
+                                                  const int32_t levels[3], int count, uint32_t active,
+                                                  const int32_t face8[8], const float* s8, const float* t8,
+                                                  __m256 result[4], __m256i& inside) {
+    // Per level, the lanes whose first / second level it is (all ones per lane).
+    alignas(32) int32_t first[3][8] = {}, second[3][8] = {}, blended[8] = {};
+    for (int k = 0; k < 8; ++k) {
+        for (int i = 0; i < count; ++i) {
+            if (ch[k].first == levels[i]) first[i][k] = -1;
+            if (ch[k].second == levels[i]) second[i][k] = -1;
+        }
+        blended[k] = ch[k].second >= 0 ? -1 : 0;
+    }
+    const __m256 g = fractions8(ch), ng = _mm256_sub_ps(_mm256_set1_ps(1.0f), g);
+    const __m256 blend = _mm256_load_ps(reinterpret_cast<const float*>(blended));
+    const __m256i face_v = _mm256_load_si256(reinterpret_cast<const __m256i*>(face8));
+    uint32_t faces = 0;
+    for (uint32_t left = active; left; left &= left - 1) faces |= 1u << face8[__builtin_ctz(left)];
+    __m256i in_level[3];
+    for (uint32_t left = faces; left; left &= left - 1) {
+        const int face = __builtin_ctz(left);
+        const Plane* face_levels = f.planes + size_t(face) * size_t(f.face_stride);
+        __m256 by_level[3][4];
+        for (int i = 0; i < count; ++i)
+            filter8_shaped<kBytes, kLinear, WrapKind::Clamp>(planes[levels[i]], s8, t8, by_level[i], &face_levels[levels[i]],
+                                                             &in_level[i]);
+        const __m256 mine = _mm256_castsi256_ps(_mm256_cmpeq_epi32(face_v, _mm256_set1_epi32(face)));
+        for (int c = 0; c < 4; ++c) {
+            __m256 a = by_level[0][c], b = by_level[0][c];
+            for (int i = 1; i < count; ++i) {
+                a = _mm256_blendv_ps(a, by_level[i][c], _mm256_load_ps(reinterpret_cast<const float*>(first[i])));
+                b = _mm256_blendv_ps(b, by_level[i][c], _mm256_load_ps(reinterpret_cast<const float*>(second[i])));
+            }
+            const __m256 part = _mm256_blendv_ps(a, _mm256_add_ps(_mm256_mul_ps(ng, a), _mm256_mul_ps(g, b)), blend);
+            result[c] = _mm256_blendv_ps(result[c], part, mine);
+        }
+    }
+    // A lane is inside when it is inside at every level it reads (the same at every face: one size).
+    inside = _mm256_set1_epi32(-1);
+    for (int i = 0; i < count; ++i) {
+        const __m256i reads = _mm256_or_si256(_mm256_load_si256(reinterpret_cast<const __m256i*>(first[i])),
+                                              _mm256_load_si256(reinterpret_cast<const __m256i*>(second[i])));
+        inside = _mm256_and_si256(inside, _mm256_or_si256(in_level[i], _mm256_xor_si256(reads, _mm256_set1_epi32(-1))));
+    }
+}
+
+// One block of lanes l .. l + 7: false (nothing written) when its lanes do not share their levels
+// (the caller takes the block by the general code); else the results are stored and `outside`
+// holds the active lanes whose texels cross a face edge under seamless filtering, which the
+// caller samples again by sample_lane (ES 3.0 §3.8.9.1), as one_lane does.
+template <int kBytes, LevelMode kMode>
+__attribute__((target("avx2"))) bool cube_block8(const CubeQuery& cq, Planes8& planes, int l, uint32_t& outside) {
+    const glsl::TextureQuery& q = *cq.q;
+    const Fast2D& f = *cq.f;
+    glsl::Scalar* const out[4] = {q.out[0], q.out[1], q.out[2], q.out[3]};
+    outside = 0;
+    const uint32_t active = active8(q, l);
+    __m256 result[4] = {_mm256_setzero_ps(), _mm256_setzero_ps(), _mm256_setzero_ps(), _mm256_setzero_ps()};
+    if (!active) return store8(result, out, l, 0xFFu), true;
+    alignas(32) int32_t face8[8];
+    alignas(32) float s8[8], t8[8];
+    BlockChoice bc;
+    if constexpr (kMode != LevelMode::PerBlock) {
+        cube_coords8(&q.coord[0][l].f, &q.coord[1][l].f, &q.coord[2][l].f, face8, s8, t8);
+        bc.linear = kMode == LevelMode::FixedLinear;
+    } else {
+        alignas(32) float ds[2][8], dt[2][8], lambda[8];
+        const float* ddx[3], *ddy[3];
+        for (int k = 0; k < 3; ++k) ddx[k] = q.ddx[k] ? &q.ddx[k][l].f : nullptr, ddy[k] = q.ddy[k] ? &q.ddy[k][l].f : nullptr;
+        cube_coords8(&q.coord[0][l].f, &q.coord[1][l].f, &q.coord[2][l].f, face8, s8, t8, ddx, ddy, ds, dt);
+        if (q.lod_mode == TextureLod::Explicit) {
+            // lambda_at: the lanes' explicit level (0 without one), no bias.
+            _mm256_store_ps(lambda, q.lod ? _mm256_loadu_ps(&q.lod[l].f) : _mm256_setzero_ps());
+        } else {
+            // lambda_of_derivatives of the face derivatives (dx = ds[0], dt[0]; dy = ds[1], dt[1]):
+            // float products by the size, squared and summed in double, the larger of x and y.
+            // (Its third terms add +0 to a sum of squares, which changes nothing.)
+            const __m256 ws = _mm256_set1_ps(cq.w), hs = _mm256_set1_ps(cq.h);
+            const __m256 x0 = _mm256_mul_ps(_mm256_load_ps(ds[0]), ws), x1 = _mm256_mul_ps(_mm256_load_ps(dt[0]), hs);
+            const __m256 y0 = _mm256_mul_ps(_mm256_load_ps(ds[1]), ws), y1 = _mm256_mul_ps(_mm256_load_ps(dt[1]), hs);
+            alignas(32) double rho2[8];
+            for (int half = 0; half < 2; ++half) {
+                const __m256d lx2 = _mm256_add_pd(square_wide(x0, half), square_wide(x1, half));
+                const __m256d ly2 = _mm256_add_pd(square_wide(y0, half), square_wide(y1, half));
+                _mm256_store_pd(rho2 + 4 * half, _mm256_max_pd(ly2, lx2));   // = std::max(lx2, ly2)
+            }
+            lambdas_of_rho2_8(q, l, rho2, *cq.memo, lambda);
+        }
+        __m256 v = _mm256_load_ps(lambda);
+        if (active != 0xFFu) {
+            // Inactive lanes take the first active lane's lambda, so that they add no level.
+            const __m256i bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+            const __m256 off = _mm256_castsi256_ps(
+                _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(int(active)), bit), _mm256_setzero_si256()));
+            v = _mm256_blendv_ps(v, _mm256_set1_ps(lambda[__builtin_ctz(active)]), off);
+        }
+        if (!choose_block8(f, v, bc)) {
+            // Lanes on different levels: chosen lane by lane (as choose_lanes), at most 3 levels
+            // with one filter filtered for the block, else the general code.
+            _mm256_store_ps(lambda, v);
+            LevelChoice ch[8];
+            for (int k = 0; k < 8; ++k) ch[k] = f.choose(lambda[k]);
+            int32_t levels[3];
+            const int count = distinct_levels(ch, 8, levels);
+            if (!count) return false;
+            __m256i inside;
+            if (ch[0].linear) cube_levels8<kBytes, true>(f, planes, ch, levels, count, active, face8, s8, t8, result, inside);
+            else cube_levels8<kBytes, false>(f, planes, ch, levels, count, active, face8, s8, t8, result, inside);
+            store8(result, out, l, ~active & 0xFFu);
+            if (cq.seamless) outside = ~uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(inside))) & active;
+            return true;
+        }
+    }
+    // The faces of the active lanes: usually one (the first active lane's).
+    const __m256i face_v = _mm256_load_si256(reinterpret_cast<const __m256i*>(face8));
+    const int first_face = face8[__builtin_ctz(active)];
+    const uint32_t on_first =
+        uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(face_v, _mm256_set1_epi32(first_face)))));
+    uint32_t faces = 1u << first_face;
+    for (uint32_t left = active & ~on_first; left; left &= left - 1) faces |= 1u << face8[__builtin_ctz(left)];
+    __m256i inside;
+    if (faces == 1u << first_face) {
+        cube_face8<kBytes, kMode>(f, planes, bc, first_face, s8, t8, result, inside);
+    } else {
+        for (uint32_t left = faces; left; left &= left - 1) {
+            const int face = __builtin_ctz(left);
+            __m256 part[4];
+            cube_face8<kBytes, kMode>(f, planes, bc, face, s8, t8, part, inside);
+            const __m256 mine = _mm256_castsi256_ps(_mm256_cmpeq_epi32(face_v, _mm256_set1_epi32(face)));
+            for (int c = 0; c < 4; ++c) result[c] = _mm256_blendv_ps(result[c], part[c], mine);
+        }
+    }
+    store8(result, out, l, ~active & 0xFFu);
+    if (cq.seamless) outside = ~uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(inside))) & active;
+    return true;
+}
+
+using CubeBlock8 = bool (*)(const CubeQuery&, Planes8&, int, uint32_t&);
+
+// The cube block for a query's storage and level mode, or null (levels of mixed storage, or
+// texel numbers beyond int32: the general code).
+inline CubeBlock8 cube_blocks8(const Fast2D& f, bool one_storage, LevelMode mode) {
+    if (!one_storage) return nullptr;
+#define SOFTGL_CUBE(B)                                                                         \
+    switch (mode) {                                                                            \
+        case LevelMode::FixedNearest: return cube_block8<B, LevelMode::FixedNearest>;          \
+        case LevelMode::FixedLinear: return cube_block8<B, LevelMode::FixedLinear>;            \
+        default: return cube_block8<B, LevelMode::PerBlock>;                                   \
+    }
+    if (f.planes[0].rgba8) SOFTGL_CUBE(1)
+    if (f.planes[0].narrow) SOFTGL_CUBE(2)   // Image::narrow: shaped_words8 decodes the texels
+    SOFTGL_CUBE(0)
+#undef SOFTGL_CUBE
 }
 
 // ---- AVX-512: blocks of 16 lanes, results straight into the structure-of-arrays outputs.
@@ -2352,18 +2707,27 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
     // texel numbers, and whether all have power-of-two sizes.
     const bool bytes = f.planes[0].rgba8 != nullptr || f.planes[0].narrow != nullptr;
     [[maybe_unused]] bool one_storage = true, pot = true;
-    for (int face = 0; face < faces; ++face)
-        for (int32_t k = 0; k <= bt.q - bt.base; ++k) {
-            const Plane& level = f.planes[size_t(face) * size_t(f.face_stride) + size_t(k)];
-            if (level.width == 0 || (level.depth != nullptr) != depth) return false;
-            // The vector paths index texels in int32 (8-bit unorm planes: across layers too).
-            const bool fits = int32_indices(level);
-            const bool level_bytes = level.rgba8 != nullptr || level.narrow != nullptr;
-            if (level_bytes && !fits) return false;
-            one_storage = one_storage && level_bytes == bytes && level.unorm8 == bytes &&
-                          (bytes || level.color != nullptr) && fits;
-            pot = pot && level.width_pot && level.height_pot;
+    for (int32_t k = 0; k <= bt.q - bt.base; ++k) {
+        const Plane& level = f.planes[size_t(k)];
+        if (level.width == 0 || (level.depth != nullptr) != depth) return false;
+        // The vector paths index texels in int32 (8-bit unorm planes: across layers too).
+        const bool fits = int32_indices(level);
+        const bool level_bytes = level.rgba8 != nullptr || level.narrow != nullptr;
+        if (level_bytes && !fits) return false;
+        one_storage = one_storage && level_bytes == bytes && level.unorm8 == bytes &&
+                      (bytes || level.color != nullptr) && fits;
+        pot = pot && level.width_pot && level.height_pot;
+        // A complete cube map's faces have each level's size and format (ES 3.0 §3.8.14): the
+        // other faces' planes only need to be there and stored as face 0's (else: lane by lane).
+        for (int face = 1; face < faces; ++face) {
+            const Plane& other = f.planes[size_t(face) * size_t(f.face_stride) + size_t(k)];
+            if (other.width != level.width || other.height != level.height || other.layers != level.layers ||
+                (other.depth != nullptr) != depth || (other.rgba8 != nullptr) != (level.rgba8 != nullptr) ||
+                (other.narrow != nullptr) != (level.narrow != nullptr) || other.narrow_bytes != level.narrow_bytes ||
+                (other.color != nullptr) != (level.color != nullptr) || other.unorm8 != level.unorm8)
+                return false;
         }
+    }
     f.compare = q.shadow && p.compare_mode == gl::COMPARE_REF_TO_TEXTURE;
     f.compare_func = p.compare_func;
     f.luminance = bt.depth_as_luminance;
@@ -2470,6 +2834,10 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
         };
         glsl::Scalar* const out[4] = {q.out[0], q.out[1], q.out[2], q.out[3]};
         while (l + 8 <= q.lane_count) {
+            if (depth_block8(cq, l)) {
+                l += 8;
+                continue;
+            }
             const uint32_t active = active_lanes();
             const float* s = &q.coord[0][l].f;
             const float* t = &q.coord[1][l].f;
@@ -2506,6 +2874,11 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
     // blocks on one face, one level and inside the face filtered by filter8, else lane by lane.
     if (simd != SimdBlocks::None && cube && q.coord[0] && q.coord[1] && q.coord[2]) {
         glsl::Scalar* const out[4] = {q.out[0], q.out[1], q.out[2], q.out[3]};
+        // Colour cube maps of one storage: cube_block8 (blocks whose lanes share their levels).
+        const LevelMode mode = needs_lambda ? LevelMode::PerBlock : fixed.linear ? LevelMode::FixedLinear : LevelMode::FixedNearest;
+        const CubeBlock8 cube_block8 = depth ? nullptr : cube_blocks8(f, one_storage, mode);
+        const CubeQuery cube_query{&f, &q, w, h, &lambda_of, bt.seamless_cube};
+        Planes8 cube_planes(f);
         const auto all_active = [&](int first) {
             if (!q.active) return true;
             for (int k = 0; k < 8; ++k)
@@ -2566,6 +2939,12 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
             return true;
         };
         while (l + 8 <= q.lane_count) {
+            uint32_t outside;
+            if (cube_block8 && cube_block8(cube_query, cube_planes, l, outside)) {
+                for (; outside; outside &= outside - 1) sample_lane(q, l + __builtin_ctz(outside));
+                l += 8;
+                continue;
+            }
             if (all_active(l) && cube_block()) {
                 l += 8;
                 continue;
