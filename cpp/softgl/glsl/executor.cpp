@@ -138,6 +138,19 @@ Executor::Executor(const IrProgram& program, int batch_lanes) : program_(program
     }
     fuse_products(program, is_slot);
     fuse_normalize_and_pairs(program, is_slot);
+    textures_ = program.textures;
+    fuse_texture_moves(program, is_slot);
+    // run_batch's slots. An input register that no instruction reads and no output holds is
+    // never looked at: not pointed at, copied or zeroed (gl_FragCoord, gl_PointCoord... unread).
+    std::vector<uint8_t> read(R, 0);
+    for (const Instruction& i : program.code) for_each_read(program, i, [&](Reg r) { read[r] = 1; });
+    for (const Slot& s : program.outputs) if (s.reg < R) read[s.reg] = 1;
+    for (size_t k = 0; k < program.inputs.size(); ++k) {
+        const Reg r = program.inputs[k].reg;
+        if (r < R && read[r]) batch_inputs_.push_back({uint32_t(k), r, input_alias_[k] != 0, bool(program.is_variable[r])});
+    }
+    for (size_t k = 0; k < program.outputs.size(); ++k)
+        batch_outputs_.push_back({uint32_t(k), program.outputs[k].reg, output_alias_[k] != 0, false});
     int depth = 0;
     for (const Instruction& i : program.code) {
         if (i.op == Op::IfBegin || i.op == Op::LoopBegin || i.op == Op::SwitchBegin || i.op == Op::FunctionBegin) max_depth_ = std::max(max_depth_, ++depth);
@@ -287,6 +300,86 @@ void Executor::fuse_normalize_and_pairs(const IrProgram& program, const std::vec
     code_ = std::move(fused.code);
 }
 
+// `texture rT..; mov X, rT` where rT is a temporary only that Mov reads: the lookup writes X
+// itself. Only before the first control flow (other than entering a function), where every lane
+// is active, so the lookup writes every lane of X (inactive lanes too: (0, 0, 0, 1)) and the Mov
+// copied every lane; X is neither an operand of the lookup nor read or written between the two.
+// The same values in X, one pass over the lanes fewer.
+void Executor::fuse_texture_moves(const IrProgram& program, const std::vector<uint8_t>& is_slot) {
+    const size_t R = program.register_count;
+    std::vector<uint8_t> is_constant(R, 0);
+    for (const ConstantRegister& c : program.constants) is_constant[c.reg] = 1;
+    auto each_read = [&](const Instruction& i, auto&& f) {
+        if (i.op == Op::FDot || i.op == Op::FNormalize) {
+            const std::array<Reg, 8>& p = products_[static_cast<size_t>(i.imm[0])];
+            for (Reg r : p) if (r != kNoReg) f(r);
+        } else if (i.op == Op::FPair) {
+            f(i.a), f(i.b), f(i.c);
+        } else {
+            for_each_read(program, i, f);
+        }
+    };
+    auto each_write = [&](const Instruction& i, auto&& f) {
+        if (i.op == Op::FNormalize) {
+            const std::array<Reg, 8>& p = products_[static_cast<size_t>(i.imm[0])];
+            for (int k = 4; k < 8; ++k) if (p[k] != kNoReg) f(p[k]);
+        } else if (i.op == Op::Texture) {
+            for (Reg r : textures_[static_cast<size_t>(i.texture)].dst) if (r != kNoReg) f(r);
+        } else if (i.op != Op::FDot && i.op != Op::FPair) {
+            for_each_write(program, i, f);
+        } else {
+            f(i.dst);
+        }
+    };
+    std::vector<int> reads(R, 0), lookups(program.textures.size(), 0);
+    for (const Instruction& i : code_) {
+        each_read(i, [&](Reg r) { ++reads[r]; });
+        if (i.op == Op::Texture) ++lookups[static_cast<size_t>(i.texture)];
+    }
+    std::vector<uint8_t> dropped(code_.size(), 0);
+    bool any = false;
+    for (size_t k = 0; k < code_.size(); ++k) {
+        const Instruction& i = code_[k];
+        if (op_is_control(i.op) && i.op != Op::FunctionBegin) break;   // the prefix only
+        if (i.op != Op::Texture || lookups[static_cast<size_t>(i.texture)] != 1) continue;
+        TextureOperands& t = textures_[static_cast<size_t>(i.texture)];
+        for (int c = 0; c < 4; ++c) {
+            const Reg d = t.dst[c];
+            if (d == kNoReg || d >= R || program.is_variable[d] || is_slot[d] || is_constant[d] || reads[d] != 1) continue;
+            // The one reader, with no control flow before it.
+            size_t j = k + 1;
+            bool reached = false;
+            for (; j < code_.size() && !(op_is_control(code_[j].op) && code_[j].op != Op::FunctionBegin); ++j) {
+                bool reads_d = false;
+                each_read(code_[j], [&](Reg r) { reads_d = reads_d || r == d; });
+                if (reads_d) { reached = true; break; }
+            }
+            if (!reached || dropped[j] || code_[j].op != Op::Mov || code_[j].a != d) continue;
+            const Reg x = code_[j].dst;
+            bool clear = x != d && x < R && !is_constant[x];
+            Instruction lookup = i;
+            for_each_read(program, lookup, [&](Reg r) { clear = clear && r != x; });
+            for (int e = 0; e < 4; ++e) clear = clear && t.dst[e] != x;
+            for (size_t m = k + 1; m < j && clear; ++m) {
+                if (dropped[m]) continue;
+                each_read(code_[m], [&](Reg r) { clear = clear && r != x; });
+                each_write(code_[m], [&](Reg r) { clear = clear && r != x; });
+            }
+            if (!clear) continue;
+            t.dst[c] = x;
+            dropped[j] = 1;
+            any = true;
+        }
+    }
+    if (!any) return;
+    IrProgram fused;
+    fused.code.reserve(code_.size());
+    for (size_t k = 0; k < code_.size(); ++k)
+        if (!dropped[k]) fused.code.push_back(code_[k]);
+    link_control_flow(fused);
+    code_ = std::move(fused.code);
+}
+
 Executor::~Executor() = default;
 
 void Executor::run(const StageRun& run) {
@@ -308,21 +401,19 @@ void Executor::run(const StageRun& run) {
 void Executor::run_batch(const StageRun& run, int first, int lanes) {
     // Point the aliased registers at this batch's part of the caller's arrays (an input that
     // the caller does not supply reads its own storage, which stays zero: it is never written).
-    for (size_t i = 0; i < program_.outputs.size(); ++i) {
-        const Reg r = program_.outputs[i].reg;
-        Scalar* dst = run.outputs ? run.outputs[i] : nullptr;
-        reg_ptr_[r] = i < output_alias_.size() && output_alias_[i] && dst ? dst + first : own(r);
+    for (const BatchSlot& o : batch_outputs_) {
+        Scalar* dst = run.outputs ? run.outputs[o.slot] : nullptr;
+        reg_ptr_[o.reg] = o.alias && dst ? dst + first : own(o.reg);
     }
-    for (size_t i = 0; i < program_.inputs.size(); ++i) {
-        const Reg r = program_.inputs[i].reg;
-        const Scalar* src = run.inputs ? run.inputs[i] : nullptr;
-        reg_ptr_[r] = i < input_alias_.size() && input_alias_[i] && src ? const_cast<Scalar*>(src + first) : own(r);
+    for (const BatchSlot& in : batch_inputs_) {
+        const Scalar* src = run.inputs ? run.inputs[in.slot] : nullptr;
+        reg_ptr_[in.reg] = in.alias && src ? const_cast<Scalar*>(src + first) : own(in.reg);
     }
     for (Reg r : variable_registers_) std::memset(static_cast<void*>(reg(r)), 0, sizeof(Scalar) * lanes);
-    for (size_t i = 0; i < program_.inputs.size(); ++i) {
-        const Scalar* src = run.inputs ? run.inputs[i] : nullptr;
-        if (src) { if (i >= input_alias_.size() || !input_alias_[i]) std::memcpy(reg(program_.inputs[i].reg), src + first, sizeof(Scalar) * lanes); }
-        else if (program_.is_variable[program_.inputs[i].reg]) std::memset(static_cast<void*>(reg(program_.inputs[i].reg)), 0, sizeof(Scalar) * lanes);
+    for (const BatchSlot& in : batch_inputs_) {
+        const Scalar* src = run.inputs ? run.inputs[in.slot] : nullptr;
+        if (src) { if (!in.alias) std::memcpy(reg(in.reg), src + first, sizeof(Scalar) * lanes); }
+        else if (in.variable) std::memset(static_cast<void*>(reg(in.reg)), 0, sizeof(Scalar) * lanes);
     }
     switch (simd_) {
     case SimdLevel::AVX512: execute_avx512(lanes, run); break;
@@ -330,9 +421,9 @@ void Executor::run_batch(const StageRun& run, int first, int lanes) {
     case SimdLevel::SSE2:
     case SimdLevel::Scalar: execute_portable(lanes, run); break;
     }
-    for (size_t i = 0; i < program_.outputs.size(); ++i) {
-        Scalar* dst = run.outputs ? run.outputs[i] : nullptr;
-        if (dst && (i >= output_alias_.size() || !output_alias_[i])) std::memcpy(dst + first, reg(program_.outputs[i].reg), sizeof(Scalar) * lanes);
+    for (const BatchSlot& o : batch_outputs_) {
+        Scalar* dst = run.outputs ? run.outputs[o.slot] : nullptr;
+        if (dst && !o.alias) std::memcpy(dst + first, reg(o.reg), sizeof(Scalar) * lanes);
     }
     if (run.discarded) {
         const uint32_t* killed = mask_storage_.data() + static_cast<size_t>(2 * max_depth_ + 1) * batch_;
@@ -834,7 +925,7 @@ void Executor::execute_avx512(int n, const StageRun& run) { execute(n, run); }
 void Executor::execute_portable(int n, const StageRun& run) { execute(n, run); }
 
 void Executor::texture(const Instruction& ins, int n, const StageRun& run) {
-    const TextureOperands& t = program_.textures[ins.texture];
+    const TextureOperands& t = textures_[static_cast<size_t>(ins.texture)];
     TextureQuery q;
     q.kind = t.kind;
     q.dim = t.dim;
