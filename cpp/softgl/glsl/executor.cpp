@@ -1,5 +1,9 @@
 #include "softgl/glsl/executor.h"
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -390,9 +394,16 @@ void Executor::run(const StageRun& run) {
     }
     unflushed_ = 0;
     const int lanes = std::min(batch_, run.lane_count);
+    // Nothing else writes these registers, so a value already in the lanes stays: refilled only
+    // when it changes or more lanes are needed (a draw's runs share their uniforms).
+    prologue_filled_.resize(prologue_end_, {0u, 0});
     for (size_t pc = 0; pc < prologue_end_; ++pc) {
         const Instruction& i = code_[pc];
-        fill(own(i.dst), lanes, run.uniforms ? run.uniforms[i.imm[0]] : Scalar{});
+        const Scalar value = run.uniforms ? run.uniforms[i.imm[0]] : Scalar{};
+        std::pair<uint32_t, int>& filled = prologue_filled_[pc];
+        if (filled.second >= lanes && filled.first == value.u) continue;
+        fill(own(i.dst), lanes, value);
+        filled = {value.u, lanes};
     }
     for (int first = 0; first < run.lane_count; first += batch_) run_batch(run, first, std::min(batch_, run.lane_count - first));
     if (unflushed_) flush_charges();   // loops ran: their last iterations (straight-line code is not charged)
@@ -958,7 +969,18 @@ void Executor::texture(const Instruction& ins, int n, const StageRun& run) {
             Scalar* dy = dx + batch_;
             const Scalar* v = q.coord[k];
             int quads = program_.fragment ? n / 4 : 0;
-            for (int qd = 0; qd < quads; ++qd) {
+            int qd = 0;
+#if defined(__SSE2__)
+            // A quad at a time: the same subtractions of the same lanes.
+            for (; qd < quads; ++qd) {
+                const __m128 p = _mm_loadu_ps(&v[4 * qd].f);
+                _mm_storeu_ps(&dx[4 * qd].f, _mm_sub_ps(_mm_shuffle_ps(p, p, _MM_SHUFFLE(3, 3, 1, 1)),
+                                                      _mm_shuffle_ps(p, p, _MM_SHUFFLE(2, 2, 0, 0))));   // top, top, bottom, bottom
+                _mm_storeu_ps(&dy[4 * qd].f, _mm_sub_ps(_mm_shuffle_ps(p, p, _MM_SHUFFLE(3, 2, 3, 2)),
+                                                      _mm_shuffle_ps(p, p, _MM_SHUFFLE(1, 0, 1, 0))));   // left, right, left, right
+            }
+#endif
+            for (; qd < quads; ++qd) {
                 const Scalar* p = v + 4 * qd;
                 float top = p[1].f - p[0].f, bottom = p[3].f - p[2].f, left = p[2].f - p[0].f, right = p[3].f - p[1].f;
                 dx[4 * qd].f = top; dx[4 * qd + 1].f = top; dx[4 * qd + 2].f = bottom; dx[4 * qd + 3].f = bottom;

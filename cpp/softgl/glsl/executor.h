@@ -15,6 +15,7 @@
 #include <array>
 #include <cstdint>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 #include "softgl/core/simd.h"
@@ -168,6 +169,7 @@ private:
     std::vector<int> output_alias_;   // per program output: 1 if its register may alias the caller's array
     std::vector<ExecutorFrame> frames_;
     size_t prologue_end_ = 0;      // leading uniform loads: filled once per run, not per batch
+    std::vector<std::pair<uint32_t, int>> prologue_filled_;   // per prologue load: the bits and lanes its register holds
     SimdLevel simd_ = SimdLevel::SSE2;
     bool skip_inactive_lanes_ = false;   // libm calls only in active lanes (see the constructor)
     int max_depth_ = 0;
