@@ -986,31 +986,11 @@ __attribute__((target("avx2"))) inline int lambda_exact4(__m256d rho2, __m128& l
     return same & _mm256_movemask_pd(finite);
 }
 
-// The lambdas of lanes l..l+7 (Implicit, Bias, Gradient), as lambda_at in sample_2d computes them:
-// rho² 8 at a time (float products, widened, squared and summed in double), log2 lane by lane.
-__attribute__((target("avx2"))) void lambda8(const glsl::TextureQuery& q, int l, float w, float h, LambdaMemo& lambda_of,
-                                             float out[8]) {
+// lambda8 (below) of a block whose derivatives differ between lanes: out of line, the longer case.
+__attribute__((target("avx2"), noinline)) void lambda8_lanes(const glsl::TextureQuery& q, int l, float w, float h,
+                                                            LambdaMemo& lambda_of, __m256 dx0, __m256 dx1, __m256 dy0,
+                                                            __m256 dy1, float out[8]) {
     const __m256 ws = _mm256_set1_ps(w), hs = _mm256_set1_ps(h), zero = _mm256_setzero_ps();
-    const __m256 dx0 = load8(q.ddx[0], l), dx1 = load8(q.ddx[1], l), dy0 = load8(q.ddy[0], l), dy1 = load8(q.ddy[1], l);
-    if (!q.ddx[2] && !q.ddy[2]) {
-        // Under affine coordinates the 8 lanes' derivatives are equal: lane 0's rho², computed as
-        // lambda_at does (equal floats, -0 = +0 included, give equal squares), one LambdaMemo lookup.
-        const __m256i first = _mm256_setzero_si256();
-        const __m256 same = _mm256_and_ps(
-            _mm256_and_ps(_mm256_cmp_ps(dx0, _mm256_permutevar8x32_ps(dx0, first), _CMP_EQ_OQ),
-                          _mm256_cmp_ps(dx1, _mm256_permutevar8x32_ps(dx1, first), _CMP_EQ_OQ)),
-            _mm256_and_ps(_mm256_cmp_ps(dy0, _mm256_permutevar8x32_ps(dy0, first), _CMP_EQ_OQ),
-                          _mm256_cmp_ps(dy1, _mm256_permutevar8x32_ps(dy1, first), _CMP_EQ_OQ)));
-        if (_mm256_movemask_ps(same) == 0xFF) {
-            const float x0 = _mm256_cvtss_f32(dx0) * w, x1 = _mm256_cvtss_f32(dx1) * h;
-            const float y0 = _mm256_cvtss_f32(dy0) * w, y1 = _mm256_cvtss_f32(dy1) * h;
-            const double lx2 = double(x0) * x0 + double(x1) * x1, ly2 = double(y0) * y0 + double(y1) * y1;
-            __m256 lambda = _mm256_set1_ps(lambda_of(std::max(lx2, ly2)));
-            if (q.lod_mode == TextureLod::Bias && q.lod) lambda = _mm256_add_ps(lambda, _mm256_loadu_ps(&q.lod[l].f));
-            _mm256_storeu_ps(out, lambda);
-            return;
-        }
-    }
     const __m256 x0 = _mm256_mul_ps(dx0, ws), x1 = _mm256_mul_ps(dx1, hs);
     const __m256 y0 = _mm256_mul_ps(dy0, ws), y1 = _mm256_mul_ps(dy1, hs);
     const __m256 x2 = _mm256_mul_ps(load8(q.ddx[2], l), zero), y2 = _mm256_mul_ps(load8(q.ddy[2], l), zero);
@@ -1048,6 +1028,35 @@ __attribute__((target("avx2"))) void lambda8(const glsl::TextureQuery& q, int l,
         }
     }
 }
+
+// The lambdas of lanes l..l+7 (Implicit, Bias, Gradient), as lambda_at in sample_2d computes them:
+// rho² 8 at a time (float products, widened, squared and summed in double). Inline: a block whose
+// lanes share their derivatives (affine coordinates) costs one LambdaMemo lookup and no call.
+__attribute__((target("avx2"), always_inline)) inline void lambda8(const glsl::TextureQuery& q, int l, float w, float h,
+                                                                  LambdaMemo& lambda_of, float out[8]) {
+    const __m256 dx0 = load8(q.ddx[0], l), dx1 = load8(q.ddx[1], l), dy0 = load8(q.ddy[0], l), dy1 = load8(q.ddy[1], l);
+    if (!q.ddx[2] && !q.ddy[2]) {
+        // Under affine coordinates the 8 lanes' derivatives are equal: lane 0's rho², computed as
+        // lambda_at does (equal floats, -0 = +0 included, give equal squares), one LambdaMemo lookup.
+        const __m256i first = _mm256_setzero_si256();
+        const __m256 same = _mm256_and_ps(
+            _mm256_and_ps(_mm256_cmp_ps(dx0, _mm256_permutevar8x32_ps(dx0, first), _CMP_EQ_OQ),
+                          _mm256_cmp_ps(dx1, _mm256_permutevar8x32_ps(dx1, first), _CMP_EQ_OQ)),
+            _mm256_and_ps(_mm256_cmp_ps(dy0, _mm256_permutevar8x32_ps(dy0, first), _CMP_EQ_OQ),
+                          _mm256_cmp_ps(dy1, _mm256_permutevar8x32_ps(dy1, first), _CMP_EQ_OQ)));
+        if (_mm256_movemask_ps(same) == 0xFF) {
+            const float x0 = _mm256_cvtss_f32(dx0) * w, x1 = _mm256_cvtss_f32(dx1) * h;
+            const float y0 = _mm256_cvtss_f32(dy0) * w, y1 = _mm256_cvtss_f32(dy1) * h;
+            const double lx2 = double(x0) * x0 + double(x1) * x1, ly2 = double(y0) * y0 + double(y1) * y1;
+            __m256 lambda = _mm256_set1_ps(lambda_of(std::max(lx2, ly2)));
+            if (q.lod_mode == TextureLod::Bias && q.lod) lambda = _mm256_add_ps(lambda, _mm256_loadu_ps(&q.lod[l].f));
+            _mm256_storeu_ps(out, lambda);
+            return;
+        }
+    }
+    lambda8_lanes(q, l, w, h, lambda_of, dx0, dx1, dy0, dy1, out);
+}
+
 
 // The levels every lane of a block of 8 takes (Fast2D::choose), when they are the same for all:
 // planes[first], blended with planes[second] by the lanes' own frac when second >= 0.
