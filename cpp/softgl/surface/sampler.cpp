@@ -1510,8 +1510,8 @@ __attribute__((target("avx2"))) int colour_blocks8(const ColourQuery& cq, int l,
     return l;
 }
 
-// ---- Colour block loops specialised by the query's shape (ShapedBlocks, chosen once per query
-// by sample_2d): the storage (bytes or floats), the wrap modes (REPEAT of powers of two, or
+// ---- Colour block loops specialised by the query's shape (kColourBlocks8, chosen once per draw
+// for each unit by plan_units): the storage (bytes or floats), the wrap modes (REPEAT of powers of two, or
 // CLAMP_TO_EDGE, on both axes and at every level the query can use) and the level choice (one
 // fixed filter, or the levels chosen per block), so that the block loop branches on none of them.
 // Per lane the same operations in the same order as filter8_color (whose branches on the wrap
@@ -2059,7 +2059,7 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512))) int colour_blocks16(const ColourQ
 }
 
 // ---- colour_blocks8_shaped in blocks of 16 (AVX-512): filter16's operations with the storage,
-// filter and wrap modes fixed at compile time (the same bits; see ShapedBlocks above).
+// filter and wrap modes fixed at compile time (the same bits; see kColourBlocks8 above).
 
 template <WrapKind kWrap, bool kPair>
 __attribute__((target(SOFTGL_SAMPLER_AVX512), always_inline)) inline void wrap_shaped16(__m512i i, __m512i last, __m512i& a,
