@@ -86,6 +86,8 @@ py::tuple sample_texture_hook(const std::string& path, int simd, py::list levels
     bt.base = 0;
     bt.q = needs_mipmaps(p.min_filter) ? max_sampled_level(*tex) : 0;
     tex->refresh_sampling(bt.base, bt.q);   // the level table, as a draw builds it when it binds the texture
+    const uint32_t filled[4] = {array ? 0u : 1u, 0u, 0u, array ? 1u : 0u};
+    sampler.plan_units(filled);   // and the unit's sampling plan
     std::vector<glsl::Scalar> unit(static_cast<size_t>(n)), in[8], outs[4];
     std::vector<uint32_t> lanes(static_cast<size_t>(n));
     for (py::ssize_t l = 0; l < n; ++l) lanes[size_t(l)] = active.data()[l] ? ~0u : 0u;

@@ -866,6 +866,8 @@ bool Context::prepare_textures_and_targets(const char* call) {
             tex->refresh_sampling(bt.base, bt.q);   // the level table and byte copies for the sampler
         }
     }
+    // Once every bound texture's level table is built: what each unit's lookups resolve per draw.
+    draw_sampler_.plan_units(draw_sampler_filled_);
     return check_draw_framebuffer(call, used_units);
 }
 

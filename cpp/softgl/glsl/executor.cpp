@@ -1,5 +1,12 @@
 #include "softgl/glsl/executor.h"
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+#include <immintrin.h>
+#endif
+
 #include <algorithm>
 #include <cmath>
 #include <cstring>
@@ -138,6 +145,19 @@ Executor::Executor(const IrProgram& program, int batch_lanes) : program_(program
     }
     fuse_products(program, is_slot);
     fuse_normalize_and_pairs(program, is_slot);
+    textures_ = program.textures;
+    fuse_texture_moves(program, is_slot);
+    // run_batch's slots. An input register that no instruction reads and no output holds is
+    // never looked at: not pointed at, copied or zeroed (gl_FragCoord, gl_PointCoord... unread).
+    std::vector<uint8_t> read(R, 0);
+    for (const Instruction& i : program.code) for_each_read(program, i, [&](Reg r) { read[r] = 1; });
+    for (const Slot& s : program.outputs) if (s.reg < R) read[s.reg] = 1;
+    for (size_t k = 0; k < program.inputs.size(); ++k) {
+        const Reg r = program.inputs[k].reg;
+        if (r < R && read[r]) batch_inputs_.push_back({uint32_t(k), r, input_alias_[k] != 0, bool(program.is_variable[r])});
+    }
+    for (size_t k = 0; k < program.outputs.size(); ++k)
+        batch_outputs_.push_back({uint32_t(k), program.outputs[k].reg, output_alias_[k] != 0, false});
     int depth = 0;
     for (const Instruction& i : program.code) {
         if (i.op == Op::IfBegin || i.op == Op::LoopBegin || i.op == Op::SwitchBegin || i.op == Op::FunctionBegin) max_depth_ = std::max(max_depth_, ++depth);
@@ -287,6 +307,86 @@ void Executor::fuse_normalize_and_pairs(const IrProgram& program, const std::vec
     code_ = std::move(fused.code);
 }
 
+// `texture rT..; mov X, rT` where rT is a temporary only that Mov reads: the lookup writes X
+// itself. Only before the first control flow (other than entering a function), where every lane
+// is active, so the lookup writes every lane of X (inactive lanes too: (0, 0, 0, 1)) and the Mov
+// copied every lane; X is neither an operand of the lookup nor read or written between the two.
+// The same values in X, one pass over the lanes fewer.
+void Executor::fuse_texture_moves(const IrProgram& program, const std::vector<uint8_t>& is_slot) {
+    const size_t R = program.register_count;
+    std::vector<uint8_t> is_constant(R, 0);
+    for (const ConstantRegister& c : program.constants) is_constant[c.reg] = 1;
+    auto each_read = [&](const Instruction& i, auto&& f) {
+        if (i.op == Op::FDot || i.op == Op::FNormalize) {
+            const std::array<Reg, 8>& p = products_[static_cast<size_t>(i.imm[0])];
+            for (Reg r : p) if (r != kNoReg) f(r);
+        } else if (i.op == Op::FPair) {
+            f(i.a), f(i.b), f(i.c);
+        } else {
+            for_each_read(program, i, f);
+        }
+    };
+    auto each_write = [&](const Instruction& i, auto&& f) {
+        if (i.op == Op::FNormalize) {
+            const std::array<Reg, 8>& p = products_[static_cast<size_t>(i.imm[0])];
+            for (int k = 4; k < 8; ++k) if (p[k] != kNoReg) f(p[k]);
+        } else if (i.op == Op::Texture) {
+            for (Reg r : textures_[static_cast<size_t>(i.texture)].dst) if (r != kNoReg) f(r);
+        } else if (i.op != Op::FDot && i.op != Op::FPair) {
+            for_each_write(program, i, f);
+        } else {
+            f(i.dst);
+        }
+    };
+    std::vector<int> reads(R, 0), lookups(program.textures.size(), 0);
+    for (const Instruction& i : code_) {
+        each_read(i, [&](Reg r) { ++reads[r]; });
+        if (i.op == Op::Texture) ++lookups[static_cast<size_t>(i.texture)];
+    }
+    std::vector<uint8_t> dropped(code_.size(), 0);
+    bool any = false;
+    for (size_t k = 0; k < code_.size(); ++k) {
+        const Instruction& i = code_[k];
+        if (op_is_control(i.op) && i.op != Op::FunctionBegin) break;   // the prefix only
+        if (i.op != Op::Texture || lookups[static_cast<size_t>(i.texture)] != 1) continue;
+        TextureOperands& t = textures_[static_cast<size_t>(i.texture)];
+        for (int c = 0; c < 4; ++c) {
+            const Reg d = t.dst[c];
+            if (d == kNoReg || d >= R || program.is_variable[d] || is_slot[d] || is_constant[d] || reads[d] != 1) continue;
+            // The one reader, with no control flow before it.
+            size_t j = k + 1;
+            bool reached = false;
+            for (; j < code_.size() && !(op_is_control(code_[j].op) && code_[j].op != Op::FunctionBegin); ++j) {
+                bool reads_d = false;
+                each_read(code_[j], [&](Reg r) { reads_d = reads_d || r == d; });
+                if (reads_d) { reached = true; break; }
+            }
+            if (!reached || dropped[j] || code_[j].op != Op::Mov || code_[j].a != d) continue;
+            const Reg x = code_[j].dst;
+            bool clear = x != d && x < R && !is_constant[x];
+            Instruction lookup = i;
+            for_each_read(program, lookup, [&](Reg r) { clear = clear && r != x; });
+            for (int e = 0; e < 4; ++e) clear = clear && t.dst[e] != x;
+            for (size_t m = k + 1; m < j && clear; ++m) {
+                if (dropped[m]) continue;
+                each_read(code_[m], [&](Reg r) { clear = clear && r != x; });
+                each_write(code_[m], [&](Reg r) { clear = clear && r != x; });
+            }
+            if (!clear) continue;
+            t.dst[c] = x;
+            dropped[j] = 1;
+            any = true;
+        }
+    }
+    if (!any) return;
+    IrProgram fused;
+    fused.code.reserve(code_.size());
+    for (size_t k = 0; k < code_.size(); ++k)
+        if (!dropped[k]) fused.code.push_back(code_[k]);
+    link_control_flow(fused);
+    code_ = std::move(fused.code);
+}
+
 Executor::~Executor() = default;
 
 void Executor::run(const StageRun& run) {
@@ -297,9 +397,16 @@ void Executor::run(const StageRun& run) {
     }
     unflushed_ = 0;
     const int lanes = std::min(batch_, run.lane_count);
+    // Nothing else writes these registers, so a value already in the lanes stays: refilled only
+    // when it changes or more lanes are needed (a draw's runs share their uniforms).
+    prologue_filled_.resize(prologue_end_, {0u, 0});
     for (size_t pc = 0; pc < prologue_end_; ++pc) {
         const Instruction& i = code_[pc];
-        fill(own(i.dst), lanes, run.uniforms ? run.uniforms[i.imm[0]] : Scalar{});
+        const Scalar value = run.uniforms ? run.uniforms[i.imm[0]] : Scalar{};
+        std::pair<uint32_t, int>& filled = prologue_filled_[pc];
+        if (filled.second >= lanes && filled.first == value.u) continue;
+        fill(own(i.dst), lanes, value);
+        filled = {value.u, lanes};
     }
     for (int first = 0; first < run.lane_count; first += batch_) run_batch(run, first, std::min(batch_, run.lane_count - first));
     if (unflushed_) flush_charges();   // loops ran: their last iterations (straight-line code is not charged)
@@ -308,21 +415,19 @@ void Executor::run(const StageRun& run) {
 void Executor::run_batch(const StageRun& run, int first, int lanes) {
     // Point the aliased registers at this batch's part of the caller's arrays (an input that
     // the caller does not supply reads its own storage, which stays zero: it is never written).
-    for (size_t i = 0; i < program_.outputs.size(); ++i) {
-        const Reg r = program_.outputs[i].reg;
-        Scalar* dst = run.outputs ? run.outputs[i] : nullptr;
-        reg_ptr_[r] = i < output_alias_.size() && output_alias_[i] && dst ? dst + first : own(r);
+    for (const BatchSlot& o : batch_outputs_) {
+        Scalar* dst = run.outputs ? run.outputs[o.slot] : nullptr;
+        reg_ptr_[o.reg] = o.alias && dst ? dst + first : own(o.reg);
     }
-    for (size_t i = 0; i < program_.inputs.size(); ++i) {
-        const Reg r = program_.inputs[i].reg;
-        const Scalar* src = run.inputs ? run.inputs[i] : nullptr;
-        reg_ptr_[r] = i < input_alias_.size() && input_alias_[i] && src ? const_cast<Scalar*>(src + first) : own(r);
+    for (const BatchSlot& in : batch_inputs_) {
+        const Scalar* src = run.inputs ? run.inputs[in.slot] : nullptr;
+        reg_ptr_[in.reg] = in.alias && src ? const_cast<Scalar*>(src + first) : own(in.reg);
     }
     for (Reg r : variable_registers_) std::memset(static_cast<void*>(reg(r)), 0, sizeof(Scalar) * lanes);
-    for (size_t i = 0; i < program_.inputs.size(); ++i) {
-        const Scalar* src = run.inputs ? run.inputs[i] : nullptr;
-        if (src) { if (i >= input_alias_.size() || !input_alias_[i]) std::memcpy(reg(program_.inputs[i].reg), src + first, sizeof(Scalar) * lanes); }
-        else if (program_.is_variable[program_.inputs[i].reg]) std::memset(static_cast<void*>(reg(program_.inputs[i].reg)), 0, sizeof(Scalar) * lanes);
+    for (const BatchSlot& in : batch_inputs_) {
+        const Scalar* src = run.inputs ? run.inputs[in.slot] : nullptr;
+        if (src) { if (!in.alias) std::memcpy(reg(in.reg), src + first, sizeof(Scalar) * lanes); }
+        else if (in.variable) std::memset(static_cast<void*>(reg(in.reg)), 0, sizeof(Scalar) * lanes);
     }
     switch (simd_) {
     case SimdLevel::AVX512: execute_avx512(lanes, run); break;
@@ -330,9 +435,9 @@ void Executor::run_batch(const StageRun& run, int first, int lanes) {
     case SimdLevel::SSE2:
     case SimdLevel::Scalar: execute_portable(lanes, run); break;
     }
-    for (size_t i = 0; i < program_.outputs.size(); ++i) {
-        Scalar* dst = run.outputs ? run.outputs[i] : nullptr;
-        if (dst && (i >= output_alias_.size() || !output_alias_[i])) std::memcpy(dst + first, reg(program_.outputs[i].reg), sizeof(Scalar) * lanes);
+    for (const BatchSlot& o : batch_outputs_) {
+        Scalar* dst = run.outputs ? run.outputs[o.slot] : nullptr;
+        if (dst && !o.alias) std::memcpy(dst + first, reg(o.reg), sizeof(Scalar) * lanes);
     }
     if (run.discarded) {
         const uint32_t* killed = mask_storage_.data() + static_cast<size_t>(2 * max_depth_ + 1) * batch_;
@@ -833,8 +938,26 @@ void Executor::execute_avx512(int n, const StageRun& run) { execute(n, run); }
 #endif
 void Executor::execute_portable(int n, const StageRun& run) { execute(n, run); }
 
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+namespace {
+// The implicit derivatives of quads [0, quads) two at a time (each 128-bit half one quad, as the
+// SSE2 loop in texture()): returns the quads done.
+__attribute__((target("avx2"))) int quad_derivatives_avx2(const Scalar* v, Scalar* dx, Scalar* dy, int quads) {
+    int qd = 0;
+    for (; qd + 2 <= quads; qd += 2) {
+        const __m256 p = _mm256_loadu_ps(&v[4 * qd].f);
+        _mm256_storeu_ps(&dx[4 * qd].f, _mm256_sub_ps(_mm256_permute_ps(p, _MM_SHUFFLE(3, 3, 1, 1)),
+                                                     _mm256_permute_ps(p, _MM_SHUFFLE(2, 2, 0, 0))));
+        _mm256_storeu_ps(&dy[4 * qd].f, _mm256_sub_ps(_mm256_permute_ps(p, _MM_SHUFFLE(3, 2, 3, 2)),
+                                                     _mm256_permute_ps(p, _MM_SHUFFLE(1, 0, 1, 0))));
+    }
+    return qd;
+}
+}  // namespace
+#endif
+
 void Executor::texture(const Instruction& ins, int n, const StageRun& run) {
-    const TextureOperands& t = program_.textures[ins.texture];
+    const TextureOperands& t = textures_[static_cast<size_t>(ins.texture)];
     TextureQuery q;
     q.kind = t.kind;
     q.dim = t.dim;
@@ -867,7 +990,21 @@ void Executor::texture(const Instruction& ins, int n, const StageRun& run) {
             Scalar* dy = dx + batch_;
             const Scalar* v = q.coord[k];
             int quads = program_.fragment ? n / 4 : 0;
-            for (int qd = 0; qd < quads; ++qd) {
+            int qd = 0;
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
+            if (simd_ >= SimdLevel::AVX2) qd = quad_derivatives_avx2(v, dx, dy, quads);
+#endif
+#if defined(__SSE2__)
+            // A quad at a time: the same subtractions of the same lanes.
+            for (; qd < quads; ++qd) {   // (the quads left)
+                const __m128 p = _mm_loadu_ps(&v[4 * qd].f);
+                _mm_storeu_ps(&dx[4 * qd].f, _mm_sub_ps(_mm_shuffle_ps(p, p, _MM_SHUFFLE(3, 3, 1, 1)),
+                                                      _mm_shuffle_ps(p, p, _MM_SHUFFLE(2, 2, 0, 0))));   // top, top, bottom, bottom
+                _mm_storeu_ps(&dy[4 * qd].f, _mm_sub_ps(_mm_shuffle_ps(p, p, _MM_SHUFFLE(3, 2, 3, 2)),
+                                                      _mm_shuffle_ps(p, p, _MM_SHUFFLE(1, 0, 1, 0))));   // left, right, left, right
+            }
+#endif
+            for (; qd < quads; ++qd) {
                 const Scalar* p = v + 4 * qd;
                 float top = p[1].f - p[0].f, bottom = p[3].f - p[2].f, left = p[2].f - p[0].f, right = p[3].f - p[1].f;
                 dx[4 * qd].f = top; dx[4 * qd + 1].f = top; dx[4 * qd + 2].f = bottom; dx[4 * qd + 3].f = bottom;

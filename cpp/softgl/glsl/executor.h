@@ -15,6 +15,7 @@
 #include <array>
 #include <cstdint>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 #include "softgl/core/simd.h"
@@ -131,6 +132,7 @@ private:
     void texture(const Instruction& ins, int lanes, const StageRun& run);
     void fuse_products(const IrProgram& program, const std::vector<uint8_t>& is_slot);
     void fuse_normalize_and_pairs(const IrProgram& program, const std::vector<uint8_t>& is_slot);
+    void fuse_texture_moves(const IrProgram& program, const std::vector<uint8_t>& is_slot);
 
     const IrProgram& program_;
     // The code that runs: the program's, with each chain `fmul, fmul, fadd (, fmul, fadd)...`
@@ -144,6 +146,18 @@ private:
     // is). The same operations in the same order, one pass instead of several: the same bits.
     std::vector<Instruction> code_;
     std::vector<std::array<Reg, 8>> products_;   // a0, b0, a1, b1, ...: sum of a_k * b_k
+    // The texture operands the code uses: the program's, except that fuse_texture_moves points a
+    // lookup's results straight at the registers the Movs after it copied them to.
+    std::vector<TextureOperands> textures_;
+    // What run_batch does per batch for each interface slot, resolved once: the inputs some
+    // instruction reads (or an output holds; the others are never pointed at nor filled), and the
+    // outputs. alias: the register may be the caller's array; variable: zeroed when not supplied.
+    struct BatchSlot {
+        uint32_t slot;
+        Reg reg;
+        bool alias, variable;
+    };
+    std::vector<BatchSlot> batch_inputs_, batch_outputs_;
     int batch_;
     std::vector<Scalar> registers_;
     std::vector<uint32_t> mask_storage_;
@@ -155,6 +169,7 @@ private:
     std::vector<int> output_alias_;   // per program output: 1 if its register may alias the caller's array
     std::vector<ExecutorFrame> frames_;
     size_t prologue_end_ = 0;      // leading uniform loads: filled once per run, not per batch
+    std::vector<std::pair<uint32_t, int>> prologue_filled_;   // per prologue load: the bits and lanes its register holds
     SimdLevel simd_ = SimdLevel::SSE2;
     bool skip_inactive_lanes_ = false;   // libm calls only in active lanes (see the constructor)
     int max_depth_ = 0;

@@ -17,15 +17,6 @@ using glsl::SamplerDim;
 using glsl::TextureKind;
 using glsl::TextureLod;
 
-int dim_index(SamplerDim dim) {
-    switch (dim) {
-        case SamplerDim::Tex3D: return 1;
-        case SamplerDim::Cube: return 2;
-        case SamplerDim::Tex2DArray: return 3;
-        default: return 0;
-    }
-}
-
 int cube_face(float rx, float ry, float rz, float& sc, float& tc, float& ma) {
     const float ax = std::fabs(rx), ay = std::fabs(ry), az = std::fabs(rz);
     // Ties go to x, then y (as SwiftShader and ANGLE do).
@@ -445,6 +436,9 @@ namespace {
 
 // One level of a 2D / 2D array texture or of a cube-map face (texture.h).
 using Plane = SampledLevel;
+
+// The colour block loops a plan can name (SamplingPlan::colour_shape; kColourBlocks8).
+constexpr int kColourShapes = 19;
 
 // Texel n of an 8-bit unorm plane as its RGBA bytes R | G << 8 | B << 16 | A << 24 (Image::rgba8's
 // word): read, or made from a narrow texel (Image::narrow) with the absent channels' defaults of
@@ -1033,11 +1027,30 @@ __attribute__((target("avx2"))) void lambdas_of_rho2_8(const glsl::TextureQuery&
     }
 }
 
-// The lambdas of lanes l..l+7 (Implicit, Bias, Gradient), as lambda_at in sample_2d computes them:
-// rho² 8 at a time (float products, widened, squared and summed in double), log2 lane by lane.
-__attribute__((target("avx2"))) void lambda8(const glsl::TextureQuery& q, int l, float w, float h, LambdaMemo& lambda_of,
-                                             float out[8]) {
+// lambda8 (below) of a block whose derivatives differ between lanes: out of line, the longer case.
+__attribute__((target("avx2"), noinline)) void lambda8_lanes(const glsl::TextureQuery& q, int l, float w, float h,
+                                                            LambdaMemo& lambda_of, __m256 dx0, __m256 dx1, __m256 dy0,
+                                                            __m256 dy1, float out[8]) {
     const __m256 ws = _mm256_set1_ps(w), hs = _mm256_set1_ps(h), zero = _mm256_setzero_ps();
+    const __m256 x0 = _mm256_mul_ps(dx0, ws), x1 = _mm256_mul_ps(dx1, hs);
+    const __m256 y0 = _mm256_mul_ps(dy0, ws), y1 = _mm256_mul_ps(dy1, hs);
+    const __m256 x2 = _mm256_mul_ps(load8(q.ddx[2], l), zero), y2 = _mm256_mul_ps(load8(q.ddy[2], l), zero);
+    alignas(32) double rho2[8];
+    for (int half = 0; half < 2; ++half) {
+        __m256d lx2 = _mm256_add_pd(square_wide(x0, half), square_wide(x1, half));
+        __m256d ly2 = _mm256_add_pd(square_wide(y0, half), square_wide(y1, half));
+        if (q.ddx[2]) lx2 = _mm256_add_pd(lx2, square_wide(x2, half));
+        if (q.ddy[2]) ly2 = _mm256_add_pd(ly2, square_wide(y2, half));
+        _mm256_store_pd(rho2 + 4 * half, _mm256_max_pd(ly2, lx2));   // = std::max(lx2, ly2), NaN included
+    }
+    lambdas_of_rho2_8(q, l, rho2, lambda_of, out);
+}
+
+// The lambdas of lanes l..l+7 (Implicit, Bias, Gradient), as lambda_at in sample_2d computes them:
+// rho² 8 at a time (float products, widened, squared and summed in double). Inline: a block whose
+// lanes share their derivatives (affine coordinates) costs one LambdaMemo lookup and no call.
+__attribute__((target("avx2"), always_inline)) inline void lambda8(const glsl::TextureQuery& q, int l, float w, float h,
+                                                                  LambdaMemo& lambda_of, float out[8]) {
     const __m256 dx0 = load8(q.ddx[0], l), dx1 = load8(q.ddx[1], l), dy0 = load8(q.ddy[0], l), dy1 = load8(q.ddy[1], l);
     if (!q.ddx[2] && !q.ddy[2]) {
         // Under affine coordinates the 8 lanes' derivatives are equal: lane 0's rho², computed as
@@ -1058,19 +1071,9 @@ __attribute__((target("avx2"))) void lambda8(const glsl::TextureQuery& q, int l,
             return;
         }
     }
-    const __m256 x0 = _mm256_mul_ps(dx0, ws), x1 = _mm256_mul_ps(dx1, hs);
-    const __m256 y0 = _mm256_mul_ps(dy0, ws), y1 = _mm256_mul_ps(dy1, hs);
-    const __m256 x2 = _mm256_mul_ps(load8(q.ddx[2], l), zero), y2 = _mm256_mul_ps(load8(q.ddy[2], l), zero);
-    alignas(32) double rho2[8];
-    for (int half = 0; half < 2; ++half) {
-        __m256d lx2 = _mm256_add_pd(square_wide(x0, half), square_wide(x1, half));
-        __m256d ly2 = _mm256_add_pd(square_wide(y0, half), square_wide(y1, half));
-        if (q.ddx[2]) lx2 = _mm256_add_pd(lx2, square_wide(x2, half));
-        if (q.ddy[2]) ly2 = _mm256_add_pd(ly2, square_wide(y2, half));
-        _mm256_store_pd(rho2 + 4 * half, _mm256_max_pd(ly2, lx2));   // = std::max(lx2, ly2), NaN included
-    }
-    lambdas_of_rho2_8(q, l, rho2, lambda_of, out);
+    lambda8_lanes(q, l, w, h, lambda_of, dx0, dx1, dy0, dy1, out);
 }
+
 
 // The levels every lane of a block of 8 takes (Fast2D::choose), when they are the same for all:
 // planes[first], blended with planes[second] by the lanes' own frac when second >= 0.
@@ -1651,8 +1654,8 @@ __attribute__((target("avx2"))) int colour_blocks8(const ColourQuery& cq, int l,
     return l;
 }
 
-// ---- Colour block loops specialised by the query's shape (ShapedBlocks, chosen once per query
-// by sample_2d): the storage (bytes or floats), the wrap modes (REPEAT of powers of two, or
+// ---- Colour block loops specialised by the query's shape (kColourBlocks8, chosen once per draw
+// for each unit by plan_units): the storage (bytes or floats), the wrap modes (REPEAT of powers of two, or
 // CLAMP_TO_EDGE, on both axes and at every level the query can use) and the level choice (one
 // fixed filter, or the levels chosen per block), so that the block loop branches on none of them.
 // Per lane the same operations in the same order as filter8_color (whose branches on the wrap
@@ -1853,35 +1856,17 @@ __attribute__((target("avx2"))) int colour_blocks8_shaped(const ColourQuery& cq,
 
 using Blocks8 = int (*)(const ColourQuery&, int, int);
 
-// The block loop for a query's shape, or colour_blocks8 (the general one).
-// one_storage: every level the query can use is bytes (8-bit unorm), or every one floats, with
-// int32 texel numbers; pot: every one has power-of-two sizes.
-inline Blocks8 shaped_blocks8(const Fast2D& f, const ColourQuery& cq, bool one_storage, bool pot) {
-    if (cq.r || !one_storage) return colour_blocks8;
-    const bool bytes = f.planes[0].rgba8 != nullptr, narrow = f.planes[0].narrow != nullptr;
-    WrapKind wrap;
-    if (f.wrap_s == gl::REPEAT && f.wrap_t == gl::REPEAT && pot) wrap = WrapKind::RepeatPot;
-    else if (f.wrap_s == gl::CLAMP_TO_EDGE && f.wrap_t == gl::CLAMP_TO_EDGE) wrap = WrapKind::Clamp;
-    else return colour_blocks8;
-    const LevelMode mode = cq.needs_lambda ? LevelMode::PerBlock : cq.fixed.linear ? LevelMode::FixedLinear : LevelMode::FixedNearest;
-#define SOFTGL_SHAPED(B, W)                                                                           \
-    switch (mode) {                                                                                   \
-        case LevelMode::FixedNearest: return colour_blocks8_shaped<B, W, LevelMode::FixedNearest>;   \
-        case LevelMode::FixedLinear: return colour_blocks8_shaped<B, W, LevelMode::FixedLinear>;     \
-        default: return colour_blocks8_shaped<B, W, LevelMode::PerBlock>;                            \
-    }
-    if (bytes) {
-        if (wrap == WrapKind::RepeatPot) SOFTGL_SHAPED(1, WrapKind::RepeatPot)
-        SOFTGL_SHAPED(1, WrapKind::Clamp)
-    }
-    if (narrow) {   // Image::narrow: shaped_words8 decodes the texels
-        if (wrap == WrapKind::RepeatPot) SOFTGL_SHAPED(2, WrapKind::RepeatPot)
-        SOFTGL_SHAPED(2, WrapKind::Clamp)
-    }
-    if (wrap == WrapKind::RepeatPot) SOFTGL_SHAPED(0, WrapKind::RepeatPot)
-    SOFTGL_SHAPED(0, WrapKind::Clamp)
-#undef SOFTGL_SHAPED
-}
+// The colour block loops by SamplingPlan::colour_shape (colour_shape below): 0 colour_blocks8,
+// then 1 + (storage * 2 + wrap) * 3 + mode with storage 0 rgba8 bytes, 1 narrow bytes, 2 floats
+// (kBytes 1, 2, 0), wrap 0 REPEAT of powers of two, 1 CLAMP_TO_EDGE, and mode FixedNearest,
+// FixedLinear, PerBlock.
+#define SOFTGL_SHAPES(LOOP, B)                                                                       \
+    LOOP<B, WrapKind::RepeatPot, LevelMode::FixedNearest>, LOOP<B, WrapKind::RepeatPot, LevelMode::FixedLinear>, \
+    LOOP<B, WrapKind::RepeatPot, LevelMode::PerBlock>, LOOP<B, WrapKind::Clamp, LevelMode::FixedNearest>,   \
+    LOOP<B, WrapKind::Clamp, LevelMode::FixedLinear>, LOOP<B, WrapKind::Clamp, LevelMode::PerBlock>
+constexpr Blocks8 kColourBlocks8[kColourShapes] = {colour_blocks8, SOFTGL_SHAPES(colour_blocks8_shaped, 1),
+                                                   SOFTGL_SHAPES(colour_blocks8_shaped, 2),
+                                                   SOFTGL_SHAPES(colour_blocks8_shaped, 0)};
 
 // ---- Cube maps in blocks of 8 (AVX2), channel-major as the shaped colour blocks: faces, face
 // coordinates and (for a level choice) their derivatives of 8 lanes at once (cube_coords8), one
@@ -2429,7 +2414,7 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512))) int colour_blocks16(const ColourQ
 }
 
 // ---- colour_blocks8_shaped in blocks of 16 (AVX-512): filter16's operations with the storage,
-// filter and wrap modes fixed at compile time (the same bits; see ShapedBlocks above).
+// filter and wrap modes fixed at compile time (the same bits; see kColourBlocks8 above).
 
 template <WrapKind kWrap, bool kPair>
 __attribute__((target(SOFTGL_SAMPLER_AVX512), always_inline)) inline void wrap_shaped16(__m512i i, __m512i last, __m512i& a,
@@ -2622,24 +2607,11 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) int colour_blocks16_shaped
 
 using Blocks16 = int (*)(const ColourQuery&, int);
 
-// colour_blocks16_shaped for the shape shaped_blocks8 found, or colour_blocks16.
-inline Blocks16 shaped_blocks16(Blocks8 shape) {
-#define SOFTGL_SHAPED16(B, W, M) \
-    if (shape == colour_blocks8_shaped<B, W, M>) return colour_blocks16_shaped<B, W, M>;
-#define SOFTGL_SHAPED16_MODES(B, W)                      \
-    SOFTGL_SHAPED16(B, W, LevelMode::FixedNearest)       \
-    SOFTGL_SHAPED16(B, W, LevelMode::FixedLinear)        \
-    SOFTGL_SHAPED16(B, W, LevelMode::PerBlock)
-    SOFTGL_SHAPED16_MODES(1, WrapKind::RepeatPot)
-    SOFTGL_SHAPED16_MODES(1, WrapKind::Clamp)
-    SOFTGL_SHAPED16_MODES(2, WrapKind::RepeatPot)
-    SOFTGL_SHAPED16_MODES(2, WrapKind::Clamp)
-    SOFTGL_SHAPED16_MODES(0, WrapKind::RepeatPot)
-    SOFTGL_SHAPED16_MODES(0, WrapKind::Clamp)
-#undef SOFTGL_SHAPED16_MODES
-#undef SOFTGL_SHAPED16
-    return colour_blocks16;
-}
+// colour_blocks16_shaped by SamplingPlan::colour_shape, as kColourBlocks8.
+constexpr Blocks16 kColourBlocks16[kColourShapes] = {colour_blocks16, SOFTGL_SHAPES(colour_blocks16_shaped, 1),
+                                                     SOFTGL_SHAPES(colour_blocks16_shaped, 2),
+                                                     SOFTGL_SHAPES(colour_blocks16_shaped, 0)};
+#undef SOFTGL_SHAPES
 #pragma GCC diagnostic pop
 #endif
 
@@ -2682,6 +2654,81 @@ bool TextureUnitSampler::lod_matters(const glsl::TextureQuery& q) const {
     return mipmapped || min_linear != (bt.params.mag_filter == gl::LINEAR);
 }
 
+namespace {
+
+// The SamplingPlan of one bound texture for lookups of dimension `dim` (sample_2d's fast path):
+// usable when the levels [base, q] of every face are in the level table the draw built
+// (Texture::refresh_sampling), all defined, all depth or all colour, byte planes with int32
+// texel numbers, on a 2D, 2D array or cube-map texture.
+SamplingPlan plan_sampling(const BoundTexture& bt, int dim) {
+    SamplingPlan plan;
+    if (!bt.texture || dim == 1) return plan;
+    const Texture& tex = *bt.texture;
+    const SamplerParams& p = bt.params;
+    const bool cube = dim == 2;
+    const int faces = cube ? 6 : 1;
+    if (bt.q < bt.base || bt.q - bt.base >= 16 || tex.sampled_base != bt.base || tex.faces() != faces) return plan;
+    plan.planes = tex.sampled(0, bt.base);
+    plan.face_stride = tex.sampled_count;
+    if (!plan.planes || !tex.sampled(0, bt.q)) return plan;
+    plan.depth = plan.planes[0].depth != nullptr;
+    const bool bytes = plan.planes[0].rgba8 != nullptr || plan.planes[0].narrow != nullptr;
+    bool one_storage = true, pot = true;
+    for (int face = 0; face < faces; ++face)
+        for (int32_t k = 0; k <= bt.q - bt.base; ++k) {
+            const Plane& level = plan.planes[size_t(face) * size_t(plan.face_stride) + size_t(k)];
+            if (level.width == 0 || (level.depth != nullptr) != plan.depth) return plan;
+            // The vector paths index texels in int32 (8-bit unorm planes: across layers too).
+            const bool fits = int32_indices(level);
+            const bool level_bytes = level.rgba8 != nullptr || level.narrow != nullptr;
+            if (level_bytes && !fits) return plan;
+            one_storage = one_storage && level_bytes == bytes && level.unorm8 == bytes &&
+                          (bytes || level.color != nullptr) && fits;
+            pot = pot && level.width_pot && level.height_pot;
+            // A complete cube map's faces have each level's size and format (ES 3.0 §3.8.14): the
+            // other faces' planes must be stored as face 0's (cube_block8 reads them by its shape).
+            const Plane& first = plan.planes[size_t(k)];
+            if (face > 0 && (level.width != first.width || level.height != first.height ||
+                             level.layers != first.layers || (level.rgba8 != nullptr) != (first.rgba8 != nullptr) ||
+                             (level.narrow != nullptr) != (first.narrow != nullptr) ||
+                             level.narrow_bytes != first.narrow_bytes || (level.color != nullptr) != (first.color != nullptr) ||
+                             level.unorm8 != first.unorm8))
+                return plan;
+        }
+    plan.one_storage = one_storage, plan.pot = pot;
+    // Cube maps: CLAMP_TO_EDGE within the face (ES 3.0 §3.8.10; lanes that would cross an edge
+    // with seamless filtering go to sample_lane).
+    plan.wrap_s = cube ? gl::CLAMP_TO_EDGE : p.wrap_s, plan.wrap_t = cube ? gl::CLAMP_TO_EDGE : p.wrap_t;
+    plan.mag_linear = p.mag_filter == gl::LINEAR;
+    const GLenum mf = p.min_filter;
+    plan.min_linear = mf == gl::LINEAR || mf == gl::LINEAR_MIPMAP_NEAREST || mf == gl::LINEAR_MIPMAP_LINEAR;
+    plan.mipmapped = !(mf == gl::NEAREST || mf == gl::LINEAR || bt.q == bt.base);
+    // Without mipmaps and with the same filter both ways, lambda picks nothing: skip it.
+    plan.needs_lambda = plan.mipmapped || plan.min_linear != plan.mag_linear;
+    // The shaped colour block loop (kColourBlocks8): one storage, REPEAT of powers of two or
+    // CLAMP_TO_EDGE on both axes; otherwise the general loop (0).
+    int wrap = -1;
+    if (plan.wrap_s == gl::REPEAT && plan.wrap_t == gl::REPEAT && pot) wrap = 0;
+    else if (plan.wrap_s == gl::CLAMP_TO_EDGE && plan.wrap_t == gl::CLAMP_TO_EDGE) wrap = 1;
+    if (!plan.depth && !cube && one_storage && wrap >= 0) {
+        const int storage = plan.planes[0].rgba8 ? 0 : plan.planes[0].narrow ? 1 : 2;
+        const int mode = plan.needs_lambda ? 2 : plan.mag_linear ? 1 : 0;
+        plan.colour_shape = uint8_t(1 + (storage * 2 + wrap) * 3 + mode);
+    }
+    plan.usable = true;
+    return plan;
+}
+
+}  // namespace
+
+void TextureUnitSampler::plan_units(const uint32_t filled[4]) {
+    for (int dim = 0; dim < 4; ++dim)
+        for (uint32_t m = filled[dim]; m; m &= m - 1) {
+            BoundTexture& bt = units[size_t(__builtin_ctz(m))][size_t(dim)];
+            bt.plan = plan_sampling(bt, dim);
+        }
+}
+
 bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd) const {
     const bool cube = q.dim == SamplerDim::Cube;
     if (q.kind != TextureKind::Sample || q.result != BaseType::Float || q.dim == SamplerDim::Tex3D) return false;
@@ -2690,60 +2737,28 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
     if (!one_unit(q, unit)) return false;
     if (unit < 0 || unit >= kSamplerUnits) return false;
     const BoundTexture& bt = units[size_t(unit)][size_t(dim_index(q.dim))];
-    if (!bt.texture) return false;
-    const Texture& tex = *bt.texture;
+    // The levels, filters and block loop the draw resolved for this unit (plan_units).
+    const SamplingPlan& plan = bt.plan;
+    if (!bt.texture || !plan.usable) return false;
     const SamplerParams& p = bt.params;
 
     Fast2D f;
-    // The levels [base, top] of every face, from the table the draw built (all defined, of
-    // one format, on a complete texture).
-    const int faces = cube ? 6 : 1;
-    if (bt.q < bt.base || bt.q - bt.base >= 16 || tex.sampled_base != bt.base || tex.faces() != faces) return false;
-    f.planes = tex.sampled(0, bt.base);
-    f.face_stride = tex.sampled_count;
-    if (!f.planes || !tex.sampled(0, bt.q)) return false;
-    const bool depth = f.planes[0].depth != nullptr;
-    // Also what shaped_blocks8 needs: every level of one storage (bytes or floats) with int32
-    // texel numbers, and whether all have power-of-two sizes.
-    const bool bytes = f.planes[0].rgba8 != nullptr || f.planes[0].narrow != nullptr;
-    [[maybe_unused]] bool one_storage = true, pot = true;
-    for (int32_t k = 0; k <= bt.q - bt.base; ++k) {
-        const Plane& level = f.planes[size_t(k)];
-        if (level.width == 0 || (level.depth != nullptr) != depth) return false;
-        // The vector paths index texels in int32 (8-bit unorm planes: across layers too).
-        const bool fits = int32_indices(level);
-        const bool level_bytes = level.rgba8 != nullptr || level.narrow != nullptr;
-        if (level_bytes && !fits) return false;
-        one_storage = one_storage && level_bytes == bytes && level.unorm8 == bytes &&
-                      (bytes || level.color != nullptr) && fits;
-        pot = pot && level.width_pot && level.height_pot;
-        // A complete cube map's faces have each level's size and format (ES 3.0 §3.8.14): the
-        // other faces' planes only need to be there and stored as face 0's (else: lane by lane).
-        for (int face = 1; face < faces; ++face) {
-            const Plane& other = f.planes[size_t(face) * size_t(f.face_stride) + size_t(k)];
-            if (other.width != level.width || other.height != level.height || other.layers != level.layers ||
-                (other.depth != nullptr) != depth || (other.rgba8 != nullptr) != (level.rgba8 != nullptr) ||
-                (other.narrow != nullptr) != (level.narrow != nullptr) || other.narrow_bytes != level.narrow_bytes ||
-                (other.color != nullptr) != (level.color != nullptr) || other.unorm8 != level.unorm8)
-                return false;
-        }
-    }
+    f.planes = plan.planes;
+    f.face_stride = plan.face_stride;
+    const bool depth = plan.depth;
     f.compare = q.shadow && p.compare_mode == gl::COMPARE_REF_TO_TEXTURE;
     f.compare_func = p.compare_func;
     f.luminance = bt.depth_as_luminance;
-    // Cube maps: CLAMP_TO_EDGE within the face (ES 3.0 §3.8.10; lanes that would cross an edge
-    // with seamless filtering go to sample_lane), no offsets.
-    f.wrap_s = cube ? gl::CLAMP_TO_EDGE : p.wrap_s, f.wrap_t = cube ? gl::CLAMP_TO_EDGE : p.wrap_t;
+    // Cube maps: no offsets.
+    f.wrap_s = plan.wrap_s, f.wrap_t = plan.wrap_t;
     f.off_s = cube ? 0 : q.offset[0], f.off_t = cube ? 0 : q.offset[1];
     f.base = bt.base, f.top = bt.q;
     f.min_filter = p.min_filter;
-    f.mag_linear = p.mag_filter == gl::LINEAR;
-    const GLenum mf = p.min_filter;
-    f.min_linear = mf == gl::LINEAR || mf == gl::LINEAR_MIPMAP_NEAREST || mf == gl::LINEAR_MIPMAP_LINEAR;
-    f.mipmapped = !(mf == gl::NEAREST || mf == gl::LINEAR || f.top == f.base);
+    f.mag_linear = plan.mag_linear;
+    f.min_linear = plan.min_linear;
+    f.mipmapped = plan.mipmapped;
     f.min_lod = p.min_lod, f.max_lod = p.max_lod;
-    // Without mipmaps and with the same filter both ways, lambda picks nothing: skip it.
-    const bool needs_lambda = f.mipmapped || f.min_linear != f.mag_linear;
+    const bool needs_lambda = plan.needs_lambda;
     const float w = float(f.planes[0].width), h = float(f.planes[0].height);
 
     LambdaMemo& lambda_of = LambdaMemo::of_this_thread();
@@ -2801,8 +2816,10 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
     if (simd != SimdBlocks::None && !cube && !depth && q.coord[0] && q.coord[1]) {
         const ColourQuery cq{&f, &q, f.planes[0].layers > 1 && q.coord[2] ? &q.coord[2][0].f : nullptr,
                              needs_lambda, fixed, w, h, &lambda_of};
-        const Blocks8 blocks8 = shaped_blocks8(f, cq, one_storage, pot);
-        const Blocks16 blocks16 = simd == SimdBlocks::Avx512 ? shaped_blocks16(blocks8) : colour_blocks16;
+        // The shaped loop the plan chose (2D arrays with layers: the general one).
+        const int shape = cq.r ? 0 : plan.colour_shape;
+        const Blocks8 blocks8 = kColourBlocks8[shape];
+        const Blocks16 blocks16 = simd == SimdBlocks::Avx512 ? kColourBlocks16[shape] : colour_blocks16;
         while (l + 8 <= q.lane_count) {
             if (simd == SimdBlocks::Avx512 && l + 16 <= q.lane_count) l = blocks16(cq, l);
             // What is left: a block of 16 colour_blocks16 left, or the last lanes.
@@ -2811,6 +2828,38 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
             if (l + 8 <= end) {
                 for (int k = 0; k < 8; ++k) one_lane(l + k);
                 l += 8;
+            }
+        }
+        if (l < q.lane_count) {
+            // The last 1-7 lanes: one block of 8 over copies of their operands, the lanes beyond
+            // them inactive (they add no level; their results are dropped). A block's lanes give
+            // one_lane's bits whatever the other lanes hold, so the same bits as lane by lane.
+            const int n = q.lane_count - l;
+            alignas(32) glsl::Scalar coord[3][8] = {}, ddx[3][8] = {}, ddy[3][8] = {}, lod[8] = {}, result[4][8];
+            alignas(32) uint32_t active[8] = {};
+            glsl::TextureQuery tail = q;
+            tail.lane_count = 8;
+            const auto lanes_of = [&](const glsl::Scalar* src, glsl::Scalar* dst) -> const glsl::Scalar* {
+                if (!src) return nullptr;
+                std::copy_n(src + l, n, dst);
+                return dst;
+            };
+            for (int k = 0; k < 3; ++k) {
+                tail.coord[k] = lanes_of(q.coord[k], coord[k]);
+                tail.ddx[k] = lanes_of(q.ddx[k], ddx[k]);
+                tail.ddy[k] = lanes_of(q.ddy[k], ddy[k]);
+            }
+            tail.lod = lanes_of(q.lod, lod);
+            for (int k = 0; k < n; ++k) active[k] = q.active ? q.active[l + k] : ~0u;
+            tail.active = active;
+            for (int c = 0; c < 4; ++c) tail.out[c] = q.out[c] ? result[c] : nullptr;
+            ColourQuery tail_cq = cq;
+            tail_cq.q = &tail;
+            tail_cq.r = cq.r ? &tail.coord[2][0].f : nullptr;
+            if (blocks8(tail_cq, 0, 8) == 8) {
+                for (int c = 0; c < 4; ++c)
+                    if (q.out[c]) std::copy_n(result[c], n, q.out[c] + l);
+                l = q.lane_count;
             }
         }
     }
@@ -2876,7 +2925,7 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
         glsl::Scalar* const out[4] = {q.out[0], q.out[1], q.out[2], q.out[3]};
         // Colour cube maps of one storage: cube_block8 (blocks whose lanes share their levels).
         const LevelMode mode = needs_lambda ? LevelMode::PerBlock : fixed.linear ? LevelMode::FixedLinear : LevelMode::FixedNearest;
-        const CubeBlock8 cube_block8 = depth ? nullptr : cube_blocks8(f, one_storage, mode);
+        const CubeBlock8 cube_block8 = depth ? nullptr : cube_blocks8(f, plan.one_storage, mode);
         const CubeQuery cube_query{&f, &q, w, h, &lambda_of, bt.seamless_cube};
         Planes8 cube_planes(f);
         const auto all_active = [&](int first) {

@@ -17,6 +17,26 @@
 
 namespace softgl {
 
+// What the fast path (TextureUnitSampler::sample_2d) resolves once per draw for one unit and
+// sampler dimension, so that a query goes straight to its block loop: the level table's checks,
+// the filters and wraps, and the block loop for the texture's shape. Made by
+// TextureUnitSampler::plan_units after the draw has bound its textures (Texture::refresh_sampling);
+// `usable` false: the fast path does not serve the unit (or plan_units did not run).
+struct SamplingPlan {
+    bool usable = false;
+    const SampledLevel* planes = nullptr;   // levels base .. q of face 0 (Texture::sampled)
+    int32_t face_stride = 0;                // face f's levels at planes + f * face_stride
+    bool depth = false;                     // depth planes (else colour)
+    // Every level of one storage (bytes or floats) with int32 texel numbers; all power-of-two sizes.
+    bool one_storage = false, pot = false;
+    GLenum wrap_s = 0, wrap_t = 0;          // cube maps: CLAMP_TO_EDGE within the face
+    bool mag_linear = false, min_linear = false, mipmapped = false;
+    bool needs_lambda = false;              // the LOD can change the result (ES 3.0 §3.8.11)
+    // The colour block loop of this shape for queries without layers (sampler.cpp,
+    // colour_block_loops): 0 the general one.
+    uint8_t colour_shape = 0;
+};
+
 // What one unit gives one sampler dimension during a draw.
 struct BoundTexture {
     const Texture* texture = nullptr;   // null: no texture or incomplete (samples as (0,0,0,1))
@@ -24,6 +44,7 @@ struct BoundTexture {
     int32_t base = 0, q = 0;            // levels used: [base, q] (q = base without mipmapping)
     bool seamless_cube = true;          // ES 3.0 §3.8.9.1 (WebGL 2); WebGL 1 clamps per face
     bool depth_as_luminance = false;    // WEBGL_depth_texture: depth samples as (d, d, d, 1)
+    SamplingPlan plan;                  // TextureUnitSampler::plan_units
 };
 
 inline constexpr int kSamplerUnits = 32;
@@ -37,6 +58,10 @@ public:
     // False when no unit's texture has TEXTURE_MAX_ANISOTROPY_EXT above 1 (set by the draw that
     // fills `units`): queries then skip the per-lane anisotropy check.
     bool any_anisotropic = true;
+    // Makes the SamplingPlan of every units[unit][dim] whose bit `unit` is set in filled[dim],
+    // once the draw has filled `units` and refreshed their textures' level tables
+    // (single-threaded, before any lookup of the draw).
+    void plan_units(const uint32_t filled[4]);
     void sample(const glsl::TextureQuery& query) override;
     bool lod_matters(const glsl::TextureQuery& query) const override;
 
@@ -60,7 +85,15 @@ private:
     bool sample_2d(const glsl::TextureQuery& query, SimdBlocks simd) const;
 };
 
-int dim_index(glsl::SamplerDim dim);
+// units[unit][dim_index(dim)] (inline: every lookup asks).
+inline int dim_index(glsl::SamplerDim dim) {
+    switch (dim) {
+        case glsl::SamplerDim::Tex3D: return 1;
+        case glsl::SamplerDim::Cube: return 2;
+        case glsl::SamplerDim::Tex2DArray: return 3;
+        default: return 0;
+    }
+}
 
 // ES 3.0 table 3.21: the face (0..5, TEXTURE_CUBE_MAP_POSITIVE_X order) a direction selects and
 // the face coordinates sc, tc and |ma|.
