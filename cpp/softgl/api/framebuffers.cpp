@@ -1133,8 +1133,9 @@ void read_source_row(const ColorSource& cs, int64_t ix0, int64_t iy, size_t n, f
                 return;
         }
     }
-    if (!img.narrow.empty()) {
-        // Image::narrow: each sample's floats (k / 255), their mean in double in sample order.
+    if (!img.narrow.empty() || img.color_channels() < 4) {
+        // Image::narrow, or floats of fewer than 4 channels: each sample's floats (k / 255, or
+        // read_color's with the absent channels' defaults), their mean in double in sample order.
         for (size_t i = 0; i < n; ++i) {
             double sum[4] = {0, 0, 0, 0};
             for (size_t s = 0; s < S; ++s) {

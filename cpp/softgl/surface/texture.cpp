@@ -247,6 +247,7 @@ uint64_t Image::allocation_bytes(const FormatInfo* fmt, int32_t w, int32_t h, in
     const uint64_t n = uint64_t(w) * uint64_t(h) * uint64_t(d) * uint64_t(s);
     if (stores_bytes(fmt)) return n * 4;                      // RGBA bytes per sample
     if (const int b = narrow_bytes(fmt)) return n * uint64_t(b) + kNarrowPad;   // their channels' bytes
+    if (fmt->kind() == SampleKind::Float) return color_elements(fmt, n) * 4;   // a float per channel
     if (fmt->kind() != SampleKind::Depth) return n * 4 * 4;   // four 4-byte words per sample
     return n * ((fmt->encoding != Encoding::Stencil8 ? 4 : 0) + (fmt->has_stencil ? 1 : 0));
 }
@@ -261,7 +262,7 @@ void Image::allocate(const FormatInfo* fmt, int32_t w, int32_t h, int32_t d, int
             // Absent alpha reads as 1 from the start (e.g. RGB8).
             if (stores_bytes(fmt)) rgba8.assign(n, fmt->bits[3] ? 0u : 0xFF000000u);
             else if (stores_narrow(fmt)) narrow.assign(n * size_t(narrow_bytes(fmt)) + kNarrowPad, 0);   // absent channels are implied
-            else color.assign(n * 4, 0.0f);
+            else color.assign(color_elements(fmt, n), 0.0f);
             break;
         case SampleKind::Int: case SampleKind::Uint: integer.assign(n * 4, 0u); break;
         case SampleKind::Depth:
@@ -270,10 +271,16 @@ void Image::allocate(const FormatInfo* fmt, int32_t w, int32_t h, int32_t d, int
             break;
     }
     // Absent channels read as their defaults from the start (e.g. alpha 1 of RGB8).
-    if (fmt->kind() == SampleKind::Float && !stores_bytes(fmt) && !stores_narrow(fmt) && !fmt->bits[3])
+    if (color_channels(fmt) == 4 && !fmt->bits[3])
         for (size_t i = 0; i < n; ++i) color[i * 4 + 3] = 1.0f;
     if ((fmt->kind() == SampleKind::Int || fmt->kind() == SampleKind::Uint) && !fmt->bits[3])
         for (size_t i = 0; i < n; ++i) integer[i * 4 + 3] = 1u;
+}
+
+int Image::color_channels(const FormatInfo* fmt) {
+    if (!fmt || fmt->kind() != SampleKind::Float || stores_bytes(fmt) || stores_narrow(fmt)) return 0;
+    const GLenum b = fmt->base_format;
+    return b == gl::RED ? 1 : b == gl::RG ? 2 : b == gl::RGB ? 3 : 4;
 }
 
 void Image::read_color(size_t t, float out[4]) const {
@@ -292,7 +299,10 @@ void Image::read_color(size_t t, float out[4]) const {
         else out[0] = k0, out[1] = k1, out[2] = 0.0f, out[3] = 1.0f;
         return;
     }
-    for (int c = 0; c < 4; ++c) out[c] = color[t * 4 + size_t(c)];
+    // color_channels() floats, the absent channels' defaults (0, alpha 1: ES 3.0 table 3.24).
+    const size_t n = size_t(color_channels());
+    out[0] = out[1] = out[2] = 0.0f, out[3] = 1.0f;
+    for (size_t c = 0; c < n; ++c) out[c] = color[t * n + c];
 }
 
 void Image::store_color(size_t t, const float q[4], const bool mask[4]) {
@@ -315,8 +325,9 @@ void Image::store_color(size_t t, const float q[4], const bool mask[4]) {
             if (!mask || mask[from[i]]) narrow[t * n + i] = uint8_t(float_to_unorm(q[from[i]], 8));
         return;
     }
-    for (int c = 0; c < 4; ++c)
-        if (!mask || mask[c]) color[t * 4 + size_t(c)] = q[c];
+    const size_t n = size_t(color_channels());
+    for (size_t c = 0; c < n; ++c)
+        if (!mask || mask[c]) color[t * n + c] = q[c];
 }
 
 void Image::texel(int32_t x, int32_t y, int32_t z, float out[4]) const {
@@ -535,12 +546,15 @@ void unpack_into(Image& img, int32_t x0, int32_t y0, int32_t z0, int32_t w, int3
                     if (f.encoding == Encoding::Srgb) {
                         // Client data of sRGB formats is sRGB-encoded: keep the byte, store its
                         // linear value (ES 3.0 §3.8.15 decodes each texel before filtering).
-                        float* out = &img.color[t * 4];
+                        float out[4];
                         for (int c = 0; c < 3; ++c) out[c] = srgb_to_linear(unorm(float_to_unorm(in[c], 8), 8));
                         out[3] = f.bits[3] ? unorm(float_to_unorm(in[3], 8), 8) : 1.0f;
+                        img.store_color(t, out);
                         continue;
                     }
-                    quantize_color(f, in, &img.color[t * 4]);
+                    float q[4];
+                    quantize_color(f, in, q);
+                    img.store_color(t, q);
                 } else if (kind == SampleKind::Int || kind == SampleKind::Uint) {
                     double raw[4] = {double(px.i[0]), double(px.i[1]), double(px.i[2]), double(px.i[3])}, rgba[4];
                     expand(u.format, raw, rgba);
@@ -616,8 +630,10 @@ void Texture::refresh_sampling(int32_t base, int32_t q) {
                     for (int c = 0; c < 4; ++c)
                         s.narrow_shuffle[4 * j + c] = src[c] < 0 ? uint8_t(0x80) : uint8_t(4 * j + src[c]);
                 s.narrow_fill = b == gl::ALPHA || b == gl::LUMINANCE_ALPHA ? 0u : 0xFF000000u;
-            } else if (img->format->kind() == SampleKind::Float && img->color.size() == img->texel_count() * 4) {
+            } else if (const int nc = img->color_channels();
+                       nc && img->color.size() == Image::color_elements(img->format, img->texel_count())) {
                 s.color = img->color.data();
+                s.color_channels = uint8_t(nc);
             } else if (img->format->is_depth() && img->depth_words.size() == img->texel_count()) {
                 s.depth = img->depth_words.data();
                 s.depth_encoding = img->format->encoding;
