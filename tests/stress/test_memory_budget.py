@@ -98,6 +98,80 @@ print(delta(tex(gl.R8, gl.RED, gl.UNSIGNED_BYTE)), delta(tex(gl.RGBA8, gl.RGBA, 
     assert [int(x) for x in out] == [n + 3, 4 * n, 4 * n, n + 3, 16 * n, 16 * n, 4 * n, 5 * n, n, softgl.NO_ERROR]
 
 
+# ES 3.0 table 3.13: the bits of each channel (R, G, B, A) of a sized colour format. What a texel
+# takes by the spec is their sum / 8 bytes.
+TABLE_3_13 = {
+    "R32F": (32, 0, 0, 0), "RG32F": (32, 32, 0, 0), "RGB32F": (32, 32, 32, 0), "RGBA32F": (32, 32, 32, 32),
+    "R16F": (16, 0, 0, 0), "RG16F": (16, 16, 0, 0), "RGB16F": (16, 16, 16, 0), "RGBA16F": (16, 16, 16, 16),
+    "R11F_G11F_B10F": (11, 11, 10, 0), "RGB9_E5": (9, 9, 9, 0), "RGB565": (5, 6, 5, 0), "RGBA4": (4, 4, 4, 4),
+    "RGB5_A1": (5, 5, 5, 1), "SRGB8": (8, 8, 8, 0), "SRGB8_ALPHA8": (8, 8, 8, 8), "RGB10_A2": (10, 10, 10, 2),
+    "R8_SNORM": (8, 0, 0, 0), "RGBA8_SNORM": (8, 8, 8, 8),
+    "R8UI": (8, 0, 0, 0), "R8I": (8, 0, 0, 0), "RG8UI": (8, 8, 0, 0), "RGB8I": (8, 8, 8, 0), "RGBA8UI": (8, 8, 8, 8),
+    "R16I": (16, 0, 0, 0), "RG16UI": (16, 16, 0, 0), "RGB16I": (16, 16, 16, 0), "RGBA16UI": (16, 16, 16, 16),
+    "R32UI": (32, 0, 0, 0), "RG32I": (32, 32, 0, 0), "RGB32UI": (32, 32, 32, 0), "RGBA32I": (32, 32, 32, 32),
+    "RGB10_A2UI": (10, 10, 10, 2),
+}
+# How each is uploaded (format, type) for texImage2D(..., None).
+UPLOAD = {
+    1: ("RED", "RED_INTEGER"), 2: ("RG", "RG_INTEGER"), 3: ("RGB", "RGB_INTEGER"), 4: ("RGBA", "RGBA_INTEGER")}
+
+
+def spec_bytes(name):
+    return sum(TABLE_3_13[name]) // 8
+
+
+def test_float_and_integer_storage_is_sized_by_the_format():
+    """docs/reliability.md, "Memory": integer formats store each channel at its own width, so a
+    texel takes the table's bytes exactly; float-sampled formats store one float32 per channel of
+    their base format (the 32F formats: the table's bytes; the others, e.g. R16F, RGB565, SRGB8,
+    4 bytes a channel, kept as float32 so that sampling and blending read them without a
+    decode), plus 12 bytes of padding an image with fewer than 4 channels (Image::kColorPad: a
+    4-float load at the last texel stays inside). Before: 16 bytes a texel for every one."""
+    names = list(TABLE_3_13)
+    out = run_child("""
+gl = softgl.Context(4, 4, antialias=False, version=2)
+keep = []
+def delta(internal, w=64, h=32):
+    a = softgl._core.memory_in_use()
+    t = gl.createTexture(); gl.bindTexture(gl.TEXTURE_2D, t)
+    gl.texStorage2D(gl.TEXTURE_2D, 1, getattr(gl, internal), w, h)
+    keep.append(t)
+    return softgl._core.memory_in_use() - a
+print(*[delta(n) for n in %r], gl.getError())
+""" % (names,))
+    n = 64 * 32
+    got = dict(zip(names, map(int, out)))
+    assert int(out[-1]) == softgl.NO_ERROR
+    for name, bits in TABLE_3_13.items():
+        channels = sum(1 for b in bits if b)
+        if name.endswith(("UI", "I")):
+            want = n * spec_bytes(name)                       # the table's bytes
+        else:
+            want = n * 4 * channels + (12 if channels < 4 else 0)   # float32 per channel
+            if name.endswith("32F"):
+                assert want - (12 if channels < 4 else 0) == n * spec_bytes(name)
+        assert got[name] == want, (name, got[name], want)
+
+
+def test_peak_rss_follows_the_format():
+    """A 4096 x 4096 texture in a child process: VmHWM grows by what the format stores (RGBA32F
+    256 MiB, R32F 64 MiB, R16F 64 MiB as float32, RG16F 128 MiB; before: 256 MiB each)."""
+    grow = {}
+    for name in ["RGBA32F", "R32F", "R16F", "RG16F", "R8UI"]:
+        out = run_child("""
+gl = softgl.Context(4, 4, antialias=False, version=2)
+before = vm_hwm()
+t = gl.createTexture(); gl.bindTexture(gl.TEXTURE_2D, t)
+gl.texStorage2D(gl.TEXTURE_2D, 1, gl.%s, 4096, 4096)
+print(gl.getError(), vm_hwm() - before)
+""" % name)
+        assert int(out[0]) == softgl.NO_ERROR
+        grow[name] = int(out[1])
+    texels = 4096 * 4096
+    for name, stored in [("RGBA32F", 16), ("R32F", 4), ("R16F", 4), ("RG16F", 8), ("R8UI", 1)]:
+        assert abs(grow[name] - texels * stored) < 8 * MiB, (name, grow[name] / MiB)
+
+
 def test_textures_are_charged_and_over_the_limit_change_nothing():
     # texImage2D, texStorage2D and generateMipmap charge the ledger; one that would pass the
     # limit records OUT_OF_MEMORY and leaves the texture (its image and bytes) as it was.

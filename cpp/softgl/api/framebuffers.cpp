@@ -43,7 +43,9 @@ struct ColorSource {
         const size_t S = size_t(img->samples);
         const size_t t = offset + (size_t(y) * size_t(img->width) + size_t(x)) * S;
         if (!img->integer.empty()) {
-            std::memcpy(out, &img->integer[t * 4], 16);   // bit patterns (no resolve)
+            uint32_t bits[4];
+            img->read_integer(t, bits);   // bit patterns (no resolve)
+            std::memcpy(out, bits, 16);
             return;
         }
         if (S == 1) return img->read_color(t, out);
@@ -636,7 +638,9 @@ bool Context::read_pixels_framebuffer_object(int32_t x, int32_t y, int32_t width
             uint8_t* out = dst + (skip_rows + row) * stride + (skip_pixels + col) * pixel;
             const size_t t = src.offset + size_t(sy) * size_t(img.width) + size_t(sx);
             if (f.is_integer()) {
-                std::memcpy(out, &img.integer[t * 4], 16);
+                uint32_t bits[4];
+                img.read_integer(t, bits);
+                std::memcpy(out, bits, 16);
             } else if (type == gl::FLOAT) {
                 float v[4];
                 img.read_color(t, v);
@@ -1107,7 +1111,11 @@ void read_source_row(const ColorSource& cs, int64_t ix0, int64_t iy, size_t n, f
     const size_t S = size_t(img.samples);
     const size_t t = cs.offset + (size_t(iy) * size_t(img.width) + size_t(ix0)) * S;
     if (!img.integer.empty()) {
-        for (size_t i = 0; i < n; ++i) std::memcpy(&out[i * 4], &img.integer[(t + i * S) * 4], 16);
+        for (size_t i = 0; i < n; ++i) {
+            uint32_t bits[4];
+            img.read_integer(t + i * S, bits);
+            std::memcpy(&out[i * 4], bits, 16);
+        }
         return;
     }
     if (img.bytes()) {

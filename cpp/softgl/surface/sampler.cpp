@@ -212,7 +212,9 @@ struct Level {
         if (!im->integer.empty()) {
             // Integer texels travel as their bit patterns (only NEAREST filters reach them).
             const size_t n = (size_t(k) * size_t(im->height) + size_t(j)) * size_t(im->width) + size_t(i);
-            std::memcpy(out, &im->integer[n * 4], 16);
+            uint32_t bits[4];
+            im->read_integer(n, bits);
+            std::memcpy(out, bits, 16);
             return;
         }
         im->texel(i, j, k, out);
@@ -337,8 +339,10 @@ void TextureUnitSampler::sample_lane(const glsl::TextureQuery& q, int l) const {
             }
             const size_t t = (size_t(c3[2]) * size_t(img->height) + size_t(c3[1])) * size_t(img->width) + size_t(c3[0]);
             if (q.result != BaseType::Float) {
+                uint32_t bits[4] = {0, 0, 0, 0};
+                if (!img->integer.empty()) img->read_integer(t, bits);
                 for (int c = 0; c < 4; ++c)
-                    if (q.out[c]) q.out[c][l].u = img->integer.empty() ? 0u : img->integer[t * 4 + size_t(c)];
+                    if (q.out[c]) q.out[c][l].u = bits[c];
             } else {
                 float texel[4];
                 img->texel(c3[0], c3[1], c3[2], texel);

@@ -248,7 +248,7 @@ uint64_t Image::allocation_bytes(const FormatInfo* fmt, int32_t w, int32_t h, in
     if (stores_bytes(fmt)) return n * 4;                      // RGBA bytes per sample
     if (const int b = narrow_bytes(fmt)) return n * uint64_t(b) + kNarrowPad;   // their channels' bytes
     if (fmt->kind() == SampleKind::Float) return color_elements(fmt, n) * 4;   // a float per channel
-    if (fmt->kind() != SampleKind::Depth) return n * 4 * 4;   // four 4-byte words per sample
+    if (fmt->kind() != SampleKind::Depth) return n * uint64_t(integer_bytes(fmt));   // the channels' widths
     return n * ((fmt->encoding != Encoding::Stencil8 ? 4 : 0) + (fmt->has_stencil ? 1 : 0));
 }
 
@@ -264,7 +264,7 @@ void Image::allocate(const FormatInfo* fmt, int32_t w, int32_t h, int32_t d, int
             else if (stores_narrow(fmt)) narrow.assign(n * size_t(narrow_bytes(fmt)) + kNarrowPad, 0);   // absent channels are implied
             else color.assign(color_elements(fmt, n), 0.0f);
             break;
-        case SampleKind::Int: case SampleKind::Uint: integer.assign(n * 4, 0u); break;
+        case SampleKind::Int: case SampleKind::Uint: integer.assign(n * size_t(integer_bytes(fmt)), 0); break;
         case SampleKind::Depth:
             if (fmt->encoding != Encoding::Stencil8) depth_words.assign(n, 0u);
             if (fmt->has_stencil) stencil.assign(n, 0);
@@ -273,8 +273,53 @@ void Image::allocate(const FormatInfo* fmt, int32_t w, int32_t h, int32_t d, int
     // Absent channels read as their defaults from the start (e.g. alpha 1 of RGB8).
     if (color_channels(fmt) == 4 && !fmt->bits[3])
         for (size_t i = 0; i < n; ++i) color[i * 4 + 3] = 1.0f;
-    if ((fmt->kind() == SampleKind::Int || fmt->kind() == SampleKind::Uint) && !fmt->bits[3])
-        for (size_t i = 0; i < n; ++i) integer[i * 4 + 3] = 1u;
+}
+
+int Image::integer_bytes(const FormatInfo* fmt) {
+    if (!fmt || !fmt->is_integer()) return 0;
+    if (fmt->bits[0] == 10) return 4;   // RGB10_A2UI: one packed word
+    return (fmt->bits[0] + fmt->bits[1] + fmt->bits[2] + fmt->bits[3]) / 8;
+}
+
+void Image::read_integer(size_t t, uint32_t out[4]) const {
+    const FormatInfo& f = *format;
+    out[0] = out[1] = out[2] = 0, out[3] = 1;   // absent channels (ES 3.0 table 3.24)
+    const uint8_t* p = integer.data() + t * size_t(integer_bytes(format));
+    if (f.bits[0] == 10) {   // RGB10_A2UI
+        uint32_t w;
+        std::memcpy(&w, p, 4);
+        out[0] = w & 1023u, out[1] = (w >> 10) & 1023u, out[2] = (w >> 20) & 1023u, out[3] = w >> 30;
+        return;
+    }
+    const bool sign = f.encoding == Encoding::Int;
+    for (int c = 0; c < 4 && f.bits[size_t(c)]; ++c) {
+        switch (f.bits[size_t(c)]) {
+            case 8: out[c] = sign ? uint32_t(int32_t(int8_t(*p))) : *p; break;
+            case 16: { uint16_t v; std::memcpy(&v, p, 2); out[c] = sign ? uint32_t(int32_t(int16_t(v))) : v; break; }
+            default: std::memcpy(&out[c], p, 4); break;
+        }
+        p += f.bits[size_t(c)] / 8;
+    }
+}
+
+void Image::store_integer(size_t t, const uint32_t in[4], const bool mask[4]) {
+    const FormatInfo& f = *format;
+    uint8_t* p = integer.data() + t * size_t(integer_bytes(format));
+    if (f.bits[0] == 10) {   // RGB10_A2UI
+        uint32_t w;
+        std::memcpy(&w, p, 4);
+        const uint32_t shift[4] = {0, 10, 20, 30}, ones[4] = {1023u, 1023u, 1023u, 3u};
+        for (int c = 0; c < 4; ++c)
+            if (!mask || mask[c]) w = (w & ~(ones[c] << shift[c])) | ((in[c] & ones[c]) << shift[c]);
+        std::memcpy(p, &w, 4);
+        return;
+    }
+    // The low bits of each channel (quantize_integer already clamped them to its range).
+    for (int c = 0; c < 4 && f.bits[size_t(c)]; ++c) {
+        const size_t w = f.bits[size_t(c)] / 8;
+        if (!mask || mask[c]) std::memcpy(p, &in[c], w);   // little-endian: the low bytes
+        p += w;
+    }
 }
 
 int Image::color_channels(const FormatInfo* fmt) {
@@ -334,8 +379,12 @@ void Image::texel(int32_t x, int32_t y, int32_t z, float out[4]) const {
     const size_t i = (size_t(z) * size_t(height) + size_t(y)) * size_t(width) + size_t(x);
     switch (format->kind()) {
         case SampleKind::Float: read_color(i, out); break;
-        case SampleKind::Int: for (int c = 0; c < 4; ++c) out[c] = float(int32_t(integer[i * 4 + size_t(c)])); break;
-        case SampleKind::Uint: for (int c = 0; c < 4; ++c) out[c] = float(integer[i * 4 + size_t(c)]); break;
+        case SampleKind::Int: case SampleKind::Uint: {
+            uint32_t v[4];
+            read_integer(i, v);
+            for (int c = 0; c < 4; ++c) out[c] = format->kind() == SampleKind::Int ? float(int32_t(v[c])) : float(v[c]);
+            break;
+        }
         case SampleKind::Depth:
             out[0] = depth_words.empty() ? 0.0f : depth_value(format->encoding, depth_words[i]);
             out[1] = 0, out[2] = 0, out[3] = 1;
@@ -560,7 +609,9 @@ void unpack_into(Image& img, int32_t x0, int32_t y0, int32_t z0, int32_t w, int3
                     expand(u.format, raw, rgba);
                     uint32_t in[4];
                     for (int c = 0; c < 4; ++c) in[c] = uint32_t(int64_t(rgba[c]));
-                    quantize_integer(f, in, &img.integer[t * 4]);
+                    uint32_t q[4];
+                    quantize_integer(f, in, q);
+                    img.store_integer(t, q);
                 } else {
                     if (!img.depth_words.empty()) img.depth_words[t] = depth_word(f.encoding, px.depth);
                     if (!img.stencil.empty()) img.stencil[t] = px.stencil;

@@ -15,7 +15,9 @@
 //     (already quantized to the format: an RGBA8 texel holds k/255; sRGB texels hold the
 //     decoded linear value, which is what ES 3.0 §3.8.15 decodes to before filtering; LUMINANCE,
 //     ALPHA and friends are stored expanded to RGBA as ES 3.0 table 3.24 defines them);
-//   - integer formats: 4 x 32-bit (int or uint bits) per texel;
+//   - integer formats: each channel of the format at its own width (8, 16 or 32 bits; RGB10_A2UI
+//     one packed 32-bit word), Image::integer_bytes per texel, read and written as 4 x 32-bit
+//     (int or uint bits) through read_integer / store_integer;
 //   - depth formats: one 32-bit word per texel (unorm16/unorm24 integers, or float32 bits: all
 //     non-negative, so the unsigned order of the words is the order of the depths) plus a stencil
 //     byte per texel for depth-stencil formats.
@@ -131,7 +133,7 @@ struct Image {
     // store_color; the sampler's vector paths decode them (narrow_words8/16, surface/sampler.cpp).
     std::vector<uint8_t> narrow;
     static constexpr size_t kNarrowPad = 3;
-    std::vector<uint32_t> integer;               // Int/Uint kind: 4 per texel (sample)
+    std::vector<uint8_t> integer;                // Int/Uint kind: integer_bytes() per texel (sample)
     std::vector<uint32_t> depth_words;           // Depth kind: 1 per texel (sample)
     std::vector<uint8_t> stencil;                // depth-stencil and stencil formats
 
@@ -146,6 +148,13 @@ struct Image {
     // formats of three or four channels (RGBA8, RGB8).
     static bool stores_bytes(const FormatInfo* fmt) { return fmt && fmt->is_unorm8() && !stores_narrow(fmt); }
     bool bytes() const { return stores_bytes(format); }
+    // Bytes per texel of an integer format (the sum of its channels' widths, ES 3.0 table 3.13),
+    // 0 for the others.
+    static int integer_bytes(const FormatInfo* fmt);
+    // Integer element t as 4 x 32-bit bits (int formats sign-extended), absent channels 0, alpha 1.
+    void read_integer(size_t t, uint32_t out[4]) const;
+    // Stores already-quantized integer bits (quantize_integer's output), the channels of `mask`.
+    void store_integer(size_t t, const uint32_t in[4], const bool mask[4] = nullptr);
     // Floats per texel of `color` for a format stored there: the base format's channels (RED 1,
     // RG 2, RGB 3; RGBA and WebGL 1's luminance/alpha formats, kept expanded, 4), 0 for the others.
     static int color_channels(const FormatInfo* fmt);
@@ -172,7 +181,7 @@ struct Image {
     void texel(int32_t x, int32_t y, int32_t z, float out[4]) const;
     // Bytes of texel storage this image holds (all its vectors).
     size_t storage_bytes() const {
-        return color.size() * sizeof(float) + integer.size() * sizeof(uint32_t) + depth_words.size() * sizeof(uint32_t) +
+        return color.size() * sizeof(float) + integer.size() + depth_words.size() * sizeof(uint32_t) +
                stencil.size() + rgba8.size() * sizeof(uint32_t) + narrow.size();
     }
 };
