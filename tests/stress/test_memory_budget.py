@@ -385,7 +385,9 @@ def test_a_draws_working_memory_is_charged_to_its_context():
     # any pixel is written, the picture unchanged; within it, the draw runs and gives them back.
     out = run_child("""
 import numpy as np
-gl = softgl.Context(256, 256, antialias=False, version=2)
+# One thread: each worker's scratch grows with the tiles it happened to draw, so at more threads
+# what the scratch holds may differ between runs by scheduling.
+gl = softgl.Context(256, 256, antialias=False, version=2, threads=1)
 vs = "#version 300 es\\nin vec2 p;\\nvoid main() { gl_Position = vec4(p, 0.0, 1.0); gl_PointSize = 1.0; }"
 fs = ("#version 300 es\\nprecision highp float;\\nuniform int n;\\nout vec4 o;\\n"
       "void main() { float x = 0.0; for (int i = 0; i < n; i++) x += 0.25; o = vec4(x, 0.0, 0.0, 1.0); }")
@@ -396,6 +398,9 @@ gl.bufferData(gl.ARRAY_BUFFER, np.array([-1, -1, 1, -1, -1, 1, 1, 1], np.float32
 gl.enableVertexAttribArray(0); gl.vertexAttribPointer(0, 2, gl.FLOAT, False, 0, 0)
 e = gl.createBuffer(); gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, e)
 gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, np.zeros(1 << 20, np.uint8), gl.STATIC_DRAW)   # 2^20 indices
+# Both draws once first: the scratch they keep on this thread (charged after each draw) is then
+# at its size, and the same draws again grow it no more.
+gl.drawElements(gl.POINTS, 1 << 20, gl.UNSIGNED_BYTE, 0); gl.drawArrays(gl.TRIANGLE_STRIP, 0, 4)
 gl.clearColor(0.2, 0.2, 0.2, 1.0); gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT)
 before = gl.readPixels(0, 0, 256, 256, gl.RGBA, gl.UNSIGNED_BYTE).copy()
 in_use = gl.memory_budget()["in_use"]
@@ -414,6 +419,53 @@ print(e1, int(same1), e2, int(same2), e3, e4, drawn, gl.memory_budget()["in_use"
 """)
     v = [int(x) for x in out]
     assert v == [softgl.OUT_OF_MEMORY, 1, softgl.OUT_OF_MEMORY, 1, softgl.NO_ERROR, softgl.NO_ERROR, 128, 0]
+
+
+def test_a_draws_kept_scratch_and_the_blend_labs_records_are_charged():
+    """The scratch a draw keeps on its thread (its batch's vertices, set-up primitives and bins,
+    every worker's tile-pass buffers, the rollback copies) and the blend lab's A-buffer are
+    charged to the context that drew (memory_budget()["in_use"]): what the context holds, checked
+    against the growth of the process's resident memory, and the A-buffer against its records'
+    own count. Before, neither was charged (in_use did not move)."""
+    out = run_child("""
+import numpy as np
+def rss():
+    for line in open('/proc/self/status'):
+        if line.startswith('VmRSS:'): return int(line.split()[1]) * 1024
+gl = softgl.Context(256, 256, antialias=False, threads=1)
+gl.useProgram(softgl.program(gl, "attribute vec2 p; void main() { gl_Position = vec4(p, 0.0, 1.0); }",
+                             "precision mediump float; void main() { gl_FragColor = vec4(1.0, 0.0, 0.0, 0.25); }"))
+b = gl.createBuffer(); gl.bindBuffer(gl.ARRAY_BUFFER, b)
+n = 3 * 200000                                                    # 200,000 triangles: 4 batches
+gl.bufferData(gl.ARRAY_BUFFER, np.random.default_rng(1).uniform(-1, 1, (n, 2)).astype(np.float32), gl.STATIC_DRAW)
+gl.enableVertexAttribArray(0); gl.vertexAttribPointer(0, 2, gl.FLOAT, False, 0, 0)
+m0, r0 = gl.memory_budget()["in_use"], rss()
+gl.drawArrays(gl.TRIANGLES, 0, n)
+m1, r1 = gl.memory_budget()["in_use"], rss()
+# The blend lab: 8 blended full-canvas quads, 8 x 256 x 256 fragments kept in the A-buffer.
+ext = gl.getExtension("SOFTGL_exact_transparency")
+gl.enable(0x1D100)                                               # EXACT_TRANSPARENCY_SOFTGL
+gl.enable(gl.BLEND); gl.blendFunc(gl.SRC_ALPHA, gl.ONE_MINUS_SRC_ALPHA)
+gl.bufferData(gl.ARRAY_BUFFER, np.array([-1, -1, 1, -1, -1, 1, -1, 1, 1, -1, 1, 1] * 8, np.float32), gl.STATIC_DRAW)
+gl.drawArrays(gl.TRIANGLES, 0, 6 * 8)                          # the scratch of this shape first
+gl.clear(gl.COLOR_BUFFER_BIT)
+m2 = gl.memory_budget()["in_use"]
+gl.drawArrays(gl.TRIANGLES, 0, 6 * 8)
+m3 = gl.memory_budget()["in_use"]
+mem = ext.memory()
+gl.clear(gl.COLOR_BUFFER_BIT)                                   # a full clear frees the records
+m4 = gl.memory_budget()["in_use"]
+print(m1 - m0, r1 - r0, mem["fragments"], mem["bytes_stored"], m3 - m2, m4 - m2, gl.getError())
+""")
+    scratch, grown, fragments, stored, lab, after_clear, err = map(int, out)
+    assert err == softgl.NO_ERROR
+    # The scratch is charged at its capacity: at least what became resident, at most what could
+    # be (vectors grow by doubling: twice the used part, plus pages not yet touched).
+    assert 8 * MiB < scratch
+    assert grown - 4 * MiB <= scratch <= 2 * grown + 8 * MiB, (scratch / MiB, grown / MiB)
+    assert fragments == 8 * 256 * 256
+    assert stored <= lab <= 2 * stored + MiB, (lab, stored)
+    assert after_clear < lab // 8, (after_clear, lab)
 
 
 def test_an_allocation_failure_anywhere_is_out_of_memory_naming_the_call():

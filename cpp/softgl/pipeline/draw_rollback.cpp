@@ -22,6 +22,11 @@ RollbackScratch& rollback_scratch() {
 
 }  // namespace
 
+uint64_t rollback_scratch_bytes() {
+    const RollbackScratch& s = rollback_scratch();
+    return capacity_bytes(s.saved) + capacity_bytes(s.copies) + capacity_bytes(s.rects);
+}
+
 uint64_t fragment_work_estimate(uint64_t pairs, uint64_t pixels, uint64_t instructions_bound) {
     constexpr uint64_t kMax = ~uint64_t(0);
     const uint64_t per_pixel = instructions_bound > kMax - kFragmentWorkUnits ? kMax : instructions_bound + kFragmentWorkUnits;
