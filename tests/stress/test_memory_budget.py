@@ -501,3 +501,57 @@ print('|'.join(msgs))
 """)
     assert out[:3] == ["returned", str(softgl.OUT_OF_MEMORY), str(softgl.NO_ERROR)], out
     assert "drawElements" in " ".join(out[3:]) and "bad_alloc" in " ".join(out[3:])
+
+
+def test_a_link_or_compile_that_runs_out_of_memory_changes_nothing():
+    """A std::bad_alloc in a call without a catch of its own must leave the state as it was
+    (docs/reliability.md, "Memory"). linkProgram prepares the new executable in locals and
+    commits by moves; compileShader likewise. The allocation is made to fail by filling the heap's
+    free space and limiting the address space to what is mapped (RLIMIT_AS), so the call's first
+    new mapping fails. Before: LINK_STATUS went false on OUT_OF_MEMORY while the old executable
+    still drew."""
+    out = run_child("""
+import resource, numpy as np
+gl = softgl.Context(16, 16, antialias=False, version=2)
+vs = "#version 300 es\\nin vec2 p;\\nvoid main() { gl_Position = vec4(p, 0.0, 1.0); gl_PointSize = 16.0; }"
+fs = "#version 300 es\\nprecision highp float;\\nuniform vec4 c;\\nout vec4 o;\\nvoid main() { o = c; }"
+prog = softgl.program(gl, vs, fs, {"p": 0}); gl.useProgram(prog)
+gl.uniform4f(gl.getUniformLocation(prog, "c"), 0.25, 0.5, 0.75, 1.0)
+b = gl.createBuffer(); gl.bindBuffer(gl.ARRAY_BUFFER, b)
+gl.bufferData(gl.ARRAY_BUFFER, np.zeros(2, np.float32), gl.STATIC_DRAW)
+gl.enableVertexAttribArray(0); gl.vertexAttribPointer(0, 2, gl.FLOAT, False, 0, 0)
+body = "".join("x = x * 0.5 + c * %d.0;\\n" % (i % 7) for i in range(30000))
+big = "#version 300 es\\nprecision highp float;\\nuniform vec4 c;\\nout vec4 o;\\nvoid main() { vec4 x = c;\\n" + body + "o = x; }"
+f2 = gl.createShader(gl.FRAGMENT_SHADER); gl.shaderSource(f2, big); gl.compileShader(f2)
+f3 = gl.createShader(gl.FRAGMENT_SHADER); gl.shaderSource(f3, fs + "x"); gl.compileShader(f3)   # fails: a log
+old = [s for s in gl.getAttachedShaders(prog) if gl.getShaderParameter(s, gl.SHADER_TYPE) == gl.FRAGMENT_SHADER][0]
+gl.detachShader(prog, old); gl.attachShader(prog, f2)
+gl.shaderSource(f3, big)
+def state():
+    gl.clear(gl.COLOR_BUFFER_BIT); gl.drawArrays(gl.POINTS, 0, 1)
+    return (gl.getProgramParameter(prog, gl.LINK_STATUS), gl.getProgramInfoLog(prog), gl.getActiveUniform(prog, 0).name,
+            gl.getShaderParameter(f3, gl.COMPILE_STATUS), gl.getShaderInfoLog(f3),
+            gl.readPixels(0, 0, 16, 16, gl.RGBA, gl.UNSIGNED_BYTE).tobytes())
+def vmsize():
+    with open('/proc/self/status') as f:
+        return [int(l.split()[1]) * 1024 for l in f if l.startswith('VmSize:')][0]
+before = state()
+errors = []
+for call in (lambda: gl.linkProgram(prog), lambda: gl.compileShader(f3)):
+    fill, start = [], vmsize()            # use up the free heap: the call must map new memory
+    while vmsize() < start + (8 << 20):
+        fill.extend(bytearray(16384) for _ in range(64))
+    resource.setrlimit(resource.RLIMIT_AS, (vmsize(), resource.RLIM_INFINITY))
+    try:
+        call()
+    finally:
+        resource.setrlimit(resource.RLIMIT_AS, (resource.RLIM_INFINITY, resource.RLIM_INFINITY))
+    errors.append(gl.getError())
+    del fill
+after = state()
+print(*errors, *[int(a == b) for a, b in zip(before, after)], int(before[0]), int(before[3]))
+""")
+    v = [int(x) for x in out]
+    assert v[:2] == [softgl.OUT_OF_MEMORY, softgl.OUT_OF_MEMORY], str(v)
+    assert v[2:8] == [1] * 6, v          # status, logs, uniforms, pixels: as before
+    assert v[8:] == [1, 0]               # linked before (and still); f3's failed compile kept
