@@ -189,6 +189,7 @@ void bind_state(ContextClass& cls) {
         .def("_set_memory_budget", [](Context& c, uint64_t bytes) { c.memory_account().set_limit(bytes); })
         .def("_memory_budget",
              [](Context& c) {
+                 c.charge_blend_lab();   // as it is now (it changes between draws: clears, resolves)
                  return py::make_tuple(c.memory_account().limit(), c.memory_account().in_use(),
                                        softgl::memory_limit(), softgl::memory_in_use());
              })

@@ -98,6 +98,80 @@ print(delta(tex(gl.R8, gl.RED, gl.UNSIGNED_BYTE)), delta(tex(gl.RGBA8, gl.RGBA, 
     assert [int(x) for x in out] == [n + 3, 4 * n, 4 * n, n + 3, 16 * n, 16 * n, 4 * n, 5 * n, n, softgl.NO_ERROR]
 
 
+# ES 3.0 table 3.13: the bits of each channel (R, G, B, A) of a sized colour format. What a texel
+# takes by the spec is their sum / 8 bytes.
+TABLE_3_13 = {
+    "R32F": (32, 0, 0, 0), "RG32F": (32, 32, 0, 0), "RGB32F": (32, 32, 32, 0), "RGBA32F": (32, 32, 32, 32),
+    "R16F": (16, 0, 0, 0), "RG16F": (16, 16, 0, 0), "RGB16F": (16, 16, 16, 0), "RGBA16F": (16, 16, 16, 16),
+    "R11F_G11F_B10F": (11, 11, 10, 0), "RGB9_E5": (9, 9, 9, 0), "RGB565": (5, 6, 5, 0), "RGBA4": (4, 4, 4, 4),
+    "RGB5_A1": (5, 5, 5, 1), "SRGB8": (8, 8, 8, 0), "SRGB8_ALPHA8": (8, 8, 8, 8), "RGB10_A2": (10, 10, 10, 2),
+    "R8_SNORM": (8, 0, 0, 0), "RGBA8_SNORM": (8, 8, 8, 8),
+    "R8UI": (8, 0, 0, 0), "R8I": (8, 0, 0, 0), "RG8UI": (8, 8, 0, 0), "RGB8I": (8, 8, 8, 0), "RGBA8UI": (8, 8, 8, 8),
+    "R16I": (16, 0, 0, 0), "RG16UI": (16, 16, 0, 0), "RGB16I": (16, 16, 16, 0), "RGBA16UI": (16, 16, 16, 16),
+    "R32UI": (32, 0, 0, 0), "RG32I": (32, 32, 0, 0), "RGB32UI": (32, 32, 32, 0), "RGBA32I": (32, 32, 32, 32),
+    "RGB10_A2UI": (10, 10, 10, 2),
+}
+# How each is uploaded (format, type) for texImage2D(..., None).
+UPLOAD = {
+    1: ("RED", "RED_INTEGER"), 2: ("RG", "RG_INTEGER"), 3: ("RGB", "RGB_INTEGER"), 4: ("RGBA", "RGBA_INTEGER")}
+
+
+def spec_bytes(name):
+    return sum(TABLE_3_13[name]) // 8
+
+
+def test_float_and_integer_storage_is_sized_by_the_format():
+    """docs/reliability.md, "Memory": integer formats store each channel at its own width, so a
+    texel takes the table's bytes exactly; float-sampled formats store one float32 per channel of
+    their base format (the 32F formats: the table's bytes; the others, e.g. R16F, RGB565, SRGB8,
+    4 bytes a channel, kept as float32 so that sampling and blending read them without a
+    decode), plus 12 bytes of padding an image with fewer than 4 channels (Image::kColorPad: a
+    4-float load at the last texel stays inside). Before: 16 bytes a texel for every one."""
+    names = list(TABLE_3_13)
+    out = run_child("""
+gl = softgl.Context(4, 4, antialias=False, version=2)
+keep = []
+def delta(internal, w=64, h=32):
+    a = softgl._core.memory_in_use()
+    t = gl.createTexture(); gl.bindTexture(gl.TEXTURE_2D, t)
+    gl.texStorage2D(gl.TEXTURE_2D, 1, getattr(gl, internal), w, h)
+    keep.append(t)
+    return softgl._core.memory_in_use() - a
+print(*[delta(n) for n in %r], gl.getError())
+""" % (names,))
+    n = 64 * 32
+    got = dict(zip(names, map(int, out)))
+    assert int(out[-1]) == softgl.NO_ERROR
+    for name, bits in TABLE_3_13.items():
+        channels = sum(1 for b in bits if b)
+        if name.endswith(("UI", "I")):
+            want = n * spec_bytes(name)                       # the table's bytes
+        else:
+            want = n * 4 * channels + (12 if channels < 4 else 0)   # float32 per channel
+            if name.endswith("32F"):
+                assert want - (12 if channels < 4 else 0) == n * spec_bytes(name)
+        assert got[name] == want, (name, got[name], want)
+
+
+def test_peak_rss_follows_the_format():
+    """A 4096 x 4096 texture in a child process: VmHWM grows by what the format stores (RGBA32F
+    256 MiB, R32F 64 MiB, R16F 64 MiB as float32, RG16F 128 MiB; before: 256 MiB each)."""
+    grow = {}
+    for name in ["RGBA32F", "R32F", "R16F", "RG16F", "R8UI"]:
+        out = run_child("""
+gl = softgl.Context(4, 4, antialias=False, version=2)
+before = vm_hwm()
+t = gl.createTexture(); gl.bindTexture(gl.TEXTURE_2D, t)
+gl.texStorage2D(gl.TEXTURE_2D, 1, gl.%s, 4096, 4096)
+print(gl.getError(), vm_hwm() - before)
+""" % name)
+        assert int(out[0]) == softgl.NO_ERROR
+        grow[name] = int(out[1])
+    texels = 4096 * 4096
+    for name, stored in [("RGBA32F", 16), ("R32F", 4), ("R16F", 4), ("RG16F", 8), ("R8UI", 1)]:
+        assert abs(grow[name] - texels * stored) < 8 * MiB, (name, grow[name] / MiB)
+
+
 def test_textures_are_charged_and_over_the_limit_change_nothing():
     # texImage2D, texStorage2D and generateMipmap charge the ledger; one that would pass the
     # limit records OUT_OF_MEMORY and leaves the texture (its image and bytes) as it was.
@@ -311,7 +385,9 @@ def test_a_draws_working_memory_is_charged_to_its_context():
     # any pixel is written, the picture unchanged; within it, the draw runs and gives them back.
     out = run_child("""
 import numpy as np
-gl = softgl.Context(256, 256, antialias=False, version=2)
+# One thread: each worker's scratch grows with the tiles it happened to draw, so at more threads
+# what the scratch holds may differ between runs by scheduling.
+gl = softgl.Context(256, 256, antialias=False, version=2, threads=1)
 vs = "#version 300 es\\nin vec2 p;\\nvoid main() { gl_Position = vec4(p, 0.0, 1.0); gl_PointSize = 1.0; }"
 fs = ("#version 300 es\\nprecision highp float;\\nuniform int n;\\nout vec4 o;\\n"
       "void main() { float x = 0.0; for (int i = 0; i < n; i++) x += 0.25; o = vec4(x, 0.0, 0.0, 1.0); }")
@@ -322,6 +398,9 @@ gl.bufferData(gl.ARRAY_BUFFER, np.array([-1, -1, 1, -1, -1, 1, 1, 1], np.float32
 gl.enableVertexAttribArray(0); gl.vertexAttribPointer(0, 2, gl.FLOAT, False, 0, 0)
 e = gl.createBuffer(); gl.bindBuffer(gl.ELEMENT_ARRAY_BUFFER, e)
 gl.bufferData(gl.ELEMENT_ARRAY_BUFFER, np.zeros(1 << 20, np.uint8), gl.STATIC_DRAW)   # 2^20 indices
+# Both draws once first: the scratch they keep on this thread (charged after each draw) is then
+# at its size, and the same draws again grow it no more.
+gl.drawElements(gl.POINTS, 1 << 20, gl.UNSIGNED_BYTE, 0); gl.drawArrays(gl.TRIANGLE_STRIP, 0, 4)
 gl.clearColor(0.2, 0.2, 0.2, 1.0); gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT)
 before = gl.readPixels(0, 0, 256, 256, gl.RGBA, gl.UNSIGNED_BYTE).copy()
 in_use = gl.memory_budget()["in_use"]
@@ -340,6 +419,53 @@ print(e1, int(same1), e2, int(same2), e3, e4, drawn, gl.memory_budget()["in_use"
 """)
     v = [int(x) for x in out]
     assert v == [softgl.OUT_OF_MEMORY, 1, softgl.OUT_OF_MEMORY, 1, softgl.NO_ERROR, softgl.NO_ERROR, 128, 0]
+
+
+def test_a_draws_kept_scratch_and_the_blend_labs_records_are_charged():
+    """The scratch a draw keeps on its thread (its batch's vertices, set-up primitives and bins,
+    every worker's tile-pass buffers, the rollback copies) and the blend lab's A-buffer are
+    charged to the context that drew (memory_budget()["in_use"]): what the context holds, checked
+    against the growth of the process's resident memory, and the A-buffer against its records'
+    own count. Before, neither was charged (in_use did not move)."""
+    out = run_child("""
+import numpy as np
+def rss():
+    for line in open('/proc/self/status'):
+        if line.startswith('VmRSS:'): return int(line.split()[1]) * 1024
+gl = softgl.Context(256, 256, antialias=False, threads=1)
+gl.useProgram(softgl.program(gl, "attribute vec2 p; void main() { gl_Position = vec4(p, 0.0, 1.0); }",
+                             "precision mediump float; void main() { gl_FragColor = vec4(1.0, 0.0, 0.0, 0.25); }"))
+b = gl.createBuffer(); gl.bindBuffer(gl.ARRAY_BUFFER, b)
+n = 3 * 200000                                                    # 200,000 triangles: 4 batches
+gl.bufferData(gl.ARRAY_BUFFER, np.random.default_rng(1).uniform(-1, 1, (n, 2)).astype(np.float32), gl.STATIC_DRAW)
+gl.enableVertexAttribArray(0); gl.vertexAttribPointer(0, 2, gl.FLOAT, False, 0, 0)
+m0, r0 = gl.memory_budget()["in_use"], rss()
+gl.drawArrays(gl.TRIANGLES, 0, n)
+m1, r1 = gl.memory_budget()["in_use"], rss()
+# The blend lab: 8 blended full-canvas quads, 8 x 256 x 256 fragments kept in the A-buffer.
+ext = gl.getExtension("SOFTGL_exact_transparency")
+gl.enable(0x1D100)                                               # EXACT_TRANSPARENCY_SOFTGL
+gl.enable(gl.BLEND); gl.blendFunc(gl.SRC_ALPHA, gl.ONE_MINUS_SRC_ALPHA)
+gl.bufferData(gl.ARRAY_BUFFER, np.array([-1, -1, 1, -1, -1, 1, -1, 1, 1, -1, 1, 1] * 8, np.float32), gl.STATIC_DRAW)
+gl.drawArrays(gl.TRIANGLES, 0, 6 * 8)                          # the scratch of this shape first
+gl.clear(gl.COLOR_BUFFER_BIT)
+m2 = gl.memory_budget()["in_use"]
+gl.drawArrays(gl.TRIANGLES, 0, 6 * 8)
+m3 = gl.memory_budget()["in_use"]
+mem = ext.memory()
+gl.clear(gl.COLOR_BUFFER_BIT)                                   # a full clear frees the records
+m4 = gl.memory_budget()["in_use"]
+print(m1 - m0, r1 - r0, mem["fragments"], mem["bytes_stored"], m3 - m2, m4 - m2, gl.getError())
+""")
+    scratch, grown, fragments, stored, lab, after_clear, err = map(int, out)
+    assert err == softgl.NO_ERROR
+    # The scratch is charged at its capacity: at least what became resident, at most what could
+    # be (vectors grow by doubling: twice the used part, plus pages not yet touched).
+    assert 8 * MiB < scratch
+    assert grown - 4 * MiB <= scratch <= 2 * grown + 8 * MiB, (scratch / MiB, grown / MiB)
+    assert fragments == 8 * 256 * 256
+    assert stored <= lab <= 2 * stored + MiB, (lab, stored)
+    assert after_clear < lab // 8, (after_clear, lab)
 
 
 def test_an_allocation_failure_anywhere_is_out_of_memory_naming_the_call():
@@ -375,3 +501,57 @@ print('|'.join(msgs))
 """)
     assert out[:3] == ["returned", str(softgl.OUT_OF_MEMORY), str(softgl.NO_ERROR)], out
     assert "drawElements" in " ".join(out[3:]) and "bad_alloc" in " ".join(out[3:])
+
+
+def test_a_link_or_compile_that_runs_out_of_memory_changes_nothing():
+    """A std::bad_alloc in a call without a catch of its own must leave the state as it was
+    (docs/reliability.md, "Memory"). linkProgram prepares the new executable in locals and
+    commits by moves; compileShader likewise. The allocation is made to fail by filling the heap's
+    free space and limiting the address space to what is mapped (RLIMIT_AS), so the call's first
+    new mapping fails. Before: LINK_STATUS went false on OUT_OF_MEMORY while the old executable
+    still drew."""
+    out = run_child("""
+import resource, numpy as np
+gl = softgl.Context(16, 16, antialias=False, version=2)
+vs = "#version 300 es\\nin vec2 p;\\nvoid main() { gl_Position = vec4(p, 0.0, 1.0); gl_PointSize = 16.0; }"
+fs = "#version 300 es\\nprecision highp float;\\nuniform vec4 c;\\nout vec4 o;\\nvoid main() { o = c; }"
+prog = softgl.program(gl, vs, fs, {"p": 0}); gl.useProgram(prog)
+gl.uniform4f(gl.getUniformLocation(prog, "c"), 0.25, 0.5, 0.75, 1.0)
+b = gl.createBuffer(); gl.bindBuffer(gl.ARRAY_BUFFER, b)
+gl.bufferData(gl.ARRAY_BUFFER, np.zeros(2, np.float32), gl.STATIC_DRAW)
+gl.enableVertexAttribArray(0); gl.vertexAttribPointer(0, 2, gl.FLOAT, False, 0, 0)
+body = "".join("x = x * 0.5 + c * %d.0;\\n" % (i % 7) for i in range(30000))
+big = "#version 300 es\\nprecision highp float;\\nuniform vec4 c;\\nout vec4 o;\\nvoid main() { vec4 x = c;\\n" + body + "o = x; }"
+f2 = gl.createShader(gl.FRAGMENT_SHADER); gl.shaderSource(f2, big); gl.compileShader(f2)
+f3 = gl.createShader(gl.FRAGMENT_SHADER); gl.shaderSource(f3, fs + "x"); gl.compileShader(f3)   # fails: a log
+old = [s for s in gl.getAttachedShaders(prog) if gl.getShaderParameter(s, gl.SHADER_TYPE) == gl.FRAGMENT_SHADER][0]
+gl.detachShader(prog, old); gl.attachShader(prog, f2)
+gl.shaderSource(f3, big)
+def state():
+    gl.clear(gl.COLOR_BUFFER_BIT); gl.drawArrays(gl.POINTS, 0, 1)
+    return (gl.getProgramParameter(prog, gl.LINK_STATUS), gl.getProgramInfoLog(prog), gl.getActiveUniform(prog, 0).name,
+            gl.getShaderParameter(f3, gl.COMPILE_STATUS), gl.getShaderInfoLog(f3),
+            gl.readPixels(0, 0, 16, 16, gl.RGBA, gl.UNSIGNED_BYTE).tobytes())
+def vmsize():
+    with open('/proc/self/status') as f:
+        return [int(l.split()[1]) * 1024 for l in f if l.startswith('VmSize:')][0]
+before = state()
+errors = []
+for call in (lambda: gl.linkProgram(prog), lambda: gl.compileShader(f3)):
+    fill, start = [], vmsize()            # use up the free heap: the call must map new memory
+    while vmsize() < start + (8 << 20):
+        fill.extend(bytearray(16384) for _ in range(64))
+    resource.setrlimit(resource.RLIMIT_AS, (vmsize(), resource.RLIM_INFINITY))
+    try:
+        call()
+    finally:
+        resource.setrlimit(resource.RLIMIT_AS, (resource.RLIM_INFINITY, resource.RLIM_INFINITY))
+    errors.append(gl.getError())
+    del fill
+after = state()
+print(*errors, *[int(a == b) for a, b in zip(before, after)], int(before[0]), int(before[3]))
+""")
+    v = [int(x) for x in out]
+    assert v[:2] == [softgl.OUT_OF_MEMORY, softgl.OUT_OF_MEMORY], str(v)
+    assert v[2:8] == [1] * 6, v          # status, logs, uniforms, pixels: as before
+    assert v[8:] == [1, 0]               # linked before (and still); f3's failed compile kept

@@ -70,7 +70,7 @@ py::tuple sample_texture_hook(const std::string& path, int simd, py::list levels
                 img.rgba8[i] = texel;
             }
         else
-            std::copy(a.data(), a.data() + img.color.size(), img.color.begin());
+            for (size_t i = 0; i < img.texel_count(); ++i) img.store_color(i, a.data() + i * 4);
     }
     tex->max_level = count - 1;
     SamplerParams& p = tex->sampler;

@@ -37,6 +37,8 @@ public:
     bool depth_complexity(const DefaultFramebuffer& fb, ThreadPool& pool, uint32_t* out);
     ABuffer& abuffer() { return abuffer_; }
     IntrospectionLog& log() { return log_; }
+    // Heap bytes of the A-buffer and the fragment log (Context::charge_blend_lab).
+    uint64_t capacity_bytes() const { return abuffer_.capacity_bytes() + log_.capacity_bytes(); }
     // SOFTGL_introspection: every logged sample of pixel (x, y). False (with an error) if unusable.
     bool fragments(int32_t x, int32_t y, std::vector<FragmentReport>& out);
 

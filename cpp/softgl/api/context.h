@@ -243,6 +243,9 @@ public:
     // made at the first getExtension of either; the draw hook is null while both are off.
     BlendLab& blendlab();
     FragmentSink* blendlab_sink();
+    // Charges the blend lab's A-buffer and fragment log as they are now to this context's memory
+    // account (after every draw and when the budget is read: docs/reliability.md, "Memory").
+    void charge_blend_lab();
 
     // ---- Textures and framebuffers (textures.cpp, framebuffers.cpp) --------------------------
     std::shared_ptr<Texture> create_texture();
@@ -363,6 +366,7 @@ private:
     bool ext_fog_ = false;
     bool ext_smooth_ = false;
     std::shared_ptr<BlendLab> blendlab_;   // shared_ptr: deletable where BlendLab is incomplete
+    MemoryReservation blendlab_memory_{memory_account_};   // blendlab_'s records (charge_blend_lab)
 
     // Object bindings
     InUse<Buffer> array_buffer_, copy_read_buffer_, copy_write_buffer_,

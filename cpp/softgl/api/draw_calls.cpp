@@ -79,6 +79,11 @@ void Context::report_stopped(const char* call, StopReason reason, uint64_t limit
 
 void Context::run_draw(const DrawCall& call, const char* call_name) {
     Program& p = *current_program_;
+    // However the draw ends, the blend lab's records it added (or rolled back) are charged.
+    struct ChargeBlendLab {
+        Context& c;
+        ~ChargeBlendLab() { c.charge_blend_lab(); }
+    } charge_blend_lab_after{*this};
     // gl_DepthRange is a built-in uniform: (near, far, far - near) from the current state.
     for (const auto& u : p.linked->reflection.uniforms) {
         if (!u.is_builtin) continue;

@@ -43,7 +43,9 @@ struct ColorSource {
         const size_t S = size_t(img->samples);
         const size_t t = offset + (size_t(y) * size_t(img->width) + size_t(x)) * S;
         if (!img->integer.empty()) {
-            std::memcpy(out, &img->integer[t * 4], 16);   // bit patterns (no resolve)
+            uint32_t bits[4];
+            img->read_integer(t, bits);   // bit patterns (no resolve)
+            std::memcpy(out, bits, 16);
             return;
         }
         if (S == 1) return img->read_color(t, out);
@@ -636,7 +638,9 @@ bool Context::read_pixels_framebuffer_object(int32_t x, int32_t y, int32_t width
             uint8_t* out = dst + (skip_rows + row) * stride + (skip_pixels + col) * pixel;
             const size_t t = src.offset + size_t(sy) * size_t(img.width) + size_t(sx);
             if (f.is_integer()) {
-                std::memcpy(out, &img.integer[t * 4], 16);
+                uint32_t bits[4];
+                img.read_integer(t, bits);
+                std::memcpy(out, bits, 16);
             } else if (type == gl::FLOAT) {
                 float v[4];
                 img.read_color(t, v);
@@ -1107,7 +1111,11 @@ void read_source_row(const ColorSource& cs, int64_t ix0, int64_t iy, size_t n, f
     const size_t S = size_t(img.samples);
     const size_t t = cs.offset + (size_t(iy) * size_t(img.width) + size_t(ix0)) * S;
     if (!img.integer.empty()) {
-        for (size_t i = 0; i < n; ++i) std::memcpy(&out[i * 4], &img.integer[(t + i * S) * 4], 16);
+        for (size_t i = 0; i < n; ++i) {
+            uint32_t bits[4];
+            img.read_integer(t + i * S, bits);
+            std::memcpy(&out[i * 4], bits, 16);
+        }
         return;
     }
     if (img.bytes()) {
@@ -1133,8 +1141,9 @@ void read_source_row(const ColorSource& cs, int64_t ix0, int64_t iy, size_t n, f
                 return;
         }
     }
-    if (!img.narrow.empty()) {
-        // Image::narrow: each sample's floats (k / 255), their mean in double in sample order.
+    if (!img.narrow.empty() || img.color_channels() < 4) {
+        // Image::narrow, or floats of fewer than 4 channels: each sample's floats (k / 255, or
+        // read_color's with the absent channels' defaults), their mean in double in sample order.
         for (size_t i = 0; i < n; ++i) {
             double sum[4] = {0, 0, 0, 0};
             for (size_t s = 0; s < S; ++s) {
@@ -1243,15 +1252,30 @@ void byte_row(const BlitColor& color, int64_t sx0, int64_t sy, int64_t x0, int64
         std::memcpy(&d.first->rgba8[d.second + size_t(y) * size_t(d.first->width) + size_t(x0)], rgba, n * 4);
 }
 
+// One thread's row buffers for blit_rows, allocated before any row is written, so that an
+// allocation failure (std::bad_alloc) leaves the destination as it was.
+struct BlitRowBuffers {
+    std::vector<float> row;
+    std::vector<uint8_t> byte_pixels;
+    std::vector<uint32_t> ties;
+    BlitRowBuffers(const BlitRows& rc, const BlitColor& color) {
+        const size_t width = size_t(std::max<int64_t>(rc.x1 - rc.x0, 0));
+        const bool bytes = color.writes() && blit_bytes(color);
+        row.resize(bytes ? 0 : width * 4);
+        byte_pixels.resize(bytes ? width * 4 : 0);
+        ties.resize(bytes ? width : 0);
+    }
+};
+
 // Destination rows [y_begin, y_end) of a 1:1 blit: colour within `rc`, depth / stencil within
 // `rd` (their sources may differ in size).
 void blit_rows(const BlitRows& rc, const BlitRows& rd, const BlitColor& color, const DepthStencilSide& ds_src,
-               const DepthStencilSide& ds_dst, bool depth, bool stencil, int64_t y_begin, int64_t y_end) {
-    const size_t width = size_t(std::max<int64_t>(rc.x1 - rc.x0, 0));
+               const DepthStencilSide& ds_dst, bool depth, bool stencil, int64_t y_begin, int64_t y_end,
+               BlitRowBuffers& buffers) {
     const bool bytes = color.writes() && blit_bytes(color);
-    std::vector<float> row(bytes ? 0 : width * 4);
-    std::vector<uint8_t> byte_pixels(bytes ? width * 4 : 0);
-    std::vector<uint32_t> ties(bytes ? width : 0);
+    std::vector<float>& row = buffers.row;
+    std::vector<uint8_t>& byte_pixels = buffers.byte_pixels;
+    std::vector<uint32_t>& ties = buffers.ties;
     for (int64_t y = y_begin; y < y_end; ++y) {
         if (color.writes() && rc.x0 < rc.x1 && y >= rc.y0 && y < rc.y1) {
             const size_t n = size_t(rc.x1 - rc.x0);
@@ -1345,12 +1369,20 @@ void Context::blit_framebuffer(int32_t sx0, int32_t sy0, int32_t sx1, int32_t sy
         const int64_t rows = cy1 - cy0, pixels = rows * std::max<int64_t>(cx1 - cx0, 0);
         constexpr int64_t kBandRows = 16, kPoolPixels = 1 << 15;
         if (rows <= 0) return;
-        if (pixels < kPoolPixels || rows <= kBandRows)
-            return blit_rows(rc, rd, color, ds_src, ds_dst, blit_depth, blit_stencil, cy0, cy1);
+        if (pixels < kPoolPixels || rows <= kBandRows) {
+            BlitRowBuffers buffers(rc, color);
+            return blit_rows(rc, rd, color, ds_src, ds_dst, blit_depth, blit_stencil, cy0, cy1, buffers);
+        }
         const size_t bands = size_t((rows + kBandRows - 1) / kBandRows);
-        pool().parallel_for(bands, [&](size_t b, unsigned) {
+        // Every worker's buffers before the first band writes (nothing allocates after it).
+        ThreadPool& workers = pool();
+        std::vector<BlitRowBuffers> buffers;
+        buffers.reserve(workers.size());
+        for (unsigned w = 0; w < workers.size(); ++w) buffers.emplace_back(rc, color);
+        workers.parallel_for(bands, [&](size_t b, unsigned worker) {
             const int64_t y0 = cy0 + int64_t(b) * kBandRows;
-            blit_rows(rc, rd, color, ds_src, ds_dst, blit_depth, blit_stencil, y0, std::min(cy1, y0 + kBandRows));
+            blit_rows(rc, rd, color, ds_src, ds_dst, blit_depth, blit_stencil, y0, std::min(cy1, y0 + kBandRows),
+                      buffers[worker]);
         });
         return;
     }

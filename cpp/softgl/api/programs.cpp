@@ -123,9 +123,11 @@ void Context::compile_shader(const std::shared_ptr<Shader>& shader) {
         return report_stopped("compileShader", stopped.reason, work_limits_.compile,
                               "the shader is as before the call (its status, info log and compiled code)");
     }
+    // Moves only (no allocation): an allocation failure before this line leaves the shader as it
+    // was (docs/reliability.md, "Memory").
+    shader->info_log = std::move(result.info_log);
+    shader->compiled = result.ok ? std::move(result.shader) : nullptr;
     shader->compile_status = result.ok;
-    shader->info_log = result.info_log;
-    shader->compiled = result.ok ? result.shader : nullptr;
 }
 
 Value Context::get_shader_parameter(const std::shared_ptr<Shader>& shader, GLenum pname) {
@@ -208,9 +210,9 @@ void Context::bind_attrib_location(const std::shared_ptr<Program>& program, uint
 void Context::link_program(const std::shared_ptr<Program>& program) {
     if (!check_program("linkProgram", program.get())) return;
     Program& p = *program;
-    const bool was_linked = p.link_status, was_validated = p.validate_status;
-    p.link_status = false;
-    p.validate_status = false;
+    // Everything that allocates happens first, into locals; the program changes only at the end,
+    // by moves, so a stop (work budget, Ctrl-C) or an allocation failure (std::bad_alloc, turned
+    // into OUT_OF_MEMORY by the bindings) leaves it as it was (docs/reliability.md, "Memory").
     std::string log;
     if (!p.vertex || !p.fragment) log = "ERROR: a vertex and a fragment shader must be attached\n";
     else if (!p.vertex->compile_status) log = "ERROR: the vertex shader is not compiled\n";
@@ -230,16 +232,16 @@ void Context::link_program(const std::shared_ptr<Program>& program) {
             CurrentWorkBudget budget(&work_budget_);
             result = glsl::link(*p.vertex->compiled, *p.fragment->compiled, link_limits, p.attribute_bindings);
         } catch (const WorkStopped& stopped) {
-            p.link_status = was_linked;
-            p.validate_status = was_validated;
             return report_stopped("linkProgram", stopped.reason, work_limits_.compile,
                                   "the program is as before the call (its status, info log and executable)");
         }
-        log = result.info_log;
+        log = std::move(result.info_log);
     }
-    p.info_log = log;
-    p.link_generation++;   // every link invalidates earlier uniform locations (WebGL 1.0 §5.14.10)
     if (!result.ok) {
+        p.link_status = false;
+        p.validate_status = false;
+        p.info_log = std::move(log);
+        p.link_generation++;   // every link invalidates earlier uniform locations (WebGL 1.0 §5.14.10)
         // ES 3.0 §2.11.3: a failed relink keeps the current executable of a program in use.
         if (current_program_ != program) {
             p.linked.reset();
@@ -248,13 +250,12 @@ void Context::link_program(const std::shared_ptr<Program>& program) {
         }
         return;
     }
-    p.link_status = true;
-    p.linked = result.program;
-    const glsl::ProgramReflection& r = p.linked->reflection;
-    p.uniforms.assign(size_t(r.uniform_words) + 1, glsl::Scalar{});
+    const std::shared_ptr<const glsl::LinkedProgram>& linked = result.program;
+    const glsl::ProgramReflection& r = linked->reflection;
+    std::vector<glsl::Scalar> uniforms(size_t(r.uniform_words) + 1, glsl::Scalar{});
     // Per vertex input slot: the attribute location and component it reads. A matrix takes one
     // location per column (ES 3.0 §2.11.5); its slots are numbered column-major.
-    const glsl::IrProgram& vertex_ir = p.linked->vertex;
+    const glsl::IrProgram& vertex_ir = linked->vertex;
     std::vector<int> slot_location(vertex_ir.inputs.size(), -1), slot_component(vertex_ir.inputs.size(), 0);
     for (size_t i = 0; i < vertex_ir.inputs.size(); ++i) {
         const glsl::Slot& slot = vertex_ir.inputs[i];
@@ -267,10 +268,19 @@ void Context::link_program(const std::shared_ptr<Program>& program) {
             slot_component[i] = slot.component % rows;
         }
     }
-    p.vertex_stage = std::make_unique<GlslVertexShader>(p.linked, slot_location, slot_component);
-    p.fragment_stage = std::make_unique<GlslFragmentShader>(p.linked, p.vertex_stage->varying_layout());
-    p.vertex_stage->set_uniforms(p.uniforms.data());
-    p.fragment_stage->set_uniforms(p.uniforms.data());
+    auto vertex_stage = std::make_unique<GlslVertexShader>(linked, slot_location, slot_component);
+    auto fragment_stage = std::make_unique<GlslFragmentShader>(linked, vertex_stage->varying_layout());
+    vertex_stage->set_uniforms(uniforms.data());   // a moved vector keeps its storage
+    fragment_stage->set_uniforms(uniforms.data());
+    // The commit: moves and plain stores only.
+    p.link_status = true;
+    p.validate_status = false;
+    p.info_log = std::move(log);
+    p.link_generation++;
+    p.linked = std::move(result.program);
+    p.uniforms = std::move(uniforms);
+    p.vertex_stage = std::move(vertex_stage);
+    p.fragment_stage = std::move(fragment_stage);
 }
 
 void Context::validate_program(const std::shared_ptr<Program>& program) {

@@ -16,6 +16,11 @@ BlendLab& Context::blendlab() {
 
 FragmentSink* Context::blendlab_sink() { return blendlab_ ? blendlab_->sink_for_draw() : nullptr; }
 
+void Context::charge_blend_lab() {
+    // Records already held (their own limits, setMemoryLimit, bound them): forced past the budget.
+    if (blendlab_) blendlab_memory_.force(blendlab_->capacity_bytes());
+}
+
 // ---------------------------------------------------------------------------- BlendLab
 
 BlendLab::BlendLab(ErrorState& errors, const DefaultFramebuffer& fb) : errors_(errors) { on_present(fb); }

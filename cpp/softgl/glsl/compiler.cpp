@@ -2,6 +2,7 @@
 #include "softgl/core/work_budget.h"
 
 #include <algorithm>
+#include <new>
 #include <set>
 
 #include "softgl/glsl/checker.h"
@@ -207,6 +208,8 @@ CompileResult compile(const std::string& source, Stage stage, int webgl_version,
         }
     } catch (const WorkStopped&) {
         throw;   // the call stops (api/ reports it); not a compile error
+    } catch (const std::bad_alloc&) {
+        throw;   // no memory: OUT_OF_MEMORY for the call, the shader as it was (bindings/arguments.h)
     } catch (const std::exception& e) {
         diagnostics.error(0, std::string("internal compiler error: ") + e.what());
     }

@@ -57,8 +57,10 @@ void ABuffer::configure(int32_t width, int32_t height, int32_t samples) {
     height_ = height;
     samples_ = samples;
     tiles_x_ = (width + kTileSize - 1) / kTileSize;
-    tiles_.assign(size_t(tiles_x_) * size_t((height + kTileSize - 1) / kTileSize), {});
-    draws_.clear();
+    // New vectors, not assign(): assigning an empty vector keeps the old one's capacity, so a
+    // full clear would free nothing (the ledger charges what is held: api/draw_calls.cpp).
+    std::vector<std::vector<CapturedFragment>>(size_t(tiles_x_) * size_t((height + kTileSize - 1) / kTileSize)).swap(tiles_);
+    decltype(draws_)().swap(draws_);
     stored_ = 0;
     attempted_ = 0;
 }

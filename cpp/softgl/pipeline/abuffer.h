@@ -21,6 +21,8 @@
 #include <cstdint>
 #include <vector>
 
+#include "softgl/core/capacity_bytes.h"
+
 #include "softgl/surface/blend.h"
 #include "softgl/runtime/thread_pool.h"
 #include "softgl/surface/framebuffer.h"
@@ -69,6 +71,11 @@ public:
     uint64_t bytes_stored() const { return stored_.load() * sizeof(CapturedFragment); }
     uint64_t bytes_needed() const { return attempted_.load() * sizeof(CapturedFragment); }
     uint64_t fragment_count() const { return stored_.load(); }
+    // Heap bytes held (records, their tiles' arrays, draws, marks), charged to the context's
+    // memory ledger (api/draw_calls.cpp).
+    uint64_t capacity_bytes() const {
+        return softgl::capacity_bytes(draws_) + softgl::capacity_bytes(tiles_) + softgl::capacity_bytes(mark_sizes_);
+    }
     bool overflowed() const { return attempted_.load() > stored_.load(); }
 
     uint32_t add_draw(const CapturedDraw& d);

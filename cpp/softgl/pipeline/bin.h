@@ -6,6 +6,7 @@
 #include <cstdint>
 #include <vector>
 
+#include "softgl/core/capacity_bytes.h"
 #include "softgl/pipeline/raster.h"
 #include "softgl/pipeline/setup.h"
 
@@ -52,6 +53,11 @@ public:
     // Sum over the added primitives of (bounding box width + 2) x (height + 2): at least the lanes
     // their 2x2 quads can shade (the draw's work estimate, pipeline/draw_rollback.h).
     uint64_t quad_pixels_bound = 0;
+
+    // Heap bytes held (kept scratch charged to the ledger: pipeline/draw.cpp).
+    uint64_t capacity_bytes() const {
+        return softgl::capacity_bytes(lists_) + softgl::capacity_bytes(occupied_) + softgl::capacity_bytes(marks_);
+    }
 
 private:
     // A tile's first primitive: the list joins occupied_.

@@ -94,6 +94,34 @@ DrawScratch& draw_scratch() {
     return scratch;
 }
 
+uint64_t draw_scratch_bytes() {
+    const DrawScratch& s = draw_scratch();
+    uint64_t n = capacity_bytes(s.ids) + capacity_bytes(s.slot_of_position) + capacity_bytes(s.tiles) +
+                 capacity_bytes(s.index_base) + capacity_bytes(s.slot_of_index) + capacity_bytes(s.slot) +
+                 capacity_bytes(s.vertex_workers) + capacity_bytes(s.all.position) + capacity_bytes(s.all.point_size) +
+                 capacity_bytes(s.all.varyings) + capacity_bytes(s.window) + capacity_bytes(s.chunks) +
+                 capacity_bytes(s.chunk_bins) + capacity_bytes(s.prims.chunk) + s.bins.capacity_bytes();
+    for (const VertexWorker& w : s.vertex_workers) {
+        n += capacity_bytes(w.vertex_ids) + capacity_bytes(w.instance_ids);
+        for (const AttributeStream& a : w.attribs)
+            for (const std::vector<uint32_t>& c : a.comp) n += capacity_bytes(c);
+    }
+    for (const SetupChunk& c : s.chunks) n += capacity_bytes(c.prims);
+    for (const Bins& b : s.chunk_bins) n += b.capacity_bytes();
+    return n;
+}
+
+// The scratch this thread keeps between draws (the draw's, its tile pass's for every worker,
+// the rollback copies: all on the calling thread), charged to the memory ledger after every draw
+// (docs/reliability.md, "Memory"): to the account of the context that drew last on this thread,
+// which is the one holding it for its next draw. The bytes are already allocated, so they are
+// forced past the limits; what a draw can grow them by is bounded by its batch size.
+void charge_thread_scratch(const std::shared_ptr<MemoryAccount>& account) {
+    thread_local MemoryReservation held;
+    if (held.account() != account.get()) held = MemoryReservation(account);
+    held.force(draw_scratch_bytes() + tile_pass_scratch_bytes() + rollback_scratch_bytes());
+}
+
 // Grows v to at least n elements; never shrinks, so a smaller draw does not zero-fill again.
 template <class T>
 T* at_least(std::vector<T>& v, size_t n) {
@@ -443,6 +471,11 @@ private:
 }  // namespace
 
 DrawPlan draw(const DrawInputs& in, const DrawCall& call, DrawStats& total) {
+    // However the draw ends, the scratch it grew is charged to its context.
+    struct ChargeScratch {
+        const std::shared_ptr<MemoryAccount>& account;
+        ~ChargeScratch() { charge_thread_scratch(account); }
+    } charge_scratch{in.memory};
     const FragmentOps ops = FragmentOps::from(in);
     DrawPlan plan = plan_draw(in, call, ops);
     DrawStats st;

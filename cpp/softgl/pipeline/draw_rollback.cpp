@@ -22,6 +22,11 @@ RollbackScratch& rollback_scratch() {
 
 }  // namespace
 
+uint64_t rollback_scratch_bytes() {
+    const RollbackScratch& s = rollback_scratch();
+    return capacity_bytes(s.saved) + capacity_bytes(s.copies) + capacity_bytes(s.rects);
+}
+
 uint64_t fragment_work_estimate(uint64_t pairs, uint64_t pixels, uint64_t instructions_bound) {
     constexpr uint64_t kMax = ~uint64_t(0);
     const uint64_t per_pixel = instructions_bound > kMax - kFragmentWorkUnits ? kMax : instructions_bound + kFragmentWorkUnits;
@@ -64,10 +69,10 @@ DrawRollback::DrawRollback(RenderTarget& target, const TileGrid& grid)
         for (const Image* s : seen)
             if (s == img) return;
         seen.push_back(img);
-        add_image_plane(img->color, *img, offset, 4);
+        add_image_plane(img->color, *img, offset, size_t(img->color_channels()));
         add_image_plane(img->rgba8, *img, offset, 1);   // 8-bit unorm images: their only storage
         add_image_plane(img->narrow, *img, offset, size_t(Image::narrow_bytes(img->format)));
-        add_image_plane(img->integer, *img, offset, 4);
+        add_image_plane(img->integer, *img, offset, size_t(Image::integer_bytes(img->format)));
         add_image_plane(img->depth_words, *img, offset, 1);
         add_image_plane(img->stencil, *img, offset, 1);
     };

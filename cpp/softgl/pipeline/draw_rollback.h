@@ -41,6 +41,10 @@ bool rollback_needed(bool several_batches, uint64_t fragment_work_estimate, uint
 // The estimate above, saturating.
 uint64_t fragment_work_estimate(uint64_t pairs, uint64_t pixels, uint64_t instructions_bound);
 
+// Heap bytes of the copies kept between draws on the calling thread (charged with the draw's
+// other scratch: pipeline/draw.cpp).
+uint64_t rollback_scratch_bytes();
+
 class DrawRollback {
 public:
     // Starts a draw into `target` over `grid`'s tiles (nothing is copied yet).

@@ -14,8 +14,10 @@ void IntrospectionLog::configure(int32_t width, int32_t height) {
     width_ = width;
     height_ = height;
     tiles_x_ = (width + kTileSize - 1) / kTileSize;
-    tiles_.assign(size_t(tiles_x_) * size_t((height + kTileSize - 1) / kTileSize), {});
-    draws_.clear();
+    // New vectors, not assign(): assigning an empty vector keeps the old one's capacity, so a
+    // full clear would free nothing (the ledger charges what is held: api/draw_calls.cpp).
+    std::vector<std::vector<FragmentEvent>>(size_t(tiles_x_) * size_t((height + kTileSize - 1) / kTileSize)).swap(tiles_);
+    decltype(draws_)().swap(draws_);
     first_draw_ = 0;
     stored_ = 0;
     attempted_ = 0;

@@ -8,6 +8,8 @@
 #include <string>
 #include <vector>
 
+#include "softgl/core/capacity_bytes.h"
+
 #include "softgl/surface/blend.h"
 #include "softgl/pipeline/depth_stencil.h"
 #include "softgl/surface/framebuffer.h"
@@ -66,6 +68,11 @@ public:
     uint64_t limit() const { return limit_; }
     uint64_t bytes_stored() const { return stored_.load() * sizeof(FragmentEvent); }
     bool overflowed() const { return attempted_.load() > stored_.load(); }
+    // Heap bytes held (events, their tiles' arrays, draw descriptions without their strings,
+    // marks), charged to the context's memory ledger (api/draw_calls.cpp).
+    uint64_t capacity_bytes() const {
+        return softgl::capacity_bytes(tiles_) + softgl::capacity_bytes(draws_) + softgl::capacity_bytes(mark_sizes_);
+    }
 
     void describe_draw(uint32_t draw, const DrawDescription& d);
     // From the worker owning the event's tile; false when over the limit (not stored).

@@ -234,7 +234,29 @@ TilePassScratch& tile_pass_scratch() {
     thread_local TilePassScratch scratch;
     return scratch;
 }
+
+uint64_t batch_bytes(const FragmentBatch& b) {
+    return capacity_bytes(b.varyings) + capacity_bytes(b.frag_coord) + capacity_bytes(b.front_facing) +
+           capacity_bytes(b.point_coord);
+}
+
+uint64_t results_bytes(const FragmentResults& r) {
+    return capacity_bytes(r.color) + capacity_bytes(r.depth) + capacity_bytes(r.killed);
+}
 }  // namespace
+
+uint64_t tile_pass_scratch_bytes() {
+    const TilePassScratch& s = tile_pass_scratch();
+    uint64_t n = capacity_bytes(s.workers) + capacity_bytes(s.touched) + results_bytes(s.constant) +
+                 capacity_bytes(s.constant_color) + capacity_bytes(s.smooth_words) + capacity_bytes(s.flat_words);
+    for (const TilePass::Scratch& w : s.workers)
+        n += capacity_bytes(w.quads) + capacity_bytes(w.areas) + capacity_bytes(w.values) + capacity_bytes(w.pixels) +
+             capacity_bytes(w.masks) + capacity_bytes(w.owners) + capacity_bytes(w.owns) + capacity_bytes(w.kept_quads) +
+             capacity_bytes(w.kept) + batch_bytes(w.batch) + results_bytes(w.results) + capacity_bytes(w.gathered.quad) +
+             capacity_bytes(w.gathered.masks) + capacity_bytes(w.gathered.xy) + capacity_bytes(w.gathered.runs) +
+             capacity_bytes(w.chunk_varyings);
+    return n;
+}
 
 // One tile on one worker.
 struct TilePass::Tile {

@@ -51,6 +51,10 @@ struct TileBatch {
     const std::vector<uint32_t>& tiles;    // the tiles with work, in the order they go to the pool
 };
 
+// Heap bytes of the tile pass's scratch kept between draws on the calling thread (every
+// worker's; charged with the draw's other scratch: pipeline/draw.cpp).
+uint64_t tile_pass_scratch_bytes();
+
 class TilePass {
 public:
     // Per draw. `plan` gets its second step (plan_shading) at the first batch.

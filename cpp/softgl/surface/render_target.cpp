@@ -76,8 +76,8 @@ void write_image_color(Image& img, size_t offset, const BlendOp& op, const float
         uint32_t in[4], out[4];
         std::memcpy(in, src, 16);
         quantize_integer(f, in, out);
-        for (int c = 0; c < 4; ++c)
-            if (op.write[size_t(c)]) img.integer[t * 4 + size_t(c)] = out[c];
+        const bool mask[4] = {op.write[0], op.write[1], op.write[2], op.write[3]};
+        img.store_integer(t, out, mask);
         return;
     }
     if (img.bytes()) {
@@ -112,14 +112,21 @@ void write_image_color(Image& img, size_t offset, const BlendOp& op, const float
         img.store_color(t, stored, mask);
         return;
     }
-    float* dst = &img.color[t * 4];
+    const size_t n = size_t(img.color_channels());
+    float* dst = &img.color[t * n];
     float blended[4], stored[4];
     BlendOp o = op;
     o.has_alpha = true;
-    blend_float(o, src, dst, !f.is_float(), blended);
+    if (n == 4) {
+        blend_float(o, src, dst, !f.is_float(), blended);
+    } else {
+        float full[4];   // the stored channels and the absent ones' defaults (Image::read_color)
+        img.read_color(t, full);
+        blend_float(o, src, full, !f.is_float(), blended);
+    }
     quantize_color(f, blended, stored);
-    for (int c = 0; c < 4; ++c)
-        if (op.write[size_t(c)]) dst[c] = stored[c];
+    for (size_t c = 0; c < n; ++c)
+        if (op.write[c]) dst[c] = stored[c];
 }
 
 namespace {
@@ -139,14 +146,15 @@ void for_rows(const Image& img, size_t offset, Rect r, size_t per_texel, F&& f) 
 
 // Copies the channels of `mask` of the 4-element texel `first` over the run [at, at + n).
 template <class T>
-void fill_texels(std::vector<T>& data, size_t at, size_t n, const T first[4], const std::array<bool, 4>& mask) {
+void fill_texels(std::vector<T>& data, size_t at, size_t n, const T first[4], const std::array<bool, 4>& mask,
+                 size_t channels = 4) {
     T* p = data.data() + at;
     if (mask[0] && mask[1] && mask[2] && mask[3]) {
-        for (size_t i = 0; i < n; i += 4) std::memcpy(p + i, first, 4 * sizeof(T));
+        for (size_t i = 0; i < n; i += channels) std::memcpy(p + i, first, channels * sizeof(T));
         return;
     }
-    for (size_t i = 0; i < n; i += 4)
-        for (size_t c = 0; c < 4; ++c)
+    for (size_t i = 0; i < n; i += channels)
+        for (size_t c = 0; c < channels; ++c)
             if (mask[c]) p[i + c] = first[c];
 }
 
@@ -182,13 +190,26 @@ void clear_image_color(Image& img, size_t offset, Rect r, const float src[4], co
                     if (mask[size_t(from[b])]) img.narrow[(at + i) * n + b] = texel[b];
         });
     } else if (img.format->is_integer()) {
+        // The first texel's bytes (a masked channel kept its value there, so each texel keeps
+        // its own below): copied whole, or channel by channel through store_integer.
+        const size_t nb = size_t(Image::integer_bytes(img.format));
+        uint8_t bytes[16];
+        std::memcpy(bytes, &img.integer[first * nb], nb);
         uint32_t texel[4];
-        std::memcpy(texel, &img.integer[first * 4], sizeof texel);
-        for_rows(img, offset, r, 4, [&](size_t at, size_t n) { fill_texels(img.integer, at, n, texel, mask); });
+        img.read_integer(first, texel);
+        const bool all = mask[0] && mask[1] && mask[2] && mask[3];
+        const bool m[4] = {mask[0], mask[1], mask[2], mask[3]};
+        for_rows(img, offset, r, 1, [&](size_t at, size_t n) {
+            for (size_t i = 0; i < n; ++i) {
+                if (all) std::memcpy(&img.integer[(at + i) * nb], bytes, nb);
+                else img.store_integer(at + i, texel, m);
+            }
+        });
     } else {
+        const size_t channels = size_t(img.color_channels());   // floats per texel
         float texel[4];
-        std::memcpy(texel, &img.color[first * 4], sizeof texel);
-        for_rows(img, offset, r, 4, [&](size_t at, size_t n) { fill_texels(img.color, at, n, texel, mask); });
+        std::memcpy(texel, &img.color[first * channels], channels * sizeof(float));
+        for_rows(img, offset, r, channels, [&](size_t at, size_t n) { fill_texels(img.color, at, n, texel, mask, channels); });
     }
 }
 

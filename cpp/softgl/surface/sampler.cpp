@@ -203,7 +203,9 @@ struct Level {
         if (!im->integer.empty()) {
             // Integer texels travel as their bit patterns (only NEAREST filters reach them).
             const size_t n = (size_t(k) * size_t(im->height) + size_t(j)) * size_t(im->width) + size_t(i);
-            std::memcpy(out, &im->integer[n * 4], 16);
+            uint32_t bits[4];
+            im->read_integer(n, bits);
+            std::memcpy(out, bits, 16);
             return;
         }
         im->texel(i, j, k, out);
@@ -328,8 +330,10 @@ void TextureUnitSampler::sample_lane(const glsl::TextureQuery& q, int l) const {
             }
             const size_t t = (size_t(c3[2]) * size_t(img->height) + size_t(c3[1])) * size_t(img->width) + size_t(c3[0]);
             if (q.result != BaseType::Float) {
+                uint32_t bits[4] = {0, 0, 0, 0};
+                if (!img->integer.empty()) img->read_integer(t, bits);
                 for (int c = 0; c < 4; ++c)
-                    if (q.out[c]) q.out[c][l].u = img->integer.empty() ? 0u : img->integer[t * 4 + size_t(c)];
+                    if (q.out[c]) q.out[c][l].u = bits[c];
             } else {
                 float texel[4];
                 img->texel(c3[0], c3[1], c3[2], texel);
@@ -527,7 +531,9 @@ struct Fast2D {
             return;
         }
         if (p.color) {
-            for (int c = 0; c < 4; ++c) out[c] = p.color[n * 4 + size_t(c)];
+            // color_channels floats, then the absent channels' values (SampledLevel::color_fill).
+            const size_t nc = p.color_channels;
+            for (size_t c = 0; c < 4; ++c) out[c] = c < nc ? p.color[n * nc + c] : p.color_fill[c];
             return;
         }
         float d = depth_value(p.depth_encoding, p.depth[n]);
@@ -802,6 +808,16 @@ struct DepthTexels8 {
     }
 };
 
+// The float texel at `at` of plane p as RGBA: a 4-float load (Image::kColorPad keeps it inside
+// the storage), the channels the plane lacks replaced by their values (SampledLevel::color_fill),
+// as Fast2D::texel reads it.
+__attribute__((target("avx2"), always_inline)) inline __m128 color_texel4(const Plane& p, const float* at) {
+    const __m128 x = _mm_loadu_ps(at);
+    if (p.color_channels == 4) return x;
+    const __m128 absent = _mm_castsi128_ps(_mm_cmpgt_epi32(_mm_setr_epi32(0, 1, 2, 3), _mm_set1_epi32(p.color_channels - 1)));
+    return _mm_blendv_ps(x, _mm_loadu_ps(p.color_fill), absent);
+}
+
 // Fast2D::filter of one plane for 8 lanes (r: the layers of a 2D array, else null).
 // Depth planes (ref: the lanes' references, or null) read their texels through DepthTexels8.
 __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bool linear, const float* s,
@@ -812,7 +828,7 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bo
             layer_at[l] = size_t(std::clamp(ifloor(r[l] + 0.5f), 0, p.layers - 1)) * size_t(p.height) * size_t(p.width);
     const float* layer[8] = {};   // colour planes: where each lane's layer starts
     if (p.color)
-        for (int l = 0; l < 8; ++l) layer[l] = p.color + layer_at[l] * 4;
+        for (int l = 0; l < 8; ++l) layer[l] = p.color + layer_at[l] * p.color_channels;
     const __m256 u = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(s), _mm256_set1_ps(float(p.width))), _mm256_set1_ps(float(f.off_s)));
     const __m256 v = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(t), _mm256_set1_ps(float(p.height))), _mm256_set1_ps(float(f.off_t)));
     alignas(32) int32_t i0[8], i1[8], j0[8], j1[8];
@@ -832,7 +848,7 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bo
             return;
         }
         for (int l = 0; l < 8; ++l)
-            _mm_storeu_ps(out[l], _mm_loadu_ps(layer[l] + (size_t(j0[l]) * size_t(p.width) + size_t(i0[l])) * 4));
+            _mm_storeu_ps(out[l], color_texel4(p, layer[l] + (size_t(j0[l]) * size_t(p.width) + size_t(i0[l])) * p.color_channels));
         return;
     }
     const __m256 half = _mm256_set1_ps(0.5f), one = _mm256_set1_ps(1.0f);
@@ -925,12 +941,13 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bo
         return;
     }
     for (int l = 0; l < 8; ++l) {
-        const float* row0 = layer[l] + size_t(j0[l]) * size_t(p.width) * 4;
-        const float* row1 = layer[l] + size_t(j1[l]) * size_t(p.width) * 4;
-        __m128 sum = _mm_mul_ps(_mm_set1_ps(w00[l]), _mm_loadu_ps(row0 + size_t(i0[l]) * 4));
-        sum = _mm_add_ps(sum, _mm_mul_ps(_mm_set1_ps(w10[l]), _mm_loadu_ps(row0 + size_t(i1[l]) * 4)));
-        sum = _mm_add_ps(sum, _mm_mul_ps(_mm_set1_ps(w01[l]), _mm_loadu_ps(row1 + size_t(i0[l]) * 4)));
-        sum = _mm_add_ps(sum, _mm_mul_ps(_mm_set1_ps(w11[l]), _mm_loadu_ps(row1 + size_t(i1[l]) * 4)));
+        const size_t nc = p.color_channels;
+        const float* row0 = layer[l] + size_t(j0[l]) * size_t(p.width) * nc;
+        const float* row1 = layer[l] + size_t(j1[l]) * size_t(p.width) * nc;
+        __m128 sum = _mm_mul_ps(_mm_set1_ps(w00[l]), color_texel4(p, row0 + size_t(i0[l]) * nc));
+        sum = _mm_add_ps(sum, _mm_mul_ps(_mm_set1_ps(w10[l]), color_texel4(p, row0 + size_t(i1[l]) * nc)));
+        sum = _mm_add_ps(sum, _mm_mul_ps(_mm_set1_ps(w01[l]), color_texel4(p, row1 + size_t(i0[l]) * nc)));
+        sum = _mm_add_ps(sum, _mm_mul_ps(_mm_set1_ps(w11[l]), color_texel4(p, row1 + size_t(i1[l]) * nc)));
         _mm_storeu_ps(out[l], sum);
     }
 }
@@ -1290,15 +1307,18 @@ __attribute__((target("avx2"), always_inline)) inline void float_texels8(const P
     _mm256_store_si256(reinterpret_cast<__m256i*>(at), index);
     // Register k: lane k's texel in the low half, lane k + 4's in the high half.
     __m256 r[4];
+    const size_t nc = p.color_channels;
     for (int k = 0; k < 4; ++k)
-        r[k] = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(p.color + size_t(at[k]) * 4)),
-                                    _mm_loadu_ps(p.color + size_t(at[k + 4]) * 4), 1);
+        r[k] = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(p.color + size_t(at[k]) * nc)),
+                                    _mm_loadu_ps(p.color + size_t(at[k + 4]) * nc), 1);
     const __m256 t0 = _mm256_unpacklo_ps(r[0], r[1]), t1 = _mm256_unpackhi_ps(r[0], r[1]);
     const __m256 t2 = _mm256_unpacklo_ps(r[2], r[3]), t3 = _mm256_unpackhi_ps(r[2], r[3]);
     out[0] = _mm256_shuffle_ps(t0, t2, 0x44);
     out[1] = _mm256_shuffle_ps(t0, t2, 0xEE);
     out[2] = _mm256_shuffle_ps(t1, t3, 0x44);
     out[3] = _mm256_shuffle_ps(t1, t3, 0xEE);
+    // Channels the plane lacks (the loads read past the texel into the next one or the pad).
+    for (size_t c = nc; c < 4; ++c) out[c] = _mm256_set1_ps(p.color_fill[c]);
 }
 
 // The texels numbered `index` of 8 lanes as channel vectors: from the bytes by one gather, or
@@ -2113,6 +2133,9 @@ template <bool kLayered>
 struct Layers16 {
     const float* plane;
     const float* lane[kLayered ? 16 : 1];
+    // Floats per texel and the absent channels' values (SampledLevel::color_channels, color_fill).
+    int32_t channels;
+    const float* fill;
     const float* at(int l) const { return kLayered ? lane[l] : plane; }
 };
 
@@ -2123,7 +2146,7 @@ template <bool kLayered>
 __attribute__((target(SOFTGL_SAMPLER_AVX512))) inline void texels16(const Layers16<kLayered>& layers, __m512i index,
                                                                     __m512 out[4]) {
     alignas(64) int32_t at[16];
-    _mm512_store_si512(at, _mm512_slli_epi32(index, 2));
+    _mm512_store_si512(at, _mm512_mullo_epi32(index, _mm512_set1_epi32(layers.channels)));
     __m512 r[4];
     for (int k = 0; k < 4; ++k) {
         r[k] = _mm512_castps128_ps512(_mm_loadu_ps(layers.at(k) + at[k]));
@@ -2136,6 +2159,7 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512))) inline void texels16(const Layers
     out[1] = _mm512_castpd_ps(_mm512_unpackhi_pd(t0, t2));
     out[2] = _mm512_castpd_ps(_mm512_unpacklo_pd(t1, t3));
     out[3] = _mm512_castpd_ps(_mm512_unpackhi_pd(t1, t3));
+    for (int c = layers.channels; c < 4; ++c) out[c] = _mm512_set1_ps(layers.fill[c]);   // absent channels
 }
 
 // k / 255 of 16 lanes (0 <= k <= 255), correctly rounded as unorm()'s division, without one: q =
@@ -2242,7 +2266,7 @@ template <bool kLayered>
 __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) void filter16(const Fast2D& f, const Plane& p, bool linear,
                                                              const float* s, const float* t, const float* r,
                                                              __m512 out[4]) {
-    Layers16<kLayered> layers{p.color, {}};
+    Layers16<kLayered> layers{p.color, {}, p.color_channels, p.color_fill};
     // Byte planes: each lane's first texel of its layer, added to the gathers' indices (int32:
     // filter16 below takes planes whose texel numbers fit).
     alignas(64) int32_t layer_start[16] = {};
@@ -2250,7 +2274,7 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) void filter16(const Fast2D
         for (int l = 0; l < 16; ++l) {
             const size_t start = size_t(std::clamp(ifloor(r[l] + 0.5f), 0, p.layers - 1)) * size_t(p.height) * size_t(p.width);
             if (p.rgba8 || p.narrow) layer_start[l] = int32_t(start);
-            else layers.lane[l] = p.color + start * 4;
+            else layers.lane[l] = p.color + start * p.color_channels;
         }
     const __m512i layer0 = _mm512_load_si512(layer_start);
     const __m512 u = _mm512_add_ps(_mm512_mul_ps(_mm512_loadu_ps(s), _mm512_set1_ps(float(p.width))), _mm512_set1_ps(float(f.off_s)));
@@ -2295,8 +2319,9 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) void filter16(const Fast2D
         texels16(p, _mm512_add_epi32(brow0, i1), texel[1], bytes);
         texels16(p, _mm512_add_epi32(brow1, i0), texel[2], bytes);
         texels16(p, _mm512_add_epi32(brow1, i1), texel[3], bytes);
-    } else if (pairs) {
-        // No lane wraps between its columns: each row's two texels are neighbours in memory.
+    } else if (pairs && p.color_channels == 4) {
+        // No lane wraps between its columns: each row's two texels are neighbours in memory
+        // (one 8-float load: 4 floats a texel).
         texel_pairs16(layers, _mm512_add_epi32(row0, i0), texel[0], texel[1]);
         texel_pairs16(layers, _mm512_add_epi32(row1, i0), texel[2], texel[3]);
     } else {
@@ -2472,7 +2497,7 @@ template <int kBytes, bool kLinear, WrapKind kWrap>
 __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"), always_inline)) inline void filter16_shaped(const Fast2D& f, const Plane& p,
                                                                                                const float* s, const float* t,
                                                                                                __m512 out[4]) {
-    const Layers16<false> layers{p.color, {}};
+    const Layers16<false> layers{p.color, {}, p.color_channels, p.color_fill};
     const __m512 u = _mm512_add_ps(_mm512_mul_ps(_mm512_loadu_ps(s), _mm512_set1_ps(float(p.width))), _mm512_set1_ps(float(f.off_s)));
     const __m512 v = _mm512_add_ps(_mm512_mul_ps(_mm512_loadu_ps(t), _mm512_set1_ps(float(p.height))), _mm512_set1_ps(float(f.off_t)));
     const __m512i width = _mm512_set1_epi32(p.width);
@@ -2515,7 +2540,7 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"), always_inline)) inline void
         __m512 texel[4][4];   // t00, t10, t01, t11
         const bool pairs = _mm512_cmpeq_epi32_mask(i1, _mm512_add_epi32(i0, _mm512_set1_epi32(1))) == 0xFFFF;
         {
-            if (pairs) {
+            if (pairs && p.color_channels == 4) {   // (one 8-float load: 4 floats a texel)
                 texel_pairs16(layers, _mm512_add_epi32(row0, i0), texel[0], texel[1]);
                 texel_pairs16(layers, _mm512_add_epi32(row1, i0), texel[2], texel[3]);
             } else {

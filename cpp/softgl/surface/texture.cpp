@@ -247,7 +247,8 @@ uint64_t Image::allocation_bytes(const FormatInfo* fmt, int32_t w, int32_t h, in
     const uint64_t n = uint64_t(w) * uint64_t(h) * uint64_t(d) * uint64_t(s);
     if (stores_bytes(fmt)) return n * 4;                      // RGBA bytes per sample
     if (const int b = narrow_bytes(fmt)) return n * uint64_t(b) + kNarrowPad;   // their channels' bytes
-    if (fmt->kind() != SampleKind::Depth) return n * 4 * 4;   // four 4-byte words per sample
+    if (fmt->kind() == SampleKind::Float) return color_elements(fmt, n) * 4;   // a float per channel
+    if (fmt->kind() != SampleKind::Depth) return n * uint64_t(integer_bytes(fmt));   // the channels' widths
     return n * ((fmt->encoding != Encoding::Stencil8 ? 4 : 0) + (fmt->has_stencil ? 1 : 0));
 }
 
@@ -261,19 +262,70 @@ void Image::allocate(const FormatInfo* fmt, int32_t w, int32_t h, int32_t d, int
             // Absent alpha reads as 1 from the start (e.g. RGB8).
             if (stores_bytes(fmt)) rgba8.assign(n, fmt->bits[3] ? 0u : 0xFF000000u);
             else if (stores_narrow(fmt)) narrow.assign(n * size_t(narrow_bytes(fmt)) + kNarrowPad, 0);   // absent channels are implied
-            else color.assign(n * 4, 0.0f);
+            else color.assign(color_elements(fmt, n), 0.0f);
             break;
-        case SampleKind::Int: case SampleKind::Uint: integer.assign(n * 4, 0u); break;
+        case SampleKind::Int: case SampleKind::Uint: integer.assign(n * size_t(integer_bytes(fmt)), 0); break;
         case SampleKind::Depth:
             if (fmt->encoding != Encoding::Stencil8) depth_words.assign(n, 0u);
             if (fmt->has_stencil) stencil.assign(n, 0);
             break;
     }
     // Absent channels read as their defaults from the start (e.g. alpha 1 of RGB8).
-    if (fmt->kind() == SampleKind::Float && !stores_bytes(fmt) && !stores_narrow(fmt) && !fmt->bits[3])
+    if (color_channels(fmt) == 4 && !fmt->bits[3])
         for (size_t i = 0; i < n; ++i) color[i * 4 + 3] = 1.0f;
-    if ((fmt->kind() == SampleKind::Int || fmt->kind() == SampleKind::Uint) && !fmt->bits[3])
-        for (size_t i = 0; i < n; ++i) integer[i * 4 + 3] = 1u;
+}
+
+int Image::integer_bytes(const FormatInfo* fmt) {
+    if (!fmt || !fmt->is_integer()) return 0;
+    if (fmt->bits[0] == 10) return 4;   // RGB10_A2UI: one packed word
+    return (fmt->bits[0] + fmt->bits[1] + fmt->bits[2] + fmt->bits[3]) / 8;
+}
+
+void Image::read_integer(size_t t, uint32_t out[4]) const {
+    const FormatInfo& f = *format;
+    out[0] = out[1] = out[2] = 0, out[3] = 1;   // absent channels (ES 3.0 table 3.24)
+    const uint8_t* p = integer.data() + t * size_t(integer_bytes(format));
+    if (f.bits[0] == 10) {   // RGB10_A2UI
+        uint32_t w;
+        std::memcpy(&w, p, 4);
+        out[0] = w & 1023u, out[1] = (w >> 10) & 1023u, out[2] = (w >> 20) & 1023u, out[3] = w >> 30;
+        return;
+    }
+    const bool sign = f.encoding == Encoding::Int;
+    for (int c = 0; c < 4 && f.bits[size_t(c)]; ++c) {
+        switch (f.bits[size_t(c)]) {
+            case 8: out[c] = sign ? uint32_t(int32_t(int8_t(*p))) : *p; break;
+            case 16: { uint16_t v; std::memcpy(&v, p, 2); out[c] = sign ? uint32_t(int32_t(int16_t(v))) : v; break; }
+            default: std::memcpy(&out[c], p, 4); break;
+        }
+        p += f.bits[size_t(c)] / 8;
+    }
+}
+
+void Image::store_integer(size_t t, const uint32_t in[4], const bool mask[4]) {
+    const FormatInfo& f = *format;
+    uint8_t* p = integer.data() + t * size_t(integer_bytes(format));
+    if (f.bits[0] == 10) {   // RGB10_A2UI
+        uint32_t w;
+        std::memcpy(&w, p, 4);
+        const uint32_t shift[4] = {0, 10, 20, 30}, ones[4] = {1023u, 1023u, 1023u, 3u};
+        for (int c = 0; c < 4; ++c)
+            if (!mask || mask[c]) w = (w & ~(ones[c] << shift[c])) | ((in[c] & ones[c]) << shift[c]);
+        std::memcpy(p, &w, 4);
+        return;
+    }
+    // The low bits of each channel (quantize_integer already clamped them to its range).
+    for (int c = 0; c < 4 && f.bits[size_t(c)]; ++c) {
+        const size_t w = f.bits[size_t(c)] / 8;
+        if (!mask || mask[c]) std::memcpy(p, &in[c], w);   // little-endian: the low bytes
+        p += w;
+    }
+}
+
+int Image::color_channels(const FormatInfo* fmt) {
+    if (!fmt || fmt->kind() != SampleKind::Float || stores_bytes(fmt) || stores_narrow(fmt)) return 0;
+    const GLenum b = fmt->base_format;
+    return b == gl::RED ? 1 : b == gl::RG ? 2 : b == gl::RGB ? 3 : 4;
 }
 
 void Image::read_color(size_t t, float out[4]) const {
@@ -292,7 +344,10 @@ void Image::read_color(size_t t, float out[4]) const {
         else out[0] = k0, out[1] = k1, out[2] = 0.0f, out[3] = 1.0f;
         return;
     }
-    for (int c = 0; c < 4; ++c) out[c] = color[t * 4 + size_t(c)];
+    // color_channels() floats, the absent channels' defaults (0, alpha 1: ES 3.0 table 3.24).
+    const size_t n = size_t(color_channels());
+    out[0] = out[1] = out[2] = 0.0f, out[3] = 1.0f;
+    for (size_t c = 0; c < n; ++c) out[c] = color[t * n + c];
 }
 
 void Image::store_color(size_t t, const float q[4], const bool mask[4]) {
@@ -315,16 +370,21 @@ void Image::store_color(size_t t, const float q[4], const bool mask[4]) {
             if (!mask || mask[from[i]]) narrow[t * n + i] = uint8_t(float_to_unorm(q[from[i]], 8));
         return;
     }
-    for (int c = 0; c < 4; ++c)
-        if (!mask || mask[c]) color[t * 4 + size_t(c)] = q[c];
+    const size_t n = size_t(color_channels());
+    for (size_t c = 0; c < n; ++c)
+        if (!mask || mask[c]) color[t * n + c] = q[c];
 }
 
 void Image::texel(int32_t x, int32_t y, int32_t z, float out[4]) const {
     const size_t i = (size_t(z) * size_t(height) + size_t(y)) * size_t(width) + size_t(x);
     switch (format->kind()) {
         case SampleKind::Float: read_color(i, out); break;
-        case SampleKind::Int: for (int c = 0; c < 4; ++c) out[c] = float(int32_t(integer[i * 4 + size_t(c)])); break;
-        case SampleKind::Uint: for (int c = 0; c < 4; ++c) out[c] = float(integer[i * 4 + size_t(c)]); break;
+        case SampleKind::Int: case SampleKind::Uint: {
+            uint32_t v[4];
+            read_integer(i, v);
+            for (int c = 0; c < 4; ++c) out[c] = format->kind() == SampleKind::Int ? float(int32_t(v[c])) : float(v[c]);
+            break;
+        }
         case SampleKind::Depth:
             out[0] = depth_words.empty() ? 0.0f : depth_value(format->encoding, depth_words[i]);
             out[1] = 0, out[2] = 0, out[3] = 1;
@@ -535,18 +595,23 @@ void unpack_into(Image& img, int32_t x0, int32_t y0, int32_t z0, int32_t w, int3
                     if (f.encoding == Encoding::Srgb) {
                         // Client data of sRGB formats is sRGB-encoded: keep the byte, store its
                         // linear value (ES 3.0 §3.8.15 decodes each texel before filtering).
-                        float* out = &img.color[t * 4];
+                        float out[4];
                         for (int c = 0; c < 3; ++c) out[c] = srgb_to_linear(unorm(float_to_unorm(in[c], 8), 8));
                         out[3] = f.bits[3] ? unorm(float_to_unorm(in[3], 8), 8) : 1.0f;
+                        img.store_color(t, out);
                         continue;
                     }
-                    quantize_color(f, in, &img.color[t * 4]);
+                    float q[4];
+                    quantize_color(f, in, q);
+                    img.store_color(t, q);
                 } else if (kind == SampleKind::Int || kind == SampleKind::Uint) {
                     double raw[4] = {double(px.i[0]), double(px.i[1]), double(px.i[2]), double(px.i[3])}, rgba[4];
                     expand(u.format, raw, rgba);
                     uint32_t in[4];
                     for (int c = 0; c < 4; ++c) in[c] = uint32_t(int64_t(rgba[c]));
-                    quantize_integer(f, in, &img.integer[t * 4]);
+                    uint32_t q[4];
+                    quantize_integer(f, in, q);
+                    img.store_integer(t, q);
                 } else {
                     if (!img.depth_words.empty()) img.depth_words[t] = depth_word(f.encoding, px.depth);
                     if (!img.stencil.empty()) img.stencil[t] = px.stencil;
@@ -616,8 +681,10 @@ void Texture::refresh_sampling(int32_t base, int32_t q) {
                     for (int c = 0; c < 4; ++c)
                         s.narrow_shuffle[4 * j + c] = src[c] < 0 ? uint8_t(0x80) : uint8_t(4 * j + src[c]);
                 s.narrow_fill = b == gl::ALPHA || b == gl::LUMINANCE_ALPHA ? 0u : 0xFF000000u;
-            } else if (img->format->kind() == SampleKind::Float && img->color.size() == img->texel_count() * 4) {
+            } else if (const int nc = img->color_channels();
+                       nc && img->color.size() == Image::color_elements(img->format, img->texel_count())) {
                 s.color = img->color.data();
+                s.color_channels = uint8_t(nc);
             } else if (img->format->is_depth() && img->depth_words.size() == img->texel_count()) {
                 s.depth = img->depth_words.data();
                 s.depth_encoding = img->format->encoding;

@@ -9,11 +9,15 @@
 //     ALPHA, LUMINANCE_ALPHA): 4 bytes per texel, RGBA, the byte k standing for k / 255, absent
 //     channels holding their defaults (0, alpha 255; luminance in r, g and b), the same layout
 //     as the RGBA8 drawing buffer, so draws, clears, blits and readPixels take its byte paths;
-//   - other colour formats that sample as float: 4 floats per texel, the values a lookup returns
+//   - other colour formats that sample as float: one float per channel of the base format
+//     (Image::color_channels: RED 1, RG 2, RGB 3, else 4; absent channels implied as 0, alpha 1),
+//     the values a lookup returns
 //     (already quantized to the format: an RGBA8 texel holds k/255; sRGB texels hold the
 //     decoded linear value, which is what ES 3.0 §3.8.15 decodes to before filtering; LUMINANCE,
 //     ALPHA and friends are stored expanded to RGBA as ES 3.0 table 3.24 defines them);
-//   - integer formats: 4 x 32-bit (int or uint bits) per texel;
+//   - integer formats: each channel of the format at its own width (8, 16 or 32 bits; RGB10_A2UI
+//     one packed 32-bit word), Image::integer_bytes per texel, read and written as 4 x 32-bit
+//     (int or uint bits) through read_integer / store_integer;
 //   - depth formats: one 32-bit word per texel (unorm16/unorm24 integers, or float32 bits: all
 //     non-negative, so the unsigned order of the words is the order of the depths) plus a stencil
 //     byte per texel for depth-stencil formats.
@@ -115,7 +119,10 @@ struct Image {
     int32_t width = 0, height = 0, depth = 1;   // depth: layers of 3D / 2D array images
     int32_t samples = 1;                         // renderbuffers only
     const FormatInfo* format = nullptr;          // null: no image
-    std::vector<float> color;                    // Float kind but not 8-bit unorm: 4 per texel (sample)
+    // Float kind but not 8-bit unorm: color_channels() floats per texel (sample), then
+    // kColorPad floats (0) when fewer than 4, so that a 4-float load at any texel stays inside.
+    std::vector<float> color;
+    static constexpr size_t kColorPad = 3;
     // 8-bit unorm formats (stores_bytes): R | G << 8 | B << 16 | A << 24 per texel (sample), k
     // for k / 255 (in memory the bytes R, G, B, A: the drawing buffer's layout).
     std::vector<uint32_t> rgba8;
@@ -126,7 +133,7 @@ struct Image {
     // store_color; the sampler's vector paths decode them (narrow_words8/16, surface/sampler.cpp).
     std::vector<uint8_t> narrow;
     static constexpr size_t kNarrowPad = 3;
-    std::vector<uint32_t> integer;               // Int/Uint kind: 4 per texel (sample)
+    std::vector<uint8_t> integer;                // Int/Uint kind: integer_bytes() per texel (sample)
     std::vector<uint32_t> depth_words;           // Depth kind: 1 per texel (sample)
     std::vector<uint8_t> stencil;                // depth-stencil and stencil formats
 
@@ -141,6 +148,22 @@ struct Image {
     // formats of three or four channels (RGBA8, RGB8).
     static bool stores_bytes(const FormatInfo* fmt) { return fmt && fmt->is_unorm8() && !stores_narrow(fmt); }
     bool bytes() const { return stores_bytes(format); }
+    // Bytes per texel of an integer format (the sum of its channels' widths, ES 3.0 table 3.13),
+    // 0 for the others.
+    static int integer_bytes(const FormatInfo* fmt);
+    // Integer element t as 4 x 32-bit bits (int formats sign-extended), absent channels 0, alpha 1.
+    void read_integer(size_t t, uint32_t out[4]) const;
+    // Stores already-quantized integer bits (quantize_integer's output), the channels of `mask`.
+    void store_integer(size_t t, const uint32_t in[4], const bool mask[4] = nullptr);
+    // Floats per texel of `color` for a format stored there: the base format's channels (RED 1,
+    // RG 2, RGB 3; RGBA and WebGL 1's luminance/alpha formats, kept expanded, 4), 0 for the others.
+    static int color_channels(const FormatInfo* fmt);
+    int color_channels() const { return color_channels(format); }
+    // The floats `color` holds for n texels of `fmt`.
+    static size_t color_elements(const FormatInfo* fmt, size_t n) {
+        const int c = color_channels(fmt);
+        return c == 0 ? 0 : n * size_t(c) + (c < 4 ? kColorPad : 0);
+    }
     bool defined() const { return format != nullptr; }
     size_t texel_count() const { return size_t(width) * size_t(height) * size_t(depth) * size_t(samples); }
     // Colour element t (texel or sample index) of a Float-kind image as the floats a lookup
@@ -158,7 +181,7 @@ struct Image {
     void texel(int32_t x, int32_t y, int32_t z, float out[4]) const;
     // Bytes of texel storage this image holds (all its vectors).
     size_t storage_bytes() const {
-        return color.size() * sizeof(float) + integer.size() * sizeof(uint32_t) + depth_words.size() * sizeof(uint32_t) +
+        return color.size() * sizeof(float) + integer.size() + depth_words.size() * sizeof(uint32_t) +
                stencil.size() + rgba8.size() * sizeof(uint32_t) + narrow.size();
     }
 };
@@ -198,7 +221,11 @@ inline constexpr float kMaxAnisotropy = 16.0f;
 // and sizes resolved once per draw instead of per lookup. Exactly one of `color` (Float kind),
 // `rgba8` (8-bit unorm formats) and `depth` (Depth kind) is set.
 struct SampledLevel {
-    const float* color = nullptr;      // 4 floats per texel, layer-major then row-major
+    const float* color = nullptr;      // color_channels floats per texel, layer-major then row-major
+    // Floats per texel of `color` (Image::color_channels) and the values of the channels it
+    // lacks (color_fill[c] for c >= color_channels: 0, alpha 1), substituted as texels are read.
+    uint8_t color_channels = 4;
+    float color_fill[4] = {0.0f, 0.0f, 0.0f, 1.0f};
     bool unorm8 = false;               // an 8-bit unorm format (FormatInfo::is_unorm8): LINEAR
                                        // filters with 8-bit weights (surface/sampler.cpp)
     const uint32_t* rgba8 = nullptr;   // 8-bit unorm texels (Image::rgba8), layer-major then row-major
