@@ -96,7 +96,7 @@ DrawScratch& draw_scratch() {
 
 uint64_t draw_scratch_bytes() {
     const DrawScratch& s = draw_scratch();
-    uint64_t n = capacity_bytes(s.ids) + capacity_bytes(s.slot_of_position) + capacity_bytes(s.tiles) +
+    uint64_t n = capacity_bytes(s.ids) + capacity_bytes(s.listed) + capacity_bytes(s.slot_of_position) + capacity_bytes(s.tiles) +
                  capacity_bytes(s.index_base) + capacity_bytes(s.slot_of_index) + capacity_bytes(s.slot) +
                  capacity_bytes(s.vertex_workers) + capacity_bytes(s.all.position) + capacity_bytes(s.all.point_size) +
                  capacity_bytes(s.all.varyings) + capacity_bytes(s.window) + capacity_bytes(s.chunks) +

@@ -253,8 +253,7 @@ uint64_t tile_pass_scratch_bytes() {
         n += capacity_bytes(w.quads) + capacity_bytes(w.areas) + capacity_bytes(w.values) + capacity_bytes(w.pixels) +
              capacity_bytes(w.masks) + capacity_bytes(w.owners) + capacity_bytes(w.owns) + capacity_bytes(w.kept_quads) +
              capacity_bytes(w.kept) + batch_bytes(w.batch) + results_bytes(w.results) + capacity_bytes(w.gathered.quad) +
-             capacity_bytes(w.gathered.masks) + capacity_bytes(w.gathered.xy) + capacity_bytes(w.gathered.runs) +
-             capacity_bytes(w.chunk_varyings);
+             capacity_bytes(w.gathered.masks) + capacity_bytes(w.gathered.xy) + capacity_bytes(w.gathered.runs);
     return n;
 }
 
