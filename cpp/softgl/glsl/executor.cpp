@@ -386,9 +386,13 @@ void Executor::run_prologue(const StageRun& run) {
     case SimdLevel::SSE2:
     case SimdLevel::Scalar: execute_portable(quad, run, 0, prologue_end_); break;
     }
+    auto broadcast = [&](Reg r) { Scalar* d = own(r); fill(d, batch_, d[0]); };
     for (size_t pc = 0; pc < prologue_end_; ++pc) {
-        Scalar* d = own(code_[pc].dst);
-        fill(d, batch_, d[0]);
+        const Instruction& i = code_[pc];
+        if (i.op == Op::FNormalize)   // writes one register per component
+            for (int j = 0; j < i.imm[1]; ++j) broadcast(products_[static_cast<size_t>(i.imm[0])][4 + static_cast<size_t>(j)]);
+        else
+            broadcast(i.dst);
     }
     prologue_had_uniforms_ = run.uniforms != nullptr;
     if (run.uniforms) prologue_uniforms_.assign(run.uniforms + lo, run.uniforms + hi);
