@@ -170,7 +170,7 @@ SimdLevel simd_level_named(const std::string& name) {
 // Runs one stage of `source` over `lanes` lanes. inputs: name -> array (lanes,) or (lanes, n);
 // uniforms: WebGL uniform name (or base name) -> values; textures: unit -> (h, w, 4) float array.
 py::dict run_py(const std::string& source, const std::string& stage, int version, py::dict inputs, py::dict uniforms,
-                int lanes, py::dict textures, int batch, int repeat, std::string simd) {
+                int lanes, py::dict textures, int batch, int repeat, std::string simd, bool hoist) {
     const SimdLevel level = simd.empty() ? best_simd_level() : simd_level_named(simd);
     glsl::CompileResult compiled = glsl::compile(source, stage_from(stage), version);
     if (!compiled.ok) throw py::value_error("compile failed:\n" + compiled.info_log);
@@ -244,7 +244,7 @@ py::dict run_py(const std::string& source, const std::string& stage, int version
     double seconds = 0;
     {
         py::gil_scoped_release release;
-        glsl::Executor executor(program, batch);
+        glsl::Executor executor(program, batch, hoist);
         executor.set_simd_level(level);
         auto start = std::chrono::steady_clock::now();
         for (int k = 0; k < std::max(repeat, 1); ++k) executor.run(run);
@@ -298,14 +298,24 @@ void bind_glsl(py::module_& m) {
         return ops;
     }, py::arg("source"), py::arg("stage"), py::arg("version") = 2,
           "The op names of the code the executor runs for a shader, its fused instructions included (tests)");
+    m.def("glsl_executor_prologue", [](const std::string& source, const std::string& stage, int version) {
+        glsl::CompileResult r = glsl::compile(source, stage_from(stage), version);
+        if (!r.ok) throw py::value_error(r.info_log);
+        glsl::Executor executor(r.shader->program);
+        std::vector<std::string> ops;
+        for (size_t k = 0; k < executor.prologue_size(); ++k) ops.push_back(glsl::op_name(executor.code()[k].op));
+        return ops;
+    }, py::arg("source"), py::arg("stage"), py::arg("version") = 2,
+          "The op names of the executor's prologue, run once before the lanes: uniform loads and hoisted values (tests)");
     m.def("glsl_link", &link_py, py::arg("vertex"), py::arg("fragment"), py::arg("version") = 2,
           py::arg("limits") = py::dict(), py::arg("bound_attributes") = std::map<std::string, int>(),
           "Compile and link a vertex/fragment pair -> (ok, info_log, program reflection or None)");
     m.def("glsl_run", &run_py, py::arg("source"), py::arg("stage"), py::arg("version") = 2, py::arg("inputs") = py::dict(),
           py::arg("uniforms") = py::dict(), py::arg("lanes") = 4, py::arg("textures") = py::dict(), py::arg("batch") = 128,
-          py::arg("repeat") = 1, py::arg("simd") = "",
+          py::arg("repeat") = 1, py::arg("simd") = "", py::arg("hoist") = true,
           "Run one shader stage over `lanes` lanes (fragment lanes are 2x2 quads) -> dict of output arrays; "
-          "simd: '' (the best the CPU has) or one of glsl_simd_levels()");
+          "simd: '' (the best the CPU has) or one of glsl_simd_levels(); hoist: values of uniforms and "
+          "constants only computed once before the lanes (Executor)");
     m.def("glsl_simd_levels", [] {
         std::vector<std::string> levels;
         for (int k = 0; k < executor_level_count(); ++k) levels.push_back(kExecutorLevelNames[k]);

@@ -48,6 +48,9 @@ struct Tuning {
     // blitFramebuffer copies and resolves of the same size row by row, on the thread pool
     // (api/framebuffers.cpp blit_rows); off: every blit takes the general per-pixel loop.
     bool blit_rows = true;
+    // GLSL values that depend only on uniforms and constants computed once before the lanes
+    // (glsl/executor order_prologue); off: per lane, where the shader computes them.
+    bool hoist_uniform_values = true;
     // How long the thread pool's threads spin before they sleep, after a call (a worker waiting
     // for the next one) and at its end (the caller waiting for the workers' last items):
     // runtime/thread_pool.h. 0: they sleep at once (every call then pays a sleeping thread's
@@ -59,7 +62,7 @@ struct Tuning {
                hidden_surface_removal == o.hidden_surface_removal && depth_bounds == o.depth_bounds &&
                fragment_copies == o.fragment_copies && sampler_path == o.sampler_path &&
                fragment_batches == o.fragment_batches && skip_helper_lanes == o.skip_helper_lanes &&
-               blit_rows == o.blit_rows && pool_spin_microseconds == o.pool_spin_microseconds;
+               blit_rows == o.blit_rows && hoist_uniform_values == o.hoist_uniform_values && pool_spin_microseconds == o.pool_spin_microseconds;
     }
     bool operator!=(const Tuning& o) const { return !(*this == o); }
 

@@ -61,7 +61,8 @@ struct ExecutorFrame {
 };
 using Frame = ExecutorFrame;
 
-Executor::Executor(const IrProgram& program, int batch_lanes) : program_(program), simd_(best_simd_level()) {
+Executor::Executor(const IrProgram& program, int batch_lanes, bool hoist)
+    : program_(program), simd_(best_simd_level()), hoist_(hoist) {
     batch_ = std::max(4, (batch_lanes + 3) / 4 * 4);
     registers_.assign(static_cast<size_t>(program.register_count) * batch_, Scalar{});
     reg_ptr_.resize(program.register_count);
@@ -111,15 +112,16 @@ Executor::Executor(const IrProgram& program, int batch_lanes) : program_(program
     std::vector<uint8_t> is_slot(R, 0);
     for (const Slot& s : program.inputs) if (s.reg < R) is_slot[s.reg] = 1;
     for (const Slot& s : program.outputs) if (s.reg < R) is_slot[s.reg] = 1;
-    while (prologue_end_ < program.code.size()) {
-        const Instruction& i = program.code[prologue_end_];
-        if (i.op != Op::LoadUniform || is_slot[i.dst] || program.is_variable[i.dst]) break;
-        ++prologue_end_;
-    }
+    code_ = order_prologue(program, is_slot, hoist);
     uniform_register_.assign(R, 0);
-    for (size_t pc = 0; pc < prologue_end_; ++pc) uniform_register_[program.code[pc].dst] = 1;
-    for (size_t pc = prologue_end_; pc < program.code.size(); ++pc)
-        for_each_write(program, program.code[pc], [&](Reg r) { uniform_register_[r] = 0; });
+    for (size_t pc = 0; pc < prologue_end_; ++pc) uniform_register_[code_[pc].dst] = 1;
+    for (size_t pc = prologue_end_; pc < code_.size(); ++pc)
+        for_each_write(program, code_[pc], [&](Reg r) { uniform_register_[r] = 0; });
+    for (size_t pc = 0; pc < prologue_end_; ++pc)
+        if (code_[pc].op == Op::LoadUniform) {
+            prologue_words_[0] = std::min(prologue_words_[0], code_[pc].imm[0]);
+            prologue_words_[1] = std::max(prologue_words_[1], code_[pc].imm[0] + 1);
+        }
     // Lanes that are inactive compute values nobody reads: a libm call (tan, asin, sinh...) or
     // a vector_math op (pow, exp2, sin...) can skip them when provably nothing does. Readers of inactive lanes would be quad neighbours
     // (derivatives, implicit LOD), or a temporary read where more lanes are active than where
@@ -168,17 +170,75 @@ Executor::Executor(const IrProgram& program, int batch_lanes) : program_(program
     frames_.reserve(static_cast<size_t>(max_depth_) + 1);
 }
 
-void Executor::fuse_products(const IrProgram& program, const std::vector<uint8_t>& is_slot) {
+// The prologue, run once per run (or less often, see run()) instead of per batch: the leading
+// uniform loads and, when hoisting, every value instruction outside loops whose operands all
+// have the same value in every lane (constants, uniforms, results of such instructions), moved
+// before the rest in program order. Such a value is the same in every lane, so computing it once
+// on one quad gives each lane the bits it computed before: the value operations are lane by lane
+// (derivatives, texture lookups, indexed loads and masked writes stay put) and give the same bits
+// at every SIMD width and lane count. Moving one out of a branch computes it where no lane needed
+// it: value operations do not trap (integer division is defined for every operand,
+// builtin_math.h) and straight-line code is not charged to the work budget, so nothing else can
+// tell. Loop bodies are left whole: their length is what each iteration charges.
+std::vector<Instruction> Executor::order_prologue(const IrProgram& program, const std::vector<uint8_t>& is_slot, bool hoist) {
     const std::vector<Instruction>& code = program.code;
+    const size_t R = program.register_count;
+    std::vector<int> writes(R, 0);
+    for (const Instruction& i : code) for_each_write(program, i, [&](Reg r) { ++writes[r]; });
+    std::vector<uint8_t> invariant(R, 0);   // the same value in every lane of the run
+    for (const ConstantRegister& c : program.constants)
+        if (c.reg < R && writes[c.reg] == 0 && !program.is_variable[c.reg]) invariant[c.reg] = 1;
+    std::vector<uint8_t> moved(code.size(), 0);
+    bool leading = true;   // still in the lowering's leading uniform loads
+    int loops = 0;
+    for (size_t k = 0; k < code.size(); ++k) {
+        const Instruction& i = code[k];
+        if (i.op == Op::LoopBegin) ++loops;
+        if (i.op == Op::LoopEnd) --loops;
+        const bool temporary = i.dst != kNoReg && i.dst < R && !program.is_variable[i.dst] && !is_slot[i.dst] &&
+                               writes[i.dst] == 1 && !invariant[i.dst];
+        bool move = false;
+        if (leading && i.op == Op::LoadUniform && temporary) move = true;
+        else if (hoist && temporary && loops == 0) {
+            switch (i.op) {
+            case Op::Mov: case Op::Texture: case Op::LoadIndexed: case Op::StoreIndexed: case Op::LoadUniformIndexed:
+            case Op::DFdx: case Op::DFdy: case Op::FDot: case Op::FNormalize: case Op::FPair:
+                break;
+            default:
+                move = !op_is_control(i.op);
+                for_each_read(program, i, [&](Reg r) { if (r >= R || !invariant[r]) move = false; });
+            }
+        }
+        if (!move || i.op != Op::LoadUniform) leading = false;
+        if (move) moved[k] = 1, invariant[i.dst] = 1;
+    }
+    std::vector<Instruction> ordered;
+    ordered.reserve(code.size());
+    for (size_t k = 0; k < code.size(); ++k) if (moved[k]) ordered.push_back(code[k]);
+    prologue_end_ = ordered.size();
+    for (size_t k = 0; k < code.size(); ++k) if (!moved[k]) ordered.push_back(code[k]);
+    IrProgram linked;   // control instructions moved: their targets again
+    linked.code = std::move(ordered);
+    link_control_flow(linked);
+    return std::move(linked.code);
+}
+
+void Executor::fuse_products(const IrProgram& program, const std::vector<uint8_t>& is_slot) {
+    const std::vector<Instruction> code = code_;
     std::vector<int> reads(program.register_count, 0);
     for (const Instruction& i : code) for_each_read(program, i, [&](Reg r) { ++reads[r]; });
     // A temporary only the next link of the chain reads.
     auto single_use = [&](Reg r) { return !program.is_variable[r] && !is_slot[r] && reads[r] == 1; };
-    auto is_mul = [&](size_t k) { return k < code.size() && code[k].op == Op::FMul && single_use(code[k].dst); };
+    // No fusion joins the prologue to the body: `end` is the end of k's part.
+    size_t end = code.size();
+    auto is_mul = [&](size_t k) { return k < end && code[k].op == Op::FMul && single_use(code[k].dst); };
     IrProgram fused;
     fused.code.reserve(code.size());
+    size_t prologue_end = 0;
     for (size_t k = 0; k < code.size();) {
-        if (!(is_mul(k) && is_mul(k + 1) && k + 2 < code.size() && code[k + 2].op == Op::FAdd &&
+        end = k < prologue_end_ ? prologue_end_ : code.size();
+        if (k == prologue_end_) prologue_end = fused.code.size();
+        if (!(is_mul(k) && is_mul(k + 1) && k + 2 < end && code[k + 2].op == Op::FAdd &&
               code[k + 2].a == code[k].dst && code[k + 2].b == code[k + 1].dst)) {
             fused.code.push_back(code[k++]);
             continue;
@@ -188,7 +248,7 @@ void Executor::fuse_products(const IrProgram& program, const std::vector<uint8_t
         p[0] = code[k].a; p[1] = code[k].b; p[2] = code[k + 1].a; p[3] = code[k + 1].b;
         int terms = 2;
         size_t last = k + 2;   // the FAdd holding the sum so far
-        while (terms < 4 && single_use(code[last].dst) && is_mul(last + 1) && last + 2 < code.size() &&
+        while (terms < 4 && single_use(code[last].dst) && is_mul(last + 1) && last + 2 < end &&
                code[last + 2].op == Op::FAdd && code[last + 2].a == code[last].dst && code[last + 2].b == code[last + 1].dst) {
             p[2 * terms] = code[last + 1].a;
             p[2 * terms + 1] = code[last + 1].b;
@@ -205,6 +265,8 @@ void Executor::fuse_products(const IrProgram& program, const std::vector<uint8_t
         fused.code.push_back(dot);
         k = last + 1;
     }
+    if (prologue_end_ == code.size()) prologue_end = fused.code.size();
+    prologue_end_ = prologue_end;
     link_control_flow(fused);
     code_ = std::move(fused.code);
 }
@@ -249,15 +311,18 @@ void Executor::fuse_normalize_and_pairs(const IrProgram& program, const std::vec
     const std::vector<Instruction>& code = code_;
     IrProgram fused;
     fused.code.reserve(code.size());
+    size_t prologue_end = 0;
     for (size_t k = 0; k < code.size();) {
         const Instruction& i = code[k];
+        const size_t end = k < prologue_end_ ? prologue_end_ : code.size();   // no fusion joins prologue and body
+        if (k == prologue_end_) prologue_end = fused.code.size();
         // normalize(v): FDot(v, v) -> FSqrt -> v_j / length for each component, in that order.
-        if (i.op == Op::FDot && only_read(i.dst, 1) && k + 1 < code.size() && code[k + 1].op == Op::FSqrt &&
+        if (i.op == Op::FDot && only_read(i.dst, 1) && k + 1 < end && code[k + 1].op == Op::FSqrt &&
             code[k + 1].a == i.dst) {
             const std::array<Reg, 8>& p = products_[static_cast<size_t>(i.imm[0])];
             const int m = i.imm[1];
             const Reg length = code[k + 1].dst;
-            bool match = only_read(length, m) && k + 1 + static_cast<size_t>(m) < code.size();
+            bool match = only_read(length, m) && k + 1 + static_cast<size_t>(m) < end;
             for (int j = 0; match && j < m; ++j) {
                 const Instruction& d = code[k + 2 + static_cast<size_t>(j)];
                 match = p[2 * j] == p[2 * j + 1] && d.op == Op::FDiv && d.a == p[2 * j] && d.b == length;
@@ -280,7 +345,7 @@ void Executor::fuse_normalize_and_pairs(const IrProgram& program, const std::vec
             }
         }
         // t = a op1 b; d = t op2 c (or c op2 t), t read by nothing else.
-        if (k + 1 < code.size() && pair_first_op(i.op) >= 0 && only_read(i.dst, 1)) {
+        if (k + 1 < end && pair_first_op(i.op) >= 0 && only_read(i.dst, 1)) {
             const Instruction& next = code[k + 1];
             const int second = pair_second_op(next.op);
             const Reg other = next.a == i.dst ? next.b : next.a;
@@ -303,6 +368,8 @@ void Executor::fuse_normalize_and_pairs(const IrProgram& program, const std::vec
         }
         fused.code.push_back(code[k++]);
     }
+    if (prologue_end_ == code.size()) prologue_end = fused.code.size();
+    prologue_end_ = prologue_end;
     link_control_flow(fused);
     code_ = std::move(fused.code);
 }
@@ -396,20 +463,40 @@ void Executor::run(const StageRun& run) {
         budget_ = &own_budget_;
     }
     unflushed_ = 0;
-    const int lanes = std::min(batch_, run.lane_count);
-    // Nothing else writes these registers, so a value already in the lanes stays: refilled only
-    // when it changes or more lanes are needed (a draw's runs share their uniforms).
-    prologue_filled_.resize(prologue_end_, {0u, 0});
-    for (size_t pc = 0; pc < prologue_end_; ++pc) {
-        const Instruction& i = code_[pc];
-        const Scalar value = run.uniforms ? run.uniforms[i.imm[0]] : Scalar{};
-        std::pair<uint32_t, int>& filled = prologue_filled_[pc];
-        if (filled.second >= lanes && filled.first == value.u) continue;
-        fill(own(i.dst), lanes, value);
-        filled = {value.u, lanes};
-    }
+    run_prologue(run);
     for (int first = 0; first < run.lane_count; first += batch_) run_batch(run, first, std::min(batch_, run.lane_count - first));
     if (unflushed_) flush_charges();   // loops ran: their last iterations (straight-line code is not charged)
+}
+
+// The prologue's registers hold the same value in all batch_ lanes, computed on one quad and
+// copied to the rest, and kept while the uniforms it reads keep their values (usually a whole
+// draw): the registers are written by nothing else.
+void Executor::run_prologue(const StageRun& run) {
+    if (prologue_end_ == 0) return;
+    const bool loads = prologue_words_[0] < prologue_words_[1];
+    const int32_t lo = loads ? prologue_words_[0] : 0, hi = loads ? prologue_words_[1] : 0;
+    const size_t words = static_cast<size_t>(hi - lo);
+    if (prologue_ready_ && prologue_had_uniforms_ == (run.uniforms != nullptr) &&
+        (!run.uniforms || std::memcmp(prologue_uniforms_.data(), run.uniforms + lo, sizeof(Scalar) * words) == 0))
+        return;
+    const int quad = std::min(4, batch_);
+    switch (simd_) {
+    case SimdLevel::AVX512: execute_avx512(quad, run, 0, prologue_end_); break;
+    case SimdLevel::AVX2: execute_avx2(quad, run, 0, prologue_end_); break;
+    case SimdLevel::SSE2:
+    case SimdLevel::Scalar: execute_portable(quad, run, 0, prologue_end_); break;
+    }
+    auto broadcast = [&](Reg r) { Scalar* d = own(r); fill(d, batch_, d[0]); };
+    for (size_t pc = 0; pc < prologue_end_; ++pc) {
+        const Instruction& i = code_[pc];
+        if (i.op == Op::FNormalize)   // writes one register per component
+            for (int j = 0; j < i.imm[1]; ++j) broadcast(products_[static_cast<size_t>(i.imm[0])][4 + static_cast<size_t>(j)]);
+        else
+            broadcast(i.dst);
+    }
+    prologue_had_uniforms_ = run.uniforms != nullptr;
+    if (run.uniforms) prologue_uniforms_.assign(run.uniforms + lo, run.uniforms + hi);
+    prologue_ready_ = true;
 }
 
 void Executor::run_batch(const StageRun& run, int first, int lanes) {
@@ -430,10 +517,10 @@ void Executor::run_batch(const StageRun& run, int first, int lanes) {
         else if (in.variable) std::memset(static_cast<void*>(reg(in.reg)), 0, sizeof(Scalar) * lanes);
     }
     switch (simd_) {
-    case SimdLevel::AVX512: execute_avx512(lanes, run); break;
-    case SimdLevel::AVX2: execute_avx2(lanes, run); break;
+    case SimdLevel::AVX512: execute_avx512(lanes, run, prologue_end_, code_.size()); break;
+    case SimdLevel::AVX2: execute_avx2(lanes, run, prologue_end_, code_.size()); break;
     case SimdLevel::SSE2:
-    case SimdLevel::Scalar: execute_portable(lanes, run); break;
+    case SimdLevel::Scalar: execute_portable(lanes, run, prologue_end_, code_.size()); break;
     }
     for (const BatchSlot& o : batch_outputs_) {
         Scalar* dst = run.outputs ? run.outputs[o.slot] : nullptr;
@@ -636,7 +723,7 @@ __attribute__((always_inline)) inline void Executor::fused_pair(const Instructio
 // it into helpers (a struct of the mask and frames, a second switch, or one step() per
 // instruction) gave fewer instructions but cost 4-17% time on control-heavy shaders (measured at
 // AVX2, issue 17), while the value operations above inline for free.
-__attribute__((always_inline)) inline void Executor::execute(const int n, const StageRun& run) {
+__attribute__((always_inline)) inline void Executor::execute(const int n, const StageRun& run, size_t begin, size_t end) {
     const std::vector<Instruction>& code = code_;
     uint32_t* mask = mask_storage_.data();
     uint32_t* killed = mask_storage_.data() + static_cast<size_t>(2 * max_depth_ + 1) * batch_;
@@ -709,8 +796,8 @@ __attribute__((always_inline)) inline void Executor::execute(const int n, const 
 #define CONVERT(field, expr) { Scalar* d = D; const Scalar* a = A; LANES d[l].field = (expr); break; }
 #define PACK(pack) { Scalar* d = D; const Scalar* a = A; const Scalar* b = B; LANES d[l].u = pack(a[l].f) | (pack(b[l].f) << 16); break; }
 
-    const int count = static_cast<int>(code.size());
-    for (int pc = static_cast<int>(prologue_end_); pc < count; ++pc) {
+    const int count = static_cast<int>(end);
+    for (int pc = static_cast<int>(begin); pc < count; ++pc) {
         const Instruction& i = code[pc];
         switch (i.op) {
         case Op::Mov: copy_active(D, A, mask, all, n); break;
@@ -928,15 +1015,15 @@ __attribute__((always_inline)) inline void Executor::execute(const int n, const 
 }
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-__attribute__((target("avx2"))) void Executor::execute_avx2(int n, const StageRun& run) { execute(n, run); }
+__attribute__((target("avx2"))) void Executor::execute_avx2(int n, const StageRun& run, size_t begin, size_t end) { execute(n, run, begin, end); }
 // prefer-vector-width=512: GCC otherwise vectorises AVX-512 code with 256-bit vectors.
 __attribute__((target("avx512f,avx512bw,avx512dq,avx512vl,prefer-vector-width=512")))
-void Executor::execute_avx512(int n, const StageRun& run) { execute(n, run); }
+void Executor::execute_avx512(int n, const StageRun& run, size_t begin, size_t end) { execute(n, run, begin, end); }
 #else
-void Executor::execute_avx2(int n, const StageRun& run) { execute(n, run); }
-void Executor::execute_avx512(int n, const StageRun& run) { execute(n, run); }
+void Executor::execute_avx2(int n, const StageRun& run, size_t begin, size_t end) { execute(n, run, begin, end); }
+void Executor::execute_avx512(int n, const StageRun& run, size_t begin, size_t end) { execute(n, run, begin, end); }
 #endif
-void Executor::execute_portable(int n, const StageRun& run) { execute(n, run); }
+void Executor::execute_portable(int n, const StageRun& run, size_t begin, size_t end) { execute(n, run, begin, end); }
 
 #if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
 namespace {

@@ -14,6 +14,7 @@
 #include <algorithm>
 #include <array>
 #include <cstdint>
+#include <limits>
 #include <stdexcept>
 #include <utility>
 #include <vector>
@@ -99,8 +100,10 @@ using softgl::SamplerPath;
 
 class Executor {
 public:
-    // batch_lanes: lanes per register (rounded up to a multiple of 4).
-    explicit Executor(const IrProgram& program, int batch_lanes = 128);
+    // batch_lanes: lanes per register (rounded up to a multiple of 4). hoist: values that depend
+    // only on uniforms and constants are computed once, before the batches (order_prologue);
+    // off: only the leading uniform loads are (the reference, Tuning::hoist_uniform_values).
+    explicit Executor(const IrProgram& program, int batch_lanes = 128, bool hoist = true);
     ~Executor();
     Executor(const Executor&) = delete;
     Executor& operator=(const Executor&) = delete;
@@ -112,13 +115,19 @@ public:
     SimdLevel simd_level() const { return simd_; }
     // The code that runs, fused instructions included (tests: which fusions applied).
     const std::vector<Instruction>& code() const { return code_; }
+    // The first prologue_size() instructions of code() run once per run at most (tests).
+    size_t prologue_size() const { return prologue_end_; }
+    bool hoists() const { return hoist_; }
 
 private:
     void run_batch(const StageRun& run, int first_lane, int lanes);
-    void execute(int lanes, const StageRun& run);           // the body, inlined into:
-    void execute_portable(int lanes, const StageRun& run);
-    void execute_avx2(int lanes, const StageRun& run);
-    void execute_avx512(int lanes, const StageRun& run);
+    void run_prologue(const StageRun& run);
+    // code_[begin, end) over `lanes` lanes; the body, inlined into:
+    void execute(int lanes, const StageRun& run, size_t begin, size_t end);
+    void execute_portable(int lanes, const StageRun& run, size_t begin, size_t end);
+    void execute_avx2(int lanes, const StageRun& run, size_t begin, size_t end);
+    void execute_avx512(int lanes, const StageRun& run, size_t begin, size_t end);
+    std::vector<Instruction> order_prologue(const IrProgram& program, const std::vector<uint8_t>& is_slot, bool hoist);
     // The longer value operations of execute(), inlined into it.
     void fused_dot(const Instruction& i, int lanes);
     void fused_normalize(const Instruction& i, int lanes);
@@ -168,9 +177,16 @@ private:
     std::vector<int> input_alias_;    // per program input: 1 if its register may alias the caller's array
     std::vector<int> output_alias_;   // per program output: 1 if its register may alias the caller's array
     std::vector<ExecutorFrame> frames_;
-    size_t prologue_end_ = 0;      // leading uniform loads: filled once per run, not per batch
-    std::vector<std::pair<uint32_t, int>> prologue_filled_;   // per prologue load: the bits and lanes its register holds
+    // code_[0, prologue_end_): uniform loads and (hoist_) values of uniforms and constants only,
+    // run once on one quad and copied to every lane; again only when the uniform words
+    // [prologue_words_[0], prologue_words_[1]) it loads differ from prologue_uniforms_.
+    size_t prologue_end_ = 0;
+    int32_t prologue_words_[2] = {std::numeric_limits<int32_t>::max(), 0};
+    std::vector<Scalar> prologue_uniforms_;
+    bool prologue_had_uniforms_ = false;
+    bool prologue_ready_ = false;
     SimdLevel simd_ = SimdLevel::SSE2;
+    bool hoist_ = true;
     bool skip_inactive_lanes_ = false;   // libm calls only in active lanes (see the constructor)
     int max_depth_ = 0;
     std::vector<Scalar> scratch_;  // derivatives for texture lookups

@@ -90,6 +90,7 @@ GlslVertexShader::GlslVertexShader(std::shared_ptr<const glsl::LinkedProgram> pr
 void GlslVertexShader::prepare(const Tuning& tuning) const {
     simd_ = tuning.simd;
     sampler_path_ = tuning.sampler_path;
+    hoist_ = tuning.hoist_uniform_values;
 }
 
 uint64_t GlslVertexShader::take_fast_texture_queries() const {
@@ -107,8 +108,9 @@ void GlslVertexShader::run(const std::array<AttributeStream, kMaxVertexAttribs>&
         std::lock_guard<std::mutex> lock(runs_mutex_);
         if (!idle_runs_.empty()) borrowed = std::move(idle_runs_.back()), idle_runs_.pop_back();
     }
-    if (!borrowed) borrowed = std::make_unique<Run>(Run{std::make_unique<glsl::Executor>(ir), {}, {}, {}, {}, {}, {}, {}});
+    if (!borrowed) borrowed = std::make_unique<Run>(Run{std::make_unique<glsl::Executor>(ir, 128, hoist_), {}, {}, {}, {}, {}, {}, {}});
     Run& r = *borrowed;
+    if (r.executor->hoists() != hoist_) r.executor = std::make_unique<glsl::Executor>(ir, 128, hoist_);
     r.executor->set_simd_level(simd_);   // executors outlive draws; the level is the draw's
     // gl_VertexID and gl_InstanceID read the caller's arrays (32-bit words, as attribute streams).
     const Scalar* ids = reinterpret_cast<const Scalar*>(vertex_ids);
@@ -270,7 +272,8 @@ void GlslFragmentShader::prepare(unsigned workers, const Tuning& tuning) const {
     if (workers_.size() < workers) workers_.resize(workers);
     sampler_path_ = tuning.sampler_path;
     for (Worker& w : workers_) {
-        if (!w.executor) w.executor = std::make_unique<glsl::Executor>(program_->fragment);
+        if (!w.executor || w.executor->hoists() != tuning.hoist_uniform_values)
+            w.executor = std::make_unique<glsl::Executor>(program_->fragment, 128, tuning.hoist_uniform_values);
         w.executor->set_simd_level(tuning.simd);   // executors outlive draws; the level is the draw's
     }
 }

@@ -41,6 +41,7 @@ private:
     glsl::TextureSampler* textures_ = nullptr;
     mutable SimdLevel simd_ = best_simd_level();             // the draw's (prepare)
     mutable SamplerPath sampler_path_ = SamplerPath::Best;   // the draw's (prepare)
+    mutable bool hoist_ = true;                              // the draw's Tuning::hoist_uniform_values
     std::shared_ptr<const glsl::LinkedProgram> program_;
     std::vector<int> input_location_;    // per vertex input slot: attribute location, -1 built-in
     std::vector<int> input_component_;   // per vertex input slot: component of that location
