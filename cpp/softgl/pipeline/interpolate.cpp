@@ -172,6 +172,22 @@ __attribute__((target("avx512f,avx512bw,avx512dq,avx512vl"))) void interpolate_a
 
 }  // namespace
 
+bool weights_finite(const VaryingInterpolation& v, const Quad* quads, const uint16_t* masks, size_t n) {
+    const ConstantQ cq(v.inv_w);
+    if (weights_always_finite(v, cq)) return true;
+    // interpolate_scalar's weights, lane by lane (a constant Q's q is 1 / c there too: ConstantQ).
+    auto eval = [](const FloatPlane& pl, float dx, float dy) { return (pl.c + pl.a * dx) + pl.b * dy; };
+    for (size_t i = 0; i < n; ++i)
+        for (int j = 0; j < 4; ++j) {
+            if (!masks[4 * i + size_t(j)]) continue;
+            const float dx = lane_offset(quads[i].x, j & 1, v.base_x), dy = lane_offset(quads[i].y, j >> 1, v.base_y);
+            const float q = 1.0f / eval(v.inv_w, dx, dy);
+            if (!std::isfinite(eval(v.weight[0], dx, dy) * q)) return false;
+            if (v.vertices == 3 && !std::isfinite(eval(v.weight[1], dx, dy) * q)) return false;
+        }
+    return true;
+}
+
 void interpolate_varyings_at(SimdLevel level, const VaryingInterpolation& v, const Quad* quads, size_t n,
                              uint32_t* out, size_t stride) {
     switch (level) {

@@ -64,6 +64,12 @@ inline void interpolate_varyings(const VaryingInterpolation& v, const Quad* quad
     interpolate_varyings_at(best_simd_level(), v, quads, n, out, stride);
 }
 
+// Whether l_1 and l_2 (lines: l_1) are finite at every lane of quads[0..n) whose masks[lane] is
+// non-zero, as interpolate_varyings computes them (every level gives the scalar reference's bits).
+// Then a word with d_1 = d_2 = 0 comes out as v_0 + (+-0) + (+-0): exactly v_0 when v_0 is not
+// -0 (-0 + +0 = +0) and not NaN (which arithmetic may quiet) -- a flat primitive (tile_pass.cpp).
+bool weights_finite(const VaryingInterpolation& v, const Quad* quads, const uint16_t* masks, size_t n);
+
 // When all vertices have the same w (every 2D draw), Q is a constant plane (a = b = 0) and
 // (c + 0*dx) + 0*dy == c for any finite non-zero c and finite offsets (adding a zero of either
 // sign to a non-zero number leaves it unchanged), so every lane's q is 1 / c: computed once. When

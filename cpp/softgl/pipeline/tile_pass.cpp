@@ -208,6 +208,8 @@ struct alignas(64) TilePass::Scratch {
     std::vector<Quad> quads;          // the primitive's quads in this tile
     std::vector<QuadArea> areas;      // SOFTGL_smooth: covered fractions of the quads
     std::vector<float> values;        // the primitive's vertex values of the interpolated words
+    FragmentResults flat_results;     // a flat primitive's colour (FragmentShader::run_flat) ...
+    std::vector<float> flat_color;    // ... as a chunk's lanes: [c * kChunkLanes + lane]
     std::vector<uint32_t> pixels;     // per lane of a chunk: the destination pixel (S == 1 colour path)
     std::vector<uint16_t> masks;      // per lane of a chunk: surviving sample mask
     std::vector<uint64_t> owners;     // hidden-surface removal: the tile's owner map (OwnerMap)
@@ -253,6 +255,11 @@ struct TilePass::Primitive {
     size_t entry;                  // its place in the tile's list (the owner map's entries)
     uint32_t provoking = 0;        // the vertex flat varyings come from
     bool interpolate = false;      // smooth words interpolated (triangles and lines)
+    // Every word the shader reads has the same bits at each vertex (and is neither -0 nor NaN):
+    // where the weights are finite each fragment reads those values (weights_finite), and a
+    // shader that runs flat (FragmentShader::run_flat) gives them all one colour.
+    bool flat = false;
+    size_t flat_lanes = 0;         // lanes of Scratch::flat_color filled with its colour
     VaryingInterpolation vi{};
 };
 
@@ -353,6 +360,10 @@ void TilePass::prepare(DrawStats& stats) {
     }
     smooth_words_ = &s.smooth_words;
     flat_words_ = &s.flat_words;
+    // Flat primitives go straight to the colour kernels, as a constant colour does.
+    flat_primitives_ = fs_.runs_flat() && plan_.color_kernels == Path::Taken && plan_.constant_color != Path::Taken &&
+                       plan_.fused_copy != Path::Taken && !plan_.area_coverage;
+    if (flat_primitives_) stats.draws_flat_primitives = 1;
     s.touched.assign(grid_.count(), 0);
     prepared_ = true;
 }
@@ -620,6 +631,13 @@ SOFTGL_STEP void TilePass::draw_primitive(Tile& t, const PrimitiveSetup& p, size
         }
         if (!prepared) prepare_varyings(t, prim), prepared = true;
         w.stats.quads += c.kept;
+        if (prim.flat && (!prim.interpolate || weights_finite(prim.vi, c.quads, c.masks, c.kept))) {
+            if (gather_) flush(t);   // the fragments gathered before come first
+            w.stats.fragments_shaded += 4 * c.kept;
+            w.stats.fragments_flat += 4 * c.kept;
+            write(t, c, flat_colors(t, prim, c));
+            continue;
+        }
         if constexpr (!WithSink) {   // the blend lab's draws are never gathered (plan_fragment_batches)
             if (gather_) {
                 if (c.kept < kOwnBatchQuads ||
@@ -829,6 +847,8 @@ void TilePass::prepare_varyings(Tile& t, Primitive& prim) {
     const int interpolated = p.kind == PrimitiveKind::Triangle ? 3 : p.kind == PrimitiveKind::Line ? 2 : 0;
     const std::vector<int>& smooth = *smooth_words_;
     prim.interpolate = interpolated && !smooth.empty();
+    prim.flat = flat_primitives_;
+    prim.flat_lanes = 0;
     if (!prim.interpolate) return;
     std::vector<float>& values = t.w.values;
     const size_t count = smooth.size();
@@ -837,6 +857,14 @@ void TilePass::prepare_varyings(Tile& t, Primitive& prim) {
     for (int v = 0; v < interpolated; ++v)
         for (size_t i = 0; i < count; ++i)
             values[size_t(v) * count + i] = as_float(varyings[size_t(p.vertex[v]) * size_t(words_) + size_t(smooth[i])]);
+    if (prim.flat) {
+        for (size_t i = 0; i < count && prim.flat; ++i) {
+            const uint32_t bits = varyings[size_t(p.vertex[0]) * size_t(words_) + size_t(smooth[i])];
+            prim.flat = bits != 0x80000000u && !std::isnan(values[i]);
+            for (int v = 1; v < interpolated && prim.flat; ++v)
+                prim.flat = varyings[size_t(p.vertex[v]) * size_t(words_) + size_t(smooth[i])] == bits;
+        }
+    }
     prepare_interpolation(p, interpolated, t.rect.x0, t.rect.y0, smooth.data(), count, values.data(), prim.vi);
 }
 
@@ -945,6 +973,21 @@ SOFTGL_STEP TilePass::Colors TilePass::shade(Tile& t, const Primitive& prim, con
     if (plan_.constant_color == Path::Taken) return Colors{constant_color_, kChunkLanes, 1, false};
     build_fragment_batch(t, prim, c);
     return run_shader(t);
+}
+
+// A flat primitive's colour for the chunk's lanes: the shader runs once per primitive and tile,
+// on the provoking vertex's words (flat words come from it; the smooth ones are the same at every
+// vertex).
+SOFTGL_STEP TilePass::Colors TilePass::flat_colors(Tile& t, Primitive& prim, const Chunk& c) {
+    Scratch& w = t.w;
+    const size_t L = c.lanes();
+    if (prim.flat_lanes == 0) fs_.run_flat(&vertices_->varyings[size_t(prim.provoking) * size_t(words_)], w.flat_results, t.worker);
+    if (prim.flat_lanes < L) {
+        float* const lanes = at_least(w.flat_color, 4 * kChunkLanes);
+        for (size_t k = 0; k < 4; ++k) std::fill(lanes + k * kChunkLanes + prim.flat_lanes, lanes + k * kChunkLanes + L, w.flat_results.color[k]);
+        prim.flat_lanes = L;
+    }
+    return Colors{w.flat_color.data(), kChunkLanes, 1, false};
 }
 
 // The shader (or its copies) on the fragment batch.
