@@ -78,13 +78,14 @@ SETUPS = {"plain": None, "alpha_blend": alpha_blend, "additive": additive, "dept
           "color_mask": color_mask}
 
 
-def render(fs, pos, shade, setup=None, threads=1, simd=None, samples=0):
+def render(fs, pos, shade, setup=None, threads=1, simd=None, samples=0, flat_primitives=True):
     kw = dict(antialias=samples > 0, threads=threads, preserveDrawingBuffer=True)
     if samples:
         kw["samples"] = samples
     gl = softgl.Context(SIZE, SIZE, **kw)
     if simd:
         _core.testing.set_tuning(gl, simd=simd)
+    _core.testing.set_tuning(gl, flat_primitives=flat_primitives)
     prog = softgl.program(gl, VS, fs)
     gl.useProgram(prog)
     gl.bindVertexArray(gl.createVertexArray())
@@ -171,3 +172,16 @@ def test_negative_zero_is_not_flat():
     image, c = render(FLAT_FS, pos, shade, additive)
     assert c["fragments_flat"] == 0 and c["fragments_shaded"] > 0
     assert image.tobytes() == reference.tobytes()
+
+
+@pytest.mark.parametrize("setup", ["plain", "alpha_blend", "depth_less"])
+def test_flat_primitives_switched_off_is_the_same_shader_per_fragment(setup):
+    # The same program with Tuning::flat_primitives off: every fragment shaded, the same bytes.
+    pos, shade = scene(seed=11 + len(setup), flat=True)
+    reference, rc = render(FLAT_FS, pos, shade, SETUPS[setup], simd="scalar", flat_primitives=False)
+    assert rc["fragments_flat"] == 0 and rc["draws_flat_primitives"] == 0
+    for threads in (1, 2):
+        for simd in ("scalar", "sse2", "avx2", "avx512"):
+            image, c = render(FLAT_FS, pos, shade, SETUPS[setup], threads, simd)
+            assert image.tobytes() == reference.tobytes(), (threads, simd)
+            assert c["fragments_flat"] == c["fragments_shaded"] > 0

@@ -259,6 +259,7 @@ struct TilePass::Primitive {
     // where the weights are finite each fragment reads those values (weights_finite), and a
     // shader that runs flat (FragmentShader::run_flat) gives them all one colour.
     bool flat = false;
+    bool flat_weights = false;     // ... and the weights are finite at every pixel of the tile
     size_t flat_lanes = 0;         // lanes of Scratch::flat_color filled with its colour
     VaryingInterpolation vi{};
 };
@@ -361,7 +362,7 @@ void TilePass::prepare(DrawStats& stats) {
     smooth_words_ = &s.smooth_words;
     flat_words_ = &s.flat_words;
     // Flat primitives go straight to the colour kernels, as a constant colour does.
-    flat_primitives_ = fs_.runs_flat() && plan_.color_kernels == Path::Taken && plan_.constant_color != Path::Taken &&
+    flat_primitives_ = in_.tuning.flat_primitives && fs_.runs_flat() && plan_.color_kernels == Path::Taken && plan_.constant_color != Path::Taken &&
                        plan_.fused_copy != Path::Taken && !plan_.area_coverage;
     if (flat_primitives_) stats.draws_flat_primitives = 1;
     s.touched.assign(grid_.count(), 0);
@@ -631,7 +632,7 @@ SOFTGL_STEP void TilePass::draw_primitive(Tile& t, const PrimitiveSetup& p, size
         }
         if (!prepared) prepare_varyings(t, prim), prepared = true;
         w.stats.quads += c.kept;
-        if (prim.flat && (!prim.interpolate || weights_finite(prim.vi, c.quads, c.masks, c.kept))) {
+        if (prim.flat && (!prim.interpolate || prim.flat_weights || weights_finite(prim.vi, c.quads, c.masks, c.kept))) {
             if (gather_) flush(t);   // the fragments gathered before come first
             w.stats.fragments_shaded += 4 * c.kept;
             w.stats.fragments_flat += 4 * c.kept;
@@ -866,6 +867,8 @@ void TilePass::prepare_varyings(Tile& t, Primitive& prim) {
         }
     }
     prepare_interpolation(p, interpolated, t.rect.x0, t.rect.y0, smooth.data(), count, values.data(), prim.vi);
+    // Quads may reach one pixel past the tile's last row or column (a buffer of odd size).
+    prim.flat_weights = prim.flat && weights_finite_in(prim.vi, t.rect.x1 - t.rect.x0, t.rect.y1 - t.rect.y0);
 }
 
 // The chunk's surviving samples, its quads with one compacted to the front: the pixels the
