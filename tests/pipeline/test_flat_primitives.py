@@ -185,3 +185,23 @@ def test_flat_primitives_switched_off_is_the_same_shader_per_fragment(setup):
             image, c = render(FLAT_FS, pos, shade, SETUPS[setup], threads, simd)
             assert image.tobytes() == reference.tobytes(), (threads, simd)
             assert c["fragments_flat"] == c["fragments_shaded"] > 0
+
+
+def test_extreme_perspective_matches_the_switched_off_path():
+    # w from 1e-3 to 1e4 at the vertices of a triangle: the 1/w plane spans 7 orders of magnitude
+    # over a tile, where the bound (weights_finite_in) may not hold and the lanes are checked.
+    rng = np.random.default_rng(17)
+    pos, shade = [], []
+    for _ in range(16):
+        w = 10.0 ** rng.uniform(-3, 4, 3)
+        xy = rng.uniform(-1.5, 1.5, (3, 2))
+        for k in range(3):
+            pos.append([xy[k, 0] * w[k], xy[k, 1] * w[k], 0.0, w[k]])
+        shade += [np.float32(rng.uniform(0.2, 1.0))] * 3
+    pos, shade = np.array(pos, np.float32), np.array(shade, np.float32)
+    reference, rc = render(FLAT_FS, pos, shade, alpha_blend, simd="scalar", flat_primitives=False)
+    assert rc["fragments_shaded"] > 0
+    for simd in ("scalar", "sse2", "avx2", "avx512"):
+        image, c = render(FLAT_FS, pos, shade, alpha_blend, 2, simd)
+        assert image.tobytes() == reference.tobytes(), simd
+        assert c["fragments_flat"] > 0
