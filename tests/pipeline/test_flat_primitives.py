@@ -78,14 +78,16 @@ SETUPS = {"plain": None, "alpha_blend": alpha_blend, "additive": additive, "dept
           "color_mask": color_mask}
 
 
-def render(fs, pos, shade, setup=None, threads=1, simd=None, samples=0, flat_primitives=True):
+def render(fs, pos, shade, setup=None, threads=1, simd=None, samples=0, flat_primitives=True, batches=True):
     kw = dict(antialias=samples > 0, threads=threads, preserveDrawingBuffer=True)
     if samples:
         kw["samples"] = samples
     gl = softgl.Context(SIZE, SIZE, **kw)
     if simd:
         _core.testing.set_tuning(gl, simd=simd)
-    _core.testing.set_tuning(gl, flat_primitives=flat_primitives)
+    # Full batches gather a primitive's small chunks (those take no flat colour): off, every chunk
+    # of a flat primitive takes it.
+    _core.testing.set_tuning(gl, flat_primitives=flat_primitives, fragment_batches=batches)
     prog = softgl.program(gl, VS, fs)
     gl.useProgram(prog)
     gl.bindVertexArray(gl.createVertexArray())
@@ -114,16 +116,18 @@ def test_flat_primitives_give_the_general_paths_bytes(setup, flat):
     reference, rc = render(GENERAL_FS, pos, shade, SETUPS[setup], simd="scalar")
     assert rc["fragments_flat"] == 0 and rc["draws_flat_primitives"] == 0
     assert rc["fragments_shaded"] > 0
-    for threads in (1, 2):
-        for simd in ("scalar", "sse2", "avx2", "avx512"):
-            image, c = render(FLAT_FS, pos, shade, SETUPS[setup], threads, simd)
-            assert image.tobytes() == reference.tobytes(), (threads, simd)
-            assert c["draws_flat_primitives"] == 1
-            if flat:   # every fragment of every primitive (finite weights at covered pixels)
-                assert c["fragments_flat"] == c["fragments_shaded"] > 0
-            else:      # one ulp apart at a vertex: none
-                assert c["fragments_flat"] == 0
-            assert c["samples_written"] == rc["samples_written"]
+    for threads, simd, batches in [(t, s, b) for t in (1, 2) for s in ("scalar", "sse2", "avx2", "avx512")
+                                   for b in (True, False)]:
+        image, c = render(FLAT_FS, pos, shade, SETUPS[setup], threads, simd, batches=batches)
+        assert image.tobytes() == reference.tobytes(), (threads, simd, batches)
+        assert c["draws_flat_primitives"] == 1
+        if flat and not batches:   # every fragment of every primitive (finite weights)
+            assert c["fragments_flat"] == c["fragments_shaded"] > 0
+        elif flat:                 # small chunks gathered
+            assert 0 < c["fragments_flat"] < c["fragments_shaded"]
+        else:      # one ulp apart at a vertex: none
+            assert c["fragments_flat"] == 0
+        assert c["samples_written"] == rc["samples_written"]
 
 
 @pytest.mark.parametrize("samples", [0, 4])
@@ -142,7 +146,7 @@ def test_flat_colour_by_hand():
     xy = np.array([[-0.9, -0.9], [0.9, -0.9], [0.0, 0.9]])
     pos = np.array([[xy[k, 0] * w[k], xy[k, 1] * w[k], 0.0, w[k]] for k in range(3)], np.float32)
     shade = np.full(3, 0.75, np.float32)
-    image, c = render(FLAT_FS, pos, shade)
+    image, c = render(FLAT_FS, pos, shade, batches=False)
     assert c["fragments_flat"] == c["fragments_shaded"] > 0
     expected = [round(float(np.float32(COLOR[i]) * np.float32(0.75)) * 255) for i in range(3)]
     expected.append(round(float(np.float32(COLOR[3])) * 255))
@@ -158,7 +162,7 @@ def test_one_ulp_apart_is_not_flat_and_interpolates():
     pos = np.array([[xy[k, 0] * w[k], xy[k, 1] * w[k], 0.0, w[k]] for k in range(3)], np.float32)
     s = np.float32(0.75)
     shade = np.array([s, s, np.nextafter(s, np.float32(1))], np.float32)
-    image, c = render(FLAT_FS, pos, shade)
+    image, c = render(FLAT_FS, pos, shade, batches=False)
     assert c["fragments_flat"] == 0 and c["fragments_shaded"] > 0
     assert image.reshape(SIZE, SIZE, 4)[SIZE // 2, SIZE // 2].tolist() == [172, 115, 57, 115]
 
@@ -169,7 +173,7 @@ def test_negative_zero_is_not_flat():
     pos, _ = scene(seed=3, flat=True, count=4)
     shade = np.full(len(pos), -0.0, np.float32)
     reference, _ = render(GENERAL_FS, pos, shade, additive)
-    image, c = render(FLAT_FS, pos, shade, additive)
+    image, c = render(FLAT_FS, pos, shade, additive, batches=False)
     assert c["fragments_flat"] == 0 and c["fragments_shaded"] > 0
     assert image.tobytes() == reference.tobytes()
 
@@ -184,7 +188,7 @@ def test_flat_primitives_switched_off_is_the_same_shader_per_fragment(setup):
         for simd in ("scalar", "sse2", "avx2", "avx512"):
             image, c = render(FLAT_FS, pos, shade, SETUPS[setup], threads, simd)
             assert image.tobytes() == reference.tobytes(), (threads, simd)
-            assert c["fragments_flat"] == c["fragments_shaded"] > 0
+            assert 0 < c["fragments_flat"] <= c["fragments_shaded"]
 
 
 def test_extreme_perspective_matches_the_switched_off_path():
