@@ -38,6 +38,7 @@ py::dict as_dict(const Tuning& t) {
     d["fragment_batches"] = t.fragment_batches;
     d["skip_helper_lanes"] = t.skip_helper_lanes;
     d["hoist_uniform_values"] = t.hoist_uniform_values;
+    d["flat_primitives"] = t.flat_primitives;
     d["blit_rows"] = t.blit_rows;
     d["pool_spin_microseconds"] = t.pool_spin_microseconds;
     return d;
@@ -74,6 +75,8 @@ void update(Tuning& t, const py::kwargs& fields) {
             next.skip_helper_lanes = value.cast<bool>();
         } else if (k == "hoist_uniform_values") {
             next.hoist_uniform_values = value.cast<bool>();
+        } else if (k == "flat_primitives") {
+            next.flat_primitives = value.cast<bool>();
         } else if (k == "blit_rows") {
             next.blit_rows = value.cast<bool>();
         } else if (k == "pool_spin_microseconds") {
@@ -101,7 +104,7 @@ void bind_tuning(py::module_& m) {
         return before;
     }, py::arg("context"),
        "Sets the named switches of the context (simd, batch_primitives, hidden_surface_removal, depth_bounds, "
-       "fragment_copies, sampler_path, fragment_batches, skip_helper_lanes, hoist_uniform_values, blit_rows, pool_spin_microseconds); returns the previous ones as a dict, to pass back.");
+       "fragment_copies, sampler_path, fragment_batches, skip_helper_lanes, hoist_uniform_values, flat_primitives, blit_rows, pool_spin_microseconds); returns the previous ones as a dict, to pass back.");
     t.def("default_tuning", [] { return as_dict(Tuning::process_default()); },
           "The switches new contexts start with.");
     t.def("set_default_tuning", [](const py::kwargs& fields) {

@@ -400,8 +400,10 @@ class Context(_core.Context):
         coverage operations, smoothing, framebuffer objects, late tests), and, for draws that
         reached their first tile pass, ``draws_constant_color`` (a uniform-only shader run once,
         its colour straight to the colour kernels), ``draws_blend_table`` (that colour blended by
-        table lookup) and ``draws_copied_varying`` (a shader that only copies varyings or
-        constants to its colours, not run). ``draws_with_rollback`` counts draws that kept a copy
+        table lookup), ``draws_copied_varying`` (a shader that only copies varyings or
+        constants to its colours, not run) and ``draws_flat_primitives`` (a shader that can run
+        once for a primitive whose varyings are equal at every vertex; ``fragments_flat`` counts
+        the fragments, of ``fragments_shaded``, that got such a primitive's one colour). ``draws_with_rollback`` counts draws that kept a copy
         of each tile they wrote, to put it back if stopped (docs/reliability.md, "Work budget
         and Ctrl-C": draws in several batches, with a fragment loop of unknown length, or with
         much fragment work)."""

@@ -45,6 +45,9 @@ struct Tuning {
     // ... and, for a shader that does not read its quad neighbours, only covered pixels shaded
     // (no helper lanes); off: whole quads.
     bool skip_helper_lanes = true;
+    // A primitive whose varyings the shader reads have the same bits at every vertex is shaded
+    // once per tile (pipeline/tile_pass, FragmentShader::run_flat); off: per fragment.
+    bool flat_primitives = true;
     // blitFramebuffer copies and resolves of the same size row by row, on the thread pool
     // (api/framebuffers.cpp blit_rows); off: every blit takes the general per-pixel loop.
     bool blit_rows = true;
@@ -62,7 +65,8 @@ struct Tuning {
                hidden_surface_removal == o.hidden_surface_removal && depth_bounds == o.depth_bounds &&
                fragment_copies == o.fragment_copies && sampler_path == o.sampler_path &&
                fragment_batches == o.fragment_batches && skip_helper_lanes == o.skip_helper_lanes &&
-               blit_rows == o.blit_rows && hoist_uniform_values == o.hoist_uniform_values && pool_spin_microseconds == o.pool_spin_microseconds;
+               blit_rows == o.blit_rows && hoist_uniform_values == o.hoist_uniform_values &&
+               flat_primitives == o.flat_primitives && pool_spin_microseconds == o.pool_spin_microseconds;
     }
     bool operator!=(const Tuning& o) const { return !(*this == o); }
 

@@ -16,6 +16,7 @@ struct DrawStats {
     uint64_t quads = 0, blocks_accepted_whole = 0;
     uint64_t fragments_shaded = 0;      // lanes run through the fragment shader (helpers included)
     uint64_t fragments_killed_early = 0, fragments_killed_late = 0, fragments_discarded = 0;
+    uint64_t fragments_flat = 0;        // of those, lanes of flat primitives: one shader run per primitive and tile
     uint64_t fragments_hidden = 0;      // passed the tests, then covered by a later one: not shaded
     uint64_t primitives_depth_hidden = 0;  // (primitive, tile) pairs failing early depth everywhere: not rasterized
     uint64_t samples_written = 0, samples_blended = 0;
@@ -28,6 +29,7 @@ struct DrawStats {
     uint64_t draws_late_tests = 0;         // depth/stencil tested after shading (discard, gl_FragDepth, coverage ops)
     uint64_t draws_per_lane_color = 0;     // colour blended lane by lane, not by the colour kernels
     uint64_t draws_constant_color = 0;     // a uniform-only shader's colour, computed once, to the colour kernels
+    uint64_t draws_flat_primitives = 0;    // primitives with equal varyings get one colour (FragmentShader::run_flat)
     uint64_t draws_copied_varying = 0;     // a shader that only copies varyings or constants: not run
     uint64_t draws_with_rollback = 0;      // kept copies of the pixels they wrote (pipeline/draw_rollback.h)
     uint64_t texture_queries_fast = 0;     // lookups (per instruction and batch of lanes) served by the 2D fast path

@@ -199,6 +199,10 @@ GlslFragmentShader::GlslFragmentShader(std::shared_ptr<const glsl::LinkedProgram
     // Derivatives and implicit-LOD lookups, as the optimised IR has them (the executor's test):
     // without them a lane's values are its own, and no helper pixel needs shading.
     quad_neighbours_ = glsl::reads_quad_neighbours(ir);
+    // A primitive whose varyings are the same at every fragment gives each the same results when
+    // lanes are independent and nothing else per pixel is read (TilePass's flat primitives).
+    flat_ = !quad_neighbours_ && builtins_read_ == 0 && !program_->reflection.fragment_usage.may_discard &&
+            !program_->reflection.fragment_usage.writes_frag_depth;
     // Colour output o: whichever of gl_FragColor (o = 0), gl_FragData[o] or the `out` at location
     // o (arrays take consecutive locations, ES 3.00 §4.3.8.2) the shader really writes (the IR
     // declares both ES 1.00 outputs; reflection lists the active one).
@@ -345,8 +349,17 @@ void GlslFragmentShader::run(const FragmentBatch& b, FragmentResults& out, unsig
 
 bool GlslFragmentShader::run_constant(FragmentResults& out, unsigned worker) const {
     if (!uniform_only_) return false;
-    // One quad, as run() shades it for a batch (the inputs it declares but whose values never
-    // reach an output read zeros); every lane holds the same values, lane 0 is kept.
+    return run_one_quad(nullptr, out, worker);
+}
+
+bool GlslFragmentShader::run_flat(const uint32_t* varyings, FragmentResults& out, unsigned worker) const {
+    if (!flat_) return false;
+    return run_one_quad(varyings, out, worker);
+}
+
+// One quad, as run() shades it for a batch, every lane with the same inputs: `varyings` by word
+// (null: zeros, for inputs whose values never reach an output); lane 0's results are kept.
+bool GlslFragmentShader::run_one_quad(const uint32_t* varyings, FragmentResults& out, unsigned worker) const {
     Worker& w = workers_[worker];
     FragmentBatch& b = w.quad;
     const size_t L = 4;
@@ -354,6 +367,9 @@ bool GlslFragmentShader::run_constant(FragmentResults& out, unsigned worker) con
     for (int word : input_word_) words = std::max(words, word + 1);
     b.lanes = L;
     b.varyings.assign(size_t(words) * L, 0);
+    if (varyings)
+        for (int word : input_word_)
+            if (word >= 0) std::fill_n(&b.varyings[size_t(word) * L], L, varyings[word]);
     b.frag_coord.assign(4 * L, 0.0f);
     b.front_facing.assign(L, 0);
     b.point_coord.assign(2 * L, 0.0f);
@@ -364,7 +380,7 @@ bool GlslFragmentShader::run_constant(FragmentResults& out, unsigned worker) con
     for (size_t k = 0; k < out.color.size(); ++k) out.color[k] = r.color[k * L];
     out.depth.clear();
     if (depth_slot_ >= 0) out.depth.assign(1, r.depth[0]);
-    out.killed.clear();   // uniform_only_: the shader has no discard
+    out.killed.clear();   // uniform_only_ and flat_: the shader has no discard
     return true;
 }
 

@@ -80,6 +80,8 @@ public:
     void prepare(unsigned workers, const Tuning& tuning) const override;
     void run(const FragmentBatch& batch, FragmentResults& out, unsigned worker) const override;
     bool run_constant(FragmentResults& out, unsigned worker) const override;
+    bool run_flat(const uint32_t* varyings, FragmentResults& out, unsigned worker) const override;
+    bool runs_flat() const override { return flat_; }
     const FragmentCopies* copies() const override;
     void set_uniforms(const glsl::Scalar* uniforms) { uniforms_ = uniforms; }
     // The bound textures for this draw (null: every lookup reads an incomplete texture). The
@@ -107,6 +109,8 @@ private:
     uint32_t builtins_read_ = 0;         // FragmentBuiltin bits
     bool quad_neighbours_ = true;        // glsl::reads_quad_neighbours of the fragment IR
     bool uniform_only_ = false;          // outputs depend only on uniforms: run one quad, broadcast
+    bool flat_ = false;                  // run_flat: no discard, depth, built-ins or quad neighbours
+    bool run_one_quad(const uint32_t* varyings, FragmentResults& out, unsigned worker) const;
     bool copies_only_ = false;           // the program only copies varyings or constants to colours
     FragmentCopies copies_;              // ... which ones (when copies_only_)
     const glsl::Scalar* uniforms_ = nullptr;
@@ -116,7 +120,7 @@ private:
         std::vector<glsl::Scalar> outputs;
         std::vector<const glsl::Scalar*> input_ptrs;
         std::vector<glsl::Scalar*> output_ptrs;
-        FragmentBatch quad;                          // run_constant: one quad, inputs all zero
+        FragmentBatch quad;                          // run_constant/run_flat: one quad, every lane alike
         FragmentResults quad_results;
         IncompleteTextureSampler sampler;
         uint64_t fast_texture_queries = 0;

@@ -235,6 +235,53 @@ __attribute__((target("avx512f,avx512bw,avx512dq,avx512vl"))) void interpolate_a
 
 }  // namespace
 
+bool weights_finite(const VaryingInterpolation& v, const Quad* quads, const uint16_t* masks, size_t n) {
+    const ConstantQ cq(v.inv_w);
+    if (weights_always_finite(v, cq)) return true;
+    // interpolate_scalar's weights, lane by lane (a constant Q's q is 1 / c there too: ConstantQ).
+    auto eval = [](const FloatPlane& pl, float dx, float dy) { return (pl.c + pl.a * dx) + pl.b * dy; };
+    for (size_t i = 0; i < n; ++i)
+        for (int j = 0; j < 4; ++j) {
+            if (!masks[4 * i + size_t(j)]) continue;
+            const float dx = lane_offset(quads[i].x, j & 1, v.base_x), dy = lane_offset(quads[i].y, j >> 1, v.base_y);
+            const float q = 1.0f / eval(v.inv_w, dx, dy);
+            if (!std::isfinite(eval(v.weight[0], dx, dy) * q)) return false;
+            if (v.vertices == 3 && !std::isfinite(eval(v.weight[1], dx, dy) * q)) return false;
+        }
+    return true;
+}
+
+// Each plane's float value e = (c + a*dx) + b*dy differs from the exact c + a*dx + b*dy by at most
+// 3 float roundings of terms no larger than M = |c| + |a|*width + |b|*height (2^-24 relative
+// each), plus 2^-149 per operation where results are subnormal; the exact value's extremes over
+// the rectangle are at its corners (computed in double: error 2^-53 M per operation). So with
+// slack = 2^-21 M + 2^-120: Q's float value is at least min Q - slack, q = 1 / that at most (1 +
+// 2^-24) / (min Q - slack), and |l_k| <= (max |L_k| + slack_k) * q * (1 + 2^-24). When Q's lower
+// bound is above 2^-100 and each l_k's bound below 2^120, every weight is finite.
+bool weights_finite_in(const VaryingInterpolation& v, int32_t width, int32_t height) {
+    struct Range {
+        double lo, hi, slack;
+    };
+    const double w = double(width), h = double(height);
+    auto range = [&](const FloatPlane& pl) {
+        const double a = pl.a, b = pl.b, c = pl.c;
+        const double corners[4] = {c, c + a * w, c + b * h, (c + a * w) + b * h};
+        Range r{corners[0], corners[0], (std::fabs(c) + std::fabs(a) * w + std::fabs(b) * h) * 0x1p-21 + 0x1p-120};
+        for (double e : corners) r.lo = std::min(r.lo, e), r.hi = std::max(r.hi, e);
+        return r;
+    };
+    const Range q = range(v.inv_w);
+    const double q_low = q.lo - q.slack;
+    if (!(q_low > 0x1p-100) || !std::isfinite(q.hi + q.slack)) return false;
+    const double q_max = (1.0 / q_low) * (1.0 + 0x1p-23);
+    for (int k = 0; k + 1 < v.vertices; ++k) {
+        const Range l = range(v.weight[k]);
+        const double l_max = (std::max(std::fabs(l.lo), std::fabs(l.hi)) + l.slack) * q_max * (1.0 + 0x1p-23);
+        if (!(l_max < 0x1p120)) return false;
+    }
+    return true;
+}
+
 void interpolate_varyings_at(SimdLevel level, const VaryingInterpolation& v, const Quad* quads, size_t n,
                              uint32_t* out, size_t stride) {
     switch (level) {

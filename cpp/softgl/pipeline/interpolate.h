@@ -76,6 +76,16 @@ inline void interpolate_varyings(const VaryingInterpolation& v, const Quad* quad
 void interpolate_pixels_at(SimdLevel level, const VaryingInterpolation& v, const int32_t* xy, size_t n, uint32_t* out,
                            size_t stride);
 
+// Whether l_1 and l_2 (lines: l_1) are finite at every lane of quads[0..n) whose masks[lane] is
+// non-zero, as interpolate_varyings computes them (every level gives the scalar reference's bits).
+// Then a word with d_1 = d_2 = 0 comes out as v_0 + (+-0) + (+-0): exactly v_0 when v_0 is not
+// -0 (-0 + +0 = +0) and not NaN (which arithmetic may quiet) -- a flat primitive (tile_pass.cpp).
+bool weights_finite(const VaryingInterpolation& v, const Quad* quads, const uint16_t* masks, size_t n);
+// The same for every pixel with 0 <= x - base_x <= width and 0 <= y - base_y <= height, by a bound
+// worked out once (a primitive's tile): false when the bound cannot show it (then ask
+// weights_finite lane by lane).
+bool weights_finite_in(const VaryingInterpolation& v, int32_t width, int32_t height);
+
 // When all vertices have the same w (every 2D draw), Q is a constant plane (a = b = 0) and
 // (c + 0*dx) + 0*dy == c for any finite non-zero c and finite offsets (adding a zero of either
 // sign to a non-zero number leaves it unchanged), so every lane's q is 1 / c: computed once. When

@@ -114,6 +114,16 @@ public:
     // the same values. Such a shader fills `out` for one lane (lanes = 1 in the layout above) on
     // `worker` and returns true; any other returns false. After prepare(), like run().
     virtual bool run_constant(FragmentResults& out, unsigned worker) const { (void)out, (void)worker; return false; }
+    // docs/architecture.md, "Fast paths": the results of one fragment whose varying words are
+    // `varyings` (indexed by word), for a primitive where every fragment reads those same values.
+    // Only a shader whose lanes are independent and read no built-in, cannot discard and does not
+    // write depth gives them (as run_constant: one lane in `out`, true); any other returns false.
+    virtual bool run_flat(const uint32_t* varyings, FragmentResults& out, unsigned worker) const {
+        (void)varyings, (void)out, (void)worker;
+        return false;
+    }
+    // Whether run_flat gives results (the same for every draw of the program).
+    virtual bool runs_flat() const { return false; }
     // Non-null when the program only copies (FragmentCopies; no discard, no depth): the pipeline
     // copies the colours from the batch, or reads them there, instead of calling run() (unless the
     // context's Tuning turns fragment_copies off; run() always runs the program).

@@ -208,6 +208,8 @@ struct alignas(64) TilePass::Scratch {
     std::vector<Quad> quads;          // the primitive's quads in this tile
     std::vector<QuadArea> areas;      // SOFTGL_smooth: covered fractions of the quads
     std::vector<float> values;        // the primitive's vertex values of the interpolated words
+    FragmentResults flat_results;     // a flat primitive's colour (FragmentShader::run_flat) ...
+    std::vector<float> flat_color;    // ... as a chunk's lanes: [c * kChunkLanes + lane]
     std::vector<uint32_t> pixels;     // per lane of a chunk: the destination pixel (S == 1 colour path)
     std::vector<uint16_t> masks;      // per lane of a chunk: surviving sample mask
     std::vector<uint64_t> owners;     // hidden-surface removal: the tile's owner map (OwnerMap)
@@ -273,6 +275,12 @@ struct TilePass::Primitive {
     size_t entry;                  // its place in the tile's list (the owner map's entries)
     uint32_t provoking = 0;        // the vertex flat varyings come from
     bool interpolate = false;      // smooth words interpolated (triangles and lines)
+    // Every word the shader reads has the same bits at each vertex (and is neither -0 nor NaN):
+    // where the weights are finite each fragment reads those values (weights_finite), and a
+    // shader that runs flat (FragmentShader::run_flat) gives them all one colour.
+    bool flat = false;
+    bool flat_weights = false;     // ... and the weights are finite at every pixel of the tile
+    size_t flat_lanes = 0;         // lanes of Scratch::flat_color filled with its colour
     VaryingInterpolation vi{};
 };
 
@@ -373,6 +381,10 @@ void TilePass::prepare(DrawStats& stats) {
     }
     smooth_words_ = &s.smooth_words;
     flat_words_ = &s.flat_words;
+    // Flat primitives go straight to the colour kernels, as a constant colour does.
+    flat_primitives_ = in_.tuning.flat_primitives && fs_.runs_flat() && plan_.color_kernels == Path::Taken && plan_.constant_color != Path::Taken &&
+                       plan_.fused_copy != Path::Taken && !plan_.area_coverage;
+    if (flat_primitives_) stats.draws_flat_primitives = 1;
     s.touched.assign(grid_.count(), 0);
     prepared_ = true;
 }
@@ -639,6 +651,16 @@ SOFTGL_STEP void TilePass::draw_primitive(Tile& t, const PrimitiveSetup& p, size
         }
         if (!prepared) prepare_varyings(t, prim), prepared = true;
         w.stats.quads += c.kept;
+        // A chunk small enough to be gathered is: a shader run per small primitive costs more
+        // than its lanes in a full batch (small_draws: 4% more instructions).
+        if (prim.flat && (!gather_ || c.kept >= kOwnBatchQuads) &&
+            (!prim.interpolate || prim.flat_weights || weights_finite(prim.vi, c.quads, c.masks, c.kept))) {
+            if (gather_) flush(t);   // the fragments gathered before come first
+            w.stats.fragments_shaded += 4 * c.kept;
+            w.stats.fragments_flat += 4 * c.kept;
+            write(t, c, flat_colors(t, prim, c));
+            continue;
+        }
         if constexpr (!WithSink) {   // the blend lab's draws are never gathered (plan_fragment_batches)
             if (gather_) {
                 if (c.kept < kOwnBatchQuads ||
@@ -807,6 +829,8 @@ void TilePass::prepare_varyings(Tile& t, Primitive& prim) {
     const int interpolated = p.kind == PrimitiveKind::Triangle ? 3 : p.kind == PrimitiveKind::Line ? 2 : 0;
     const std::vector<int>& smooth = *smooth_words_;
     prim.interpolate = interpolated && !smooth.empty();
+    prim.flat = flat_primitives_;
+    prim.flat_lanes = 0;
     if (!prim.interpolate) return;
     std::vector<float>& values = t.w.values;
     const size_t count = smooth.size();
@@ -832,7 +856,19 @@ void TilePass::prepare_varyings(Tile& t, Primitive& prim) {
             out[count + i] = vertex_difference(as_float(v1[words[i]]), a);
         }
     }
+    if (prim.flat) {
+        // Flat when every read word has the same bits at each vertex (not -0, not NaN: v_0 + 0
+        // must give v_0 back; tests/pipeline/test_flat_primitives.py).
+        const uint32_t* const vs[3] = {v0, v1, v2};
+        for (size_t i = 0; i < count && prim.flat; ++i) {
+            const uint32_t bits = v0[words[i]];
+            prim.flat = bits != 0x80000000u && !std::isnan(as_float(bits));
+            for (int v = 1; v < interpolated && prim.flat; ++v) prim.flat = vs[v][words[i]] == bits;
+        }
+    }
     set_interpolation_planes(p, interpolated, t.rect.x0, t.rect.y0, words, count, out, prim.vi);
+    // Quads may reach one pixel past the tile's last row or column (a buffer of odd size).
+    prim.flat_weights = prim.flat && weights_finite_in(prim.vi, t.rect.x1 - t.rect.x0, t.rect.y1 - t.rect.y0);
 }
 
 // The chunk's surviving samples, its quads with one compacted to the front: the pixels the
@@ -940,6 +976,21 @@ SOFTGL_STEP TilePass::Colors TilePass::shade(Tile& t, const Primitive& prim, con
     if (plan_.constant_color == Path::Taken) return Colors{constant_color_, kChunkLanes, 1, false};
     build_fragment_batch(t, prim, c);
     return run_shader(t);
+}
+
+// A flat primitive's colour for the chunk's lanes: the shader runs once per primitive and tile,
+// on the provoking vertex's words (flat words come from it; the smooth ones are the same at every
+// vertex).
+SOFTGL_STEP TilePass::Colors TilePass::flat_colors(Tile& t, Primitive& prim, const Chunk& c) {
+    Scratch& w = t.w;
+    const size_t L = c.lanes();
+    if (prim.flat_lanes == 0) fs_.run_flat(&vertices_->varyings[size_t(prim.provoking) * size_t(words_)], w.flat_results, t.worker);
+    if (prim.flat_lanes < L) {
+        float* const lanes = at_least(w.flat_color, 4 * kChunkLanes);
+        for (size_t k = 0; k < 4; ++k) std::fill(lanes + k * kChunkLanes + prim.flat_lanes, lanes + k * kChunkLanes + L, w.flat_results.color[k]);
+        prim.flat_lanes = L;
+    }
+    return Colors{w.flat_color.data(), kChunkLanes, 1, false};
 }
 
 // The shader (or its copies) on the fragment batch.

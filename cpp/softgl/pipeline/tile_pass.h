@@ -87,6 +87,7 @@ private:
     template <bool WithSink> size_t early_tests_per_sample(const Primitive& prim, Chunk& c);
     void write_copied_varying(Tile& t, const Primitive& prim, const Chunk& c);
     Colors shade(Tile& t, const Primitive& prim, const Chunk& c);
+    Colors flat_colors(Tile& t, Primitive& prim, const Chunk& c);
     Colors run_shader(Tile& t);
     void build_fragment_batch(Tile& t, const Primitive& prim, const Chunk& c);
     void fill_builtins(const PrimitiveSetup& p, FragmentBatch& b, size_t lane, size_t stride, int32_t x, int32_t y) const;
@@ -137,6 +138,7 @@ private:
     const std::vector<int>* smooth_words_ = nullptr;   // the varying words the shader reads,
     const std::vector<int>* flat_words_ = nullptr;     // interpolated and flat
     bool prepared_ = false;
+    bool flat_primitives_ = false;               // FragmentShader::run_flat for primitives with equal varyings
     // Shade full batches (plan_.fragment_batches, decided at prepare): gather the tile's fragments;
     // as single pixels (plan_.no_helper_lanes); a pixel at most once per batch when the write step
     // gathers pixels (colour kernels that read the destination).
