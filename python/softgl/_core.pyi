@@ -8,7 +8,7 @@ import numpy
 import numpy.typing
 import typing
 import typing_extensions
-__all__: list[str] = ['Context', 'ContextAttributes', 'ENUMS', 'WebGLActiveInfo', 'WebGLBuffer', 'WebGLFramebuffer', 'WebGLObject', 'WebGLProgram', 'WebGLRenderbuffer', 'WebGLSampler', 'WebGLShader', 'WebGLShaderPrecisionFormat', 'WebGLTexture', 'WebGLUniformLocation', 'WebGLVertexArrayObject', 'check_context', 'disk_rect_area', 'enum_name', 'error_name', 'glsl_compile', 'glsl_executor_ops', 'glsl_ir', 'glsl_link', 'glsl_run', 'glsl_simd_levels', 'memory_in_use', 'memory_limit', 'raster_area', 'raster_coverage', 'sampled_error_bound', 'set_memory_limit']
+__all__: list[str] = ['Context', 'ContextAttributes', 'ENUMS', 'WebGLActiveInfo', 'WebGLBuffer', 'WebGLFramebuffer', 'WebGLObject', 'WebGLProgram', 'WebGLRenderbuffer', 'WebGLSampler', 'WebGLShader', 'WebGLShaderPrecisionFormat', 'WebGLTexture', 'WebGLUniformLocation', 'WebGLVertexArrayObject', 'check_context', 'disk_rect_area', 'enum_name', 'error_name', 'glsl_compile', 'glsl_executor_ops', 'glsl_executor_prologue', 'glsl_ir', 'glsl_link', 'glsl_run', 'glsl_simd_levels', 'memory_in_use', 'memory_limit', 'raster_area', 'raster_coverage', 'sampled_error_bound', 'set_memory_limit']
 class WebGLObject:
     pass
 class WebGLBuffer(WebGLObject):
@@ -908,6 +908,10 @@ def glsl_executor_ops(source: str, stage: str, version: typing.SupportsInt | typ
     """
     The op names of the code the executor runs for a shader, its fused instructions included (tests)
     """
+def glsl_executor_prologue(source: str, stage: str, version: typing.SupportsInt | typing.SupportsIndex = 2) -> list[str]:
+    """
+    The op names of the executor's prologue, run once before the lanes: uniform loads and hoisted values (tests)
+    """
 def glsl_ir(source: str, stage: str, version: typing.SupportsInt | typing.SupportsIndex = 2) -> str:
     """
     The optimised IR of a shader as a readable listing (for tests and profiling)
@@ -916,9 +920,9 @@ def glsl_link(vertex: str, fragment: str, version: typing.SupportsInt | typing.S
     """
     Compile and link a vertex/fragment pair -> (ok, info_log, program reflection or None)
     """
-def glsl_run(source: str, stage: str, version: typing.SupportsInt | typing.SupportsIndex = 2, inputs: dict = {}, uniforms: dict = {}, lanes: typing.SupportsInt | typing.SupportsIndex = 4, textures: dict = {}, batch: typing.SupportsInt | typing.SupportsIndex = 128, repeat: typing.SupportsInt | typing.SupportsIndex = 1, simd: str = '') -> dict:
+def glsl_run(source: str, stage: str, version: typing.SupportsInt | typing.SupportsIndex = 2, inputs: dict = {}, uniforms: dict = {}, lanes: typing.SupportsInt | typing.SupportsIndex = 4, textures: dict = {}, batch: typing.SupportsInt | typing.SupportsIndex = 128, repeat: typing.SupportsInt | typing.SupportsIndex = 1, simd: str = '', hoist: bool = True) -> dict:
     """
-    Run one shader stage over `lanes` lanes (fragment lanes are 2x2 quads) -> dict of output arrays; simd: '' (the best the CPU has) or one of glsl_simd_levels()
+    Run one shader stage over `lanes` lanes (fragment lanes are 2x2 quads) -> dict of output arrays; simd: '' (the best the CPU has) or one of glsl_simd_levels(); hoist: values of uniforms and constants only computed once before the lanes (Executor)
     """
 def glsl_simd_levels() -> list[str]:
     """
