@@ -1092,6 +1092,29 @@ __attribute__((target("avx2"), always_inline)) inline void lambda8(const glsl::T
 }
 
 
+// lambda_at's explicit level of lanes l..l+7: the lanes' own (0 without one), no bias.
+__attribute__((target("avx2"))) inline void explicit_lambdas8(const glsl::TextureQuery& q, int l, float out[8]) {
+    _mm256_store_ps(out, q.lod ? _mm256_loadu_ps(&q.lod[l].f) : _mm256_setzero_ps());
+}
+
+// The lambdas of lanes l..l+7 of a 2D query, as lambda_at: explicit, or from the derivatives.
+__attribute__((target("avx2"))) inline void query_lambdas8(const glsl::TextureQuery& q, int l, float w, float h,
+                                                           LambdaMemo& lambda_of, float out[8]) {
+    if (q.lod_mode == TextureLod::Explicit) explicit_lambdas8(q, l, out);
+    else lambda8(q, l, w, h, lambda_of, out);
+}
+
+// The block's lambdas with its inactive lanes taking the first active lane's, so that they add
+// no level to the block's choice (active != 0).
+__attribute__((target("avx2"))) inline __m256 active_lambdas8(const float lambda[8], uint32_t active) {
+    const __m256 v = _mm256_load_ps(lambda);
+    if (active == 0xFFu) return v;
+    const __m256i bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+    const __m256 off = _mm256_castsi256_ps(
+        _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(int(active)), bit), _mm256_setzero_si256()));
+    return _mm256_blendv_ps(v, _mm256_set1_ps(lambda[__builtin_ctz(active)]), off);
+}
+
 // The levels every lane of a block of 8 takes (Fast2D::choose), when they are the same for all:
 // planes[first], blended with planes[second] by the lanes' own frac when second >= 0.
 struct BlockChoice {
@@ -1501,12 +1524,7 @@ __attribute__((target("avx2"))) inline void choose_lanes(const ColourQuery& cq, 
     const glsl::TextureQuery& q = *cq.q;
     for (int part = 0; part < n; part += 8) {
         alignas(32) float lambda[8];
-        if (q.lod_mode == TextureLod::Explicit) {
-            // lambda_at: the lanes' explicit level (0 without one), no bias.
-            _mm256_store_ps(lambda, q.lod ? _mm256_loadu_ps(&q.lod[l + part].f) : _mm256_setzero_ps());
-        } else {
-            lambda8(q, l + part, cq.w, cq.h, *cq.memo, lambda);
-        }
+        query_lambdas8(q, l + part, cq.w, cq.h, *cq.memo, lambda);
         if (!choose8(*cq.f, lambda, ch + part))
             for (int k = 0; k < 8; ++k) ch[part + k] = cq.f->choose(lambda[k]);
     }
@@ -1615,20 +1633,8 @@ __attribute__((target("avx2"))) bool depth_block8(const ColourQuery& cq, int l) 
         bc.first = cq.fixed.first, bc.linear = cq.fixed.linear;
     } else {
         alignas(32) float lambda[8];
-        if (q.lod_mode == TextureLod::Explicit) {
-            // lambda_at: the lanes' explicit level (0 without one), no bias.
-            _mm256_store_ps(lambda, q.lod ? _mm256_loadu_ps(&q.lod[l].f) : _mm256_setzero_ps());
-        } else {
-            lambda8(q, l, cq.w, cq.h, *cq.memo, lambda);
-        }
-        __m256 v = _mm256_load_ps(lambda);
-        if (active != 0xFFu) {
-            // Inactive lanes take the first active lane's lambda, so that they add no level.
-            const __m256i bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
-            const __m256 off = _mm256_castsi256_ps(
-                _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(int(active)), bit), _mm256_setzero_si256()));
-            v = _mm256_blendv_ps(v, _mm256_set1_ps(lambda[__builtin_ctz(active)]), off);
-        }
+        query_lambdas8(q, l, cq.w, cq.h, *cq.memo, lambda);
+        __m256 v = active_lambdas8(lambda, active);
         if (!choose_block8(f, v, bc)) return false;
     }
     filter8_depth(f, f.planes[size_t(bc.first)], bc.linear, s, t, r, ref, result);
@@ -1830,20 +1836,8 @@ __attribute__((target("avx2"))) int colour_blocks8_shaped(const ColourQuery& cq,
             filter8_shaped<kBytes, true, kWrap>(fixed, s, t, result);
         } else {
             alignas(32) float lambda[8];
-            if (q.lod_mode == TextureLod::Explicit) {
-                // lambda_at: the lanes' explicit level (0 without one), no bias.
-                _mm256_store_ps(lambda, q.lod ? _mm256_loadu_ps(&q.lod[l].f) : _mm256_setzero_ps());
-            } else {
-                lambda8(q, l, cq.w, cq.h, *cq.memo, lambda);
-            }
-            __m256 v = _mm256_load_ps(lambda);
-            if (active != 0xFFu) {
-                // Inactive lanes take the first active lane's lambda, so that they add no level.
-                const __m256i bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
-                const __m256 off = _mm256_castsi256_ps(
-                    _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(int(active)), bit), _mm256_setzero_si256()));
-                v = _mm256_blendv_ps(v, _mm256_set1_ps(lambda[__builtin_ctz(active)]), off);
-            }
+            query_lambdas8(q, l, cq.w, cq.h, *cq.memo, lambda);
+            __m256 v = active_lambdas8(lambda, active);
             BlockChoice bc;
             if (choose_block8(f, v, bc)) {
                 const Plane8& first = planes[bc.first];
@@ -2002,8 +1996,7 @@ __attribute__((target("avx2"))) bool cube_block8(const CubeQuery& cq, Planes8& p
         for (int k = 0; k < 3; ++k) ddx[k] = q.ddx[k] ? &q.ddx[k][l].f : nullptr, ddy[k] = q.ddy[k] ? &q.ddy[k][l].f : nullptr;
         cube_coords8(&q.coord[0][l].f, &q.coord[1][l].f, &q.coord[2][l].f, face8, s8, t8, ddx, ddy, ds, dt);
         if (q.lod_mode == TextureLod::Explicit) {
-            // lambda_at: the lanes' explicit level (0 without one), no bias.
-            _mm256_store_ps(lambda, q.lod ? _mm256_loadu_ps(&q.lod[l].f) : _mm256_setzero_ps());
+            explicit_lambdas8(q, l, lambda);
         } else {
             // lambda_of_derivatives of the face derivatives (dx = ds[0], dt[0]; dy = ds[1], dt[1]):
             // float products by the size, squared and summed in double, the larger of x and y.
@@ -2019,14 +2012,7 @@ __attribute__((target("avx2"))) bool cube_block8(const CubeQuery& cq, Planes8& p
             }
             lambdas_of_rho2_8(q, l, rho2, *cq.memo, lambda);
         }
-        __m256 v = _mm256_load_ps(lambda);
-        if (active != 0xFFu) {
-            // Inactive lanes take the first active lane's lambda, so that they add no level.
-            const __m256i bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
-            const __m256 off = _mm256_castsi256_ps(
-                _mm256_cmpeq_epi32(_mm256_and_si256(_mm256_set1_epi32(int(active)), bit), _mm256_setzero_si256()));
-            v = _mm256_blendv_ps(v, _mm256_set1_ps(lambda[__builtin_ctz(active)]), off);
-        }
+        __m256 v = active_lambdas8(lambda, active);
         if (!choose_block8(f, v, bc)) {
             // Lanes on different levels: chosen lane by lane (as choose_lanes), at most 3 levels
             // with one filter filtered for the block, else the general code.
