@@ -459,10 +459,13 @@ print(m1 - m0, r1 - r0, mem["fragments"], mem["bytes_stored"], m3 - m2, m4 - m2,
 """)
     scratch, grown, fragments, stored, lab, after_clear, err = map(int, out)
     assert err == softgl.NO_ERROR
-    # The scratch is charged at its capacity: at least what became resident, at most what could
-    # be (vectors grow by doubling: twice the used part, plus pages not yet touched).
+    # The scratch is charged at its capacity: most of what became resident, at most what could
+    # be (vectors grow by doubling: twice the used part, plus pages not yet touched). The resident
+    # growth also holds what the draw touches first besides its scratch (the library's code and
+    # data pages, malloc's arenas), which depends on the build: the same 38.2 MiB charged came
+    # with 39.9 MiB of growth in the installed wheel and 46.8 MiB in a development build.
     assert 8 * MiB < scratch
-    assert grown - 4 * MiB <= scratch <= 2 * grown + 8 * MiB, (scratch / MiB, grown / MiB)
+    assert grown * 3 // 4 <= scratch <= 2 * grown + 8 * MiB, (scratch / MiB, grown / MiB)
     assert fragments == 8 * 256 * 256
     assert stored <= lab <= 2 * stored + MiB, (lab, stored)
     assert after_clear < lab // 8, (after_clear, lab)

@@ -22,13 +22,14 @@ void Bins::reset(const TileGrid& grid) {
     for (uint32_t t : occupied_) lists_[t].clear();
     occupied_.clear();
     grid_ = grid;
-    lists_.resize(grid.count());
+    if (lists_.size() != grid.count()) lists_.resize(grid.count()), lists_changed_ = true;
     tiles_skipped = 0;
     quad_pixels_bound = 0;
 }
 
 void Bins::begin_gather(const TileGrid& grid, const Bins* parts, size_t count) {
     reset(grid);
+    lists_changed_ = true;   // gather_tile resizes the occupied tiles' lists
     marks_.resize(grid.count());
     for (size_t i = 0; i < count; ++i)
         for (uint32_t t : parts[i].occupied_)

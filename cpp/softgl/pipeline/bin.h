@@ -54,9 +54,12 @@ public:
     // their 2x2 quads can shade (the draw's work estimate, pipeline/draw_rollback.h).
     uint64_t quad_pixels_bound = 0;
 
-    // Heap bytes held (kept scratch charged to the ledger: pipeline/draw.cpp).
+    // Heap bytes held (kept scratch charged to the ledger after every draw: pipeline/draw.cpp).
+    // The tiles' lists are summed again only after one may have grown (a 1024² grid has 256
+    // lists: summing them all cost ~2,000 instructions a draw, most draws grow none).
     uint64_t capacity_bytes() const {
-        return softgl::capacity_bytes(lists_) + softgl::capacity_bytes(occupied_) + softgl::capacity_bytes(marks_);
+        if (lists_changed_) lists_bytes_ = softgl::capacity_bytes(lists_), lists_changed_ = false;
+        return lists_bytes_ + softgl::capacity_bytes(occupied_) + softgl::capacity_bytes(marks_);
     }
 
 private:
@@ -64,6 +67,7 @@ private:
     void append(size_t t, uint32_t n) {
         std::vector<uint32_t>& list = lists_[t];
         if (list.empty()) occupied_.push_back(uint32_t(t));
+        if (list.size() == list.capacity()) lists_changed_ = true;   // push_back reallocates
         list.push_back(n);
     }
 
@@ -71,6 +75,10 @@ private:
     std::vector<std::vector<uint32_t>> lists_;   // empty outside occupied_
     std::vector<uint32_t> occupied_;
     std::vector<uint8_t> marks_;                 // begin_gather: tiles already in occupied_
+    // capacity_bytes' sum of lists_, and whether a list may have grown since (set by the single
+    // thread that appends or resets; begin_gather sets it for the gather_tile calls that follow).
+    mutable uint64_t lists_bytes_ = 0;
+    mutable bool lists_changed_ = true;
 };
 
 }  // namespace softgl
