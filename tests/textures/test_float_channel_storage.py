@@ -12,6 +12,7 @@ import numpy as np
 import pytest
 
 import softgl
+from helpers import draw_quad
 from softgl import _core
 
 VS = """#version 300 es
@@ -88,13 +89,7 @@ def context(threads, simd, path):
 
 
 def quad(gl, fs):
-    gl.useProgram(softgl.program(gl, VS, fs))
-    buf = gl.createBuffer()
-    gl.bindBuffer(gl.ARRAY_BUFFER, buf)
-    gl.bufferData(gl.ARRAY_BUFFER, np.array([-1, -1, 1, -1, -1, 1, -1, 1, 1, -1, 1, 1], np.float32), gl.STATIC_DRAW)
-    gl.enableVertexAttribArray(0)
-    gl.vertexAttribPointer(0, 2, gl.FLOAT, False, 0, 0)
-    gl.drawArrays(gl.TRIANGLES, 0, 6)
+    draw_quad(gl, softgl.program(gl, VS, fs))
     out = np.asarray(gl.readPixels(0, 0, W, H, gl.RGBA, gl.FLOAT), np.float32)
     assert gl.getError() == gl.NO_ERROR
     return out

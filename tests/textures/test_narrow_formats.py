@@ -10,6 +10,7 @@ import numpy as np
 import pytest
 
 import softgl
+from helpers import draw_quad
 from softgl import _core
 
 VS = """#version 300 es
@@ -69,14 +70,7 @@ def draw(levels, internal, fmt, filters, wrap, threads, simd, path):
     gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, getattr(gl, filters[1]))
     gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_S, getattr(gl, wrap))
     gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_T, getattr(gl, wrap))
-    prog = softgl.program(gl, VS, FS)
-    gl.useProgram(prog)
-    buf = gl.createBuffer()
-    gl.bindBuffer(gl.ARRAY_BUFFER, buf)
-    gl.bufferData(gl.ARRAY_BUFFER, np.array([-1, -1, 1, -1, -1, 1, -1, 1, 1, -1, 1, 1], np.float32), gl.STATIC_DRAW)
-    gl.enableVertexAttribArray(0)
-    gl.vertexAttribPointer(0, 2, gl.FLOAT, False, 0, 0)
-    gl.drawArrays(gl.TRIANGLES, 0, 6)
+    draw_quad(gl, softgl.program(gl, VS, FS))
     out = np.asarray(gl.readPixels(0, 0, W, H, gl.RGBA, gl.FLOAT), np.float32)
     assert gl.getError() == gl.NO_ERROR
     return out
@@ -137,13 +131,7 @@ def draw_layers(layers, internal, fmt, kind, threads, simd, path):
     gl.generateMipmap(target)
     gl.texParameteri(target, gl.TEXTURE_MIN_FILTER, gl.LINEAR_MIPMAP_LINEAR)
     gl.texParameteri(target, gl.TEXTURE_MAG_FILTER, gl.LINEAR)
-    gl.useProgram(softgl.program(gl, VS, FS_ARRAY if kind == "array" else FS_CUBE))
-    buf = gl.createBuffer()
-    gl.bindBuffer(gl.ARRAY_BUFFER, buf)
-    gl.bufferData(gl.ARRAY_BUFFER, np.array([-1, -1, 1, -1, -1, 1, -1, 1, 1, -1, 1, 1], np.float32), gl.STATIC_DRAW)
-    gl.enableVertexAttribArray(0)
-    gl.vertexAttribPointer(0, 2, gl.FLOAT, False, 0, 0)
-    gl.drawArrays(gl.TRIANGLES, 0, 6)
+    draw_quad(gl, softgl.program(gl, VS, FS_ARRAY if kind == "array" else FS_CUBE))
     out = np.asarray(gl.readPixels(0, 0, W, H, gl.RGBA, gl.FLOAT), np.float32)
     assert gl.getError() == gl.NO_ERROR
     return out
