@@ -74,6 +74,47 @@ def test_batched_setup_gives_the_reference_records(case, seed, level):
     np.testing.assert_array_equal(bits, ref_bits)
 
 
+def unclipped_mesh(seed, n_triangles=1499):
+    """mixed_mesh's triangles whose vertices all project without clipping, so that whole groups of
+    them take the AVX2 record kernel (a group with a triangle to clip goes triangle by triangle),
+    with tiny triangles, edges along the axes (tie rule) and triangles across the canvas border."""
+    pos, tris = mixed_mesh(seed, n_triangles=3 * n_triangles)
+    tris = tris[unclipped(pos)[tris].all(1)][:n_triangles]
+    rng = np.random.default_rng(100 + seed)
+    # Right triangles with axis-aligned legs on whole and half pixels (edges with a == 0 or b == 0).
+    k = 300
+    corner = np.column_stack([rng.integers(-4, W + 4, k), rng.integers(-4, H + 4, k)]) + 0.5 * rng.integers(0, 2, (k, 2))
+    size = rng.integers(1, 4, (k, 2)) * rng.choice([-1, 1], (k, 2)) * 0.5
+    xy = np.stack([corner, corner + np.column_stack([size[:, 0], 0 * size[:, 1]]),
+                   corner + np.column_stack([0 * size[:, 0], size[:, 1]])], axis=1).reshape(-1, 2)
+    clip = np.column_stack([xy / [W, H] * 2 - 1, rng.uniform(-0.9, 0.9, len(xy)), np.ones(len(xy))]).astype(np.float32)
+    first = len(pos)
+    pos = np.concatenate([pos, clip])
+    axis = (first + np.arange(3 * k)).reshape(k, 3).astype(np.uint32)
+    tris = np.concatenate([tris, axis])
+    return pos, tris[rng.permutation(len(tris))]
+
+
+@pytest.mark.parametrize("level", LEVELS)
+@pytest.mark.parametrize("case", range(len(CASES)))
+@pytest.mark.parametrize("seed", range(2))
+def test_batched_setup_of_unclipped_triangles_gives_the_reference_records(case, seed, level):
+    if LEVELS.index(level) > _core.testing.simd_level():
+        pytest.skip(f"this CPU has no {level}")
+    pos, tris = unclipped_mesh(seed)
+    kw = CASES[case]
+    ints, bits, stats = _core.testing.setup_triangles(pos, tris, W, H, first_primitive=3 + seed, batched=True,
+                                                      level=LEVELS.index(level), **kw)
+    ref_ints, ref_bits, ref_stats = _core.testing.setup_triangles(pos, tris, W, H, first_primitive=3 + seed,
+                                                                   batched=False, **kw)
+    assert stats == ref_stats
+    assert stats["clipped"] == 0 and stats["zero_area"] > 0
+    if kw["cull"] != GL_FRONT_AND_BACK:
+        assert stats["emitted"] > 400 and stats["outside"] > 10
+    np.testing.assert_array_equal(ints, ref_ints)
+    np.testing.assert_array_equal(bits, ref_bits)
+
+
 def unclipped(pos):
     """Vertices setup projects without clipping (finite, inside the frustum)."""
     p = pos.astype(np.float64)

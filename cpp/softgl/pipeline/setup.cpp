@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstddef>
 #include <cstdlib>
 #include <utility>
 
@@ -442,6 +443,211 @@ SOFTGL_AVX2_PROJECTION void classify_avx2(const WindowPosition* window, const ui
 #pragma GCC diagnostic pop
 #endif
 
+// ---- Records of unclipped triangles, 4 at a time (Setup::triangles) ----
+// Setup::emit_triangle's fields for triangles that classify as kEmit, from the same integer and
+// IEEE double operations lane by lane (no fused multiply-add: the file is built with
+// -ffp-contract=off and the kernel enables no FMA), so every field has the reference's bits.
+struct RecordBlockRule {
+    bool ccw_is_front;
+    bool tight;                               // sample_bounds with one sample (emit_triangle)
+    int32_t clip_x0, clip_y0, clip_x1, clip_y1;
+};
+
+#if defined(SOFTGL_HAVE_SIMD_PROJECTION)
+// A 4 x 4 transpose of 64-bit elements: out[j] = (r0[j], r1[j], r2[j], r3[j]).
+SOFTGL_AVX2_PROJECTION inline void transpose4(__m256d r0, __m256d r1, __m256d r2, __m256d r3, __m256d out[4]) {
+    const __m256d t0 = _mm256_unpacklo_pd(r0, r1), t1 = _mm256_unpackhi_pd(r0, r1);
+    const __m256d t2 = _mm256_unpacklo_pd(r2, r3), t3 = _mm256_unpackhi_pd(r2, r3);
+    out[0] = _mm256_permute2f128_pd(t0, t2, 0x20);
+    out[1] = _mm256_permute2f128_pd(t1, t3, 0x20);
+    out[2] = _mm256_permute2f128_pd(t0, t2, 0x31);
+    out[3] = _mm256_permute2f128_pd(t1, t3, 0x31);
+}
+
+// The low 32 bits of 4 int64 lanes (values that fit in int32).
+SOFTGL_AVX2_PROJECTION inline __m128i low32(__m256i v) {
+    return _mm256_castsi256_si128(_mm256_permutevar8x32_epi32(v, _mm256_setr_epi32(0, 2, 4, 6, 0, 2, 4, 6)));
+}
+
+SOFTGL_AVX2_PROJECTION inline __m256i min64(__m256i a, __m256i b) {
+    return _mm256_castpd_si256(_mm256_blendv_pd(_mm256_castsi256_pd(a), _mm256_castsi256_pd(b),
+                                                _mm256_castsi256_pd(_mm256_cmpgt_epi64(a, b))));
+}
+SOFTGL_AVX2_PROJECTION inline __m256i max64(__m256i a, __m256i b) {
+    return _mm256_castpd_si256(_mm256_blendv_pd(_mm256_castsi256_pd(a), _mm256_castsi256_pd(b),
+                                                _mm256_castsi256_pd(_mm256_cmpgt_epi64(b, a))));
+}
+
+// Two planes through (0, 0, v0), (dx1, dy1, v1), (dx2, dy2, v2), 4 triangles per register: plane3's
+// operations in plane3's order.
+SOFTGL_AVX2_PROJECTION inline void plane4(__m256d v0, __m256d v1, __m256d v2, __m256d dx1, __m256d dy1, __m256d dx2,
+                                          __m256d dy2, __m256d inv_det, __m256d& a, __m256d& b) {
+    const __m256d d1 = _mm256_sub_pd(v1, v0), d2 = _mm256_sub_pd(v2, v0);
+    a = _mm256_mul_pd(_mm256_sub_pd(_mm256_mul_pd(d1, dy2), _mm256_mul_pd(d2, dy1)), inv_det);
+    b = _mm256_mul_pd(_mm256_sub_pd(_mm256_mul_pd(d2, dx1), _mm256_mul_pd(d1, dx2)), inv_det);
+}
+
+// Records for triangles list[0 .. m) of the block (vertices[3t .. 3t + 2], doubled signed area
+// area2[t], not 0, all vertices accepted), written in order to dst[0 ..) for the triangles
+// emit_triangle keeps (bounding box not empty; with rule.tight, a box of at most 4 pixels covers
+// a pixel centre): every field emit_triangle writes with polygon offset off. Returns how many were
+// written; `sink` takes the stores of dropped triangles.
+SOFTGL_AVX2_PROJECTION size_t build_records_avx2(const WindowPosition* window, const uint32_t* vertices,
+                                                 const uint8_t* list, size_t m, const int64_t* area2,
+                                                 uint32_t first_primitive, const RecordBlockRule& rule,
+                                                 PrimitiveSetup* dst, PrimitiveSetup* sink) {
+    static_assert(offsetof(PrimitiveSetup, a) == 0 && offsetof(PrimitiveSetup, b) == 32 &&
+                  offsetof(PrimitiveSetup, c) == 64 && offsetof(PrimitiveSetup, x0) == 96 &&
+                  offsetof(PrimitiveSetup, origin_x) == 112 && offsetof(PrimitiveSetup, depth) == 128 &&
+                  offsetof(PrimitiveSetup, depth_offset) == 152 && offsetof(PrimitiveSetup, weight) == 160 &&
+                  offsetof(PrimitiveSetup, inv_w) == 232 && offsetof(PrimitiveSetup, area_offset) == 288,
+                  "the stores below write the record's fields in this layout");
+    const __m256i zero = _mm256_setzero_si256();
+    const __m256d zero_d = _mm256_setzero_pd();
+    const __m256d inv = _mm256_set1_pd(1.0 / kSubPixel), det_num = _mm256_set1_pd(double(kSubPixel * kSubPixel));
+    const __m256i low = _mm256_set1_epi64x(rule.tight ? kSubPixel / 2 - 1 : 0);
+    const __m256i high = _mm256_set1_epi64x(rule.tight ? kSubPixel / 2 : 0);
+    const __m128i clip_x0 = _mm_set1_epi32(rule.clip_x0), clip_y0 = _mm_set1_epi32(rule.clip_y0);
+    const __m128i clip_x1 = _mm_set1_epi32(rule.clip_x1), clip_y1 = _mm_set1_epi32(rule.clip_y1);
+    const __m128i one32 = _mm_set1_epi32(1), four32 = _mm_set1_epi32(4);
+    const __m256d one_d = _mm256_set1_pd(1.0);
+    size_t written = 0;
+    for (size_t g = 0; g < m; g += 4) {
+        const int lanes = int(std::min<size_t>(4, m - g));
+        size_t t[4];
+        for (int j = 0; j < 4; ++j) t[j] = list[std::min(g + size_t(j), m - 1)];
+        // Corner k of the 4 triangles: X, Y, z, inv_w, one register each.
+        __m256d X[3], Y[3], Z[3], W[3];
+        for (int k = 0; k < 3; ++k) {
+            __m256d r[4];
+            for (int j = 0; j < 4; ++j)
+                r[j] = _mm256_loadu_pd(reinterpret_cast<const double*>(&window[vertices[3 * t[j] + size_t(k)]]));
+            __m256d f[4];
+            transpose4(r[0], r[1], r[2], r[3], f);
+            X[k] = f[0], Y[k] = f[1], Z[k] = f[2], W[k] = f[3];
+        }
+        const __m256i area = _mm256_setr_epi64x(area2[t[0]], area2[t[1]], area2[t[2]], area2[t[3]]);
+        // Counter-clockwise order: corners 1 and 2 swap where the area is negative.
+        const __m256d swap = _mm256_castsi256_pd(_mm256_cmpgt_epi64(zero, area));
+        const __m256i x0 = _mm256_castpd_si256(X[0]), y0 = _mm256_castpd_si256(Y[0]);
+        const __m256i x1 = _mm256_castpd_si256(_mm256_blendv_pd(X[1], X[2], swap));
+        const __m256i y1 = _mm256_castpd_si256(_mm256_blendv_pd(Y[1], Y[2], swap));
+        const __m256i x2 = _mm256_castpd_si256(_mm256_blendv_pd(X[2], X[1], swap));
+        const __m256i y2 = _mm256_castpd_si256(_mm256_blendv_pd(Y[2], Y[1], swap));
+
+        // Bounding box (finish_bbox): the pixel coordinates fit in int32 (guard band).
+        const __m256i xmin = _mm256_add_epi64(min64(x0, min64(x1, x2)), low);
+        const __m256i ymin = _mm256_add_epi64(min64(y0, min64(y1, y2)), low);
+        const __m256i xmax = _mm256_sub_epi64(max64(x0, max64(x1, x2)), high);
+        const __m256i ymax = _mm256_sub_epi64(max64(y0, max64(y1, y2)), high);
+        const __m128i bx0 = _mm_max_epi32(_mm_srai_epi32(low32(xmin), kSubPixelBits), clip_x0);
+        const __m128i by0 = _mm_max_epi32(_mm_srai_epi32(low32(ymin), kSubPixelBits), clip_y0);
+        const __m128i bx1 = _mm_min_epi32(_mm_add_epi32(_mm_srai_epi32(low32(xmax), kSubPixelBits), one32), clip_x1);
+        const __m128i by1 = _mm_min_epi32(_mm_add_epi32(_mm_srai_epi32(low32(ymax), kSubPixelBits), one32), clip_y1);
+        const __m128i box_ok = _mm_and_si128(_mm_cmplt_epi32(bx0, bx1), _mm_cmplt_epi32(by0, by1));
+        const int valid = _mm_movemask_ps(_mm_castsi128_ps(box_ok)) & ((1 << lanes) - 1);
+        // Boxes of at most 4 pixels (tight only): the pixel-centre test below.
+        const __m128i pixels = _mm_mullo_epi32(_mm_sub_epi32(bx1, bx0), _mm_sub_epi32(by1, by0));
+        const int tiny = rule.tight ? valid & ~_mm_movemask_ps(_mm_castsi128_ps(_mm_cmpgt_epi32(pixels, four32))) : 0;
+        __m128 box[4] = {_mm_castsi128_ps(bx0), _mm_castsi128_ps(by0), _mm_castsi128_ps(bx1), _mm_castsi128_ps(by1)};
+        _MM_TRANSPOSE4_PS(box[0], box[1], box[2], box[3]);
+
+        // Edges (make_edge): edge i opposite vertex i; a, b and the coordinates fit in int32, so
+        // vpmuldq's products are the exact int64 products.
+        const __m256i ex[3][2] = {{x1, x2}, {x2, x0}, {x0, x1}}, ey[3][2] = {{y1, y2}, {y2, y0}, {y0, y1}};
+        __m256d ea[3], eb[3], ec[3], eo[3];
+        for (int i = 0; i < 3; ++i) {
+            const __m256i a = _mm256_sub_epi64(ey[i][0], ey[i][1]), b = _mm256_sub_epi64(ex[i][1], ex[i][0]);
+            const __m256i included = _mm256_or_si256(_mm256_cmpgt_epi64(a, zero),
+                                                     _mm256_and_si256(_mm256_cmpeq_epi64(a, zero), _mm256_cmpgt_epi64(b, zero)));
+            const __m256i sum = _mm256_add_epi64(_mm256_mul_epi32(a, ex[i][0]), _mm256_mul_epi32(b, ey[i][0]));
+            // -(a xj + b yj) - excluded: adding all ones subtracts 1.
+            const __m256i c = _mm256_add_epi64(_mm256_sub_epi64(zero, sum), _mm256_andnot_si256(included, _mm256_set1_epi64x(-1)));
+            ea[i] = _mm256_castsi256_pd(a), eb[i] = _mm256_castsi256_pd(b), ec[i] = _mm256_castsi256_pd(c);
+            eo[i] = _mm256_andnot_pd(_mm256_castsi256_pd(included), one_d);
+        }
+        __m256d rows[4];
+        PrimitiveSetup* d[4];
+        // Which lanes are kept decides where each lane's stores go: edges and box first, so the
+        // centre test reads them from the record.
+        int keep = valid;
+        for (int j = 0; j < 4; ++j) d[j] = sink;
+        if (tiny) {
+            transpose4(ea[0], ea[1], ea[2], zero_d, rows);
+            for (int j = 0; j < 4; ++j) _mm256_storeu_pd(reinterpret_cast<double*>(sink + j) + 0, rows[j]);
+            transpose4(eb[0], eb[1], eb[2], zero_d, rows);
+            for (int j = 0; j < 4; ++j) _mm256_storeu_pd(reinterpret_cast<double*>(sink + j) + 4, rows[j]);
+            transpose4(ec[0], ec[1], ec[2], zero_d, rows);
+            for (int j = 0; j < 4; ++j) _mm256_storeu_pd(reinterpret_cast<double*>(sink + j) + 8, rows[j]);
+            for (int j = 0; j < 4; ++j) _mm_storeu_ps(reinterpret_cast<float*>(reinterpret_cast<double*>(sink + j) + 12), box[j]);
+            for (int j = 0; j < 4; ++j)
+                if (((tiny >> j) & 1) && !covers_a_centre(sink[j])) keep &= ~(1 << j);
+        }
+        for (int j = 0; j < 4; ++j) {
+            d[j] = (keep >> j) & 1 ? dst + written : sink + 4;
+            written += (keep >> j) & 1;
+        }
+        if (!keep) continue;
+        transpose4(ea[0], ea[1], ea[2], zero_d, rows);
+        for (int j = 0; j < 4; ++j) _mm256_storeu_pd(reinterpret_cast<double*>(d[j]) + 0, rows[j]);
+        transpose4(eb[0], eb[1], eb[2], zero_d, rows);
+        for (int j = 0; j < 4; ++j) _mm256_storeu_pd(reinterpret_cast<double*>(d[j]) + 4, rows[j]);
+        transpose4(ec[0], ec[1], ec[2], zero_d, rows);
+        for (int j = 0; j < 4; ++j) _mm256_storeu_pd(reinterpret_cast<double*>(d[j]) + 8, rows[j]);
+        for (int j = 0; j < 4; ++j) _mm_storeu_ps(reinterpret_cast<float*>(reinterpret_cast<double*>(d[j]) + 12), box[j]);
+        transpose4(eo[0], eo[1], eo[2], zero_d, rows);
+        for (int j = 0; j < 4; ++j) _mm256_storeu_pd(reinterpret_cast<double*>(d[j]) + 36, rows[j]);
+
+        // Planes: pixel offsets from vertex 0 (exact in double: below 2^30 in fixed point).
+        const __m256d dx1 = _mm256_mul_pd(_mm256_cvtepi32_pd(low32(_mm256_sub_epi64(x1, x0))), inv);
+        const __m256d dy1 = _mm256_mul_pd(_mm256_cvtepi32_pd(low32(_mm256_sub_epi64(y1, y0))), inv);
+        const __m256d dx2 = _mm256_mul_pd(_mm256_cvtepi32_pd(low32(_mm256_sub_epi64(x2, x0))), inv);
+        const __m256d dy2 = _mm256_mul_pd(_mm256_cvtepi32_pd(low32(_mm256_sub_epi64(y2, y0))), inv);
+        // |area2| up to 2^59: converted as emit_triangle converts it (scalar, rounding to nearest).
+        double area_d[4];
+        for (int j = 0; j < 4; ++j) area_d[j] = double(area2[t[j]] < 0 ? -area2[t[j]] : area2[t[j]]);
+        const __m256d inv_det = _mm256_div_pd(det_num, _mm256_loadu_pd(area_d));
+        const __m256d z1 = _mm256_blendv_pd(Z[1], Z[2], swap), z2 = _mm256_blendv_pd(Z[2], Z[1], swap);
+        const __m256d w1 = _mm256_blendv_pd(W[1], W[2], swap), w2 = _mm256_blendv_pd(W[2], W[1], swap);
+        // Unit corners (UnitCorner): weight_m / w is 1/w at corner m, 0 elsewhere. Vertex 1 of the
+        // counter-clockwise order is corner 2 where swapped, corner 1 otherwise; vertex 2 the other.
+        const __m256d w0 = W[0];
+        const __m256d w1_at1 = _mm256_andnot_pd(swap, w1), w1_at2 = _mm256_and_pd(swap, w1);
+        const __m256d w2_at1 = _mm256_and_pd(swap, w2), w2_at2 = _mm256_andnot_pd(swap, w2);
+        __m256d pa, pb, qa, qb;
+        plane4(Z[0], z1, z2, dx1, dy1, dx2, dy2, inv_det, pa, pb);            // depth
+        transpose4(pa, pb, Z[0], zero_d, rows);                               // depth, depth_offset
+        for (int j = 0; j < 4; ++j) _mm256_storeu_pd(reinterpret_cast<double*>(d[j]) + 16, rows[j]);
+        plane4(w0, zero_d, zero_d, dx1, dy1, dx2, dy2, inv_det, pa, pb);      // weight[0]
+        plane4(zero_d, w1_at1, w2_at1, dx1, dy1, dx2, dy2, inv_det, qa, qb);  // weight[1]
+        transpose4(pa, pb, w0, qa, rows);                                     // weight[0], weight[1].a
+        for (int j = 0; j < 4; ++j) _mm256_storeu_pd(reinterpret_cast<double*>(d[j]) + 20, rows[j]);
+        plane4(zero_d, w1_at2, w2_at2, dx1, dy1, dx2, dy2, inv_det, pa, pb);  // weight[2]
+        transpose4(qb, zero_d, pa, pb, rows);                                 // weight[1].b, .c, weight[2].a, .b
+        for (int j = 0; j < 4; ++j) _mm256_storeu_pd(reinterpret_cast<double*>(d[j]) + 24, rows[j]);
+        plane4(w0, w1, w2, dx1, dy1, dx2, dy2, inv_det, pa, pb);              // inv_w
+        transpose4(zero_d, pa, pb, w0, rows);                                 // weight[2].c, inv_w
+        for (int j = 0; j < 4; ++j) _mm256_storeu_pd(reinterpret_cast<double*>(d[j]) + 28, rows[j]);
+        alignas(32) int64_t ox[4], oy[4];
+        _mm256_store_si256(reinterpret_cast<__m256i*>(ox), x0);
+        _mm256_store_si256(reinterpret_cast<__m256i*>(oy), y0);
+        for (int j = 0; j < 4; ++j) {
+            PrimitiveSetup& s = *d[j];
+            s.origin_x = ox[j], s.origin_y = oy[j];
+            const uint32_t* const v = vertices + 3 * t[j];
+            s.vertex[0] = v[0], s.vertex[1] = v[1], s.vertex[2] = v[2];
+            s.primitive = first_primitive + uint32_t(t[j]);
+            s.kind = PrimitiveKind::Triangle;
+            s.edge_count = 3;
+            s.front_facing = rule.ccw_is_front == (area2[t[j]] > 0);
+            s.area_shape = AreaShape::Polygon;
+            s.point_x = s.point_y = s.point_size = 0;
+        }
+    }
+    return written;
+}
+#endif
+
 }  // namespace
 
 void Setup::project_vertices(const float* positions, size_t count, WindowPosition* out, SimdLevel level) const {
@@ -550,6 +756,13 @@ void Setup::triangles(const float* positions, const WindowPosition* window, cons
         else
 #endif
             classify_scalar(window, block_vertices, block, rule, cls, area2);
+#if defined(SOFTGL_HAVE_SIMD_PROJECTION)
+        // AVX2 and AVX-512 (which has AVX2): the records of emitted triangles 4 at a time.
+        if (level >= SimdLevel::AVX2) {
+            emit_block_avx2(positions, window, block_vertices, block, first_primitive + uint32_t(first), cls, area2, out);
+            continue;
+        }
+#endif
         for (size_t n = 0; n < block; ++n) {
             const uint32_t* const vertex = block_vertices + 3 * n;
             const uint32_t primitive = first_primitive + uint32_t(first + n);
@@ -571,6 +784,66 @@ void Setup::triangles(const float* positions, const WindowPosition* window, cons
     }
     (void)level;
 }
+
+#if defined(SOFTGL_HAVE_SIMD_PROJECTION)
+void Setup::emit_block_avx2(const float* positions, const WindowPosition* window, const uint32_t* vertices,
+                            size_t count, uint32_t first_primitive, const uint8_t* cls, const int64_t* area2,
+                            std::vector<PrimitiveSetup>& out) {
+    // Groups of 64 triangles. A group with no triangle to clip: the emitted ones' records are built
+    // 4 at a time straight into `out` (build_records_avx2), in order, with the counters and the
+    // polygon offset of emit_triangle. A group with one: triangle by triangle, as below AVX2.
+    constexpr size_t kGroup = 64;
+    PrimitiveSetup sink[8];   // stores of dropped triangles (and the centre test's edges)
+    uint8_t list[kGroup];
+    const bool tight = state_.sample_bounds && state_.samples == 1;
+    const RecordBlockRule rule{ccw_is_front_, tight, state_.clip_x0, state_.clip_y0, state_.clip_x1, state_.clip_y1};
+    for (size_t g0 = 0; g0 < count; g0 += kGroup) {
+        const size_t group = std::min(kGroup, count - g0);
+        size_t m = 0, zero_area = 0, culled = 0, clipped = 0;
+        for (size_t n = g0; n < g0 + group; ++n) {
+            list[m] = uint8_t(n);
+            m += cls[n] == kEmit, zero_area += cls[n] == kZeroArea, culled += cls[n] == kCulled;
+            clipped += cls[n] == kClipped;
+        }
+        if (clipped) {
+            for (size_t n = g0; n < g0 + group; ++n) {
+                const uint32_t* const vertex = vertices + 3 * n;
+                const uint32_t primitive = first_primitive + uint32_t(n);
+                switch (cls[n]) {
+                    case kEmit: {
+                        ++stats.primitives;
+                        emit_triangle(UnitCorner(window[vertex[0]], 0), UnitCorner(window[vertex[1]], 1),
+                                      UnitCorner(window[vertex[2]], 2), area2[n], ccw_is_front_ == (area2[n] > 0),
+                                      vertex, primitive, out);
+                        break;
+                    }
+                    case kZeroArea: ++stats.primitives, ++stats.zero_area; break;
+                    case kCulled: ++stats.primitives, ++stats.culled; break;
+                    default: triangle(positions, window, vertex, primitive, out); break;
+                }
+            }
+            continue;
+        }
+        stats.primitives += group, stats.zero_area += zero_area, stats.culled += culled;
+        if (m == 0) continue;
+        const size_t first = out.size();
+        out.resize(first + m);   // PrimitiveSetup's constructor writes nothing
+        const size_t kept = build_records_avx2(window, vertices, list, m, area2, first_primitive, rule,
+                                               out.data() + first, sink);
+        out.resize(first + kept);
+        stats.outside += m - kept, stats.emitted += kept;
+        if (state_.polygon_offset_fill)   // as emit_triangle
+            for (size_t r = first; r < first + kept; ++r) {
+                PrimitiveSetup& s = out[r];
+                const double slope = std::max(std::fabs(s.depth.a), std::fabs(s.depth.b));
+                const double zmax = std::max({std::fabs(window[s.vertex[0]].z), std::fabs(window[s.vertex[1]].z),
+                                              std::fabs(window[s.vertex[2]].z)});
+                s.depth_offset = slope * state_.polygon_offset_factor +
+                                 resolvable_difference(zmax) * state_.polygon_offset_units;
+            }
+    }
+}
+#endif
 
 template <class V>
 inline void Setup::emit_triangle(const V& w0, const V& w1, const V& w2, int64_t area2, bool front,

@@ -237,6 +237,11 @@ private:
     template <class V>
     void emit_triangle(const V& v0, const V& v1, const V& v2, int64_t area2, bool front,
                        const uint32_t vertex[3], uint32_t primitive, std::vector<PrimitiveSetup>& out);
+    // Setup::triangles' loop over a block at the AVX2 level and above (setup.cpp): cls and area2
+    // from the block's classification.
+    void emit_block_avx2(const float* positions, const WindowPosition* window, const uint32_t* vertices, size_t count,
+                         uint32_t first_primitive, const uint8_t* cls, const int64_t* area2,
+                         std::vector<PrimitiveSetup>& out);
     bool finish_bbox(PrimitiveSetup& s, int64_t xmin, int64_t ymin, int64_t xmax, int64_t ymax);
     double resolvable_difference(double max_abs_z) const;
 
