@@ -198,7 +198,8 @@ public:
     // first_primitive + k: the same records and counters as calling the overload above for each
     // in turn (the reference, tests/pipeline/test_setup_triangles.py), with less work per
     // triangle: facing and culling straight from the projected vertices, no vertex copies.
-    // Facing and culling run 4 triangles at a time at the AVX2 level and above (same classes).
+    // Facing and culling run 4 triangles at a time at the AVX2 level and above (same classes), and
+    // so do the records of triangles with no vertex to clip (same bits).
     void triangles(const float* positions, const WindowPosition* window, const uint32_t* vertices,
                    size_t count, uint32_t first_primitive, std::vector<PrimitiveSetup>& out,
                    SimdLevel level = best_simd_level());
