@@ -452,12 +452,17 @@ __attribute__((target("avx512f"))) uint64_t window_masks_avx512(const WindowEdge
 }
 #endif
 
-// Whether every edge's steps fit the int32 windows (|a| + |b| < 2^19).
+// Whether every edge's steps fit the int32 windows (|a| + |b| < 2^19). The edge count as a
+// template argument: an unrolled test (this runs once per primitive and tile).
+template <int N>
 inline bool small_steps(const PrimitiveSetup& p) {
     bool small = true;
-    for (int i = 0; i < p.edge_count; ++i)
+    for (int i = 0; i < N; ++i)
         small &= (p.a[i] < 0 ? -p.a[i] : p.a[i]) + (p.b[i] < 0 ? -p.b[i] : p.b[i]) < kWindowEdgeStepMax;
     return small;
+}
+inline bool small_steps(const PrimitiveSetup& p) {
+    return p.edge_count == 3 ? small_steps<3>(p) : p.edge_count == 2 ? small_steps<2>(p) : small_steps<4>(p);
 }
 
 // The edges of the window whose pixel (0, 0) is (ox, oy), for its rows [0, rows).
@@ -540,8 +545,10 @@ void raster_window(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, 
     const uint64_t present = window_rect(x0 - wx, y0 - wy, x1 - wx, y1 - wy);
     const uint64_t covered = present & masks(w);
     const uint64_t quads = window_quads(covered);
+    // Grown by the window's most quads, 16, and shrunk to those written: no popcount (a libgcc
+    // call below the POPCNT instruction set).
     const size_t first = out.size();
-    out.resize(first + size_t(__builtin_popcountll(quads)));
+    out.resize(first + size_t(kWindow / 2) * size_t(kWindow / 2));
     Quad* q = out.data() + first;
     // The window's columns [0, kx) lie in the block at wx & ~7, the others in the next block;
     // rows [0, ry) likewise. Blocks in raster_edges' order: bottom-up, then left-right.
@@ -554,6 +561,7 @@ void raster_window(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32_t x1, 
     stats.blocks_rejected += counts.rejected, stats.blocks_accepted += counts.accepted;
     stats.blocks_partial += counts.partial;
     stats.quads += uint64_t(q - (out.data() + first));
+    out.resize(size_t(q - out.data()));
 }
 
 // A part of at most kMaskedBlocksMax blocks that is not one window: block by block in
