@@ -16,9 +16,9 @@ constexpr const char* kPathNames[] = {
     "blend_lab", "framebuffer_object", "float_drawing_buffer", "smoothing", "multisampled", "no_color_write",
     "reads_destination", "fog", "not_uniform_only", "not_copy", "not_one_varying_vec4", "not_interpolated",
     "generic_kernel", "no_blending", "not_per_channel", "fused_copy", "constant_color", "quad_neighbours",
-    "depth_not_24_bit", "attachment_sizes_differ", "writes_color",
+    "depth_not_24_bit", "attachment_sizes_differ", "writes_color", "not_texture_copy",
 };
-static_assert(sizeof(kPathNames) / sizeof(kPathNames[0]) == size_t(Path::WritesColor) + 1, "a name per Path");
+static_assert(sizeof(kPathNames) / sizeof(kPathNames[0]) == size_t(Path::NotTextureCopy) + 1, "a name per Path");
 
 constexpr const char* kSkipNames[] = {"no", "rasterizer_discard", "no_output"};
 constexpr const char* kTargetNames[] = {"drawing_buffer", "float_drawing_buffer", "framebuffer_object"};
@@ -196,6 +196,9 @@ DrawPlan plan_draw(const DrawInputs& in, const DrawCall& call, const FragmentOps
 
     // ---- shading ----
     plan_copies(plan, fs, in.vertex_shader.varying_layout(), in.tuning);
+    plan.texture_copy = first_reason({{skipped, Path::NotRasterized},
+                                      {!fs.copies_texture(), Path::NotTextureCopy},
+                                      {!in.tuning.texture_copies, Path::TuningOff}});
     const Path not_yet = skipped ? Path::NotRasterized : Path::NotShaded;
     plan.constant_color = plan.blend_table = plan.whole_rect_blend = not_yet;
     plan_fragment_batches(plan, fs, in.tuning);
@@ -253,6 +256,7 @@ std::vector<DrawPlanField> DrawPlan::fields() const {
         num("shading", "copied_word", copied_word),
         path("shading", "fused_copy", fused_copy),
         num("shading", "copied_index", copied_index),
+        path("shading", "texture_copy", texture_copy),
         yes("shading", "shaded", shaded),
         yes("shading", "uniform_only", uniform_only),
         path("shading", "constant_color", constant_color),

@@ -59,6 +59,7 @@ enum class Path : uint8_t {
     DepthNot24Bit,          // a DEPTH_COMPONENT16 or 32F attachment: its words are not the kernel's
     AttachmentSizesDiffer,  // the depth image is wider than the target: its rows are not the target's
     WritesColor,            // a colour buffer receives the shader's colour
+    NotTextureCopy,         // the shader is not one texture lookup copied to its colour
 };
 const char* path_name(Path p);
 
@@ -99,6 +100,9 @@ struct DrawPlan {
     int copied_word = -1;                 // ... one vec4 varying's first word, read in place
     Path fused_copy = Path::Taken;        // ... interpolated straight into pixels (smooth, not points)
     int copied_index = -1;                // ... its place among the interpolated words
+    // The shader is one texture lookup at a varying, copied to its colour: run() asks the sampler
+    // itself, without the executor (FragmentShader::copies_texture).
+    Path texture_copy = Path::Taken;
     // Second step (plan_shading, when the first tile pass is prepared):
     bool shaded = false;                  // the second step ran
     bool uniform_only = false;            // FragmentShader::run_constant gave the colour

@@ -128,6 +128,10 @@ public:
     // copies the colours from the batch, or reads them there, instead of calling run() (unless the
     // context's Tuning turns fragment_copies off; run() always runs the program).
     virtual const FragmentCopies* copies() const { return nullptr; }
+    // Whether the program's colour is one texture lookup that run() serves without the executor
+    // when the draw's Tuning::texture_copies allows (docs/architecture.md, "Fast paths": texture
+    // copies).
+    virtual bool copies_texture() const { return false; }
     // The most instructions one invocation can run (glsl::instructions_bound); UINT64_MAX when
     // unknown. A draw whose fragment work has no small bound can be stopped after writing pixels,
     // so it keeps copies to put them back (pipeline/draw_rollback.h).

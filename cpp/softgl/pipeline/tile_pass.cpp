@@ -364,6 +364,7 @@ void TilePass::prepare(DrawStats& stats) {
         stats.draws_blend_table = 1;
     }
     if (plan_.fragment_copies == Path::Taken) stats.draws_copied_varying = 1;
+    if (plan_.texture_copy == Path::Taken) stats.draws_texture_copy = 1;
     gather_ = plan_.fragment_batches == Path::Taken;
     single_pixels_ = gather_ && plan_.no_helper_lanes == Path::Taken;
     // Two fragments of a pixel in one batch would both read its old colour where the colour
