@@ -63,6 +63,10 @@ struct Tuning {
     // GlslFragmentShader, "texture copies") asks the sampler itself, without the executor; off:
     // the executor runs it.
     bool texture_copies = true;
+    // ... and where its lookup is NEAREST of 8-bit unorm storage and the write is plain (all
+    // channels, one sample), the texels' RGBA8 words go to the pixels as they are (pipeline/
+    // tile_pass, "texel words"); off: as floats through the colour kernels.
+    bool texel_words = true;
 
     bool operator==(const Tuning& o) const {
         return simd == o.simd && batch_primitives == o.batch_primitives &&
@@ -71,7 +75,7 @@ struct Tuning {
                fragment_batches == o.fragment_batches && skip_helper_lanes == o.skip_helper_lanes &&
                blit_rows == o.blit_rows && hoist_uniform_values == o.hoist_uniform_values &&
                flat_primitives == o.flat_primitives && pool_spin_microseconds == o.pool_spin_microseconds &&
-               texture_copies == o.texture_copies;
+               texture_copies == o.texture_copies && texel_words == o.texel_words;
     }
     bool operator!=(const Tuning& o) const { return !(*this == o); }
 

@@ -5,6 +5,10 @@
 #include <type_traits>
 #include <utility>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace softgl {
 
 using glsl::Scalar;
@@ -289,18 +293,13 @@ bool GlslFragmentShader::find_texture_copy() {
     return true;
 }
 
-// The query Executor::texture makes for the program find_texture_copy recognised, with the
-// executor's operands: every lane active, the sampler uniform's unit in every lane, the implicit
-// derivatives (differences inside each quad, when the sampler says the LOD matters), the draw's
-// sampler path and SIMD level; the results go straight to the colour output.
-void GlslFragmentShader::run_texture_copy(const FragmentBatch& b, FragmentResults& out, unsigned worker) const {
+glsl::TextureQuery GlslFragmentShader::texture_copy_query(const FragmentBatch& b, unsigned worker) const {
     Worker& w = workers_[worker];
     const glsl::TextureOperands& t = program_->fragment.textures[size_t(texture_copy_.texture)];
     const size_t L = b.lanes, S = b.stride();
     if (w.active.size() < L) w.active.resize(L, ~0u);   // only ever all ones
     const Scalar unit = uniforms_ ? uniforms_[texture_copy_.unit_uniform] : Scalar{};
-    if (w.units.size() < L) w.units.resize(L);
-    for (size_t l = 0; l < L; ++l) w.units[l] = unit;
+    if (w.units.size() < L || w.units.empty() || w.units[0].u != unit.u) w.units.assign(std::max(L, w.units.size()), unit);
     glsl::TextureQuery q;
     q.kind = glsl::TextureKind::Sample;
     q.dim = t.dim;
@@ -313,10 +312,34 @@ void GlslFragmentShader::run_texture_copy(const FragmentBatch& b, FragmentResult
     q.uniform_unit = true;
     for (int k = 0; k < 2; ++k) q.coord[k] = reinterpret_cast<const Scalar*>(&b.varyings[size_t(texture_copy_.word[k]) * S]);
     for (int k = 0; k < 3; ++k) q.offset[k] = t.offset[k];
-    for (int c = 0; c < 4; ++c) q.out[c] = reinterpret_cast<Scalar*>(&out.color[size_t(c) * L]);
     q.path = sampler_path_;
     q.simd = simd_;
     q.fast_queries = &w.fast_texture_queries;
+    return q;
+}
+
+// Texel words: the draw's textures are bound (set_sampler) and the uniforms set before prepare.
+bool GlslFragmentShader::gives_texel_words() const {
+    if (texture_copy_.texture < 0 || !texture_copies_ || !textures_ || workers_.empty()) return false;
+    FragmentBatch one;
+    one.lanes = 1;
+    one.varyings.assign(size_t(std::max(texture_copy_.word[0], texture_copy_.word[1]) + 1), 0);
+    return textures_->gives_words(texture_copy_query(one, 0));
+}
+
+void GlslFragmentShader::run_words(const FragmentBatch& b, uint32_t* words, unsigned worker) const {
+    textures_->sample_words(texture_copy_query(b, worker), words);
+}
+
+// The query Executor::texture makes for the program find_texture_copy recognised, with the
+// executor's operands: every lane active, the sampler uniform's unit in every lane, the implicit
+// derivatives (differences inside each quad, when the sampler says the LOD matters), the draw's
+// sampler path and SIMD level; the results go straight to the colour output.
+void GlslFragmentShader::run_texture_copy(const FragmentBatch& b, FragmentResults& out, unsigned worker) const {
+    Worker& w = workers_[worker];
+    const size_t L = b.lanes;
+    glsl::TextureQuery q = texture_copy_query(b, worker);
+    for (int c = 0; c < 4; ++c) q.out[c] = reinterpret_cast<Scalar*>(&out.color[size_t(c) * L]);
     glsl::TextureSampler* const sampler = textures_ ? textures_ : &w.sampler;
     if (sampler->lod_matters(q)) {
         // As Executor::texture: per quad, dx = (p1 - p0, p1 - p0, p3 - p2, p3 - p2) and
@@ -327,7 +350,17 @@ void GlslFragmentShader::run_texture_copy(const FragmentBatch& b, FragmentResult
             Scalar* const dx = w.derivatives.data() + size_t(2 * k) * L;
             Scalar* const dy = dx + L;
             const Scalar* const v = q.coord[k];
-            for (size_t qd = 0; qd < quads; ++qd) {
+            size_t qd = 0;
+#if defined(__SSE2__)
+            for (; qd < quads; ++qd) {   // the same subtractions of the same lanes, a quad at a time
+                const __m128 p = _mm_loadu_ps(&v[4 * qd].f);
+                _mm_storeu_ps(&dx[4 * qd].f, _mm_sub_ps(_mm_shuffle_ps(p, p, _MM_SHUFFLE(3, 3, 1, 1)),
+                                                      _mm_shuffle_ps(p, p, _MM_SHUFFLE(2, 2, 0, 0))));
+                _mm_storeu_ps(&dy[4 * qd].f, _mm_sub_ps(_mm_shuffle_ps(p, p, _MM_SHUFFLE(3, 2, 3, 2)),
+                                                      _mm_shuffle_ps(p, p, _MM_SHUFFLE(1, 0, 1, 0))));
+            }
+#endif
+            for (; qd < quads; ++qd) {
                 const Scalar* p = v + 4 * qd;
                 const float top = p[1].f - p[0].f, bottom = p[3].f - p[2].f, left = p[2].f - p[0].f, right = p[3].f - p[1].f;
                 dx[4 * qd].f = top, dx[4 * qd + 1].f = top, dx[4 * qd + 2].f = bottom, dx[4 * qd + 3].f = bottom;

@@ -84,6 +84,8 @@ public:
     bool runs_flat() const override { return flat_; }
     const FragmentCopies* copies() const override;
     bool copies_texture() const override { return texture_copy_.texture >= 0; }
+    bool gives_texel_words() const override;
+    void run_words(const FragmentBatch& batch, uint32_t* words, unsigned worker) const override;
     void set_uniforms(const glsl::Scalar* uniforms) { uniforms_ = uniforms; }
     // The bound textures for this draw (null: every lookup reads an incomplete texture). The
     // sampler must be safe to call from several workers at once (TextureUnitSampler is).
@@ -124,6 +126,8 @@ private:
     };
     bool find_texture_copy();
     void run_texture_copy(const FragmentBatch& batch, FragmentResults& out, unsigned worker) const;
+    // The texture copy's query for the batch's lanes (outputs and derivatives left unset).
+    glsl::TextureQuery texture_copy_query(const FragmentBatch& batch, unsigned worker) const;
     TextureCopy texture_copy_;
     mutable bool texture_copies_ = true;                     // the draw's Tuning::texture_copies (prepare)
     mutable SimdLevel simd_ = best_simd_level();             // the draw's (prepare), as the executor's
