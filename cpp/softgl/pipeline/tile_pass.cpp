@@ -448,12 +448,14 @@ void TilePass::add_counters(DrawStats& stats) const {
 // times for a shader that only copies or is constant; such a shader costs less than the pass where
 // early depth already rejects most hidden fragments (100 large depth-tested triangles: 20% slower;
 // 10k instanced cubes with a copying shader: the pass was 43% of the draw's instructions). Any
-// copying shader counts, not only the one-vec4 copy the fused kernels read (copied_word).
+// copying shader counts, not only the one-vec4 copy the fused kernels read (copied_word), and so
+// does a texture copy whose texels go to the pixels as words (tex_nearest, two triangles per
+// full-screen quad: the pass was 6% of the draw's instructions and hid nothing).
 bool TilePass::hides(const Tile& t) const {
     if (plan_.hidden_surface_removal != Path::Taken || t.list.size() <= 1 || t.list.size() >= OwnerMap::kNone)
         return false;
     if (plan_.hidden_surface_in_every_tile) return true;
-    const bool cheap_shader = plan_.uniform_only || plan_.fragment_copies == Path::Taken;
+    const bool cheap_shader = plan_.uniform_only || plan_.fragment_copies == Path::Taken || texel_words_;
     const bool tests = plan_.depth_test || plan_.stencil_test;
     return !(cheap_shader && tests) && piles_up(t.list, *prims_, t.rect, cheap_shader ? 3 : 2);
 }
