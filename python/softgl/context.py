@@ -403,7 +403,10 @@ class Context(_core.Context):
         table lookup), ``draws_copied_varying`` (a shader that only copies varyings or
         constants to its colours, not run) and ``draws_flat_primitives`` (a shader that can run
         once for a primitive whose varyings are equal at every vertex; ``fragments_flat`` counts
-        the fragments, of ``fragments_shaded``, that got such a primitive's one colour). ``draws_with_rollback`` counts draws that kept a copy
+        the fragments, of ``fragments_shaded``, that got such a primitive's one colour), and
+        ``draws_texture_copy`` (a shader that is one texture lookup, served by the sampler without
+        the executor; ``draws_texel_words`` those whose NEAREST texels' bytes went to the pixels
+        as they are). ``draws_with_rollback`` counts draws that kept a copy
         of each tile they wrote, to put it back if stopped (docs/reliability.md, "Work budget
         and Ctrl-C": draws in several batches, with a fragment loop of unknown length, or with
         much fragment work)."""

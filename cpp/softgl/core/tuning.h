@@ -59,6 +59,14 @@ struct Tuning {
     // runtime/thread_pool.h. 0: they sleep at once (every call then pays a sleeping thread's
     // wake-up). Never changes the bytes.
     uint32_t pool_spin_microseconds = 100;
+    // A fragment shader whose colour is one 2D texture lookup at a varying (pipeline/glsl_stages
+    // GlslFragmentShader, "texture copies") asks the sampler itself, without the executor; off:
+    // the executor runs it.
+    bool texture_copies = true;
+    // ... and where its lookup is NEAREST of 8-bit unorm storage and the write is plain (all
+    // channels, one sample), the texels' RGBA8 words go to the pixels as they are (pipeline/
+    // tile_pass, "texel words"); off: as floats through the colour kernels.
+    bool texel_words = true;
 
     bool operator==(const Tuning& o) const {
         return simd == o.simd && batch_primitives == o.batch_primitives &&
@@ -66,7 +74,8 @@ struct Tuning {
                fragment_copies == o.fragment_copies && sampler_path == o.sampler_path &&
                fragment_batches == o.fragment_batches && skip_helper_lanes == o.skip_helper_lanes &&
                blit_rows == o.blit_rows && hoist_uniform_values == o.hoist_uniform_values &&
-               flat_primitives == o.flat_primitives && pool_spin_microseconds == o.pool_spin_microseconds;
+               flat_primitives == o.flat_primitives && pool_spin_microseconds == o.pool_spin_microseconds &&
+               texture_copies == o.texture_copies && texel_words == o.texel_words;
     }
     bool operator!=(const Tuning& o) const { return !(*this == o); }
 

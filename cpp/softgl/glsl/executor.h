@@ -62,6 +62,12 @@ public:
     // False when the level of detail cannot change what `query` (all but its derivatives filled
     // in) returns: implicit derivatives are then left out.
     virtual bool lod_matters(const TextureQuery&) const { return true; }
+    // Texel words (docs/architecture.md, "Fast paths"): true when every result of `query` (all but
+    // its coordinates, derivatives and outputs filled in) is the four channels k / 255 of one
+    // 8-bit unorm texel whatever the coordinates (NEAREST of byte storage, no LOD choice);
+    // sample_words then gives those texels' RGBA8 words (channel c in byte c), words[lane].
+    virtual bool gives_words(const TextureQuery&) const { return false; }
+    virtual void sample_words(const TextureQuery& query, uint32_t* words) { (void)query, (void)words; }
 };
 
 struct ExecutionError : std::runtime_error {

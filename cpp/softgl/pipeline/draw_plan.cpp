@@ -16,9 +16,10 @@ constexpr const char* kPathNames[] = {
     "blend_lab", "framebuffer_object", "float_drawing_buffer", "smoothing", "multisampled", "no_color_write",
     "reads_destination", "fog", "not_uniform_only", "not_copy", "not_one_varying_vec4", "not_interpolated",
     "generic_kernel", "no_blending", "not_per_channel", "fused_copy", "constant_color", "quad_neighbours",
-    "depth_not_24_bit", "attachment_sizes_differ", "writes_color",
+    "depth_not_24_bit", "attachment_sizes_differ", "writes_color", "not_texture_copy",
+    "not_nearest_bytes",
 };
-static_assert(sizeof(kPathNames) / sizeof(kPathNames[0]) == size_t(Path::WritesColor) + 1, "a name per Path");
+static_assert(sizeof(kPathNames) / sizeof(kPathNames[0]) == size_t(Path::NotNearestBytes) + 1, "a name per Path");
 
 constexpr const char* kSkipNames[] = {"no", "rasterizer_discard", "no_output"};
 constexpr const char* kTargetNames[] = {"drawing_buffer", "float_drawing_buffer", "framebuffer_object"};
@@ -196,14 +197,29 @@ DrawPlan plan_draw(const DrawInputs& in, const DrawCall& call, const FragmentOps
 
     // ---- shading ----
     plan_copies(plan, fs, in.vertex_shader.varying_layout(), in.tuning);
+    plan.texture_copy = first_reason({{skipped, Path::NotRasterized},
+                                      {!fs.copies_texture(), Path::NotTextureCopy},
+                                      {!in.tuning.texture_copies, Path::TuningOff}});
     const Path not_yet = skipped ? Path::NotRasterized : Path::NotShaded;
-    plan.constant_color = plan.blend_table = plan.whole_rect_blend = not_yet;
+    plan.constant_color = plan.blend_table = plan.whole_rect_blend = plan.texel_words = not_yet;
     plan_fragment_batches(plan, fs, in.tuning);
     plan.depth_only = first_reason({{skipped, Path::NotRasterized},
                                     {plan.writes_color, Path::WritesColor},
                                     {!early, plan.tests_before_shading},
                                     {plan.blend_lab, Path::BlendLab}});
     return plan;
+}
+
+// Texel words: a plain write of all channels to one sample keeps each texel's bytes k (the
+// kernel turns k / 255 back into k), so the words go to the pixels without the floats.
+void plan_texel_words(DrawPlan& plan, const Tuning& tuning, const FragmentShader& fs) {
+    plan.texel_words = first_reason({{plan.texture_copy != Path::Taken, plan.texture_copy},
+                                     {plan.color_kernels != Path::Taken, plan.color_kernels},
+                                     {plan.samples != 1, Path::Multisampled},
+                                     {plan.kernel != ColorKernel::Plain || !plan.all_channels, Path::ReadsDestination},
+                                     {plan.constant_color == Path::Taken, Path::ConstantColor},
+                                     {!tuning.texel_words, Path::TuningOff},
+                                     {!fs.gives_texel_words(), Path::NotNearestBytes}});
 }
 
 void plan_shading(DrawPlan& plan, bool uniform_only, const BlendOp& blend) {
@@ -253,6 +269,8 @@ std::vector<DrawPlanField> DrawPlan::fields() const {
         num("shading", "copied_word", copied_word),
         path("shading", "fused_copy", fused_copy),
         num("shading", "copied_index", copied_index),
+        path("shading", "texture_copy", texture_copy),
+        path("shading", "texel_words", texel_words),
         yes("shading", "shaded", shaded),
         yes("shading", "uniform_only", uniform_only),
         path("shading", "constant_color", constant_color),

@@ -59,6 +59,8 @@ enum class Path : uint8_t {
     DepthNot24Bit,          // a DEPTH_COMPONENT16 or 32F attachment: its words are not the kernel's
     AttachmentSizesDiffer,  // the depth image is wider than the target: its rows are not the target's
     WritesColor,            // a colour buffer receives the shader's colour
+    NotTextureCopy,         // the shader is not one texture lookup copied to its colour
+    NotNearestBytes,        // the lookup is not NEAREST of 8-bit unorm storage (TextureSampler::gives_words)
 };
 const char* path_name(Path p);
 
@@ -99,6 +101,12 @@ struct DrawPlan {
     int copied_word = -1;                 // ... one vec4 varying's first word, read in place
     Path fused_copy = Path::Taken;        // ... interpolated straight into pixels (smooth, not points)
     int copied_index = -1;                // ... its place among the interpolated words
+    // The shader is one texture lookup at a varying, copied to its colour: run() asks the sampler
+    // itself, without the executor (FragmentShader::copies_texture).
+    Path texture_copy = Path::Taken;
+    // ... whose texels' RGBA8 words go to the pixels as they are (second step: the bound texture
+    // decides; FragmentShader::gives_texel_words).
+    Path texel_words = Path::NotShaded;
     // Second step (plan_shading, when the first tile pass is prepared):
     bool shaded = false;                  // the second step ran
     bool uniform_only = false;            // FragmentShader::run_constant gave the colour
@@ -151,5 +159,8 @@ DrawPlan plan_draw(const DrawInputs& in, const DrawCall& call, const FragmentOps
 // The second step, once the shader has run for its constant colour (FragmentShader::run_constant):
 // `uniform_only` says whether it gave one.
 void plan_shading(DrawPlan& plan, bool uniform_only, const BlendOp& blend);
+// ... and, after it, whether a texture copy's texels go to the pixels as words (the shader
+// prepared and the draw's textures bound: FragmentShader::gives_texel_words).
+void plan_texel_words(DrawPlan& plan, const Tuning& tuning, const FragmentShader& fs);
 
 }  // namespace softgl

@@ -32,7 +32,9 @@ struct DrawStats {
     uint64_t draws_flat_primitives = 0;    // primitives with equal varyings get one colour (FragmentShader::run_flat)
     uint64_t draws_copied_varying = 0;     // a shader that only copies varyings or constants: not run
     uint64_t draws_with_rollback = 0;      // kept copies of the pixels they wrote (pipeline/draw_rollback.h)
-    uint64_t texture_queries_fast = 0;     // lookups (per instruction and batch of lanes) served by the 2D fast path
+    uint64_t texture_queries_fast = 0;
+    uint64_t draws_texture_copy = 0;       // a shader that is one texture lookup: the sampler asked without the executor
+    uint64_t draws_texel_words = 0;        // ... NEAREST of 8-bit unorm texels, their words written as they are     // lookups (per instruction and batch of lanes) served by the 2D fast path
     double seconds_vertex = 0, seconds_setup = 0, seconds_fragment = 0;
     void add(const DrawStats& o);
 };

@@ -5,6 +5,10 @@
 #include <type_traits>
 #include <utility>
 
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
 namespace softgl {
 
 using glsl::Scalar;
@@ -228,6 +232,146 @@ GlslFragmentShader::GlslFragmentShader(std::shared_ptr<const glsl::LinkedProgram
     broadcast_ = program_->reflection.fragment_usage.frag_color_broadcast;
     outputs_ = broadcast_ ? kMaxFragmentOutputs : highest + 1;
     copies_only_ = find_copies();
+    if (!copies_only_ && !find_texture_copy()) texture_copy_ = TextureCopy{};
+}
+
+// docs/architecture.md, "Fast paths" (texture copies): main is a LoadUniform of the sampler, one
+// Texture (Sample, implicit LOD, 2D, float, no comparison, s and t two varying inputs) and Movs of
+// its four results to the four components of the one colour output. The executor runs this as
+// one query with every lane active (no control flow) whose results the Movs copy bit for bit (or
+// the lookup writes the outputs itself: fuse_texture_moves); run_texture_copy makes that query.
+bool GlslFragmentShader::find_texture_copy() {
+    const glsl::IrProgram& ir = program_->fragment;
+    if (may_discard() || writes_depth() || broadcast_ || outputs_ != 1) return false;
+    const size_t R = ir.register_count;
+    const glsl::Instruction* load = nullptr;
+    const glsl::Instruction* lookup = nullptr;
+    std::vector<glsl::Reg> moved(R, glsl::kNoReg);   // per output register: the register moved to it
+    for (const glsl::Instruction& i : ir.code) {
+        switch (i.op) {
+            case glsl::Op::FunctionBegin: case glsl::Op::FunctionEnd: break;
+            case glsl::Op::LoadUniform:
+                if (load || lookup) return false;
+                load = &i;
+                break;
+            case glsl::Op::Texture:
+                if (lookup) return false;
+                lookup = &i;
+                break;
+            case glsl::Op::Mov:
+                if (!lookup || i.dst >= R || moved[i.dst] != glsl::kNoReg) return false;
+                moved[i.dst] = i.a;
+                break;
+            default: return false;
+        }
+    }
+    if (!load || !lookup || lookup->texture < 0 || size_t(lookup->texture) >= ir.textures.size()) return false;
+    const glsl::TextureOperands& t = ir.textures[size_t(lookup->texture)];
+    if (t.kind != glsl::TextureKind::Sample || t.dim != glsl::SamplerDim::Tex2D || t.shadow ||
+        t.result != glsl::BaseType::Float || t.lod_mode != glsl::TextureLod::Implicit || t.unit != load->dst ||
+        t.coord[2] != glsl::kNoReg || t.coord[3] != glsl::kNoReg || t.compare != glsl::kNoReg || t.lod != glsl::kNoReg)
+        return false;
+    // s and t: varying inputs no instruction writes (the Movs write only output registers).
+    int word[2] = {-1, -1};
+    for (int k = 0; k < 2; ++k) {
+        for (size_t i = 0; i < ir.inputs.size(); ++i)
+            if (ir.inputs[i].reg == t.coord[k]) word[k] = input_word_[i];
+        if (word[k] < 0 || t.coord[k] >= R || moved[t.coord[k]] != glsl::kNoReg) return false;
+    }
+    // Output component c is result c; nothing else is moved anywhere.
+    size_t moves = 0;
+    for (glsl::Reg r = 0; r < R; ++r) moves += moved[r] != glsl::kNoReg;
+    if (moves != 4) return false;
+    for (int c = 0; c < 4; ++c) {
+        if (color_slot_[size_t(c)] < 0 || t.dst[c] == glsl::kNoReg) return false;
+        const glsl::Reg out = ir.outputs[size_t(color_slot_[size_t(c)])].reg;
+        if (out >= R || moved[out] != t.dst[c]) return false;
+    }
+    texture_copy_.texture = lookup->texture;
+    texture_copy_.unit_uniform = load->imm[0];
+    texture_copy_.word[0] = word[0], texture_copy_.word[1] = word[1];
+    return true;
+}
+
+glsl::TextureQuery GlslFragmentShader::texture_copy_query(const FragmentBatch& b, unsigned worker) const {
+    Worker& w = workers_[worker];
+    const glsl::TextureOperands& t = program_->fragment.textures[size_t(texture_copy_.texture)];
+    const size_t L = b.lanes, S = b.stride();
+    if (w.active.size() < L) w.active.resize(L, ~0u);   // only ever all ones
+    const Scalar unit = uniforms_ ? uniforms_[texture_copy_.unit_uniform] : Scalar{};
+    if (w.units.size() < L || w.units.empty() || w.units[0].u != unit.u) w.units.assign(std::max(L, w.units.size()), unit);
+    glsl::TextureQuery q;
+    q.kind = glsl::TextureKind::Sample;
+    q.dim = t.dim;
+    q.shadow = false;
+    q.result = glsl::BaseType::Float;
+    q.lod_mode = glsl::TextureLod::Implicit;
+    q.lane_count = int(L);
+    q.active = w.active.data();
+    q.unit = w.units.data();
+    q.uniform_unit = true;
+    for (int k = 0; k < 2; ++k) q.coord[k] = reinterpret_cast<const Scalar*>(&b.varyings[size_t(texture_copy_.word[k]) * S]);
+    for (int k = 0; k < 3; ++k) q.offset[k] = t.offset[k];
+    q.path = sampler_path_;
+    q.simd = simd_;
+    q.fast_queries = &w.fast_texture_queries;
+    return q;
+}
+
+// Texel words: the draw's textures are bound (set_sampler) and the uniforms set before prepare.
+bool GlslFragmentShader::gives_texel_words() const {
+    if (texture_copy_.texture < 0 || !texture_copies_ || !textures_ || workers_.empty()) return false;
+    FragmentBatch one;
+    one.lanes = 1;
+    one.varyings.assign(size_t(std::max(texture_copy_.word[0], texture_copy_.word[1]) + 1), 0);
+    return textures_->gives_words(texture_copy_query(one, 0));
+}
+
+void GlslFragmentShader::run_words(const FragmentBatch& b, uint32_t* words, unsigned worker) const {
+    textures_->sample_words(texture_copy_query(b, worker), words);
+}
+
+// The query Executor::texture makes for the program find_texture_copy recognised, with the
+// executor's operands: every lane active, the sampler uniform's unit in every lane, the implicit
+// derivatives (differences inside each quad, when the sampler says the LOD matters), the draw's
+// sampler path and SIMD level; the results go straight to the colour output.
+void GlslFragmentShader::run_texture_copy(const FragmentBatch& b, FragmentResults& out, unsigned worker) const {
+    Worker& w = workers_[worker];
+    const size_t L = b.lanes;
+    glsl::TextureQuery q = texture_copy_query(b, worker);
+    for (int c = 0; c < 4; ++c) q.out[c] = reinterpret_cast<Scalar*>(&out.color[size_t(c) * L]);
+    glsl::TextureSampler* const sampler = textures_ ? textures_ : &w.sampler;
+    if (sampler->lod_matters(q)) {
+        // As Executor::texture: per quad, dx = (p1 - p0, p1 - p0, p3 - p2, p3 - p2) and
+        // dy = (p2 - p0, p3 - p1, p2 - p0, p3 - p1); lanes past the last whole quad 0.
+        if (w.derivatives.size() < 4 * L) w.derivatives.resize(4 * L);
+        const size_t quads = L / 4;
+        for (int k = 0; k < 2; ++k) {
+            Scalar* const dx = w.derivatives.data() + size_t(2 * k) * L;
+            Scalar* const dy = dx + L;
+            const Scalar* const v = q.coord[k];
+            size_t qd = 0;
+#if defined(__SSE2__)
+            for (; qd < quads; ++qd) {   // the same subtractions of the same lanes, a quad at a time
+                const __m128 p = _mm_loadu_ps(&v[4 * qd].f);
+                _mm_storeu_ps(&dx[4 * qd].f, _mm_sub_ps(_mm_shuffle_ps(p, p, _MM_SHUFFLE(3, 3, 1, 1)),
+                                                      _mm_shuffle_ps(p, p, _MM_SHUFFLE(2, 2, 0, 0))));
+                _mm_storeu_ps(&dy[4 * qd].f, _mm_sub_ps(_mm_shuffle_ps(p, p, _MM_SHUFFLE(3, 2, 3, 2)),
+                                                      _mm_shuffle_ps(p, p, _MM_SHUFFLE(1, 0, 1, 0))));
+            }
+#endif
+            for (; qd < quads; ++qd) {
+                const Scalar* p = v + 4 * qd;
+                const float top = p[1].f - p[0].f, bottom = p[3].f - p[2].f, left = p[2].f - p[0].f, right = p[3].f - p[1].f;
+                dx[4 * qd].f = top, dx[4 * qd + 1].f = top, dx[4 * qd + 2].f = bottom, dx[4 * qd + 3].f = bottom;
+                dy[4 * qd].f = left, dy[4 * qd + 1].f = right, dy[4 * qd + 2].f = left, dy[4 * qd + 3].f = right;
+            }
+            for (size_t l = quads * 4; l < L; ++l) dx[l].f = 0.0f, dy[l].f = 0.0f;
+            q.ddx[k] = dx;
+            q.ddy[k] = dy;
+        }
+    }
+    sampler->sample(q);
 }
 
 // docs/architecture.md, "Fast paths": a program that is nothing but Movs (and main's function markers) from varyings or
@@ -275,6 +419,8 @@ const FragmentCopies* GlslFragmentShader::copies() const { return copies_only_ ?
 void GlslFragmentShader::prepare(unsigned workers, const Tuning& tuning) const {
     if (workers_.size() < workers) workers_.resize(workers);
     sampler_path_ = tuning.sampler_path;
+    texture_copies_ = tuning.texture_copies;
+    simd_ = std::min(tuning.simd, best_simd_level());   // Executor::set_simd_level's
     for (Worker& w : workers_) {
         if (!w.executor || w.executor->hoists() != tuning.hoist_uniform_values)
             w.executor = std::make_unique<glsl::Executor>(program_->fragment, 128, tuning.hoist_uniform_values);
@@ -295,6 +441,10 @@ void GlslFragmentShader::run(const FragmentBatch& b, FragmentResults& out, unsig
     const size_t O = size_t(outputs_);
     out.outputs = outputs_;
     if (out.color.size() < 4 * O * L) out.color.resize(4 * O * L);   // grows only: no zero fill per batch
+    if (texture_copy_.texture >= 0 && texture_copies_) {
+        out.killed.clear();
+        return run_texture_copy(b, out, worker);
+    }
     const size_t R = uniform_only_ ? std::min<size_t>(L, 4) : L;   // lanes actually run
     if (builtins_read_ & kFrontFacing) {
         w.builtins.resize(R);

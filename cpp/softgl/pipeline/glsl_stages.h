@@ -83,6 +83,9 @@ public:
     bool run_flat(const uint32_t* varyings, FragmentResults& out, unsigned worker) const override;
     bool runs_flat() const override { return flat_; }
     const FragmentCopies* copies() const override;
+    bool copies_texture() const override { return texture_copy_.texture >= 0; }
+    bool gives_texel_words() const override;
+    void run_words(const FragmentBatch& batch, uint32_t* words, unsigned worker) const override;
     void set_uniforms(const glsl::Scalar* uniforms) { uniforms_ = uniforms; }
     // The bound textures for this draw (null: every lookup reads an incomplete texture). The
     // sampler must be safe to call from several workers at once (TextureUnitSampler is).
@@ -113,6 +116,21 @@ private:
     bool run_one_quad(const uint32_t* varyings, FragmentResults& out, unsigned worker) const;
     bool copies_only_ = false;           // the program only copies varyings or constants to colours
     FragmentCopies copies_;              // ... which ones (when copies_only_)
+    // Texture copies (docs/architecture.md, "Fast paths"): the program loads a sampler uniform,
+    // makes one implicit-LOD 2D lookup at two varying words and moves its four results, in order,
+    // to its one colour output. run() then builds the executor's query itself and asks the sampler.
+    struct TextureCopy {
+        int texture = -1;                // the lookup (IrProgram::textures), -1: not such a program
+        int32_t unit_uniform = 0;        // the sampler uniform's word in the uniform buffer
+        int word[2] = {-1, -1};          // the varying words of s and t
+    };
+    bool find_texture_copy();
+    void run_texture_copy(const FragmentBatch& batch, FragmentResults& out, unsigned worker) const;
+    // The texture copy's query for the batch's lanes (outputs and derivatives left unset).
+    glsl::TextureQuery texture_copy_query(const FragmentBatch& batch, unsigned worker) const;
+    TextureCopy texture_copy_;
+    mutable bool texture_copies_ = true;                     // the draw's Tuning::texture_copies (prepare)
+    mutable SimdLevel simd_ = best_simd_level();             // the draw's (prepare), as the executor's
     const glsl::Scalar* uniforms_ = nullptr;
     struct Worker {
         std::unique_ptr<glsl::Executor> executor;
@@ -124,6 +142,9 @@ private:
         FragmentResults quad_results;
         IncompleteTextureSampler sampler;
         uint64_t fast_texture_queries = 0;
+        // run_texture_copy: every lane active, the unit in every lane, the implicit derivatives.
+        std::vector<uint32_t> active;
+        std::vector<glsl::Scalar> units, derivatives;
     };
     mutable std::vector<Worker> workers_;
 };

@@ -128,6 +128,18 @@ public:
     // copies the colours from the batch, or reads them there, instead of calling run() (unless the
     // context's Tuning turns fragment_copies off; run() always runs the program).
     virtual const FragmentCopies* copies() const { return nullptr; }
+    // Whether the program's colour is one texture lookup that run() serves without the executor
+    // when the draw's Tuning::texture_copies allows (docs/architecture.md, "Fast paths": texture
+    // copies).
+    virtual bool copies_texture() const { return false; }
+    // Texel words (docs/architecture.md, "Fast paths"): whether, for this draw (after prepare, with
+    // its textures bound), run() gives every lane the channels k / 255 of one 8-bit unorm texel
+    // (a texture copy of a NEAREST lookup of byte storage); run_words then gives those texels'
+    // RGBA8 words, words[lane], instead of the floats.
+    virtual bool gives_texel_words() const { return false; }
+    virtual void run_words(const FragmentBatch& batch, uint32_t* words, unsigned worker) const {
+        (void)batch, (void)words, (void)worker;
+    }
     // The most instructions one invocation can run (glsl::instructions_bound); UINT64_MAX when
     // unknown. A draw whose fragment work has no small bound can be stopped after writing pixels,
     // so it keeps copies to put them back (pipeline/draw_rollback.h).

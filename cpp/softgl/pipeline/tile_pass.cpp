@@ -313,6 +313,7 @@ struct TilePass::Colors {
     size_t stride;
     int outputs;
     bool any_killed;               // the shader discarded a lane (FragmentResults::killed)
+    bool words = false;            // texel words: no colours, the pixels' words are in Scratch::pixels
 };
 
 TilePass::TilePass(const DrawInputs& in, const FragmentOps& ops, const TileGrid& grid, DrawPlan& plan)
@@ -364,6 +365,10 @@ void TilePass::prepare(DrawStats& stats) {
         stats.draws_blend_table = 1;
     }
     if (plan_.fragment_copies == Path::Taken) stats.draws_copied_varying = 1;
+    if (plan_.texture_copy == Path::Taken) stats.draws_texture_copy = 1;
+    plan_texel_words(plan_, in_.tuning, fs_);
+    texel_words_ = plan_.texel_words == Path::Taken;
+    if (texel_words_) stats.draws_texel_words = 1;
     gather_ = plan_.fragment_batches == Path::Taken;
     single_pixels_ = gather_ && plan_.no_helper_lanes == Path::Taken;
     // Two fragments of a pixel in one batch would both read its old colour where the colour
@@ -443,12 +448,14 @@ void TilePass::add_counters(DrawStats& stats) const {
 // times for a shader that only copies or is constant; such a shader costs less than the pass where
 // early depth already rejects most hidden fragments (100 large depth-tested triangles: 20% slower;
 // 10k instanced cubes with a copying shader: the pass was 43% of the draw's instructions). Any
-// copying shader counts, not only the one-vec4 copy the fused kernels read (copied_word).
+// copying shader counts, not only the one-vec4 copy the fused kernels read (copied_word), and so
+// does a texture copy whose texels go to the pixels as words (tex_nearest, two triangles per
+// full-screen quad: the pass was 6% of the draw's instructions and hid nothing).
 bool TilePass::hides(const Tile& t) const {
     if (plan_.hidden_surface_removal != Path::Taken || t.list.size() <= 1 || t.list.size() >= OwnerMap::kNone)
         return false;
     if (plan_.hidden_surface_in_every_tile) return true;
-    const bool cheap_shader = plan_.uniform_only || plan_.fragment_copies == Path::Taken;
+    const bool cheap_shader = plan_.uniform_only || plan_.fragment_copies == Path::Taken || texel_words_;
     const bool tests = plan_.depth_test || plan_.stencil_test;
     return !(cheap_shader && tests) && piles_up(t.list, *prims_, t.rect, cheap_shader ? 3 : 2);
 }
@@ -999,6 +1006,10 @@ SOFTGL_STEP TilePass::Colors TilePass::run_shader(Tile& t) {
     const size_t L = b.lanes, S = b.stride();
     if (plan_.copied_word >= 0)   // the colour is the varying's lanes (FragmentShader::copies)
         return Colors{reinterpret_cast<const LaneFloat*>(b.varyings.data()) + size_t(plan_.copied_word) * S, S, 1, false};
+    if (texel_words_) {
+        fs_.run_words(b, t.w.pixels.data(), t.worker);
+        return Colors{nullptr, 0, 1, false, true};
+    }
     FragmentResults& r = t.w.results;
     if (copies_) copy_outputs(*copies_, b, r);
     else fs_.run(b, r, t.worker);
@@ -1100,12 +1111,12 @@ SOFTGL_STEP void TilePass::write(Tile& t, const Chunk& c, const Colors& col) {
         const bool reads = plan_.kernel != ColorKernel::Plain || !plan_.all_channels;
         if (c.xy) {   // single pixels, each covered
             if (reads) load_lane_pixels(buffer_pixels_, c.xy, L, d);
-            write_color_lanes_at(plan_.simd, plan_.kernel, blend_, src, cs, d, L);
+            if (!col.words) write_color_lanes_at(plan_.simd, plan_.kernel, blend_, src, cs, d, L);
             store_lane_pixels(buffer_pixels_, c.xy, L, d);
             w.stats.samples_written += L;
         } else {
             if (reads) load_chunk_pixels(buffer_pixels_, c.quads, c.masks, c.kept, d);
-            write_color_lanes_at(plan_.simd, plan_.kernel, blend_, src, cs, d, L);
+            if (!col.words) write_color_lanes_at(plan_.simd, plan_.kernel, blend_, src, cs, d, L);
             w.stats.samples_written += store_chunk_pixels(buffer_pixels_, c.quads, c.masks, c.kept, d);
         }
     } else if (plan_.kernel != ColorKernel::Generic) {

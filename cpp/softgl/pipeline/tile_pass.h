@@ -139,6 +139,7 @@ private:
     const std::vector<int>* flat_words_ = nullptr;     // interpolated and flat
     bool prepared_ = false;
     bool flat_primitives_ = false;               // FragmentShader::run_flat for primitives with equal varyings
+    bool texel_words_ = false;                   // plan_.texel_words: FragmentShader::run_words into the pixels
     // Shade full batches (plan_.fragment_batches, decided at prepare): gather the tile's fragments;
     // as single pixels (plan_.no_helper_lanes); a pixel at most once per batch when the write step
     // gathers pixels (colour kernels that read the destination).

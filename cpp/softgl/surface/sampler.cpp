@@ -3188,4 +3188,84 @@ void TextureUnitSampler::sample(const glsl::TextureQuery& q) {
     sample_lanes(q);
 }
 
+// ---------------------------------------------------------------------------- texel words
+//
+// docs/architecture.md, "Fast paths" (texel words): a NEAREST lookup of an 8-bit unorm level
+// returns texel k's channels as k / 255 (Fast2D::texel); the colour kernels turn those floats
+// back into the bytes k (tests/textures/test_texel_words.py checks all 256). So where nothing
+// else changes them (a plain write of all channels) the texels' words can go to the pixels as
+// they are. The texel each lane reads is Fast2D::filter's (NEAREST, level base, layer 0), and
+// the AVX2 blocks are filter8_shaped's NEAREST operations: the same texel at every level.
+
+bool TextureUnitSampler::gives_words(const glsl::TextureQuery& q) const {
+    if (q.kind != TextureKind::Sample || q.dim != SamplerDim::Tex2D || q.shadow || q.result != BaseType::Float ||
+        q.lod_mode != TextureLod::Implicit || q.path == SamplerPath::General)
+        return false;
+    int32_t unit;
+    if (!one_unit(q, unit) || unit < 0 || unit >= kSamplerUnits) return false;
+    const BoundTexture& bt = units[size_t(unit)][0];
+    const SamplingPlan& plan = bt.plan;
+    if (!bt.texture || !plan.usable || bt.params.max_anisotropy > 1.0f) return false;   // (as sample: anisotropic)
+    if (plan.depth || !plan.one_storage || plan.needs_lambda || plan.mag_linear) return false;
+    const Plane& p = plan.planes[0];
+    return (p.rgba8 || p.narrow) && p.layers == 1;
+}
+
+namespace {
+
+#ifdef SOFTGL_SAMPLER_AVX2
+// filter8_shaped's NEAREST texel numbers of lanes [0, n) in blocks of 8, their words stored;
+// returns the lanes done.
+template <int kBytes, WrapKind kWrap>
+__attribute__((target("avx2"))) int nearest_words8(const Plane& p, int off_s, int off_t, const glsl::Scalar* s,
+                                                   const glsl::Scalar* t, int n, uint32_t* words) {
+    const __m256 width_f = _mm256_set1_ps(float(p.width)), height_f = _mm256_set1_ps(float(p.height));
+    const __m256 os = _mm256_set1_ps(float(off_s)), ot = _mm256_set1_ps(float(off_t));
+    const __m256i width = _mm256_set1_epi32(p.width), last_i = _mm256_set1_epi32(p.width - 1),
+                  last_j = _mm256_set1_epi32(p.height - 1);
+    int l = 0;
+    for (; l + 8 <= n; l += 8) {
+        const __m256 u = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(&s[l].f), width_f), os);
+        const __m256 v = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(&t[l].f), height_f), ot);
+        __m256i i0, i1, j0, j1;
+        wrap_shaped8<kWrap, false>(ifloor_floored8(_mm256_floor_ps(u)), last_i, i0, i1);
+        wrap_shaped8<kWrap, false>(ifloor_floored8(_mm256_floor_ps(v)), last_j, j0, j1);
+        const __m256i index = _mm256_add_epi32(_mm256_mullo_epi32(j0, width), i0);
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(words + l), shaped_words8<kBytes>(p, index));
+    }
+    return l;
+}
+#endif
+
+}  // namespace
+
+void TextureUnitSampler::sample_words(const glsl::TextureQuery& q, uint32_t* words) {
+    int32_t unit = 0;
+    one_unit(q, unit);   // gives_words(q) held
+    const BoundTexture& bt = units[size_t(unit)][0];
+    const Plane& p = bt.plan.planes[0];
+    const GLenum wrap_s = bt.plan.wrap_s, wrap_t = bt.plan.wrap_t;
+    const int off_s = q.offset[0], off_t = q.offset[1];
+    const glsl::Scalar* const s = q.coord[0];
+    const glsl::Scalar* const t = q.coord[1];
+    int l = 0;
+#ifdef SOFTGL_SAMPLER_AVX2
+    if (q.path != SamplerPath::Scalar && q.simd >= SimdLevel::AVX2 && int32_indices(p)) {
+        const bool repeat = wrap_s == gl::REPEAT && wrap_t == gl::REPEAT && p.width_pot && p.height_pot;
+        const bool clamp = wrap_s == gl::CLAMP_TO_EDGE && wrap_t == gl::CLAMP_TO_EDGE;
+        if (p.rgba8 && repeat) l = nearest_words8<1, WrapKind::RepeatPot>(p, off_s, off_t, s, t, q.lane_count, words);
+        else if (p.rgba8 && clamp) l = nearest_words8<1, WrapKind::Clamp>(p, off_s, off_t, s, t, q.lane_count, words);
+        else if (p.narrow && repeat) l = nearest_words8<2, WrapKind::RepeatPot>(p, off_s, off_t, s, t, q.lane_count, words);
+        else if (p.narrow && clamp) l = nearest_words8<2, WrapKind::Clamp>(p, off_s, off_t, s, t, q.lane_count, words);
+    }
+#endif
+    for (; l < q.lane_count; ++l) {   // Fast2D::filter, NEAREST
+        const float u = s[l].f * float(p.width) + float(off_s), v = t[l].f * float(p.height) + float(off_t);
+        const int32_t i = wrap_one(wrap_s, ifloor(u), p.width, p.width_pot);
+        const int32_t j = wrap_one(wrap_t, ifloor(v), p.height, p.height_pot);
+        words[l] = unorm8_texel(p, size_t(j) * size_t(p.width) + size_t(i));
+    }
+    if (q.fast_queries) ++*q.fast_queries;
+}
+
 }  // namespace softgl

@@ -64,6 +64,8 @@ public:
     void plan_units(const uint32_t filled[4]);
     void sample(const glsl::TextureQuery& query) override;
     bool lod_matters(const glsl::TextureQuery& query) const override;
+    bool gives_words(const glsl::TextureQuery& query) const override;
+    void sample_words(const glsl::TextureQuery& query, uint32_t* words) override;
 
 private:
     // The general path: every lane on its own, any texture kind and dimension.
