@@ -126,3 +126,59 @@ def test_normalized_uniform_matches_float64(simd):
         expected = np.round((v / np.linalg.norm(v) * 0.5 + 0.5) * 255)
         assert np.abs(image[..., :3].astype(np.int32) - expected.astype(np.int32)).max() <= 1
         assert len(np.unique(image.reshape(-1, 4), axis=0)) == 1
+
+
+SCALED_VS = """#version 300 es
+uniform mat4 uM;
+uniform float uS;
+in vec2 aPos;
+out vec3 vPos;
+void main() {
+  vec4 p = (uM * uS) * vec4(aPos, 0.0, 1.0);   // uM * uS: uniform only, in the prologue
+  vPos = vec3(p.x, -0.7, p.y);
+  gl_Position = p;
+}
+"""
+
+
+def draw_small_then_large(gl):
+    """Draws with the same uniforms: a tiny triangle (3 vertices, one or two quads of fragments:
+    runs of a few lanes), then the 864-vertex grid (runs of hundreds), and again; the bytes after each."""
+    prog = softgl.program(gl, SCALED_VS, FS)
+    gl.useProgram(prog)
+    count = grid_buffer(gl)
+    tiny = gl.createBuffer()
+    gl.bindBuffer(gl.ARRAY_BUFFER, tiny)
+    gl.bufferData(gl.ARRAY_BUFFER, np.array([0.0, 0.0, 0.05, 0.0, 0.0, 0.06] * 2, np.float32), gl.STATIC_DRAW)
+    grid = gl.getVertexAttrib(0, gl.VERTEX_ATTRIB_ARRAY_BUFFER_BINDING)
+    lights = LIGHTS[0]
+    for name in ("uLightDir", "uLightColor"):
+        gl.uniform3fv(gl.getUniformLocation(prog, name), np.array(lights[name], np.float32))
+    gl.uniform1f(gl.getUniformLocation(prog, "uCutoff"), lights["uCutoff"])
+    gl.uniform1f(gl.getUniformLocation(prog, "uExponent"), lights["uExponent"])
+    gl.uniformMatrix4fv(gl.getUniformLocation(prog, "uM"), False,
+                        np.array([1, 0.2, 0, 0, -0.1, 0.9, 0, 0, 0, 0, 1, 0, 0.05, -0.02, 0, 1], np.float32))
+    gl.uniform1f(gl.getUniformLocation(prog, "uS"), 0.93)
+    gl.enable(gl.BLEND)
+    gl.blendFunc(gl.ONE, gl.ONE)
+    gl.clearColor(0, 0, 0, 1)
+    gl.clear(gl.COLOR_BUFFER_BIT)
+    images = []
+    for buffer, n in ((tiny, 3), (grid, count), (tiny, 6), (grid, count)):
+        gl.bindBuffer(gl.ARRAY_BUFFER, buffer)
+        gl.vertexAttribPointer(0, 2, gl.FLOAT, False, 0, 0)
+        gl.drawArrays(gl.TRIANGLES, 0, n)
+        images.append(gl.readPixels(0, 0, W, H, gl.RGBA, gl.UNSIGNED_BYTE).copy())
+    return images
+
+
+@pytest.mark.parametrize("simd", SIMD)
+@pytest.mark.parametrize("threads", [1, 2])
+def test_prologue_kept_from_a_small_run_serves_a_larger_one(simd, threads):
+    # The prologue's values are copied to the lanes a run uses (glsl/executor.cpp run_prologue):
+    # kept from a run of a few lanes, they must reach every lane of a later, larger run.
+    hoisted = draw_small_then_large(context(threads, simd=simd))
+    reference = draw_small_then_large(context(1, simd="scalar", hoist_uniform_values=False))
+    for k, (h, r) in enumerate(zip(hoisted, reference)):
+        np.testing.assert_array_equal(h, r, err_msg=f"draw {k}")
+    assert len({im.tobytes() for im in hoisted}) == 4   # every draw changed the image
