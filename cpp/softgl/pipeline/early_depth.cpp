@@ -220,11 +220,17 @@ __attribute__((target("avx2"))) size_t early_depth_avx2(const EarlyDepth& t, con
             // Row 0 is tested first, then row 1: distinct pixels, so the order does not matter.
             const __m256i pass0 = test_row_masked_avx2(depth, write, row_words_avx2(depth, fx_lo, fx_hi, b_fy0), row0, covered0);
             const __m256i pass1 = test_row_masked_avx2(depth, write, row_words_avx2(depth, fx_lo, fx_hi, b_fy1), row1, covered1);
-            // survived's order as for a full run above; only the run's 4k entries are stored.
+            // survived's order as for a full run above. Entries past the run's 4k are the next
+            // quads', which are stored again when those are tested; at the end of the array, only
+            // the run's are stored (masked stores are slow on some CPUs: not otherwise).
             const __m256i lo = _mm256_unpacklo_epi64(pass0, pass1), hi = _mm256_unpackhi_epi64(pass0, pass1);
             const __m256i masks = _mm256_and_si256(_mm256_packs_epi32(lo, hi), _mm256_set1_epi16(1));
-            const __m256i entries = _mm256_cmpgt_epi32(_mm256_set1_epi32(int32_t(2 * k)), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
-            _mm256_maskstore_epi32(reinterpret_cast<int*>(survived + 4 * i), entries, masks);
+            if (i + 4 <= n) {
+                _mm256_storeu_si256(reinterpret_cast<__m256i*>(survived + 4 * i), masks);
+            } else {
+                const __m256i entries = _mm256_cmpgt_epi32(_mm256_set1_epi32(int32_t(2 * k)), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+                _mm256_maskstore_epi32(reinterpret_cast<int*>(survived + 4 * i), entries, masks);
+            }
             const unsigned passed = unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(pass0))) |
                                     unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(pass1))) << 8;
             killed += size_t(__builtin_popcount((tested0 | tested1 << 8) & ~passed));
