@@ -1,7 +1,7 @@
 """The early depth test (cpp/softgl/pipeline/early_depth.h) gives the same survivors, kill count
 and depth buffer at every instruction-set level (scalar through the definitions depth_at /
-depth_word / compare; one sample per pixel: AVX2 a quad at a time, AVX-512 rows of up to four
-side-by-side quads; four samples: AVX2 a pixel's samples, AVX-512 a quad's pixel row), and those
+depth_word / compare; one sample per pixel: AVX2 and AVX-512 rows of up to four side-by-side
+quads, a lone quad at a time; four samples: AVX2 a pixel's samples, AVX-512 a quad's pixel row), and those
 equal an independent float64 evaluation here: ES 3.0 §4.1.6 with the window depth
 z = clamp((c + a*fx + b*fy) + offset) at each sample's position, stored as
 floor(z * (2^24 - 1) + 0.5) (NaN -> 0).
@@ -338,3 +338,32 @@ def test_multisample_special_depths_and_huge_offsets(c):
         plane = (rng.normal(0, 1e-12), rng.normal(0, 1e-12), rng.uniform(0, 1))
         origin = tuple(int(v) for v in rng.integers(-(1 << 48), 1 << 48, 2))
         check(rng, func, True, plane, origin=origin, samples=4)
+
+
+@pytest.mark.parametrize("func", ["LESS", "LEQUAL", "GREATER", "NOTEQUAL"])
+@pytest.mark.parametrize("write", [True, False])
+def test_partly_covered_runs(func, write):
+    # Runs of 2..4 side-by-side quads with pixels left out (the rows of small primitives), ending
+    # at the buffer's right and top border (their outside pixels are never covered and must be
+    # neither read nor written), pixels whose sample 0 is clear but other sample bits are set
+    # (uncovered with one sample), then a lone quad or another run on the next quad-row: each
+    # run's entries of `survived` and no others.
+    size = (43, 21)
+    rng = np.random.default_rng(150 + FUNCS.index(func) + 10 * write)
+    for _ in range(40):
+        quads = []
+        for _ in range(int(rng.integers(1, 5))):
+            count = int(rng.integers(1, 5))
+            y = 2 * int(rng.integers(0, 11))
+            x0 = 2 * int(rng.integers(0, 22 - count + 1)) if rng.random() < 0.6 else 44 - 2 * count
+            for x in range(x0, x0 + 2 * count, 2):
+                cov = 0
+                for j in range(4):
+                    if x + (j & 1) < size[0] and y + (j >> 1) < size[1] and rng.random() < 0.6:
+                        cov |= 1 << (16 * j)
+                    if rng.random() < 0.2:
+                        cov |= int(rng.integers(1, 1 << 15)) << (16 * j + 1)   # bits above sample 0
+                quads.append((x, y, cov - (1 << 64) if cov >> 63 else cov))
+        plane = (rng.normal(0, 0.05), rng.normal(0, 0.05), rng.uniform(-0.2, 1.2))
+        check(rng, func, write, plane, quads=np.array(quads, np.int64).reshape(-1, 3), size=size,
+              stored=stored_by_region if rng.random() < 0.7 else random_stored)

@@ -126,3 +126,63 @@ def test_normalized_uniform_matches_float64(simd):
         expected = np.round((v / np.linalg.norm(v) * 0.5 + 0.5) * 255)
         assert np.abs(image[..., :3].astype(np.int32) - expected.astype(np.int32)).max() <= 1
         assert len(np.unique(image.reshape(-1, 4), axis=0)) == 1
+
+
+SCALED_VS = """#version 300 es
+uniform mat4 uM;
+uniform float uS;
+in vec2 aPos;
+out vec3 vPos;
+void main() {
+  vec4 p = (uM * uS) * vec4(aPos, 0.0, 1.0);   // uM * uS: uniform only, in the prologue
+  vPos = vec3(p.x, -0.7, p.y);
+  gl_Position = p;
+}
+"""
+
+
+def draw_in_order(gl, order):
+    """Opaque draws with the same uniforms, in `order` ("tiny": a triangle of a few pixels in the
+    lower left corner, 3 vertices and a quad or two of fragments, runs of a few lanes; "grid":
+    the 864-vertex grid, runs of hundreds, which does not reach that corner); the bytes after each."""
+    prog = softgl.program(gl, SCALED_VS, FS)
+    gl.useProgram(prog)
+    count = grid_buffer(gl)
+    grid = gl.getVertexAttrib(0, gl.VERTEX_ATTRIB_ARRAY_BUFFER_BINDING)
+    tiny = gl.createBuffer()
+    gl.bindBuffer(gl.ARRAY_BUFFER, tiny)
+    gl.bufferData(gl.ARRAY_BUFFER, np.array([-1.6, -1.6, -1.45, -1.6, -1.6, -1.4], np.float32), gl.STATIC_DRAW)
+    lights = LIGHTS[0]
+    for name in ("uLightDir", "uLightColor"):
+        gl.uniform3fv(gl.getUniformLocation(prog, name), np.array(lights[name], np.float32))
+    gl.uniform1f(gl.getUniformLocation(prog, "uCutoff"), lights["uCutoff"])
+    gl.uniform1f(gl.getUniformLocation(prog, "uExponent"), lights["uExponent"])
+    gl.uniformMatrix4fv(gl.getUniformLocation(prog, "uM"), False,
+                        np.array([0.6, 0.1, 0, 0, -0.05, 0.55, 0, 0, 0, 0, 1, 0, 0.1, 0.1, 0, 1], np.float32))
+    gl.uniform1f(gl.getUniformLocation(prog, "uS"), 0.93)
+    gl.clearColor(0, 0, 0, 1)
+    gl.clear(gl.COLOR_BUFFER_BIT)
+    images = []
+    for kind in order:
+        gl.bindBuffer(gl.ARRAY_BUFFER, tiny if kind == "tiny" else grid)
+        gl.vertexAttribPointer(0, 2, gl.FLOAT, False, 0, 0)
+        gl.drawArrays(gl.TRIANGLES, 0, 3 if kind == "tiny" else count)
+        images.append(gl.readPixels(0, 0, W, H, gl.RGBA, gl.UNSIGNED_BYTE).copy())
+    return images
+
+
+@pytest.mark.parametrize("simd", SIMD)
+@pytest.mark.parametrize("threads", [1, 2])
+def test_prologue_kept_from_a_small_run_serves_a_larger_one(simd, threads):
+    # The prologue's values are copied to the lanes a run uses (glsl/executor.cpp run_prologue):
+    # kept from the tiny draw's runs of a few lanes, they must reach every lane of the grid's
+    # runs. The reference draws the grid first in a fresh context (its first runs are large);
+    # the two draws do not overlap, so the order does not change the bytes.
+    hoisted = draw_in_order(context(threads, simd=simd), ["tiny", "grid", "tiny", "grid"])
+    reference = draw_in_order(context(threads, simd=simd), ["grid", "tiny"])[-1]
+    tiny_only = draw_in_order(context(threads, simd=simd), ["tiny"])[0]
+    grid_only = draw_in_order(context(threads, simd=simd), ["grid"])[0]
+    assert 0 < np.count_nonzero(tiny_only[..., :3].any(axis=-1)) < 20   # a few pixels ...
+    assert not (tiny_only[..., :3].any(axis=-1) & grid_only[..., :3].any(axis=-1)).any()   # ... apart from the grid's
+    for k in (1, 2, 3):
+        np.testing.assert_array_equal(hoisted[k], reference, err_msg=f"draw {k}")

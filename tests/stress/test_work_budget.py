@@ -159,16 +159,21 @@ for threads in (1, 2):
     report(case="points", threads=threads, **stopped_call(gl, lambda: gl.drawArrays(gl.POINTS, 0, 2**31 - 1)))
     # A negative count is INVALID_VALUE (WebGL 2.0 §5.? / ES 3.0 §2.8.3) before any work.
     report(case="negative", threads=threads, **stopped_call(gl, lambda: gl.drawArraysInstanced(gl.TRIANGLES, 0, 6, -1)))
+    # The same count with a per-vertex array (fetched once per vertex job, copied to its instances).
+    gl.useProgram(program(gl, VS_QUAD, FS_RED))
+    quad(gl)
+    report(case="instanced_array", threads=threads,
+           **stopped_call(gl, lambda: gl.drawArraysInstanced(gl.TRIANGLE_STRIP, 0, 4, -2**31 - 1)))
 """
 
 
 def test_huge_vertex_and_instance_counts_stop_within_the_budget():
     """drawArraysInstanced(TRIANGLES, 0, 6, -2**31-1) (2^31 - 1 instances after WebIDL's
-    conversion) and drawArrays(POINTS, 0, 2**31-1) without attribute arrays: both valid, both
-    stop when the budget runs out (before: > 240 s each), having drawn nothing: they run in many
+    conversion) and drawArrays(POINTS, 0, 2**31-1) without attribute arrays, and the instanced
+    draw of a quad from a per-vertex array: all valid, all stop when the budget runs out (before: > 240 s each), having drawn nothing: they run in many
     batches, so they keep copies of what they write (pipeline/draw_rollback.h)."""
     results = run_child(HUGE_COUNTS)
-    assert len(results) == 6
+    assert len(results) == 8
     for r in results:
         expected = 0x0501 if r["case"] == "negative" else 0x0505   # INVALID_VALUE, OUT_OF_MEMORY
         assert r["error"] == expected, r

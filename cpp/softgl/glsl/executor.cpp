@@ -476,9 +476,25 @@ void Executor::run_prologue(const StageRun& run) {
     const bool loads = prologue_words_[0] < prologue_words_[1];
     const int32_t lo = loads ? prologue_words_[0] : 0, hi = loads ? prologue_words_[1] : 0;
     const size_t words = static_cast<size_t>(hi - lo);
+    // The lanes this run's batches execute, rounded up to whole 16-lane vectors: a small run (a
+    // draw of 36 vertices, one quad of fragments) copies to those only, not to the whole batch.
+    const int lanes = std::min(batch_, (std::max(run.lane_count, 4) + 15) / 16 * 16);
+    auto broadcast = [&](int from) {
+        auto fill_from = [&](Reg r) { Scalar* d = own(r); fill(d + from, lanes - from, d[0]); };
+        for (size_t pc = 0; pc < prologue_end_; ++pc) {
+            const Instruction& i = code_[pc];
+            if (i.op == Op::FNormalize)   // writes one register per component
+                for (int j = 0; j < i.imm[1]; ++j) fill_from(products_[static_cast<size_t>(i.imm[0])][4 + static_cast<size_t>(j)]);
+            else
+                fill_from(i.dst);
+        }
+        prologue_lanes_ = lanes;
+    };
     if (prologue_ready_ && prologue_had_uniforms_ == (run.uniforms != nullptr) &&
-        (!run.uniforms || std::memcmp(prologue_uniforms_.data(), run.uniforms + lo, sizeof(Scalar) * words) == 0))
+        (!run.uniforms || std::memcmp(prologue_uniforms_.data(), run.uniforms + lo, sizeof(Scalar) * words) == 0)) {
+        if (prologue_lanes_ < lanes) broadcast(prologue_lanes_);   // a larger run than the ones before
         return;
+    }
     const int quad = std::min(4, batch_);
     switch (simd_) {
     case SimdLevel::AVX512: execute_avx512(quad, run, 0, prologue_end_); break;
@@ -486,14 +502,7 @@ void Executor::run_prologue(const StageRun& run) {
     case SimdLevel::SSE2:
     case SimdLevel::Scalar: execute_portable(quad, run, 0, prologue_end_); break;
     }
-    auto broadcast = [&](Reg r) { Scalar* d = own(r); fill(d, batch_, d[0]); };
-    for (size_t pc = 0; pc < prologue_end_; ++pc) {
-        const Instruction& i = code_[pc];
-        if (i.op == Op::FNormalize)   // writes one register per component
-            for (int j = 0; j < i.imm[1]; ++j) broadcast(products_[static_cast<size_t>(i.imm[0])][4 + static_cast<size_t>(j)]);
-        else
-            broadcast(i.dst);
-    }
+    broadcast(1);
     prologue_had_uniforms_ = run.uniforms != nullptr;
     if (run.uniforms) prologue_uniforms_.assign(run.uniforms + lo, run.uniforms + hi);
     prologue_ready_ = true;

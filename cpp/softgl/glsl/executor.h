@@ -184,9 +184,11 @@ private:
     std::vector<int> output_alias_;   // per program output: 1 if its register may alias the caller's array
     std::vector<ExecutorFrame> frames_;
     // code_[0, prologue_end_): uniform loads and (hoist_) values of uniforms and constants only,
-    // run once on one quad and copied to every lane; again only when the uniform words
+    // run once on one quad and copied to the lanes runs use (prologue_lanes_ of them: a run
+    // of 36 lanes copies to 48, not to the whole batch); again only when the uniform words
     // [prologue_words_[0], prologue_words_[1]) it loads differ from prologue_uniforms_.
     size_t prologue_end_ = 0;
+    int prologue_lanes_ = 0;
     int32_t prologue_words_[2] = {std::numeric_limits<int32_t>::max(), 0};
     std::vector<Scalar> prologue_uniforms_;
     bool prologue_had_uniforms_ = false;

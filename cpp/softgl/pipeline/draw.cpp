@@ -65,6 +65,7 @@ constexpr size_t kSetupChunk = 2048;    // primitives per setup-and-binning job
 struct VertexWorker {
     std::array<AttributeStream, kMaxVertexAttribs> attribs;
     std::vector<uint32_t> vertex_ids, instance_ids;   // per lane of the job
+    AttributeStream one_instance;                     // a per-vertex array's lanes of one instance
 };
 
 // The set-up primitives of one chunk, its counters and its bins (indices local to the chunk).
@@ -325,10 +326,25 @@ private:
                 std::copy_n(ids.data() + begin, per, w.vertex_ids.data() + i * per);
                 std::fill_n(w.instance_ids.data() + i * per, per, uint32_t(instance + j + i));
             }
-            for (int loc = 0; loc < kMaxVertexAttribs; ++loc)
-                if (used & (1u << loc))
+            for (int loc = 0; loc < kMaxVertexAttribs; ++loc) {
+                if (!(used & (1u << loc))) continue;
+                AttributeStream& out = w.attribs[size_t(loc)];
+                const VertexAttribPointer& a = in_.vertex_array.attribs[size_t(loc)];
+                if (k > 1 && a.enabled && a.divisor == 0) {
+                    // A per-vertex array reads the same elements for each of the job's instances:
+                    // the first instance's lanes, copied to the others.
+                    fetch_attribute(in_.vertex_array, in_.current_attribs[size_t(loc)], loc, w.vertex_ids.data(), 0, per,
+                                    w.instance_ids.data(), w.one_instance);
+                    out.kind = w.one_instance.kind;
+                    for (size_t c = 0; c < 4; ++c) {
+                        out.comp[c].resize(count);   // usually the size already: no fill
+                        for (size_t i = 0; i < k; ++i) std::copy_n(w.one_instance.comp[c].data(), per, out.comp[c].data() + i * per);
+                    }
+                } else {
                     fetch_attribute(in_.vertex_array, in_.current_attribs[size_t(loc)], loc, w.vertex_ids.data(), 0,
-                                    count, w.instance_ids.data(), w.attribs[size_t(loc)]);
+                                    count, w.instance_ids.data(), out);
+                }
+            }
             const size_t at = j * n + begin;
             const VertexDestination to{all_position + at * 4, all_point_size + at, all_varyings + at * size_t(words_)};
             in_.vertex_shader.run(w.attribs, count, w.vertex_ids.data(), w.instance_ids.data(), to);

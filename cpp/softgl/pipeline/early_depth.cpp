@@ -122,9 +122,26 @@ __attribute__((target("avx2"))) inline __m256i test_row_avx2(const DepthWordsAvx
     return pass;
 }
 
-// A quad per step (DepthWordsAvx2), or four side by side with every pixel covered (full_run_avx2:
-// the quad-rows of covered blocks) as two rows of 8 pixels. Pixels outside the coverage are
-// neither read nor written (they may lie outside the buffer). Each pixel's word and test are the
+// The same for the `covered` lanes of a row of 8 only: the others are neither read nor written.
+__attribute__((target("avx2"))) inline __m256i test_row_masked_avx2(const DepthWordsAvx2& depth, bool write, __m256i word,
+                                                                    uint32_t* row, __m256i covered) {
+    const __m256i stored = _mm256_maskload_epi32(reinterpret_cast<const int*>(row), covered);
+    const __m256i sign = _mm256_set1_epi32(int32_t(0x80000000u));
+    const __m256i zs = _mm256_xor_si256(word, sign), ss = _mm256_xor_si256(stored, sign);
+    const __m256i lt = _mm256_cmpgt_epi32(ss, zs), eq = _mm256_cmpeq_epi32(zs, ss), gt = _mm256_cmpgt_epi32(zs, ss);
+    const __m256i pass = _mm256_and_si256(
+        covered, _mm256_or_si256(_mm256_or_si256(_mm256_and_si256(lt, _mm256_broadcastsi128_si256(depth.less)),
+                                                 _mm256_and_si256(eq, _mm256_broadcastsi128_si256(depth.equal))),
+                                 _mm256_and_si256(gt, _mm256_broadcastsi128_si256(depth.greater))));
+    if (write) _mm256_maskstore_epi32(reinterpret_cast<int*>(row), pass, word);
+    return pass;
+}
+
+// A quad per step (DepthWordsAvx2), or two to four side by side as two rows of 8 pixels: plain
+// accesses when there are four with every pixel covered (full_run_avx2: the quad-rows of covered
+// blocks), masked ones otherwise (the rows of small primitives: a quad at a time cost ~90
+// instructions, a run of them ~70). Pixels outside the coverage are neither read nor written (they
+// may lie outside the buffer). Each pixel's word and test are the
 // quad step's, and the pixels of a row are distinct, so testing them together is in order.
 __attribute__((target("avx2"))) size_t early_depth_avx2(const EarlyDepth& t, const Quad* quads, size_t n,
                                                        uint16_t* survived) {
@@ -145,7 +162,11 @@ __attribute__((target("avx2"))) size_t early_depth_avx2(const EarlyDepth& t, con
     __m256d fx_lo = _mm256_setzero_pd(), fx_hi = _mm256_setzero_pd();
     for (size_t i = 0; i < n; ++i) {
         const Quad& quad = quads[i];
-        if (i + 4 <= n && full_run_avx2(quads + i)) {
+        // The quads side by side from this one (x stepping by 2, the same y), up to four: the
+        // rasterizer emits a block's quads row by row, so a small primitive's rows are such runs.
+        size_t k = 1;
+        while (k < 4 && i + k < n && quads[i + k].y == quad.y && quads[i + k].x == quad.x + 2 * int32_t(k)) ++k;
+        if (k > 1) {
             if (quad.x != run_x) {
                 const int64_t X = int64_t(quad.x) * kSubPixel + x_origin;
                 const __m256d fx0 = _mm256_set1_pd(double(X) * (1.0 / kSubPixel));
@@ -156,16 +177,64 @@ __attribute__((target("avx2"))) size_t early_depth_avx2(const EarlyDepth& t, con
             const __m256d b_fy0 = _mm256_mul_pd(depth.b, _mm256_set1_pd(double(Y) * (1.0 / kSubPixel)));
             const __m256d b_fy1 = _mm256_mul_pd(depth.b, _mm256_set1_pd(double(Y + kSubPixel) * (1.0 / kSubPixel)));
             uint32_t* row0 = &buffer[size_t(quad.y) * pitch + size_t(quad.x)];
-            const __m256i pass0 = test_row_avx2(depth, write, row_words_avx2(depth, fx_lo, fx_hi, b_fy0), row0);
-            const __m256i pass1 = test_row_avx2(depth, write, row_words_avx2(depth, fx_lo, fx_hi, b_fy1), row0 + pitch);
-            // survived's order, pixel j of quad q at 4q + j: rows a (pass0), b (pass1) as
-            // a0 a1 b0 b1 a2 a3 b2 b3 | a4 a5 b4 b5 a6 a7 b6 b7, then 0 / 1.
+            if (k == 4 && full_run_avx2(quads + i)) {
+                const __m256i pass0 = test_row_avx2(depth, write, row_words_avx2(depth, fx_lo, fx_hi, b_fy0), row0);
+                const __m256i pass1 = test_row_avx2(depth, write, row_words_avx2(depth, fx_lo, fx_hi, b_fy1), row0 + pitch);
+                // survived's order, pixel j of quad q at 4q + j: rows a (pass0), b (pass1) as
+                // a0 a1 b0 b1 a2 a3 b2 b3 | a4 a5 b4 b5 a6 a7 b6 b7, then 0 / 1.
+                const __m256i lo = _mm256_unpacklo_epi64(pass0, pass1), hi = _mm256_unpackhi_epi64(pass0, pass1);
+                const __m256i masks = _mm256_and_si256(_mm256_packs_epi32(lo, hi), _mm256_set1_epi16(1));
+                _mm256_storeu_si256(reinterpret_cast<__m256i*>(survived + 4 * i), masks);
+                killed += size_t(16 - __builtin_popcount(unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(pass0))) |
+                                                         unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(pass1))) << 8));
+                i += 3;
+                continue;
+            }
+            // A run with uncovered pixels: the two pixel rows of its k quads as lanes 0 .. 2k - 1
+            // of two rows of 8, through masked accesses (uncovered pixels may lie outside the
+            // buffer or the tile), the rest of each row masked off.
+            alignas(32) uint64_t coverage[4] = {0, 0, 0, 0};
+            for (size_t q = 0; q < k; ++q) coverage[q] = quads[i + q].coverage;
+            // As 32-bit elements, quad q's pixels 0|1 (row 0) at 2q and 2|3 (row 1) at 2q + 1:
+            // gathered per row, widened to a 32-bit lane per pixel, sample 0's bit spread over it.
+            const __m256i by_row = _mm256_permutevar8x32_epi32(_mm256_load_si256(reinterpret_cast<const __m256i*>(coverage)),
+                                                               _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7));
+            const __m256i covered0 = _mm256_srai_epi32(_mm256_slli_epi32(_mm256_cvtepu16_epi32(_mm256_castsi256_si128(by_row)), 31), 31);
+            const __m256i covered1 =
+                _mm256_srai_epi32(_mm256_slli_epi32(_mm256_cvtepu16_epi32(_mm256_extracti128_si256(by_row, 1)), 31), 31);
+            const unsigned tested0 = unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(covered0)));
+            const unsigned tested1 = unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(covered1)));
+            uint32_t* row1 = tested1 ? row0 + pitch : row0;   // a pointer into the buffer either way
+            {
+                // Hints as for one quad below (EarlyDepth::prefetch_color); the run's 8 pixels
+                // may lie in two lines.
+                const uintptr_t below = reinterpret_cast<uintptr_t>(row0) + 8 * 4 * pitch;
+                __builtin_prefetch(reinterpret_cast<const void*>(below), 1);
+                __builtin_prefetch(reinterpret_cast<const void*>(below + 28), 1);
+                if (colour) {
+                    const uintptr_t c0 = reinterpret_cast<uintptr_t>(colour + size_t(quad.y) * pitch + size_t(quad.x));
+                    __builtin_prefetch(reinterpret_cast<const void*>(c0), 1);
+                    __builtin_prefetch(reinterpret_cast<const void*>(c0 + 28), 1);
+                }
+            }
+            // Row 0 is tested first, then row 1: distinct pixels, so the order does not matter.
+            const __m256i pass0 = test_row_masked_avx2(depth, write, row_words_avx2(depth, fx_lo, fx_hi, b_fy0), row0, covered0);
+            const __m256i pass1 = test_row_masked_avx2(depth, write, row_words_avx2(depth, fx_lo, fx_hi, b_fy1), row1, covered1);
+            // survived's order as for a full run above. Entries past the run's 4k are the next
+            // quads', which are stored again when those are tested; at the end of the array, only
+            // the run's are stored (masked stores are slow on some CPUs: not otherwise).
             const __m256i lo = _mm256_unpacklo_epi64(pass0, pass1), hi = _mm256_unpackhi_epi64(pass0, pass1);
             const __m256i masks = _mm256_and_si256(_mm256_packs_epi32(lo, hi), _mm256_set1_epi16(1));
-            _mm256_storeu_si256(reinterpret_cast<__m256i*>(survived + 4 * i), masks);
-            killed += size_t(16 - __builtin_popcount(unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(pass0))) |
-                                                     unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(pass1))) << 8));
-            i += 3;
+            if (i + 4 <= n) {
+                _mm256_storeu_si256(reinterpret_cast<__m256i*>(survived + 4 * i), masks);
+            } else {
+                const __m256i entries = _mm256_cmpgt_epi32(_mm256_set1_epi32(int32_t(2 * k)), _mm256_setr_epi32(0, 1, 2, 3, 4, 5, 6, 7));
+                _mm256_maskstore_epi32(reinterpret_cast<int*>(survived + 4 * i), entries, masks);
+            }
+            const unsigned passed = unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(pass0))) |
+                                    unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(pass1))) << 8;
+            killed += size_t(__builtin_popcount((tested0 | tested1 << 8) & ~passed));
+            i += k - 1;
             continue;
         }
         if (quad.y != row_y) {

@@ -2,8 +2,8 @@
 // writes depth) of a run of quads, for the common case: 24-bit depth words, no stencil. Each
 // covered sample compares depth_word(Depth24, prim.depth_at(sample)) with the stored word, and on
 // a pass with depth writes enabled stores it. The pixels of one primitive are distinct, so they
-// are independent. One sample per pixel: the AVX2 level tests a quad's four pixels at once, the
-// AVX-512 level a row of up to four side-by-side quads (two pixel rows of 8). Four samples per
+// are independent. One sample per pixel: the AVX2 and AVX-512 levels test a row of up to four
+// side-by-side quads at once (two pixel rows of 8), a lone quad's four pixels at once. Four samples per
 // pixel (MSAA 4x): the AVX2 level tests a pixel's four samples at once, the AVX-512 level a
 // quad's pixel row (two pixels, 8 sample words); other sample counts run the scalar level. All
 // give the same words and decisions as the scalar level (docs/architecture.md, "Numeric rules").
