@@ -70,10 +70,12 @@ def perspective_case(seed, min_filter, wrap, mode):
     """Lanes in quads of a perspective view of a textured plane (the terrain scene's kind): per
     quad the executor's fine derivatives, different in every lane, lambda from -1 to 9."""
     rng = np.random.default_rng(seed)
-    quads = 300
+    quads = 1200
     # Each quad: a screen position, texture coordinates s = a x / w, t = b y / w of the pixel.
-    depth = np.exp2(rng.uniform(-1, 8, quads))
-    base = rng.uniform(-3, 3, (2, quads))
+    # Depth growing along the lanes, as along a row of a scene: neighbouring quads mostly on the
+    # same levels, some blocks across a level boundary (halves of a block on different levels).
+    depth = np.sort(np.exp2(rng.uniform(-1, 8, quads)))
+    base = np.cumsum(rng.uniform(0, 0.02, (2, quads)), axis=1) - 1
     scale = rng.uniform(0.5, 2, (2, quads))
     px, py = np.array([0, 1, 0, 1]), np.array([0, 0, 1, 1])
     s = (base[0][:, None] + scale[0][:, None] * depth[:, None] * (px + rng.uniform(0, 1, (quads, 1))) / 512)
@@ -98,7 +100,7 @@ def perspective_case(seed, min_filter, wrap, mode):
     return dict(levels=levels, unorm8=True,
                 params={"min_filter": GL[min_filter], "mag_filter": GL["LINEAR"], "wrap_s": GL[wrap], "wrap_t": GL[wrap]},
                 coords=np.stack([s, t, np.zeros(n, np.float32)]), lod_mode=mode,
-                lod=rng.uniform(-1, 1, n).astype(np.float32),
+                lod=np.full(n, 0.37, np.float32),   # a bias, as a uniform gives it
                 ddx=np.stack([dsx, dtx]), ddy=np.stack([dsy, dty]), active=active, offset=(0, 0))
 
 

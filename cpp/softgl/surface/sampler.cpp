@@ -2721,8 +2721,9 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) int colour_blocks16_shaped
                 __m512 v = _mm512_load_ps(lambda);
                 if (active != 0xFFFF) v = _mm512_mask_mov_ps(_mm512_set1_ps(lambda[__builtin_ctz(active)]), active, v);
                 BlockChoice lo, hi;
-                if (choose_block8(f, _mm512_castps512_ps256(v), lo) && choose_block8(f, _mm512_extractf32x8_ps(v, 1), hi) &&
-                    lo.first == hi.first && lo.second == hi.second && lo.linear == hi.linear) {
+                const bool chosen = choose_block8(f, _mm512_castps512_ps256(v), lo) &&
+                                    choose_block8(f, _mm512_extractf32x8_ps(v, 1), hi) && lo.linear == hi.linear;
+                if (chosen && lo.first == hi.first && lo.second == hi.second) {
                     filter16_shaped<kBytes, kWrap>(f, f.planes[size_t(lo.first)], lo.linear, s, t, a);
                     if (lo.second >= 0) {
                         __m512 b[4];
@@ -2730,6 +2731,32 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) int colour_blocks16_shaped
                         const __m512 g = _mm512_insertf32x8(_mm512_castps256_ps512(lo.frac), hi.frac, 1);
                         const __m512 ng = _mm512_sub_ps(_mm512_set1_ps(1.0f), g);
                         for (int c = 0; c < 4; ++c) a[c] = _mm512_add_ps(_mm512_mul_ps(ng, a[c]), _mm512_mul_ps(g, b[c]));
+                    }
+                } else if (chosen) {
+                    // The halves on different levels (a block across a level boundary): each level
+                    // either half reads filtered once for all 16 lanes (at most 3 distinct for
+                    // adjacent levels), each half taking or blending its own, (1 - frac) a + frac b
+                    // per lane as filter16(levels): the same bits.
+                    const int32_t want[4] = {lo.first, lo.second, hi.first, hi.second};
+                    __m512 r[4][4];
+                    for (int i = 0; i < 4; ++i) {
+                        if (want[i] < 0) continue;
+                        int j = 0;
+                        while (j < i && want[j] != want[i]) ++j;
+                        if (j < i)
+                            for (int c = 0; c < 4; ++c) r[i][c] = r[j][c];
+                        else
+                            filter16_shaped<kBytes, kWrap>(f, f.planes[size_t(want[i])], lo.linear, s, t, r[i]);
+                    }
+                    const __m512 g = _mm512_insertf32x8(
+                        _mm512_castps256_ps512(lo.second >= 0 ? lo.frac : _mm256_setzero_ps()),
+                        hi.second >= 0 ? hi.frac : _mm256_setzero_ps(), 1);
+                    const __m512 ng = _mm512_sub_ps(_mm512_set1_ps(1.0f), g);
+                    for (int c = 0; c < 4; ++c) {
+                        __m512 x = r[0][c], y = r[2][c];
+                        if (lo.second >= 0) x = _mm512_add_ps(_mm512_mul_ps(ng, x), _mm512_mul_ps(g, r[1][c]));
+                        if (hi.second >= 0) y = _mm512_add_ps(_mm512_mul_ps(ng, y), _mm512_mul_ps(g, r[3][c]));
+                        a[c] = _mm512_mask_blend_ps(__mmask16(0xFF00), x, y);   // lanes 8-15 from the upper half's
                     }
                 } else {
                     // Lanes on different levels: chosen lane by lane, filtered by the general blocks.
