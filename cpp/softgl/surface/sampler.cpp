@@ -616,15 +616,13 @@ struct Fast2D {
 class LambdaMemo {
 public:
     float operator()(double rho2) {
-        if (!(rho2 == rho2)) return -INFINITY;   // NaN: rho > 0 fails, as in sample_lanes
         uint64_t bits;
         std::memcpy(&bits, &rho2, 8);
-        Entry& e = entries_[(bits ^ (bits >> 20) ^ (bits >> 40)) % kEntries];
-        if (e.not_key == ~bits) return e.lambda;
-        const double rho = std::sqrt(rho2);
-        const float lambda = rho > 0 ? float(std::log2(rho)) : -INFINITY;
-        e = {~bits, lambda};
-        return lambda;
+        // The last value asked first, inline: under affine coordinates every block of a draw
+        // asks the same rho2.
+        if (bits == last_bits_) return last_lambda_;
+        last_bits_ = bits;
+        return last_lambda_ = lookup(rho2, bits);
     }
     static LambdaMemo& of_this_thread() {
         thread_local LambdaMemo memo;
@@ -632,9 +630,20 @@ public:
     }
 
 private:
+    float lookup(double rho2, uint64_t bits) {
+        if (!(rho2 == rho2)) return -INFINITY;   // NaN: rho > 0 fails, as in sample_lanes
+        Entry& e = entries_[(bits ^ (bits >> 20) ^ (bits >> 40)) % kEntries];
+        if (e.not_key == ~bits) return e.lambda;
+        const double rho = std::sqrt(rho2);
+        const float lambda = rho > 0 ? float(std::log2(rho)) : -INFINITY;
+        e = {~bits, lambda};
+        return lambda;
+    }
     static constexpr size_t kEntries = 256;
     struct Entry { uint64_t not_key; float lambda; };   // ~bits of rho2 (zero: never a non-NaN)
     Entry entries_[kEntries] = {};
+    uint64_t last_bits_ = 0x7FF8000000000000ull;   // a NaN's bits, whose lambda is -inf
+    float last_lambda_ = -INFINITY;
 };
 
 // Whether every texel number of p fits an int32 (gathers take int32 indices; narrow planes: their
