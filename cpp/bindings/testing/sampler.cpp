@@ -122,10 +122,18 @@ py::tuple sample_texture_hook(const std::string& path, int simd, py::list levels
     return py::make_tuple(result, fast != 0);
 }
 
+// lambdas_of_rho2_at: (lambdas float32, how many the vector kernel vouched for).
+py::tuple lod_lambdas_hook(int simd, Array<double> rho2) {
+    py::array_t<float> out(rho2.size());
+    const size_t sure = lambdas_of_rho2_at(SimdLevel(simd), rho2.data(), size_t(rho2.size()), out.mutable_data());
+    return py::make_tuple(out, sure);
+}
+
 }  // namespace
 
 void bind_testing_sampler(py::module_& t) {
     t.def("sample_texture", &sample_texture_hook, py::arg("path"), py::arg("simd"), py::arg("levels"),
           py::arg("unorm8"), py::arg("params"), py::arg("coords"), py::arg("lod_mode"),
           py::arg("lod"), py::arg("ddx"), py::arg("ddy"), py::arg("active"), py::arg("offset"));
+    t.def("lod_lambdas", &lod_lambdas_hook, py::arg("simd"), py::arg("rho2"));
 }

@@ -616,15 +616,13 @@ struct Fast2D {
 class LambdaMemo {
 public:
     float operator()(double rho2) {
-        if (!(rho2 == rho2)) return -INFINITY;   // NaN: rho > 0 fails, as in sample_lanes
         uint64_t bits;
         std::memcpy(&bits, &rho2, 8);
-        Entry& e = entries_[(bits ^ (bits >> 20) ^ (bits >> 40)) % kEntries];
-        if (e.not_key == ~bits) return e.lambda;
-        const double rho = std::sqrt(rho2);
-        const float lambda = rho > 0 ? float(std::log2(rho)) : -INFINITY;
-        e = {~bits, lambda};
-        return lambda;
+        // The last value asked first, inline: under affine coordinates every block of a draw
+        // asks the same rho2.
+        if (bits == last_bits_) return last_lambda_;
+        last_bits_ = bits;
+        return last_lambda_ = lookup(rho2, bits);
     }
     static LambdaMemo& of_this_thread() {
         thread_local LambdaMemo memo;
@@ -632,9 +630,20 @@ public:
     }
 
 private:
+    float lookup(double rho2, uint64_t bits) {
+        if (!(rho2 == rho2)) return -INFINITY;   // NaN: rho > 0 fails, as in sample_lanes
+        Entry& e = entries_[(bits ^ (bits >> 20) ^ (bits >> 40)) % kEntries];
+        if (e.not_key == ~bits) return e.lambda;
+        const double rho = std::sqrt(rho2);
+        const float lambda = rho > 0 ? float(std::log2(rho)) : -INFINITY;
+        e = {~bits, lambda};
+        return lambda;
+    }
     static constexpr size_t kEntries = 256;
     struct Entry { uint64_t not_key; float lambda; };   // ~bits of rho2 (zero: never a non-NaN)
     Entry entries_[kEntries] = {};
+    uint64_t last_bits_ = 0x7FF8000000000000ull;   // a NaN's bits, whose lambda is -inf
+    float last_lambda_ = -INFINITY;
 };
 
 // Whether every texel number of p fits an int32 (gathers take int32 indices; narrow planes: their
@@ -975,11 +984,17 @@ __attribute__((target("avx2"))) inline __m256d square_wide(__m256 v, int half) {
     return _mm256_mul_pd(d, d);
 }
 
-// log2(x) of 4 positive normal doubles, within 2^-49 |log2 x| (measured: below 2^-50.8 against
-// long double log2l over 8e7 values of rho² from 2^-298 to 2^256 and near 1): x = 2^e m with m in [sqrt(1/2), sqrt(2)), and
+// Half of log2(x) of 4 positive normal doubles (x = rho²: log2 rho without the square root),
+// within 2^-49 |log2 x| / 2: x = 2^e m with m in [sqrt(1/2), sqrt(2)), and
 // log2 m = (2 / ln 2) atanh(z), z = (m - 1) / (m + 1), |z| < 0.172, as z * sum z^2k / (2k + 1)
-// to k = 11 (the next term is below 2^-58).
-__attribute__((target("avx2"))) inline __m256d log2_approx4(__m256d x) {
+// to k = 8 (the next term is below 2^-49.9 of the sum), the sum by Estrin's scheme (short
+// dependency chains: the terms' order does not matter to lambda_exact4's rounding test).
+// 1 / (2k + 1) + y / (2k + 3): two terms of the series.
+__attribute__((target("avx2"))) inline __m256d series_pair4(__m256d y, int k) {
+    return _mm256_add_pd(_mm256_set1_pd(1.0 / double(2 * k + 1)), _mm256_mul_pd(y, _mm256_set1_pd(1.0 / double(2 * k + 3))));
+}
+
+__attribute__((target("avx2"))) inline __m256d half_log2_approx4(__m256d x) {
     const __m256i bits = _mm256_castpd_si256(x);
     // The exponent field as a double: 2^52 + field, less 2^52 + 1023.
     const __m256d field = _mm256_castsi256_pd(_mm256_or_si256(_mm256_srli_epi64(bits, 52), _mm256_set1_epi64x(0x4330000000000000LL)));
@@ -991,23 +1006,30 @@ __attribute__((target("avx2"))) inline __m256d log2_approx4(__m256d x) {
     e = _mm256_add_pd(e, _mm256_and_pd(big, _mm256_set1_pd(1.0)));
     const __m256d one = _mm256_set1_pd(1.0);
     const __m256d z = _mm256_div_pd(_mm256_sub_pd(m, one), _mm256_add_pd(m, one));
-    const __m256d z2 = _mm256_mul_pd(z, z);
-    __m256d p = _mm256_set1_pd(1.0 / 23.0);
-    for (int k = 10; k >= 0; --k) p = _mm256_add_pd(_mm256_mul_pd(p, z2), _mm256_set1_pd(1.0 / double(2 * k + 1)));
-    return _mm256_add_pd(e, _mm256_mul_pd(_mm256_mul_pd(z, p), _mm256_set1_pd(2.0 / 0.69314718055994530942)));
+    const __m256d y = _mm256_mul_pd(z, z), y2 = _mm256_mul_pd(y, y), y4 = _mm256_mul_pd(y2, y2);
+    const __m256d p03 = _mm256_add_pd(series_pair4(y, 0), _mm256_mul_pd(y2, series_pair4(y, 2)));
+    const __m256d p47 = _mm256_add_pd(series_pair4(y, 4), _mm256_mul_pd(y2, series_pair4(y, 6)));
+    const __m256d p = _mm256_add_pd(_mm256_add_pd(p03, _mm256_mul_pd(y4, p47)),
+                                    _mm256_mul_pd(_mm256_mul_pd(y4, y4), _mm256_set1_pd(1.0 / 17.0)));
+    // (e + (2 / ln 2) z p) / 2
+    return _mm256_mul_pd(_mm256_add_pd(e, _mm256_mul_pd(_mm256_mul_pd(z, p), _mm256_set1_pd(2.0 / 0.69314718055994530942))),
+                         _mm256_set1_pd(0.5));
 }
 
 // LambdaMemo's float(log2(sqrt(rho2))) of 4 lanes, to the bit: bit k of the result is set when
-// lane k is sure. A lane is sure when rho2 is positive and finite and float() rounds the whole
-// interval L (1 ± 2^-45) around the approximation L to one float: the true log2, within
-// 2^-49 |L| of L, and libm's (within an ulp of the truth) both lie inside it, so rounding either
-// gives that float. The rest (about one lane in 2^20) are left to LambdaMemo.
+// lane k is sure. A lane is sure when rho2 is normal and finite and float() rounds the whole
+// interval L ± (2^-45 |L| + 2^-50) around the approximation L to one float: the true
+// log2(sqrt(rho2)) with sqrt rounded to double (within 2^-52.4 of log2(rho2) / 2), within
+// 2^-49 |L| + 2^-52.4 of L, and libm's (within an ulp of it) both lie inside it, so rounding
+// either gives that float. The rest (about one lane in 2^20) are left to LambdaMemo.
 __attribute__((target("avx2"))) inline int lambda_exact4(__m256d rho2, __m128& lambda) {
-    const __m256d L = log2_approx4(_mm256_sqrt_pd(rho2));
-    const __m256d margin = _mm256_mul_pd(_mm256_andnot_pd(_mm256_set1_pd(-0.0), L), _mm256_set1_pd(0x1p-45));
+    const __m256d L = half_log2_approx4(rho2);
+    const __m256d margin = _mm256_add_pd(_mm256_mul_pd(_mm256_andnot_pd(_mm256_set1_pd(-0.0), L), _mm256_set1_pd(0x1p-45)),
+                                         _mm256_set1_pd(0x1p-50));
     lambda = _mm256_cvtpd_ps(L);
     const __m128 lo = _mm256_cvtpd_ps(_mm256_sub_pd(L, margin)), hi = _mm256_cvtpd_ps(_mm256_add_pd(L, margin));
-    const __m256d finite = _mm256_and_pd(_mm256_cmp_pd(rho2, _mm256_setzero_pd(), _CMP_GT_OQ),
+    // (Subnormal rho2, which float squares never give, to LambdaMemo too: the split assumes normal.)
+    const __m256d finite = _mm256_and_pd(_mm256_cmp_pd(rho2, _mm256_set1_pd(0x1p-1022), _CMP_GE_OQ),
                                          _mm256_cmp_pd(rho2, _mm256_set1_pd(INFINITY), _CMP_LT_OQ));
     const int same = _mm_movemask_ps(_mm_and_ps(_mm_cmpeq_ps(lo, lambda), _mm_cmpeq_ps(hi, lambda)));
     return same & _mm256_movemask_pd(finite);
@@ -1042,6 +1064,15 @@ __attribute__((target("avx2"))) void lambdas_of_rho2_8(const glsl::TextureQuery&
             if (q.lod_mode == TextureLod::Bias && q.lod) out[4 * half + k] += q.lod[l + 4 * half + k].f;
         }
     }
+}
+
+__attribute__((target("avx2"))) int lambdas_exact4_at(const double* rho2, LambdaMemo& lambda_of, float* out) {
+    __m128 lambda;
+    const int sure = lambda_exact4(_mm256_loadu_pd(rho2), lambda);
+    _mm_storeu_ps(out, lambda);
+    for (int k = 0; k < 4; ++k)
+        if (!(sure >> k & 1)) out[k] = lambda_of(rho2[k]);
+    return __builtin_popcount(unsigned(sure));
 }
 
 // lambda8 (below) of a block whose derivatives differ between lanes: out of line, the longer case.
@@ -2080,6 +2111,122 @@ inline CubeBlock8 cube_blocks8(const Fast2D& f, bool one_storage, LevelMode mode
 #pragma GCC diagnostic ignored "-Wuninitialized"
 #pragma GCC diagnostic ignored "-Wmaybe-uninitialized"
 
+// ---- The LOD of 16 lanes (AVX-512): lambda8's rho² and lambdas_of_rho2_8's rounding test with
+// 8 doubles per vector, the same float operations per lane up to rho² (so the same rho²), and
+// each lambda either vouched for by the rounding test or taken from LambdaMemo: the same bits.
+
+__attribute__((target(SOFTGL_SAMPLER_AVX512))) inline __m512d series_pair8(__m512d y, int k) {
+    return _mm512_add_pd(_mm512_set1_pd(1.0 / double(2 * k + 1)), _mm512_mul_pd(y, _mm512_set1_pd(1.0 / double(2 * k + 3))));
+}
+
+// half_log2_approx4 of 8 lanes: the same steps, the same error bound.
+__attribute__((target(SOFTGL_SAMPLER_AVX512))) inline __m512d half_log2_approx8(__m512d x) {
+    const __m512i bits = _mm512_castpd_si512(x);
+    const __m512d field = _mm512_castsi512_pd(_mm512_or_si512(_mm512_srli_epi64(bits, 52), _mm512_set1_epi64(0x4330000000000000LL)));
+    __m512d e = _mm512_sub_pd(field, _mm512_set1_pd(4503599627371519.0));
+    __m512d m = _mm512_castsi512_pd(_mm512_or_si512(_mm512_and_si512(bits, _mm512_set1_epi64(0x000FFFFFFFFFFFFFLL)),
+                                                    _mm512_set1_epi64(0x3FF0000000000000LL)));
+    const __mmask8 big = _mm512_cmp_pd_mask(m, _mm512_set1_pd(1.4142135623730951), _CMP_GT_OQ);
+    m = _mm512_mask_mul_pd(m, big, m, _mm512_set1_pd(0.5));
+    e = _mm512_mask_add_pd(e, big, e, _mm512_set1_pd(1.0));
+    const __m512d one = _mm512_set1_pd(1.0);
+    const __m512d z = _mm512_div_pd(_mm512_sub_pd(m, one), _mm512_add_pd(m, one));
+    const __m512d y = _mm512_mul_pd(z, z), y2 = _mm512_mul_pd(y, y), y4 = _mm512_mul_pd(y2, y2);
+    const __m512d p03 = _mm512_add_pd(series_pair8(y, 0), _mm512_mul_pd(y2, series_pair8(y, 2)));
+    const __m512d p47 = _mm512_add_pd(series_pair8(y, 4), _mm512_mul_pd(y2, series_pair8(y, 6)));
+    const __m512d p = _mm512_add_pd(_mm512_add_pd(p03, _mm512_mul_pd(y4, p47)),
+                                    _mm512_mul_pd(_mm512_mul_pd(y4, y4), _mm512_set1_pd(1.0 / 17.0)));
+    return _mm512_mul_pd(_mm512_add_pd(e, _mm512_mul_pd(_mm512_mul_pd(z, p), _mm512_set1_pd(2.0 / 0.69314718055994530942))),
+                         _mm512_set1_pd(0.5));
+}
+
+// lambda_exact4 of 8 lanes (bit k: lane k sure).
+__attribute__((target(SOFTGL_SAMPLER_AVX512))) inline __mmask8 lambda_exact8(__m512d rho2, __m256& lambda) {
+    const __m512d L = half_log2_approx8(rho2);
+    const __m512d margin = _mm512_add_pd(_mm512_mul_pd(_mm512_abs_pd(L), _mm512_set1_pd(0x1p-45)), _mm512_set1_pd(0x1p-50));
+    lambda = _mm512_cvtpd_ps(L);
+    const __m256 lo = _mm512_cvtpd_ps(_mm512_sub_pd(L, margin)), hi = _mm512_cvtpd_ps(_mm512_add_pd(L, margin));
+    const __mmask8 finite = _mm512_cmp_pd_mask(rho2, _mm512_set1_pd(0x1p-1022), _CMP_GE_OQ) &
+                            _mm512_cmp_pd_mask(rho2, _mm512_set1_pd(INFINITY), _CMP_LT_OQ);
+    const __mmask8 same = _mm256_cmp_ps_mask(lo, lambda, _CMP_EQ_OQ) & _mm256_cmp_ps_mask(hi, lambda, _CMP_EQ_OQ);
+    return same & finite;
+}
+
+// float(log2(sqrt(rho²))) of 8 lanes plus the lanes' bias (l: the first lane), as
+// lambdas_of_rho2_8: one LambdaMemo lookup when the 8 share their rho².
+__attribute__((target(SOFTGL_SAMPLER_AVX512))) inline __m256 lambdas_of_rho2_8x(const glsl::TextureQuery& q, int l, __m512d rho2,
+                                                                                LambdaMemo& lambda_of) {
+    const double first = _mm512_cvtsd_f64(rho2);
+    __m256 lambda;
+    if (_mm512_cmp_pd_mask(rho2, _mm512_set1_pd(first), _CMP_EQ_OQ) == 0xFF) {
+        lambda = _mm256_set1_ps(lambda_of(first));
+    } else if (const __mmask8 sure = lambda_exact8(rho2, lambda); sure != 0xFF) {
+        alignas(64) double r2[8];
+        alignas(32) float out[8];
+        _mm512_store_pd(r2, rho2);
+        _mm256_store_ps(out, lambda);
+        for (int k = 0; k < 8; ++k)
+            if (!(sure >> k & 1)) out[k] = lambda_of(r2[k]);
+        lambda = _mm256_load_ps(out);
+    }
+    if (q.lod_mode == TextureLod::Bias && q.lod) lambda = _mm256_add_ps(lambda, _mm256_loadu_ps(&q.lod[l].f));
+    return lambda;
+}
+
+__attribute__((target(SOFTGL_SAMPLER_AVX512))) inline __m512 load16(const glsl::Scalar* p, int l) {
+    return p ? _mm512_loadu_ps(&p[l].f) : _mm512_setzero_ps();
+}
+
+// (double) v² of lanes 8 * half .. 8 * half + 7.
+__attribute__((target(SOFTGL_SAMPLER_AVX512))) inline __m512d square_wide16(__m512 v, int half) {
+    const __m512d d = _mm512_cvtps_pd(half ? _mm512_extractf32x8_ps(v, 1) : _mm512_castps512_ps256(v));
+    return _mm512_mul_pd(d, d);
+}
+
+// Bits k: lane k equals lane 0.
+__attribute__((target(SOFTGL_SAMPLER_AVX512))) inline __mmask16 same_as_first16(__m512 v) {
+    return _mm512_cmp_ps_mask(v, _mm512_broadcastss_ps(_mm512_castps512_ps128(v)), _CMP_EQ_OQ);
+}
+
+// lambda16 (below) of a block whose derivatives differ between lanes: lambda8_lanes' rho² (float
+// products, widened, squared and summed in double) 8 lanes per vector.
+__attribute__((target(SOFTGL_SAMPLER_AVX512), noinline)) void lambda16_lanes(const glsl::TextureQuery& q, int l, float w, float h,
+                                                                             LambdaMemo& lambda_of, __m512 dx0, __m512 dx1,
+                                                                             __m512 dy0, __m512 dy1, float out[16]) {
+    const __m512 ws = _mm512_set1_ps(w), hs = _mm512_set1_ps(h), zero = _mm512_setzero_ps();
+    const __m512 x0 = _mm512_mul_ps(dx0, ws), x1 = _mm512_mul_ps(dx1, hs);
+    const __m512 y0 = _mm512_mul_ps(dy0, ws), y1 = _mm512_mul_ps(dy1, hs);
+    const __m512 x2 = _mm512_mul_ps(load16(q.ddx[2], l), zero), y2 = _mm512_mul_ps(load16(q.ddy[2], l), zero);
+    for (int half = 0; half < 2; ++half) {
+        __m512d lx2 = _mm512_add_pd(square_wide16(x0, half), square_wide16(x1, half));
+        __m512d ly2 = _mm512_add_pd(square_wide16(y0, half), square_wide16(y1, half));
+        if (q.ddx[2]) lx2 = _mm512_add_pd(lx2, square_wide16(x2, half));
+        if (q.ddy[2]) ly2 = _mm512_add_pd(ly2, square_wide16(y2, half));
+        // _mm512_max_pd(a, b) is b when unordered: std::max(lx2, ly2), NaN included.
+        _mm256_store_ps(out + 8 * half, lambdas_of_rho2_8x(q, l + 8 * half, _mm512_max_pd(ly2, lx2), lambda_of));
+    }
+}
+
+// lambda8 of lanes l..l+15 (Implicit, Bias, Gradient): one LambdaMemo lookup when all 16 share
+// their derivatives (affine coordinates), else lambda16_lanes.
+__attribute__((target(SOFTGL_SAMPLER_AVX512), always_inline)) inline void lambda16(const glsl::TextureQuery& q, int l, float w,
+                                                                                   float h, LambdaMemo& lambda_of, float out[16]) {
+    const __m512 dx0 = load16(q.ddx[0], l), dx1 = load16(q.ddx[1], l), dy0 = load16(q.ddy[0], l), dy1 = load16(q.ddy[1], l);
+    if (!q.ddx[2] && !q.ddy[2]) {
+        if ((same_as_first16(dx0) & same_as_first16(dx1) & same_as_first16(dy0) & same_as_first16(dy1)) == 0xFFFF) {
+            // As lambda8: lane 0's rho², computed as lambda_at does.
+            const float x0 = _mm512_cvtss_f32(dx0) * w, x1 = _mm512_cvtss_f32(dx1) * h;
+            const float y0 = _mm512_cvtss_f32(dy0) * w, y1 = _mm512_cvtss_f32(dy1) * h;
+            const double lx2 = double(x0) * x0 + double(x1) * x1, ly2 = double(y0) * y0 + double(y1) * y1;
+            __m512 lambda = _mm512_set1_ps(lambda_of(std::max(lx2, ly2)));
+            if (q.lod_mode == TextureLod::Bias && q.lod) lambda = _mm512_add_ps(lambda, _mm512_loadu_ps(&q.lod[l].f));
+            _mm512_storeu_ps(out, lambda);
+            return;
+        }
+    }
+    lambda16_lanes(q, l, w, h, lambda_of, dx0, dx1, dy0, dy1, out);
+}
+
 
 // ifloor_floored8 of 16 lanes.
 __attribute__((target(SOFTGL_SAMPLER_AVX512))) inline __m512i ifloor_floored16(__m512 fl) {
@@ -2576,17 +2723,16 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) int colour_blocks16_shaped
             } else {
                 // Both halves' lambdas, inactive lanes taking the first active lane's.
                 alignas(64) float lambda[16];
-                for (int part = 0; part < 16; part += 8) {
-                    if (q.lod_mode == TextureLod::Explicit)
-                        _mm256_store_ps(lambda + part, q.lod ? _mm256_loadu_ps(&q.lod[l + part].f) : _mm256_setzero_ps());
-                    else
-                        lambda8(q, l + part, cq.w, cq.h, *cq.memo, lambda + part);
-                }
+                if (q.lod_mode == TextureLod::Explicit)
+                    _mm512_store_ps(lambda, q.lod ? _mm512_loadu_ps(&q.lod[l].f) : _mm512_setzero_ps());
+                else
+                    lambda16(q, l, cq.w, cq.h, *cq.memo, lambda);
                 __m512 v = _mm512_load_ps(lambda);
                 if (active != 0xFFFF) v = _mm512_mask_mov_ps(_mm512_set1_ps(lambda[__builtin_ctz(active)]), active, v);
                 BlockChoice lo, hi;
-                if (choose_block8(f, _mm512_castps512_ps256(v), lo) && choose_block8(f, _mm512_extractf32x8_ps(v, 1), hi) &&
-                    lo.first == hi.first && lo.second == hi.second && lo.linear == hi.linear) {
+                const bool chosen = choose_block8(f, _mm512_castps512_ps256(v), lo) &&
+                                    choose_block8(f, _mm512_extractf32x8_ps(v, 1), hi) && lo.linear == hi.linear;
+                if (chosen && lo.first == hi.first && lo.second == hi.second) {
                     filter16_shaped<kBytes, kWrap>(f, f.planes[size_t(lo.first)], lo.linear, s, t, a);
                     if (lo.second >= 0) {
                         __m512 b[4];
@@ -2594,6 +2740,32 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) int colour_blocks16_shaped
                         const __m512 g = _mm512_insertf32x8(_mm512_castps256_ps512(lo.frac), hi.frac, 1);
                         const __m512 ng = _mm512_sub_ps(_mm512_set1_ps(1.0f), g);
                         for (int c = 0; c < 4; ++c) a[c] = _mm512_add_ps(_mm512_mul_ps(ng, a[c]), _mm512_mul_ps(g, b[c]));
+                    }
+                } else if (chosen) {
+                    // The halves on different levels (a block across a level boundary): each level
+                    // either half reads filtered once for all 16 lanes (at most 3 distinct for
+                    // adjacent levels), each half taking or blending its own, (1 - frac) a + frac b
+                    // per lane as filter16(levels): the same bits.
+                    const int32_t want[4] = {lo.first, lo.second, hi.first, hi.second};
+                    __m512 r[4][4];
+                    for (int i = 0; i < 4; ++i) {
+                        if (want[i] < 0) continue;
+                        int j = 0;
+                        while (j < i && want[j] != want[i]) ++j;
+                        if (j < i)
+                            for (int c = 0; c < 4; ++c) r[i][c] = r[j][c];
+                        else
+                            filter16_shaped<kBytes, kWrap>(f, f.planes[size_t(want[i])], lo.linear, s, t, r[i]);
+                    }
+                    const __m512 g = _mm512_insertf32x8(
+                        _mm512_castps256_ps512(lo.second >= 0 ? lo.frac : _mm256_setzero_ps()),
+                        hi.second >= 0 ? hi.frac : _mm256_setzero_ps(), 1);
+                    const __m512 ng = _mm512_sub_ps(_mm512_set1_ps(1.0f), g);
+                    for (int c = 0; c < 4; ++c) {
+                        __m512 x = r[0][c], y = r[2][c];
+                        if (lo.second >= 0) x = _mm512_add_ps(_mm512_mul_ps(ng, x), _mm512_mul_ps(g, r[1][c]));
+                        if (hi.second >= 0) y = _mm512_add_ps(_mm512_mul_ps(ng, y), _mm512_mul_ps(g, r[3][c]));
+                        a[c] = _mm512_mask_blend_ps(__mmask16(0xFF00), x, y);   // lanes 8-15 from the upper half's
                     }
                 } else {
                     // Lanes on different levels: chosen lane by lane, filtered by the general blocks.
@@ -2622,11 +2794,35 @@ using Blocks16 = int (*)(const ColourQuery&, int);
 constexpr Blocks16 kColourBlocks16[kColourShapes] = {colour_blocks16, SOFTGL_SHAPES(colour_blocks16_shaped, 1),
                                                      SOFTGL_SHAPES(colour_blocks16_shaped, 2),
                                                      SOFTGL_SHAPES(colour_blocks16_shaped, 0)};
+// lambdas_of_rho2_at's kernels: lambda_exact8 / lambda_exact4 of rho2[0 .. 8) / [0 .. 4), the
+// lanes they do not vouch for from LambdaMemo; returns how many they vouched for.
+__attribute__((target(SOFTGL_SAMPLER_AVX512))) int lambdas_exact8_at(const double* rho2, LambdaMemo& lambda_of, float* out) {
+    __m256 lambda;
+    const __mmask8 sure = lambda_exact8(_mm512_loadu_pd(rho2), lambda);
+    _mm256_storeu_ps(out, lambda);
+    for (int k = 0; k < 8; ++k)
+        if (!(sure >> k & 1)) out[k] = lambda_of(rho2[k]);
+    return __builtin_popcount(sure);
+}
 #undef SOFTGL_SHAPES
 #pragma GCC diagnostic pop
 #endif
 
 }  // namespace
+
+size_t lambdas_of_rho2_at(SimdLevel simd, const double* rho2, size_t n, float* out) {
+    LambdaMemo& lambda_of = LambdaMemo::of_this_thread();
+    size_t i = 0, sure = 0;
+#ifdef SOFTGL_SAMPLER_AVX2
+    simd = std::min(simd, best_simd_level());
+    if (simd == SimdLevel::AVX512)
+        for (; i + 8 <= n; i += 8) sure += lambdas_exact8_at(rho2 + i, lambda_of, out + i);
+    else if (simd == SimdLevel::AVX2)
+        for (; i + 4 <= n; i += 4) sure += lambdas_exact4_at(rho2 + i, lambda_of, out + i);
+#endif
+    for (; i < n; ++i) out[i] = lambda_of(rho2[i]);
+    return sure;
+}
 
 namespace {
 

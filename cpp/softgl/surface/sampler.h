@@ -97,6 +97,14 @@ inline int dim_index(glsl::SamplerDim dim) {
     }
 }
 
+// The LOD of ES 3.0 eq. 3.17-3.19 as the fast path computes it, lambda = float(log2(sqrt(rho2)))
+// with rho2 the larger squared footprint length, for n values by the kernel of one SIMD level:
+// Scalar and SSE2 LambdaMemo (libm's log2, as the general path), AVX2 4 and AVX-512 8 values
+// per vector, each vouched for by a rounding test or else taken from LambdaMemo (sampler.cpp,
+// lambda_exact4), so that all give the same bits. Returns how many values the vector kernel
+// vouched for (tests check that it serves nearly all, and compare every level with float64).
+size_t lambdas_of_rho2_at(SimdLevel simd, const double* rho2, size_t n, float* out);
+
 // ES 3.0 table 3.21: the face (0..5, TEXTURE_CUBE_MAP_POSITIVE_X order) a direction selects and
 // the face coordinates sc, tc and |ma|.
 int cube_face(float rx, float ry, float rz, float& sc, float& tc, float& ma);
