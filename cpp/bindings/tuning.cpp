@@ -41,6 +41,7 @@ py::dict as_dict(const Tuning& t) {
     d["flat_primitives"] = t.flat_primitives;
     d["blit_rows"] = t.blit_rows;
     d["pool_spin_microseconds"] = t.pool_spin_microseconds;
+    d["lod_free_helper_lanes"] = t.lod_free_helper_lanes;
     return d;
 }
 
@@ -84,6 +85,8 @@ void update(Tuning& t, const py::kwargs& fields) {
             if (us < 0 || us > 1'000'000)
                 throw py::value_error("set_tuning: pool_spin_microseconds must be 0 to 1000000");
             next.pool_spin_microseconds = uint32_t(us);
+        } else if (k == "lod_free_helper_lanes") {
+            next.lod_free_helper_lanes = value.cast<bool>();
         } else {
             throw py::type_error("set_tuning: no field '" + k + "' (fields: " +
                                  std::string(py::str(as_dict(Tuning{}).attr("keys")())) + ")");
@@ -104,7 +107,7 @@ void bind_tuning(py::module_& m) {
         return before;
     }, py::arg("context"),
        "Sets the named switches of the context (simd, batch_primitives, hidden_surface_removal, depth_bounds, "
-       "fragment_copies, sampler_path, fragment_batches, skip_helper_lanes, hoist_uniform_values, flat_primitives, blit_rows, pool_spin_microseconds); returns the previous ones as a dict, to pass back.");
+       "fragment_copies, sampler_path, fragment_batches, skip_helper_lanes, hoist_uniform_values, flat_primitives, blit_rows, pool_spin_microseconds, lod_free_helper_lanes); returns the previous ones as a dict, to pass back.");
     t.def("default_tuning", [] { return as_dict(Tuning::process_default()); },
           "The switches new contexts start with.");
     t.def("set_default_tuning", [](const py::kwargs& fields) {

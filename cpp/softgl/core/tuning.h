@@ -59,6 +59,11 @@ struct Tuning {
     // runtime/thread_pool.h. 0: they sleep at once (every call then pays a sleeping thread's
     // wake-up). Never changes the bytes.
     uint32_t pool_spin_microseconds = 100;
+    // ... skip_helper_lanes also for a shader whose only quad-neighbour reads are implicit-LOD
+    // lookups of textures whose LOD cannot change the result during the draw (no mipmaps, one
+    // filter for magnification and minification: ES 3.0 §3.8.11; FragmentShader::
+    // reads_quad_neighbours_in_draw); off: any implicit-LOD lookup keeps whole quads.
+    bool lod_free_helper_lanes = true;
 
     bool operator==(const Tuning& o) const {
         return simd == o.simd && batch_primitives == o.batch_primitives &&
@@ -66,7 +71,8 @@ struct Tuning {
                fragment_copies == o.fragment_copies && sampler_path == o.sampler_path &&
                fragment_batches == o.fragment_batches && skip_helper_lanes == o.skip_helper_lanes &&
                blit_rows == o.blit_rows && hoist_uniform_values == o.hoist_uniform_values &&
-               flat_primitives == o.flat_primitives && pool_spin_microseconds == o.pool_spin_microseconds;
+               flat_primitives == o.flat_primitives && pool_spin_microseconds == o.pool_spin_microseconds &&
+               lod_free_helper_lanes == o.lod_free_helper_lanes;
     }
     bool operator!=(const Tuning& o) const { return !(*this == o); }
 

@@ -62,6 +62,9 @@ public:
     // False when the level of detail cannot change what `query` (all but its derivatives filled
     // in) returns: implicit derivatives are then left out.
     virtual bool lod_matters(const TextureQuery&) const { return true; }
+    // False when the level of detail can change no lookup of dimension `dim` during the current
+    // draw (whichever unit it reads): such lookups then need no quad neighbours.
+    virtual bool lod_matters_in(SamplerDim) const { return true; }
 };
 
 struct ExecutionError : std::runtime_error {

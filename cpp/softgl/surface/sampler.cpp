@@ -2650,13 +2650,11 @@ bool one_unit(const glsl::TextureQuery& q, int32_t& unit) {
 
 }  // namespace
 
-bool TextureUnitSampler::lod_matters(const glsl::TextureQuery& q) const {
-    // ES 3.0 §3.8.11: without mipmaps and with one filter for magnification and minification,
-    // lambda selects nothing (incomplete or unbound units give (0, 0, 0, 1) regardless).
-    int32_t unit;
-    if (!one_unit(q, unit)) return true;
-    if (unit < 0 || unit >= kSamplerUnits) return false;
-    const BoundTexture& bt = units[size_t(unit)][size_t(dim_index(q.dim))];
+namespace {
+
+// ES 3.0 §3.8.11: without mipmaps and with one filter for magnification and minification,
+// lambda selects nothing (incomplete or unbound units give (0, 0, 0, 1) regardless).
+bool lod_selects(const BoundTexture& bt) {
     if (!bt.texture) return false;
     if (bt.params.max_anisotropy > 1.0f) return true;   // the probes follow the derivatives
     const GLenum mf = bt.params.min_filter;
@@ -2664,6 +2662,17 @@ bool TextureUnitSampler::lod_matters(const glsl::TextureQuery& q) const {
     const bool mipmapped = !(mf == gl::NEAREST || mf == gl::LINEAR || bt.q == bt.base);
     return mipmapped || min_linear != (bt.params.mag_filter == gl::LINEAR);
 }
+
+}  // namespace
+
+bool TextureUnitSampler::lod_matters(const glsl::TextureQuery& q) const {
+    int32_t unit;
+    if (!one_unit(q, unit)) return lod_matters_in(q.dim);
+    if (unit < 0 || unit >= kSamplerUnits) return false;
+    return lod_selects(units[size_t(unit)][size_t(dim_index(q.dim))]);
+}
+
+bool TextureUnitSampler::lod_matters_in(glsl::SamplerDim dim) const { return !(lod_free_dims >> dim_index(dim) & 1u); }
 
 namespace {
 
@@ -2733,11 +2742,16 @@ SamplingPlan plan_sampling(const BoundTexture& bt, int dim) {
 }  // namespace
 
 void TextureUnitSampler::plan_units(const uint32_t filled[4]) {
-    for (int dim = 0; dim < 4; ++dim)
+    lod_free_dims = 0;
+    for (int dim = 0; dim < 4; ++dim) {
+        bool lod_free = true;   // units not filled sample as (0, 0, 0, 1) whatever the LOD
         for (uint32_t m = filled[dim]; m; m &= m - 1) {
             BoundTexture& bt = units[size_t(__builtin_ctz(m))][size_t(dim)];
             bt.plan = plan_sampling(bt, dim);
+            lod_free = lod_free && !lod_selects(bt);
         }
+        lod_free_dims |= uint32_t(lod_free) << dim;
+    }
 }
 
 bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd) const {

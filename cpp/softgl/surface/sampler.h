@@ -64,6 +64,10 @@ public:
     void plan_units(const uint32_t filled[4]);
     void sample(const glsl::TextureQuery& query) override;
     bool lod_matters(const glsl::TextureQuery& query) const override;
+    bool lod_matters_in(glsl::SamplerDim dim) const override;
+    // Bit dim_index: no unit's texture of that dimension lets the LOD change a lookup during the
+    // draw (plan_units sets it; 0, the safe answer, until then).
+    uint32_t lod_free_dims = 0;
 
 private:
     // The general path: every lane on its own, any texture kind and dimension.
