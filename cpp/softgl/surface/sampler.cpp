@@ -2618,6 +2618,75 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) int colour_blocks16_shaped
 
 using Blocks16 = int (*)(const ColourQuery&, int);
 
+// ---- Cube maps in blocks of 16 (AVX-512) with one fixed filter (no level choice): cube_block8's
+// FixedNearest / FixedLinear modes for 16 lanes. The faces and face coordinates of each half by
+// cube_coords8 (the same operations), each face the active lanes select filtered for the 16
+// lanes by filter16_shaped (filter8_shaped's bits: colour_blocks16_shaped), each lane taking its
+// own face's result; inactive lanes (0, 0, 0, 1). With seamless filtering, `outside` returns the
+// active lanes whose texels leave the face (inside8, as Fast2D::inside and cube_block8's
+// `inside`: every face of a level has one size), which the caller samples again by sample_lane.
+template <int kBytes, bool kLinear>
+__attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) void cube_block16(const CubeQuery& cq, int32_t level, int l,
+                                                                        uint32_t& outside) {
+    const glsl::TextureQuery& q = *cq.q;
+    const Fast2D& f = *cq.f;
+    glsl::Scalar* const out[4] = {q.out[0], q.out[1], q.out[2], q.out[3]};
+    outside = 0;
+    const __mmask16 active = q.active ? _mm512_test_epi32_mask(_mm512_loadu_si512(q.active + l), _mm512_set1_epi32(-1))
+                                      : __mmask16(0xFFFF);
+    if (active) {
+        alignas(64) int32_t face16[16];
+        alignas(64) float s16[16], t16[16];
+        for (int part = 0; part < 16; part += 8)
+            cube_coords8(&q.coord[0][l + part].f, &q.coord[1][l + part].f, &q.coord[2][l + part].f, face16 + part,
+                         s16 + part, t16 + part);
+        const __m512i face_v = _mm512_load_si512(face16);
+        const auto face_plane = [&](int face) -> const Plane& {
+            return f.planes[size_t(face) * size_t(f.face_stride) + size_t(level)];
+        };
+        // The faces of the active lanes: usually one (the first active lane's).
+        const int first_face = face16[__builtin_ctz(active)];
+        const __mmask16 on_first = _mm512_cmpeq_epi32_mask(face_v, _mm512_set1_epi32(first_face));
+        uint32_t faces = 1u << first_face;
+        for (uint32_t left = active & ~uint32_t(on_first); left; left &= left - 1) faces |= 1u << face16[__builtin_ctz(left)];
+        __m512 result[4];
+        if (faces == 1u << first_face) {
+            filter16_shaped<kBytes, kLinear, WrapKind::Clamp>(f, face_plane(first_face), s16, t16, result);
+        } else {
+            for (int c = 0; c < 4; ++c) result[c] = _mm512_setzero_ps();
+            for (uint32_t left = faces; left; left &= left - 1) {
+                const int face = __builtin_ctz(left);
+                __m512 part[4];
+                filter16_shaped<kBytes, kLinear, WrapKind::Clamp>(f, face_plane(face), s16, t16, part);
+                const __mmask16 mine = _mm512_cmpeq_epi32_mask(face_v, _mm512_set1_epi32(face));
+                for (int c = 0; c < 4; ++c) result[c] = _mm512_mask_mov_ps(result[c], mine, part[c]);
+            }
+        }
+        for (int c = 0; c < 4; ++c)
+            if (out[c]) _mm512_storeu_ps(&out[c][l].f, result[c]);
+        if (cq.seamless) {
+            const Plane& sizes = f.planes[size_t(level)];
+            const uint32_t inside = inside8(sizes, kLinear, s16, t16) | inside8(sizes, kLinear, s16 + 8, t16 + 8) << 8;
+            outside = ~inside & uint32_t(active);
+        }
+    }
+    if (active != 0xFFFF)
+        for (int c = 0; c < 4; ++c)
+            if (out[c]) _mm512_mask_storeu_ps(&out[c][l].f, __mmask16(~active), _mm512_set1_ps(c == 3 ? 1.0f : 0.0f));
+}
+
+using CubeBlock16 = void (*)(const CubeQuery&, int32_t, int, uint32_t&);
+
+// The 16-lane cube block for a query's storage and fixed filter, or null (as cube_blocks8; a
+// level choice per block takes cube_block8).
+inline CubeBlock16 cube_blocks16(const Fast2D& f, bool one_storage, LevelMode mode) {
+    if (!one_storage || mode == LevelMode::PerBlock) return nullptr;
+    const bool linear = mode == LevelMode::FixedLinear;
+    if (f.planes[0].rgba8) return linear ? cube_block16<1, true> : cube_block16<1, false>;
+    if (f.planes[0].narrow) return linear ? cube_block16<2, true> : cube_block16<2, false>;
+    return linear ? cube_block16<0, true> : cube_block16<0, false>;
+}
+
 // colour_blocks16_shaped by SamplingPlan::colour_shape, as kColourBlocks8.
 constexpr Blocks16 kColourBlocks16[kColourShapes] = {colour_blocks16, SOFTGL_SHAPES(colour_blocks16_shaped, 1),
                                                      SOFTGL_SHAPES(colour_blocks16_shaped, 2),
@@ -2951,6 +3020,8 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
         // Colour cube maps of one storage: cube_block8 (blocks whose lanes share their levels).
         const LevelMode mode = needs_lambda ? LevelMode::PerBlock : fixed.linear ? LevelMode::FixedLinear : LevelMode::FixedNearest;
         const CubeBlock8 cube_block8 = depth ? nullptr : cube_blocks8(f, plan.one_storage, mode);
+        const CubeBlock16 cube_block16 =
+            depth || simd != SimdBlocks::Avx512 ? nullptr : cube_blocks16(f, plan.one_storage, mode);
         const CubeQuery cube_query{&f, &q, w, h, &lambda_of, bt.seamless_cube};
         Planes8 cube_planes(f);
         const auto all_active = [&](int first) {
@@ -3014,6 +3085,12 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
         };
         while (l + 8 <= q.lane_count) {
             uint32_t outside;
+            if (cube_block16 && l + 16 <= q.lane_count) {
+                cube_block16(cube_query, fixed.first, l, outside);
+                for (; outside; outside &= outside - 1) sample_lane(q, l + __builtin_ctz(outside));
+                l += 16;
+                continue;
+            }
             if (cube_block8 && cube_block8(cube_query, cube_planes, l, outside)) {
                 for (; outside; outside &= outside - 1) sample_lane(q, l + __builtin_ctz(outside));
                 l += 8;
