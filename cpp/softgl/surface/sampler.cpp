@@ -2682,6 +2682,121 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) void cube_block16(const Cu
 
 using CubeBlock16 = void (*)(const CubeQuery&, int32_t, int, uint32_t&);
 
+// ---- Depth lookups (with or without the comparison) in blocks of 16 (AVX-512) with one fixed
+// filter, no layers, both axes CLAMP_TO_EDGE or both REPEAT of powers of two, a plane whose
+// texel numbers fit int32: depth_block8's fixed case for 16 lanes. filter8_depth_as's operations
+// in its order, 16 lanes at a time (the texels gathered 16 at a time, their values by
+// depth_values8's rule on each half, compared as compare8), so the same bits.
+__attribute__((target(SOFTGL_SAMPLER_AVX512))) inline __m512 depth_values16(Encoding e, __m512i words) {
+    if (e == Encoding::Depth32F) return _mm512_castsi512_ps(words);
+    const __m512d reciprocal = _mm512_set1_pd(e == Encoding::Depth16 ? 1.0 / 65535.0 : 1.0 / 16777215.0);
+    const auto half = [&](__m256i w) __attribute__((target(SOFTGL_SAMPLER_AVX512))) {
+        return _mm512_cvtpd_ps(_mm512_mul_pd(_mm512_cvtepu32_pd(w), reciprocal));   // exact conversion
+    };
+    return _mm512_insertf32x8(_mm512_castps256_ps512(half(_mm512_castsi512_si256(words))),
+                              half(_mm512_extracti64x4_epi64(words, 1)), 1);
+}
+
+__attribute__((target(SOFTGL_SAMPLER_AVX512))) inline __m512 compare16(GLenum func, __m512 ref, __m512 d) {
+    __mmask16 pass;
+    switch (func) {
+        case gl::LEQUAL: pass = _mm512_cmp_ps_mask(ref, d, _CMP_LE_OQ); break;
+        case gl::GEQUAL: pass = _mm512_cmp_ps_mask(ref, d, _CMP_GE_OQ); break;
+        case gl::LESS: pass = _mm512_cmp_ps_mask(ref, d, _CMP_LT_OQ); break;
+        case gl::GREATER: pass = _mm512_cmp_ps_mask(ref, d, _CMP_GT_OQ); break;
+        case gl::EQUAL: pass = _mm512_cmp_ps_mask(ref, d, _CMP_EQ_OQ); break;
+        case gl::NOTEQUAL: pass = _mm512_cmp_ps_mask(ref, d, _CMP_NEQ_UQ); break;
+        case gl::ALWAYS: return _mm512_set1_ps(1.0f);
+        default: return _mm512_setzero_ps();   // NEVER
+    }
+    return _mm512_maskz_mov_ps(pass, _mm512_set1_ps(1.0f));
+}
+
+__attribute__((target(SOFTGL_SAMPLER_AVX512))) inline __m512 weighted_sum16(__m512 w00, __m512 w10, __m512 w01, __m512 w11,
+                                                                            __m512 t00, __m512 t10, __m512 t01, __m512 t11) {
+    __m512 sum = _mm512_mul_ps(w00, t00);
+    sum = _mm512_add_ps(sum, _mm512_mul_ps(w10, t10));
+    sum = _mm512_add_ps(sum, _mm512_mul_ps(w01, t01));
+    return _mm512_add_ps(sum, _mm512_mul_ps(w11, t11));
+}
+
+template <bool kLinear, WrapKind kWrap>
+__attribute__((target(SOFTGL_SAMPLER_AVX512))) void depth_block16(const ColourQuery& cq, int l) {
+    const glsl::TextureQuery& q = *cq.q;
+    const Fast2D& f = *cq.f;
+    const Plane& p = f.planes[size_t(cq.fixed.first)];
+    glsl::Scalar* const out[4] = {q.out[0], q.out[1], q.out[2], q.out[3]};
+    const __mmask16 active = q.active ? _mm512_test_epi32_mask(_mm512_loadu_si512(q.active + l), _mm512_set1_epi32(-1))
+                                      : __mmask16(0xFFFF);
+    __m512 result[4];
+    if (active) {
+        const bool compare = f.compare;
+        const GLenum func = f.compare_func;
+        const Encoding encoding = p.depth_encoding;
+        __m512 ref = q.compare ? _mm512_loadu_ps(&q.compare[l].f) : _mm512_setzero_ps();
+        if (compare && encoding != Encoding::Depth32F) {
+            // std::clamp(ref, 0, 1), as DepthTexels8 (NaN and -0 stay).
+            const __m512 zero = _mm512_setzero_ps(), one = _mm512_set1_ps(1.0f);
+            ref = _mm512_mask_mov_ps(ref, _mm512_cmp_ps_mask(one, ref, _CMP_LT_OQ), one);
+            ref = _mm512_mask_mov_ps(ref, _mm512_cmp_ps_mask(ref, zero, _CMP_LT_OQ), zero);
+        }
+        const __m512i width = _mm512_set1_epi32(p.width);
+        const auto texel = [&](__m512i i, __m512i j) __attribute__((target(SOFTGL_SAMPLER_AVX512))) {
+            const __m512i at = _mm512_add_epi32(_mm512_mullo_epi32(j, width), i);
+            const __m512 d = depth_values16(encoding, _mm512_i32gather_epi32(at, reinterpret_cast<const int*>(p.depth), 4));
+            return compare ? compare16(func, ref, d) : d;
+        };
+        const __m512 u = _mm512_add_ps(_mm512_mul_ps(_mm512_loadu_ps(&q.coord[0][l].f), _mm512_set1_ps(float(p.width))),
+                                       _mm512_set1_ps(float(f.off_s)));
+        const __m512 v = _mm512_add_ps(_mm512_mul_ps(_mm512_loadu_ps(&q.coord[1][l].f), _mm512_set1_ps(float(p.height))),
+                                       _mm512_set1_ps(float(f.off_t)));
+        const __m512i last_i = _mm512_set1_epi32(p.width - 1), last_j = _mm512_set1_epi32(p.height - 1);
+        const bool grey = f.compare || f.luminance;
+        const __m512 zero = _mm512_setzero_ps(), one = _mm512_set1_ps(1.0f);
+        __m512i i0, i1, j0, j1;
+        if constexpr (!kLinear) {
+            wrap_shaped16<kWrap, false>(ifloor_floored16(_mm512_floor_ps(u)), last_i, i0, i1);
+            wrap_shaped16<kWrap, false>(ifloor_floored16(_mm512_floor_ps(v)), last_j, j0, j1);
+            result[0] = texel(i0, j0);
+            result[1] = result[2] = grey ? result[0] : zero;
+            result[3] = one;
+        } else {
+            const __m512 half = _mm512_set1_ps(0.5f);
+            const __m512 u0 = _mm512_sub_ps(u, half), v0 = _mm512_sub_ps(v, half);
+            const __m512 fu = _mm512_floor_ps(u0), fv = _mm512_floor_ps(v0);
+            wrap_shaped16<kWrap, true>(ifloor_floored16(fu), last_i, i0, i1);
+            wrap_shaped16<kWrap, true>(ifloor_floored16(fv), last_j, j0, j1);
+            const __m512 a = _mm512_sub_ps(u0, fu), b = _mm512_sub_ps(v0, fv);
+            const __m512 na = _mm512_sub_ps(one, a), nb = _mm512_sub_ps(one, b);
+            const __m512 w00 = _mm512_mul_ps(na, nb), w10 = _mm512_mul_ps(a, nb), w01 = _mm512_mul_ps(na, b),
+                         w11 = _mm512_mul_ps(a, b);
+            result[0] = weighted_sum16(w00, w10, w01, w11, texel(i0, j0), texel(i1, j0), texel(i0, j1), texel(i1, j1));
+            result[1] = result[2] = grey ? result[0] : weighted_sum16(w00, w10, w01, w11, zero, zero, zero, zero);
+            result[3] = weighted_sum16(w00, w10, w01, w11, one, one, one, one);
+        }
+        for (int c = 0; c < 4; ++c)
+            if (out[c]) _mm512_storeu_ps(&out[c][l].f, result[c]);
+    }
+    if (active != 0xFFFF)   // inactive lanes: (0, 0, 0, 1), as sample_lanes gives them
+        for (int c = 0; c < 4; ++c)
+            if (out[c]) _mm512_mask_storeu_ps(&out[c][l].f, __mmask16(~active), _mm512_set1_ps(c == 3 ? 1.0f : 0.0f));
+}
+
+using DepthBlock16 = void (*)(const ColourQuery&, int);
+
+// The 16-lane depth block for a query, or null (levels chosen per block, layers, other wraps,
+// texel numbers beyond int32: depth_block8).
+inline DepthBlock16 depth_blocks16(const Fast2D& f, const ColourQuery& cq) {
+    const Plane& p = f.planes[size_t(cq.fixed.first)];
+    if (cq.needs_lambda || cq.r || !p.depth || p.layers != 1 || uint64_t(p.width) * uint64_t(p.height) > uint64_t(INT32_MAX))
+        return nullptr;
+    const bool clamp = f.wrap_s == gl::CLAMP_TO_EDGE && f.wrap_t == gl::CLAMP_TO_EDGE;
+    const bool repeat = f.wrap_s == gl::REPEAT && f.wrap_t == gl::REPEAT && p.width_pot && p.height_pot;
+    if (clamp) return cq.fixed.linear ? depth_block16<true, WrapKind::Clamp> : depth_block16<false, WrapKind::Clamp>;
+    if (repeat) return cq.fixed.linear ? depth_block16<true, WrapKind::RepeatPot> : depth_block16<false, WrapKind::RepeatPot>;
+    return nullptr;
+}
+
 // The 16-lane cube block for a query's storage and fixed filter, or null (as cube_blocks8; a
 // level choice per block takes cube_block8).
 inline CubeBlock16 cube_blocks16(const Fast2D& f, bool one_storage, LevelMode mode) {
@@ -2981,7 +3096,13 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
             return ~inactive & 0xFFu;
         };
         glsl::Scalar* const out[4] = {q.out[0], q.out[1], q.out[2], q.out[3]};
+        const DepthBlock16 depth_block16 = simd == SimdBlocks::Avx512 ? depth_blocks16(f, cq) : nullptr;
         while (l + 8 <= q.lane_count) {
+            if (depth_block16 && l + 16 <= q.lane_count) {
+                depth_block16(cq, l);
+                l += 16;
+                continue;
+            }
             if (depth_block8(cq, l)) {
                 l += 8;
                 continue;
