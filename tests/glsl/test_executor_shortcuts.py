@@ -202,3 +202,66 @@ def test_fused_pairs_equal_their_steps(first, second):
         out = _core.glsl_run(fs, "fragment", 2, {"a": a, "b": b}, {}, LANES, {}, 128, 1, level)
         _f32_bits_equal(out["o"][:, 0], expected_x, level)
         _f32_bits_equal(out["o"][:, 1], expected_y, level)
+
+
+def test_operations_write_the_variable_their_move_copied_to():
+    # `c += x`, `c -= x`, `c *= x`, `c /= x` before any control flow: the lowering's temporary and
+    # Mov become one operation writing c (reading c in the same lane first). The bits are the
+    # float32 steps in order, at every SIMD level; after a branch the Movs stay, with the same bits.
+    body = """
+        vec4 c = a * 0.5;
+        c += b;
+        c -= a.wzyx;
+        c *= b.yxwz;
+        c /= a + 3.0;
+        c += b * 0.25;
+        o = c;"""
+    fs = f"""#version 300 es
+    precision highp float;
+    in vec4 a;
+    in vec4 b;
+    out vec4 o;
+    void main() {{ {body} }}"""
+    branched = fs.replace("void main() {", "void main() { if (a.x > 1e30) { o = vec4(7.0); return; }")
+    fused_movs = _core.glsl_executor_ops(fs, "fragment").count("mov")
+    kept_movs = _core.glsl_executor_ops(branched, "fragment").count("mov")
+    assert fused_movs < kept_movs - 12, (fused_movs, kept_movs)   # six vec4 Movs gone
+    a, b = values(4), values(4)
+    a[:, :][np.abs(a) > 1e29] = 2.0
+    with np.errstate(invalid="ignore", divide="ignore", over="ignore", under="ignore"):
+        c = a * np.float32(0.5)
+        c = c + b
+        c = c - a[:, ::-1]
+        c = c * b[:, [1, 0, 3, 2]]
+        c = c / (a + np.float32(3.0))
+        c = c + b * np.float32(0.25)
+    for source in (fs, branched):
+        for level in _core.glsl_simd_levels():
+            out = _core.glsl_run(source, "fragment", 2, {"a": a, "b": b}, {}, LANES, {}, 128, 1, level)
+            for k in range(4):
+                _f32_bits_equal(out["o"][:, k], c[:, k], level)
+
+
+def test_a_variable_read_between_operation_and_move_keeps_the_move():
+    # c is read (into d) after `c + b` is computed and before the Mov stores it: writing c early
+    # would give d the new value.
+    fs = """#version 300 es
+    precision highp float;
+    in vec4 a;
+    in vec4 b;
+    out vec4 o;
+    void main() {
+        vec4 c = a;
+        vec4 d;
+        vec4 t = c + b;
+        d = c * 2.0;
+        c = t;
+        o = c + d * 3.0;
+    }"""
+    a, b = values(4), values(4)
+    with np.errstate(invalid="ignore", over="ignore"):
+        expected = (a + b) + (a * np.float32(2.0)) * np.float32(3.0)
+    for level in _core.glsl_simd_levels():
+        out = _core.glsl_run(fs, "fragment", 2, {"a": a, "b": b}, {}, LANES, {}, 128, 1, level)
+        for k in range(4):
+            _f32_bits_equal(out["o"][:, k], expected[:, k], level)

@@ -198,8 +198,14 @@ def test_plan_says_why_a_draw_is_not_batched():
     assert plan["constant_color"] and plan["fragment_batches_why_not"] == "constant_color"
     plan = draw(HEAD + SHADERS["derivatives"])
     assert plan["fragment_batches"] and plan["no_helper_lanes_why_not"] == "quad_neighbours"
-    # An implicit-LOD lookup reads the quad's neighbours too; an explicit LOD does not.
+    # An implicit-LOD lookup reads the quad's neighbours too, where the LOD can change the result
+    # (here a mipmapped texture); an explicit LOD does not. Unbound, the unit samples (0, 0, 0, 1)
+    # whatever the LOD (tests/pipeline/test_lod_free_helper_lanes.py).
     tex = HEAD + "uniform sampler2D s; void main() { o = texture(s, vColor.xy) + vColor; }"
+    assert draw(tex)["no_helper_lanes"]
+    gl.bindTexture(gl.TEXTURE_2D, gl.createTexture())
+    gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA8, 4, 4, 0, gl.RGBA, gl.UNSIGNED_BYTE, np.zeros((4, 4, 4), np.uint8))
+    gl.generateMipmap(gl.TEXTURE_2D)
     assert draw(tex)["no_helper_lanes_why_not"] == "quad_neighbours"
     assert draw(tex.replace("texture(s, vColor.xy)", "textureLod(s, vColor.xy, 0.0)"))["no_helper_lanes"]
     plan = draw(HEAD + SHADERS["plain"])

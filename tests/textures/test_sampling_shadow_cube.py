@@ -75,6 +75,31 @@ def test_shadow_2d_fast_equals_general(fmt):
                     assert np.array_equal(img[..., 0].view(np.uint32), img[..., 2].view(np.uint32))
 
 
+@pytest.mark.parametrize("fmt", ["DEPTH_COMPONENT16", "DEPTH_COMPONENT24", "DEPTH_COMPONENT32F"])
+@pytest.mark.parametrize("size", [(16, 16), (13, 7)], ids=["pot", "npot"])
+def test_shadow_fixed_filter_blocks_equal_general(fmt, size):
+    # One filter, no mipmaps, both axes CLAMP_TO_EDGE or both REPEAT: at AVX-512 the blocks of 16
+    # lanes (depth_block16; REPEAT of other sizes keeps the blocks of 8), with and without texel
+    # offsets, and the depth read without the comparison.
+    r = Renderer()
+    gl = r.gl
+    depth_levels(gl, gl.TEXTURE_2D, fmt, *size)
+    for wrap in ("CLAMP_TO_EDGE", "REPEAT"):
+        for filt in ("NEAREST", "LINEAR"):
+            set_params(gl, gl.TEXTURE_2D, filt, filt, wrap, wrap)
+            gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_COMPARE_MODE, gl.COMPARE_REF_TO_TEXTURE)
+            for func in COMPARE_FUNCS:
+                gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_COMPARE_FUNC, getattr(gl, func))
+                for name in ("implicit", "offset"):
+                    for c0, cx, cy, special in list(MAPS.values())[:2]:
+                        r.compare(shadow_fs(SHADOW_LOOKUPS[name]), c0[:2] + (-0.2,), cx[:2] + (1.4,), cy, special, 0.0)
+            gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_COMPARE_MODE, gl.NONE)
+            if filt == "NEAREST":   # (depth is not filterable without the comparison)
+                for c0, cx, cy, special in MAPS.values():
+                    img = r.compare(fs("texture(tex, p.xy)"), c0, cx, cy, special)
+                    assert (img[..., 3] == 1).all()
+
+
 def test_shadow_equal_compare_and_wraps():
     # Depths of a few values and references on them, so that EQUAL and NOTEQUAL both pass and fail.
     r = Renderer()

@@ -67,6 +67,11 @@ struct Tuning {
     // channels, one sample), the texels' RGBA8 words go to the pixels as they are (pipeline/
     // tile_pass, "texel words"); off: as floats through the colour kernels.
     bool texel_words = true;
+    // ... skip_helper_lanes also for a shader whose only quad-neighbour reads are implicit-LOD
+    // lookups of textures whose LOD cannot change the result during the draw (no mipmaps, one
+    // filter for magnification and minification: ES 3.0 §3.8.11; FragmentShader::
+    // reads_quad_neighbours_in_draw); off: any implicit-LOD lookup keeps whole quads.
+    bool lod_free_helper_lanes = true;
 
     bool operator==(const Tuning& o) const {
         return simd == o.simd && batch_primitives == o.batch_primitives &&
@@ -75,7 +80,8 @@ struct Tuning {
                fragment_batches == o.fragment_batches && skip_helper_lanes == o.skip_helper_lanes &&
                blit_rows == o.blit_rows && hoist_uniform_values == o.hoist_uniform_values &&
                flat_primitives == o.flat_primitives && pool_spin_microseconds == o.pool_spin_microseconds &&
-               texture_copies == o.texture_copies && texel_words == o.texel_words;
+               texture_copies == o.texture_copies && texel_words == o.texel_words &&
+               lod_free_helper_lanes == o.lod_free_helper_lanes;
     }
     bool operator!=(const Tuning& o) const { return !(*this == o); }
 

@@ -445,6 +445,35 @@ void Executor::fuse_texture_moves(const IrProgram& program, const std::vector<ui
             any = true;
         }
     }
+    // `op rT, a, b; mov X, rT` for the plain float operations (F2: lane l reads a[l] and b[l]
+    // before it writes d[l], so X may be an operand, as in `c += t`): the operation writes X
+    // itself, on the same conditions (in the body, not the prologue, which runs once per run).
+    for (size_t k = prologue_end_; k < code_.size(); ++k) {
+        const Instruction& i = code_[k];
+        if (op_is_control(i.op) && i.op != Op::FunctionBegin) break;   // the prefix only
+        if (dropped[k] || !(i.op == Op::FAdd || i.op == Op::FSub || i.op == Op::FMul || i.op == Op::FDiv)) continue;
+        const Reg d = i.dst;
+        if (d == kNoReg || d >= R || program.is_variable[d] || is_slot[d] || is_constant[d] || reads[d] != 1) continue;
+        size_t j = k + 1;
+        bool reached = false;
+        for (; j < code_.size() && !(op_is_control(code_[j].op) && code_[j].op != Op::FunctionBegin); ++j) {
+            bool reads_d = false;
+            each_read(code_[j], [&](Reg r) { reads_d = reads_d || r == d; });
+            if (reads_d) { reached = true; break; }
+        }
+        if (!reached || dropped[j] || code_[j].op != Op::Mov || code_[j].a != d) continue;
+        const Reg x = code_[j].dst;
+        bool clear = x != d && x < R && !is_constant[x];
+        for (size_t m = k + 1; m < j && clear; ++m) {
+            if (dropped[m]) continue;
+            each_read(code_[m], [&](Reg r) { clear = clear && r != x; });
+            each_write(code_[m], [&](Reg r) { clear = clear && r != x; });
+        }
+        if (!clear) continue;
+        code_[k].dst = x;
+        dropped[j] = 1;
+        any = true;
+    }
     if (!any) return;
     IrProgram fused;
     fused.code.reserve(code_.size());

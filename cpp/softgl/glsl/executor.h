@@ -68,6 +68,9 @@ public:
     // sample_words then gives those texels' RGBA8 words (channel c in byte c), words[lane].
     virtual bool gives_words(const TextureQuery&) const { return false; }
     virtual void sample_words(const TextureQuery& query, uint32_t* words) { (void)query, (void)words; }
+    // False when the level of detail can change no lookup of dimension `dim` during the current
+    // draw (whichever unit it reads): such lookups then need no quad neighbours.
+    virtual bool lod_matters_in(SamplerDim) const { return true; }
 };
 
 struct ExecutionError : std::runtime_error {

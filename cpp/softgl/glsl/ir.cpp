@@ -55,6 +55,25 @@ bool reads_quad_neighbours(const IrProgram& program) {
     return false;
 }
 
+bool takes_derivatives(const IrProgram& program) {
+    if (!program.fragment) return false;
+    for (const Instruction& i : program.code)
+        if (i.op == Op::DFdx || i.op == Op::DFdy) return true;
+    return false;
+}
+
+uint32_t implicit_lod_dims(const IrProgram& program) {
+    uint32_t dims = 0;
+    if (!program.fragment) return dims;
+    for (const Instruction& i : program.code) {
+        if (i.op != Op::Texture) continue;
+        const TextureOperands& t = program.textures[static_cast<size_t>(i.texture)];
+        if (t.kind == TextureKind::Sample && (t.lod_mode == TextureLod::Implicit || t.lod_mode == TextureLod::Bias))
+            dims |= 1u << static_cast<unsigned>(t.dim);
+    }
+    return dims;
+}
+
 bool link_control_flow(IrProgram& program) {
     std::vector<int> stack;
     std::vector<Instruction>& code = program.code;

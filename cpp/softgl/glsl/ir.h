@@ -193,6 +193,10 @@ std::vector<int32_t> region_ends(const IrProgram& program);
 // LOD of fragment texture lookups. Only then can a lane observe values computed in lanes that
 // were inactive.
 bool reads_quad_neighbours(const IrProgram& program);
+// Whether fragment code takes derivatives (dFdx, dFdy, fwidth), and the sampler dimensions of its
+// implicit-LOD lookups (bit int(SamplerDim)): the two ways reads_quad_neighbours can be true.
+bool takes_derivatives(const IrProgram& program);
+uint32_t implicit_lod_dims(const IrProgram& program);
 
 // The most instructions one invocation can execute (each loop's body counted as often as its
 // condition can run); UINT64_MAX when a loop has no known bound. The draw uses it to decide whether

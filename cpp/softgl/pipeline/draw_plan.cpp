@@ -69,7 +69,8 @@ void plan_copies(DrawPlan& plan, const FragmentShader& fs, const VaryingLayout& 
 
 // Shade full batches (tile_pass, "gather"): not where no shader batch is built (a fused copy, a
 // constant colour), nor for the blend lab (its hooks see each primitive's fragments in turn) or
-// area coverage (fractions per quad); no helper lanes when nothing reads a quad neighbour.
+// area coverage (fractions per quad); no helper lanes when nothing reads a quad neighbour (in
+// this draw: implicit-LOD lookups whose LOD the bound textures ignore do not).
 void plan_fragment_batches(DrawPlan& plan, const FragmentShader& fs, const Tuning& tuning) {
     plan.fragment_batches = first_reason({{!plan.rasterizes(), Path::NotRasterized},
                                           {!tuning.fragment_batches, Path::TuningOff},
@@ -79,7 +80,9 @@ void plan_fragment_batches(DrawPlan& plan, const FragmentShader& fs, const Tunin
                                           {plan.constant_color == Path::Taken, Path::ConstantColor}});
     plan.no_helper_lanes = first_reason({{plan.fragment_batches != Path::Taken, plan.fragment_batches},
                                          {!tuning.skip_helper_lanes, Path::TuningOff},
-                                         {fs.reads_quad_neighbours(), Path::QuadNeighbours}});
+                                         {tuning.lod_free_helper_lanes ? fs.reads_quad_neighbours_in_draw()
+                                                                       : fs.reads_quad_neighbours(),
+                                          Path::QuadNeighbours}});
 }
 
 }  // namespace

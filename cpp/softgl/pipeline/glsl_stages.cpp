@@ -203,6 +203,8 @@ GlslFragmentShader::GlslFragmentShader(std::shared_ptr<const glsl::LinkedProgram
     // Derivatives and implicit-LOD lookups, as the optimised IR has them (the executor's test):
     // without them a lane's values are its own, and no helper pixel needs shading.
     quad_neighbours_ = glsl::reads_quad_neighbours(ir);
+    derivatives_ = glsl::takes_derivatives(ir);
+    implicit_lod_dims_ = glsl::implicit_lod_dims(ir);
     // A primitive whose varyings are the same at every fragment gives each the same results when
     // lanes are independent and nothing else per pixel is read (TilePass's flat primitives).
     flat_ = !quad_neighbours_ && builtins_read_ == 0 && !program_->reflection.fragment_usage.may_discard &&
@@ -415,6 +417,16 @@ bool GlslFragmentShader::find_copies() {
 }
 
 const FragmentCopies* GlslFragmentShader::copies() const { return copies_only_ ? &copies_ : nullptr; }
+
+bool GlslFragmentShader::reads_quad_neighbours_in_draw() const {
+    if (!quad_neighbours_) return false;
+    if (derivatives_ || !textures_) return true;
+    // The executor takes a lookup's derivatives only where the sampler says the LOD matters
+    // (TextureSampler::lod_matters), and no lookup of these dimensions says so in this draw.
+    for (uint32_t m = implicit_lod_dims_; m; m &= m - 1)
+        if (textures_->lod_matters_in(glsl::SamplerDim(__builtin_ctz(m)))) return true;
+    return false;
+}
 
 void GlslFragmentShader::prepare(unsigned workers, const Tuning& tuning) const {
     if (workers_.size() < workers) workers_.resize(workers);

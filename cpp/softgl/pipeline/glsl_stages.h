@@ -76,6 +76,7 @@ public:
     bool may_discard() const override { return program_->reflection.fragment_usage.may_discard; }
     bool writes_depth() const override { return program_->reflection.fragment_usage.writes_frag_depth; }
     bool reads_quad_neighbours() const override { return quad_neighbours_; }
+    bool reads_quad_neighbours_in_draw() const override;
     uint32_t builtins_read() const override { return builtins_read_; }
     void prepare(unsigned workers, const Tuning& tuning) const override;
     void run(const FragmentBatch& batch, FragmentResults& out, unsigned worker) const override;
@@ -111,6 +112,8 @@ private:
     int depth_slot_ = -1;
     uint32_t builtins_read_ = 0;         // FragmentBuiltin bits
     bool quad_neighbours_ = true;        // glsl::reads_quad_neighbours of the fragment IR
+    bool derivatives_ = true;            // glsl::takes_derivatives of the fragment IR
+    uint32_t implicit_lod_dims_ = ~0u;   // glsl::implicit_lod_dims of the fragment IR
     bool uniform_only_ = false;          // outputs depend only on uniforms: run one quad, broadcast
     bool flat_ = false;                  // run_flat: no discard, depth, built-ins or quad neighbours
     bool run_one_quad(const uint32_t* varyings, FragmentResults& out, unsigned worker) const;

@@ -101,6 +101,10 @@ public:
     // Whether a lane reads values of the other lanes of its quad (dFdx, dFdy, fwidth, the implicit
     // LOD of a texture lookup): only then must helper pixels be shaded, and lanes come as quads.
     virtual bool reads_quad_neighbours() const { return true; }
+    // The same for the current draw, with its bound textures: false also when the only reads are
+    // implicit-LOD lookups whose LOD cannot change the result (the sampler's lod_matters_in), so
+    // the derivatives are never taken. Asked once per draw, after the textures are bound.
+    virtual bool reads_quad_neighbours_in_draw() const { return reads_quad_neighbours(); }
     // The built-ins run() reads (FragmentBuiltin bits): the pipeline fills only these arrays of
     // the batch (docs/architecture.md, "Fast paths": what the shader does not read is not computed). Varyings: the vertex
     // stage's VaryingLayout::read_by_fragment says which words are filled.

@@ -740,12 +740,17 @@ __attribute__((target("avx2"))) inline __m256d words_as_double4(__m128i w) {
     return _mm256_sub_pd(_mm256_castsi256_pd(bits), _mm256_set1_pd(4503599627370496.0));
 }
 
-// depth_value of 8 words.
+// depth_value of 8 words, by the double reciprocal of 2^n - 1 rather than the division: the
+// same float. The product is within 2^-52 (relative) of the quotient w / (2^n - 1), and the
+// quotient is never within 2^-49 of a float rounding midpoint (their difference is an integer
+// over (2^n - 1) 2^k, and it is never 0: 2^n - 1 is odd, so w / (2^n - 1) is dyadic only when
+// it is an integer), so both round to the same float (all 2^16 and 2^24 words:
+// tests/textures/test_depth_values.py).
 __attribute__((target("avx2"))) inline __m256 depth_values8(Encoding e, __m256i words) {
     if (e == Encoding::Depth32F) return _mm256_castsi256_ps(words);
-    const __m256d divisor = _mm256_set1_pd(e == Encoding::Depth16 ? 65535.0 : 16777215.0);
-    const __m128 lo = _mm256_cvtpd_ps(_mm256_div_pd(words_as_double4(_mm256_castsi256_si128(words)), divisor));
-    const __m128 hi = _mm256_cvtpd_ps(_mm256_div_pd(words_as_double4(_mm256_extracti128_si256(words, 1)), divisor));
+    const __m256d reciprocal = _mm256_set1_pd(e == Encoding::Depth16 ? 1.0 / 65535.0 : 1.0 / 16777215.0);
+    const __m128 lo = _mm256_cvtpd_ps(_mm256_mul_pd(words_as_double4(_mm256_castsi256_si128(words)), reciprocal));
+    const __m128 hi = _mm256_cvtpd_ps(_mm256_mul_pd(words_as_double4(_mm256_extracti128_si256(words, 1)), reciprocal));
     return _mm256_set_m128(hi, lo);
 }
 
@@ -2790,6 +2795,190 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) int colour_blocks16_shaped
 
 using Blocks16 = int (*)(const ColourQuery&, int);
 
+// ---- Cube maps in blocks of 16 (AVX-512) with one fixed filter (no level choice): cube_block8's
+// FixedNearest / FixedLinear modes for 16 lanes. The faces and face coordinates of each half by
+// cube_coords8 (the same operations), each face the active lanes select filtered for the 16
+// lanes by filter16_shaped (filter8_shaped's bits: colour_blocks16_shaped), each lane taking its
+// own face's result; inactive lanes (0, 0, 0, 1). With seamless filtering, `outside` returns the
+// active lanes whose texels leave the face (inside8, as Fast2D::inside and cube_block8's
+// `inside`: every face of a level has one size), which the caller samples again by sample_lane.
+template <int kBytes, bool kLinear>
+__attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) void cube_block16(const CubeQuery& cq, int32_t level, int l,
+                                                                        uint32_t& outside) {
+    const glsl::TextureQuery& q = *cq.q;
+    const Fast2D& f = *cq.f;
+    glsl::Scalar* const out[4] = {q.out[0], q.out[1], q.out[2], q.out[3]};
+    outside = 0;
+    const __mmask16 active = q.active ? _mm512_test_epi32_mask(_mm512_loadu_si512(q.active + l), _mm512_set1_epi32(-1))
+                                      : __mmask16(0xFFFF);
+    if (active) {
+        alignas(64) int32_t face16[16];
+        alignas(64) float s16[16], t16[16];
+        for (int part = 0; part < 16; part += 8)
+            cube_coords8(&q.coord[0][l + part].f, &q.coord[1][l + part].f, &q.coord[2][l + part].f, face16 + part,
+                         s16 + part, t16 + part);
+        const __m512i face_v = _mm512_load_si512(face16);
+        const auto face_plane = [&](int face) -> const Plane& {
+            return f.planes[size_t(face) * size_t(f.face_stride) + size_t(level)];
+        };
+        // The faces of the active lanes: usually one (the first active lane's).
+        const int first_face = face16[__builtin_ctz(active)];
+        const __mmask16 on_first = _mm512_cmpeq_epi32_mask(face_v, _mm512_set1_epi32(first_face));
+        uint32_t faces = 1u << first_face;
+        for (uint32_t left = active & ~uint32_t(on_first); left; left &= left - 1) faces |= 1u << face16[__builtin_ctz(left)];
+        __m512 result[4];
+        if (faces == 1u << first_face) {
+            filter16_shaped<kBytes, kLinear, WrapKind::Clamp>(f, face_plane(first_face), s16, t16, result);
+        } else {
+            for (int c = 0; c < 4; ++c) result[c] = _mm512_setzero_ps();
+            for (uint32_t left = faces; left; left &= left - 1) {
+                const int face = __builtin_ctz(left);
+                __m512 part[4];
+                filter16_shaped<kBytes, kLinear, WrapKind::Clamp>(f, face_plane(face), s16, t16, part);
+                const __mmask16 mine = _mm512_cmpeq_epi32_mask(face_v, _mm512_set1_epi32(face));
+                for (int c = 0; c < 4; ++c) result[c] = _mm512_mask_mov_ps(result[c], mine, part[c]);
+            }
+        }
+        for (int c = 0; c < 4; ++c)
+            if (out[c]) _mm512_storeu_ps(&out[c][l].f, result[c]);
+        if (cq.seamless) {
+            const Plane& sizes = f.planes[size_t(level)];
+            const uint32_t inside = inside8(sizes, kLinear, s16, t16) | inside8(sizes, kLinear, s16 + 8, t16 + 8) << 8;
+            outside = ~inside & uint32_t(active);
+        }
+    }
+    if (active != 0xFFFF)
+        for (int c = 0; c < 4; ++c)
+            if (out[c]) _mm512_mask_storeu_ps(&out[c][l].f, __mmask16(~active), _mm512_set1_ps(c == 3 ? 1.0f : 0.0f));
+}
+
+using CubeBlock16 = void (*)(const CubeQuery&, int32_t, int, uint32_t&);
+
+// ---- Depth lookups (with or without the comparison) in blocks of 16 (AVX-512) with one fixed
+// filter, no layers, both axes CLAMP_TO_EDGE or both REPEAT of powers of two, a plane whose
+// texel numbers fit int32: depth_block8's fixed case for 16 lanes. filter8_depth_as's operations
+// in its order, 16 lanes at a time (the texels gathered 16 at a time, their values by
+// depth_values8's rule on each half, compared as compare8), so the same bits.
+__attribute__((target(SOFTGL_SAMPLER_AVX512))) inline __m512 depth_values16(Encoding e, __m512i words) {
+    if (e == Encoding::Depth32F) return _mm512_castsi512_ps(words);
+    const __m512d reciprocal = _mm512_set1_pd(e == Encoding::Depth16 ? 1.0 / 65535.0 : 1.0 / 16777215.0);
+    const auto half = [&](__m256i w) __attribute__((target(SOFTGL_SAMPLER_AVX512))) {
+        return _mm512_cvtpd_ps(_mm512_mul_pd(_mm512_cvtepu32_pd(w), reciprocal));   // exact conversion
+    };
+    return _mm512_insertf32x8(_mm512_castps256_ps512(half(_mm512_castsi512_si256(words))),
+                              half(_mm512_extracti64x4_epi64(words, 1)), 1);
+}
+
+__attribute__((target(SOFTGL_SAMPLER_AVX512))) inline __m512 compare16(GLenum func, __m512 ref, __m512 d) {
+    __mmask16 pass;
+    switch (func) {
+        case gl::LEQUAL: pass = _mm512_cmp_ps_mask(ref, d, _CMP_LE_OQ); break;
+        case gl::GEQUAL: pass = _mm512_cmp_ps_mask(ref, d, _CMP_GE_OQ); break;
+        case gl::LESS: pass = _mm512_cmp_ps_mask(ref, d, _CMP_LT_OQ); break;
+        case gl::GREATER: pass = _mm512_cmp_ps_mask(ref, d, _CMP_GT_OQ); break;
+        case gl::EQUAL: pass = _mm512_cmp_ps_mask(ref, d, _CMP_EQ_OQ); break;
+        case gl::NOTEQUAL: pass = _mm512_cmp_ps_mask(ref, d, _CMP_NEQ_UQ); break;
+        case gl::ALWAYS: return _mm512_set1_ps(1.0f);
+        default: return _mm512_setzero_ps();   // NEVER
+    }
+    return _mm512_maskz_mov_ps(pass, _mm512_set1_ps(1.0f));
+}
+
+__attribute__((target(SOFTGL_SAMPLER_AVX512))) inline __m512 weighted_sum16(__m512 w00, __m512 w10, __m512 w01, __m512 w11,
+                                                                            __m512 t00, __m512 t10, __m512 t01, __m512 t11) {
+    __m512 sum = _mm512_mul_ps(w00, t00);
+    sum = _mm512_add_ps(sum, _mm512_mul_ps(w10, t10));
+    sum = _mm512_add_ps(sum, _mm512_mul_ps(w01, t01));
+    return _mm512_add_ps(sum, _mm512_mul_ps(w11, t11));
+}
+
+template <bool kLinear, WrapKind kWrap>
+__attribute__((target(SOFTGL_SAMPLER_AVX512))) void depth_block16(const ColourQuery& cq, int l) {
+    const glsl::TextureQuery& q = *cq.q;
+    const Fast2D& f = *cq.f;
+    const Plane& p = f.planes[size_t(cq.fixed.first)];
+    glsl::Scalar* const out[4] = {q.out[0], q.out[1], q.out[2], q.out[3]};
+    const __mmask16 active = q.active ? _mm512_test_epi32_mask(_mm512_loadu_si512(q.active + l), _mm512_set1_epi32(-1))
+                                      : __mmask16(0xFFFF);
+    __m512 result[4];
+    if (active) {
+        const bool compare = f.compare;
+        const GLenum func = f.compare_func;
+        const Encoding encoding = p.depth_encoding;
+        __m512 ref = q.compare ? _mm512_loadu_ps(&q.compare[l].f) : _mm512_setzero_ps();
+        if (compare && encoding != Encoding::Depth32F) {
+            // std::clamp(ref, 0, 1), as DepthTexels8 (NaN and -0 stay).
+            const __m512 zero = _mm512_setzero_ps(), one = _mm512_set1_ps(1.0f);
+            ref = _mm512_mask_mov_ps(ref, _mm512_cmp_ps_mask(one, ref, _CMP_LT_OQ), one);
+            ref = _mm512_mask_mov_ps(ref, _mm512_cmp_ps_mask(ref, zero, _CMP_LT_OQ), zero);
+        }
+        const __m512i width = _mm512_set1_epi32(p.width);
+        const auto texel = [&](__m512i i, __m512i j) __attribute__((target(SOFTGL_SAMPLER_AVX512))) {
+            const __m512i at = _mm512_add_epi32(_mm512_mullo_epi32(j, width), i);
+            const __m512 d = depth_values16(encoding, _mm512_i32gather_epi32(at, reinterpret_cast<const int*>(p.depth), 4));
+            return compare ? compare16(func, ref, d) : d;
+        };
+        const __m512 u = _mm512_add_ps(_mm512_mul_ps(_mm512_loadu_ps(&q.coord[0][l].f), _mm512_set1_ps(float(p.width))),
+                                       _mm512_set1_ps(float(f.off_s)));
+        const __m512 v = _mm512_add_ps(_mm512_mul_ps(_mm512_loadu_ps(&q.coord[1][l].f), _mm512_set1_ps(float(p.height))),
+                                       _mm512_set1_ps(float(f.off_t)));
+        const __m512i last_i = _mm512_set1_epi32(p.width - 1), last_j = _mm512_set1_epi32(p.height - 1);
+        const bool grey = f.compare || f.luminance;
+        const __m512 zero = _mm512_setzero_ps(), one = _mm512_set1_ps(1.0f);
+        __m512i i0, i1, j0, j1;
+        if constexpr (!kLinear) {
+            wrap_shaped16<kWrap, false>(ifloor_floored16(_mm512_floor_ps(u)), last_i, i0, i1);
+            wrap_shaped16<kWrap, false>(ifloor_floored16(_mm512_floor_ps(v)), last_j, j0, j1);
+            result[0] = texel(i0, j0);
+            result[1] = result[2] = grey ? result[0] : zero;
+            result[3] = one;
+        } else {
+            const __m512 half = _mm512_set1_ps(0.5f);
+            const __m512 u0 = _mm512_sub_ps(u, half), v0 = _mm512_sub_ps(v, half);
+            const __m512 fu = _mm512_floor_ps(u0), fv = _mm512_floor_ps(v0);
+            wrap_shaped16<kWrap, true>(ifloor_floored16(fu), last_i, i0, i1);
+            wrap_shaped16<kWrap, true>(ifloor_floored16(fv), last_j, j0, j1);
+            const __m512 a = _mm512_sub_ps(u0, fu), b = _mm512_sub_ps(v0, fv);
+            const __m512 na = _mm512_sub_ps(one, a), nb = _mm512_sub_ps(one, b);
+            const __m512 w00 = _mm512_mul_ps(na, nb), w10 = _mm512_mul_ps(a, nb), w01 = _mm512_mul_ps(na, b),
+                         w11 = _mm512_mul_ps(a, b);
+            result[0] = weighted_sum16(w00, w10, w01, w11, texel(i0, j0), texel(i1, j0), texel(i0, j1), texel(i1, j1));
+            result[1] = result[2] = grey ? result[0] : weighted_sum16(w00, w10, w01, w11, zero, zero, zero, zero);
+            result[3] = weighted_sum16(w00, w10, w01, w11, one, one, one, one);
+        }
+        for (int c = 0; c < 4; ++c)
+            if (out[c]) _mm512_storeu_ps(&out[c][l].f, result[c]);
+    }
+    if (active != 0xFFFF)   // inactive lanes: (0, 0, 0, 1), as sample_lanes gives them
+        for (int c = 0; c < 4; ++c)
+            if (out[c]) _mm512_mask_storeu_ps(&out[c][l].f, __mmask16(~active), _mm512_set1_ps(c == 3 ? 1.0f : 0.0f));
+}
+
+using DepthBlock16 = void (*)(const ColourQuery&, int);
+
+// The 16-lane depth block for a query, or null (levels chosen per block, layers, other wraps,
+// texel numbers beyond int32: depth_block8).
+inline DepthBlock16 depth_blocks16(const Fast2D& f, const ColourQuery& cq) {
+    const Plane& p = f.planes[size_t(cq.fixed.first)];
+    if (cq.needs_lambda || cq.r || !p.depth || p.layers != 1 || uint64_t(p.width) * uint64_t(p.height) > uint64_t(INT32_MAX))
+        return nullptr;
+    const bool clamp = f.wrap_s == gl::CLAMP_TO_EDGE && f.wrap_t == gl::CLAMP_TO_EDGE;
+    const bool repeat = f.wrap_s == gl::REPEAT && f.wrap_t == gl::REPEAT && p.width_pot && p.height_pot;
+    if (clamp) return cq.fixed.linear ? depth_block16<true, WrapKind::Clamp> : depth_block16<false, WrapKind::Clamp>;
+    if (repeat) return cq.fixed.linear ? depth_block16<true, WrapKind::RepeatPot> : depth_block16<false, WrapKind::RepeatPot>;
+    return nullptr;
+}
+
+// The 16-lane cube block for a query's storage and fixed filter, or null (as cube_blocks8; a
+// level choice per block takes cube_block8).
+inline CubeBlock16 cube_blocks16(const Fast2D& f, bool one_storage, LevelMode mode) {
+    if (!one_storage || mode == LevelMode::PerBlock) return nullptr;
+    const bool linear = mode == LevelMode::FixedLinear;
+    if (f.planes[0].rgba8) return linear ? cube_block16<1, true> : cube_block16<1, false>;
+    if (f.planes[0].narrow) return linear ? cube_block16<2, true> : cube_block16<2, false>;
+    return linear ? cube_block16<0, true> : cube_block16<0, false>;
+}
+
 // colour_blocks16_shaped by SamplingPlan::colour_shape, as kColourBlocks8.
 constexpr Blocks16 kColourBlocks16[kColourShapes] = {colour_blocks16, SOFTGL_SHAPES(colour_blocks16_shaped, 1),
                                                      SOFTGL_SHAPES(colour_blocks16_shaped, 2),
@@ -2846,13 +3035,11 @@ bool one_unit(const glsl::TextureQuery& q, int32_t& unit) {
 
 }  // namespace
 
-bool TextureUnitSampler::lod_matters(const glsl::TextureQuery& q) const {
-    // ES 3.0 §3.8.11: without mipmaps and with one filter for magnification and minification,
-    // lambda selects nothing (incomplete or unbound units give (0, 0, 0, 1) regardless).
-    int32_t unit;
-    if (!one_unit(q, unit)) return true;
-    if (unit < 0 || unit >= kSamplerUnits) return false;
-    const BoundTexture& bt = units[size_t(unit)][size_t(dim_index(q.dim))];
+namespace {
+
+// ES 3.0 §3.8.11: without mipmaps and with one filter for magnification and minification,
+// lambda selects nothing (incomplete or unbound units give (0, 0, 0, 1) regardless).
+bool lod_selects(const BoundTexture& bt) {
     if (!bt.texture) return false;
     if (bt.params.max_anisotropy > 1.0f) return true;   // the probes follow the derivatives
     const GLenum mf = bt.params.min_filter;
@@ -2860,6 +3047,17 @@ bool TextureUnitSampler::lod_matters(const glsl::TextureQuery& q) const {
     const bool mipmapped = !(mf == gl::NEAREST || mf == gl::LINEAR || bt.q == bt.base);
     return mipmapped || min_linear != (bt.params.mag_filter == gl::LINEAR);
 }
+
+}  // namespace
+
+bool TextureUnitSampler::lod_matters(const glsl::TextureQuery& q) const {
+    int32_t unit;
+    if (!one_unit(q, unit)) return lod_matters_in(q.dim);
+    if (unit < 0 || unit >= kSamplerUnits) return false;
+    return lod_selects(units[size_t(unit)][size_t(dim_index(q.dim))]);
+}
+
+bool TextureUnitSampler::lod_matters_in(glsl::SamplerDim dim) const { return !(lod_free_dims >> dim_index(dim) & 1u); }
 
 namespace {
 
@@ -2929,11 +3127,16 @@ SamplingPlan plan_sampling(const BoundTexture& bt, int dim) {
 }  // namespace
 
 void TextureUnitSampler::plan_units(const uint32_t filled[4]) {
-    for (int dim = 0; dim < 4; ++dim)
+    lod_free_dims = 0;
+    for (int dim = 0; dim < 4; ++dim) {
+        bool lod_free = true;   // units not filled sample as (0, 0, 0, 1) whatever the LOD
         for (uint32_t m = filled[dim]; m; m &= m - 1) {
             BoundTexture& bt = units[size_t(__builtin_ctz(m))][size_t(dim)];
             bt.plan = plan_sampling(bt, dim);
+            lod_free = lod_free && !lod_selects(bt);
         }
+        lod_free_dims |= uint32_t(lod_free) << dim;
+    }
 }
 
 bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd) const {
@@ -3089,7 +3292,13 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
             return ~inactive & 0xFFu;
         };
         glsl::Scalar* const out[4] = {q.out[0], q.out[1], q.out[2], q.out[3]};
+        const DepthBlock16 depth_block16 = simd == SimdBlocks::Avx512 ? depth_blocks16(f, cq) : nullptr;
         while (l + 8 <= q.lane_count) {
+            if (depth_block16 && l + 16 <= q.lane_count) {
+                depth_block16(cq, l);
+                l += 16;
+                continue;
+            }
             if (depth_block8(cq, l)) {
                 l += 8;
                 continue;
@@ -3133,6 +3342,8 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
         // Colour cube maps of one storage: cube_block8 (blocks whose lanes share their levels).
         const LevelMode mode = needs_lambda ? LevelMode::PerBlock : fixed.linear ? LevelMode::FixedLinear : LevelMode::FixedNearest;
         const CubeBlock8 cube_block8 = depth ? nullptr : cube_blocks8(f, plan.one_storage, mode);
+        const CubeBlock16 cube_block16 =
+            depth || simd != SimdBlocks::Avx512 ? nullptr : cube_blocks16(f, plan.one_storage, mode);
         const CubeQuery cube_query{&f, &q, w, h, &lambda_of, bt.seamless_cube};
         Planes8 cube_planes(f);
         const auto all_active = [&](int first) {
@@ -3196,6 +3407,12 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
         };
         while (l + 8 <= q.lane_count) {
             uint32_t outside;
+            if (cube_block16 && l + 16 <= q.lane_count) {
+                cube_block16(cube_query, fixed.first, l, outside);
+                for (; outside; outside &= outside - 1) sample_lane(q, l + __builtin_ctz(outside));
+                l += 16;
+                continue;
+            }
             if (cube_block8 && cube_block8(cube_query, cube_planes, l, outside)) {
                 for (; outside; outside &= outside - 1) sample_lane(q, l + __builtin_ctz(outside));
                 l += 8;

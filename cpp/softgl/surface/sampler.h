@@ -66,6 +66,10 @@ public:
     bool lod_matters(const glsl::TextureQuery& query) const override;
     bool gives_words(const glsl::TextureQuery& query) const override;
     void sample_words(const glsl::TextureQuery& query, uint32_t* words) override;
+    bool lod_matters_in(glsl::SamplerDim dim) const override;
+    // Bit dim_index: no unit's texture of that dimension lets the LOD change a lookup during the
+    // draw (plan_units sets it; 0, the safe answer, until then).
+    uint32_t lod_free_dims = 0;
 
 private:
     // The general path: every lane on its own, any texture kind and dimension.
