@@ -147,3 +147,33 @@ def test_packed_renderbuffers_hold_the_rounded_unorm_values(internal):
             k = np.floor(np.clip(v[..., c].astype(np.float64), 0, 1) * top + 0.5)
             want[..., c] = np.floor(k / top * 255 + 0.5)
     assert np.array_equal(out, want.astype(np.uint8))
+
+
+@pytest.mark.parametrize("filter_", ["NEAREST", "LINEAR"])
+@pytest.mark.parametrize("internal", list(FORMATS) + ["R16F", "RG16F", "RGBA16F"])
+def test_blits_into_renderbuffers_store_what_they_store_into_textures(internal, filter_):
+    """blitFramebuffer (1:1 and scaled) from a texture of the format into a renderbuffer and into
+    a texture of the same format: the same pixels (the blit writes through Image::store_color)."""
+    w, h = 29, 13
+    results = []
+    for kind in ("renderbuffer", "texture"):
+        gl = softgl.Context(8, 8, antialias=False, version=2)
+        assert gl.getExtension("EXT_color_buffer_float") is not None
+        src = target(gl, internal, w, h, "texture")
+        source(gl, np.random.default_rng(9).uniform(-0.1, 1.1, (h, w, 4)).astype(np.float32))
+        prog = program(gl, VS, FS)
+        gl.useProgram(prog)
+        gl.uniform1i(gl.getUniformLocation(prog, "src"), 1)
+        draw_quad(gl, prog)
+        dst = target(gl, internal, w, h, kind)
+        gl.bindFramebuffer(gl.READ_FRAMEBUFFER, src)
+        gl.bindFramebuffer(gl.DRAW_FRAMEBUFFER, dst)
+        gl.blitFramebuffer(0, 0, w, h, 0, 0, w, h, gl.COLOR_BUFFER_BIT, gl.NEAREST)
+        gl.blitFramebuffer(2, 1, 17, 9, 3, 2, 28, 12, gl.COLOR_BUFFER_BIT, getattr(gl, filter_))
+        assert gl.getError() == gl.NO_ERROR
+        gl.bindFramebuffer(gl.FRAMEBUFFER, dst)
+        floats = internal.endswith("16F")
+        out = np.empty((h, w, 4), np.float32 if floats else np.uint8)
+        gl.readPixels(0, 0, w, h, gl.RGBA, gl.FLOAT if floats else gl.UNSIGNED_BYTE, out)
+        results.append(out)
+    assert results[0].tobytes() == results[1].tobytes()

@@ -114,15 +114,14 @@ void write_image_color(Image& img, size_t offset, const BlendOp& op, const float
     }
     if (!img.packed.empty()) {
         // Encoded formats (Image::packed: 16F, sRGB, RGB565, ...): through the floats, clamped
-        // unless float (ES 3.0 §4.1.7), then quantized and encoded.
-        float dst[4], blended[4], stored[4];
+        // unless float (ES 3.0 §4.1.7), then encoded (quantize_color's value).
+        float dst[4], blended[4];
         img.read_color(t, dst);
         BlendOp o = op;
         o.has_alpha = true;
         blend_float(o, src, dst, !f.is_float(), blended);
-        quantize_color(f, blended, stored);
         const bool mask[4] = {op.write[0], op.write[1], op.write[2], op.write[3]};
-        img.store_color(t, stored, mask);
+        img.encode_color(t, blended, mask);
         return;
     }
     const size_t n = size_t(img.color_channels());
@@ -205,7 +204,7 @@ void clear_image_color(Image& img, size_t offset, Rect r, const float src[4], co
     } else if (!img.packed.empty()) {
         // The first texel's encoding, copied whole; with a mask, its values stored channel by
         // channel (a masked channel keeps each texel's own value).
-        const size_t nb = size_t(Image::packed_bytes(img.format));
+        const size_t nb = img.packed_size;
         uint8_t bytes[8];
         std::memcpy(bytes, &img.packed[first * nb], nb);
         float texel[4];

@@ -263,7 +263,10 @@ void Image::allocate(const FormatInfo* fmt, int32_t w, int32_t h, int32_t d, int
             // Absent alpha reads as 1 from the start (e.g. RGB8).
             if (stores_bytes(fmt)) rgba8.assign(n, fmt->bits[3] ? 0u : 0xFF000000u);
             else if (stores_narrow(fmt)) narrow.assign(n * size_t(narrow_bytes(fmt)) + kNarrowPad, 0);   // absent channels are implied
-            else if (encoded && packed_bytes(fmt)) packed.assign(n * size_t(packed_bytes(fmt)), 0);
+            else if (encoded && packed_bytes(fmt)) {
+                packed_size = uint8_t(packed_bytes(fmt));
+                packed.assign(n * size_t(packed_size), 0);
+            }
             else color.assign(color_elements(fmt, n), 0.0f);
             break;
         case SampleKind::Int: case SampleKind::Uint: integer.assign(n * size_t(integer_bytes(fmt)), 0); break;
@@ -353,7 +356,7 @@ const std::array<float, 256>& srgb_decode_table() {
 
 int Image::packed_bytes(const FormatInfo* fmt) {
     if (!fmt || fmt->kind() != SampleKind::Float) return 0;
-    if (fmt->encoding == Encoding::Float16 && !gl_ext::is_pseudo_format(fmt->internal_format)) return 2 * expanded_channels(*fmt);
+    if (fmt->encoding == Encoding::Float16) return 2 * expanded_channels(*fmt);
     if (fmt->encoding == Encoding::Srgb) return fmt->bits[3] ? 4 : 3;
     if (packed_unorm(*fmt)) return (fmt->bits[0] + fmt->bits[1] + fmt->bits[2] + fmt->bits[3]) / 8;
     return 0;
@@ -385,7 +388,7 @@ void Image::read_color(size_t t, float out[4]) const {
     out[0] = out[1] = out[2] = 0.0f, out[3] = 1.0f;
     if (!packed.empty()) {
         const FormatInfo& f = *format;
-        const size_t nb = size_t(packed_bytes(format));
+        const size_t nb = packed_size;
         const uint8_t* p = &packed[t * nb];
         if (f.encoding == Encoding::Float16) {
             for (size_t c = 0; c < nb / 2; ++c) {
@@ -432,7 +435,7 @@ void Image::store_color(size_t t, const float q[4], const bool mask[4]) {
     if (!packed.empty()) {
         // q holds values of the format (quantize_color's output): each has one encoding.
         const FormatInfo& f = *format;
-        const size_t nb = size_t(packed_bytes(format));
+        const size_t nb = packed_size;
         uint8_t* p = &packed[t * nb];
         if (f.encoding == Encoding::Float16) {
             for (size_t c = 0; c < nb / 2; ++c) {
@@ -460,6 +463,34 @@ void Image::store_color(size_t t, const float q[4], const bool mask[4]) {
     const size_t n = size_t(color_channels());
     for (size_t c = 0; c < n; ++c)
         if (!mask || mask[c]) color[t * n + c] = q[c];
+}
+
+void Image::encode_color(size_t t, const float v[4], const bool mask[4]) {
+    // What quantize_color rounds to, encoded at once: binary16 of the value (NaN: the one quiet
+    // NaN), the sRGB byte of eq. 4.1 (alpha: linear), the unorm integer k.
+    const FormatInfo& f = *format;
+    const size_t nb = packed_size;
+    uint8_t* p = &packed[t * nb];
+    if (f.encoding == Encoding::Float16) {
+        for (size_t c = 0; c < nb / 2; ++c) {
+            if (!mask[c]) continue;
+            const uint16_t h = float_to_half(canonical_nan(v[c]));
+            std::memcpy(p + 2 * c, &h, 2);
+        }
+    } else if (f.encoding == Encoding::Srgb) {
+        for (int c = 0; c < 3; ++c)
+            if (mask[c]) p[c] = uint8_t(float_to_unorm(linear_to_srgb(v[c]), 8));
+        if (nb == 4 && mask[3]) p[3] = uint8_t(float_to_unorm(v[3], 8));
+    } else {
+        uint32_t w = 0;
+        std::memcpy(&w, p, nb);
+        for (int c = 0, shift = 0; c < 4 && f.bits[size_t(c)]; shift += f.bits[size_t(c)], ++c) {
+            if (!mask[c]) continue;
+            const uint32_t ones = (1u << f.bits[size_t(c)]) - 1u;
+            w = (w & ~(ones << shift)) | (float_to_unorm(v[c], f.bits[size_t(c)]) << shift);
+        }
+        std::memcpy(p, &w, nb);
+    }
 }
 
 void Image::texel(int32_t x, int32_t y, int32_t z, float out[4]) const {

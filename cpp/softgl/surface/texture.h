@@ -145,6 +145,7 @@ struct Image {
     // formats keep floats (`color`): the sampler's vector paths read 4 floats a texel, and the
     // general path that would decode them is ~18x slower (docs/reliability.md, "Memory").
     std::vector<uint8_t> packed;
+    uint8_t packed_size = 0;                     // bytes per sample of `packed` (0: not encoded)
     std::vector<uint8_t> integer;                // Int/Uint kind: integer_bytes() per texel (sample)
     std::vector<uint32_t> depth_words;           // Depth kind: 1 per texel (sample)
     std::vector<uint8_t> stencil;                // depth-stencil and stencil formats
@@ -186,6 +187,9 @@ struct Image {
     // Stores already-quantized colour values (quantize_color's output) into element t, the
     // channels of `mask` only.
     void store_color(size_t t, const float quantized[4], const bool mask[4] = nullptr);
+    // Of an image kept encoded (`packed`): stores the colour v unquantized, the channels of
+    // `mask`: the same sample as store_color of quantize_color(v), by one conversion.
+    void encode_color(size_t t, const float v[4], const bool mask[4]);
     // Allocates storage for `fmt` and fills it with zeros (transparent black, depth 0); encoded:
     // a renderbuffer's image, kept in `packed` when the format has an encoding.
     void allocate(const FormatInfo* fmt, int32_t w, int32_t h, int32_t d, int32_t s = 1, bool encoded = false);
