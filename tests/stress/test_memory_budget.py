@@ -153,6 +153,49 @@ print(*[delta(n) for n in %r], gl.getError())
         assert got[name] == want, (name, got[name], want)
 
 
+# Renderbuffer formats with an encoding (Image::packed): 16F (EXT_color_buffer_float), sRGB and
+# the packed unorm formats, by their ES 3.0 table 3.13 bits.
+RENDERBUFFER_ENCODED = ["R16F", "RG16F", "RGBA16F", "SRGB8_ALPHA8", "RGB565", "RGBA4", "RGB5_A1", "RGB10_A2"]
+
+
+def test_renderbuffers_are_stored_at_the_formats_size():
+    """docs/reliability.md, "Memory": a renderbuffer is never sampled, so one of a 16F, sRGB or
+    packed unorm format keeps its encoding: a sample takes the table's bytes exactly (before:
+    4 bytes a channel of the base format, 16 for RGBA4, RGB5_A1, RGB10_A2 and SRGB8_ALPHA8)."""
+    out = run_child("""
+gl = softgl.Context(4, 4, antialias=False, version=2)
+assert gl.getExtension("EXT_color_buffer_float") is not None
+keep = []
+def delta(internal, samples, w=64, h=32):
+    a = softgl._core.memory_in_use()
+    r = gl.createRenderbuffer(); gl.bindRenderbuffer(gl.RENDERBUFFER, r)
+    gl.renderbufferStorageMultisample(gl.RENDERBUFFER, samples, getattr(gl, internal), w, h)
+    keep.append(r)
+    return softgl._core.memory_in_use() - a
+print(*[delta(n, s) for n in %r for s in (0, 4)], gl.getError())
+""" % (RENDERBUFFER_ENCODED,))
+    assert int(out[-1]) == softgl.NO_ERROR
+    got = iter(map(int, out[:-1]))
+    for name in RENDERBUFFER_ENCODED:
+        for samples in (1, 4):
+            assert next(got) == 64 * 32 * samples * spec_bytes(name), (name, samples)
+
+
+def test_peak_rss_of_a_multisampled_16f_renderbuffer():
+    """renderbufferStorageMultisample(4, RGBA16F, 2048, 2048): 8 bytes a sample, 128 MiB (before:
+    16 bytes a sample, 256 MiB)."""
+    out = run_child("""
+gl = softgl.Context(4, 4, antialias=False, version=2)
+assert gl.getExtension("EXT_color_buffer_float") is not None
+before = vm_hwm()
+r = gl.createRenderbuffer(); gl.bindRenderbuffer(gl.RENDERBUFFER, r)
+gl.renderbufferStorageMultisample(gl.RENDERBUFFER, 4, gl.RGBA16F, 2048, 2048)
+print(gl.getError(), vm_hwm() - before)
+""")
+    assert int(out[0]) == softgl.NO_ERROR
+    assert abs(int(out[1]) - 2048 * 2048 * 4 * 8) < 8 * MiB, int(out[1]) / MiB
+
+
 def test_peak_rss_follows_the_format():
     """A 4096 x 4096 texture in a child process: VmHWM grows by what the format stores (RGBA32F
     256 MiB, R32F 64 MiB, R16F 64 MiB as float32, RG16F 128 MiB; before: 256 MiB each)."""

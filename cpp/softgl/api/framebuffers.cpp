@@ -221,7 +221,8 @@ void Context::renderbuffer_storage(const char* call, GLenum target, int32_t samp
     int32_t actual = 1;
     if (samples > 0) for (int32_t n : {2, 4, 8, 16}) if (n >= samples) { actual = n; break; }
     // Charged before allocating, so the limit bounds all objects together (core/memory_ledger.h).
-    const uint64_t bytes = Image::allocation_bytes(f, width, height, 1, actual);
+    // Renderbuffers are never sampled: kept encoded at the format's size (Image::packed).
+    const uint64_t bytes = Image::allocation_bytes(f, width, height, 1, actual, true);
     MemoryReservation reservation(memory_account_);
     if (!reservation.reserve(bytes))
         return error(gl::OUT_OF_MEMORY, call, "a " + std::to_string(width) + "x" + std::to_string(height) + "x" +
@@ -229,7 +230,7 @@ void Context::renderbuffer_storage(const char* call, GLenum target, int32_t samp
                      " bytes, which " + reservation.over_limit(bytes));
     Image image;
     try {
-        image.allocate(f, width, height, 1, actual);
+        image.allocate(f, width, height, 1, actual, true);
     } catch (const std::bad_alloc&) {
         return error(gl::OUT_OF_MEMORY, call, "could not allocate " + std::to_string(bytes) + " bytes");
     }
@@ -1141,8 +1142,8 @@ void read_source_row(const ColorSource& cs, int64_t ix0, int64_t iy, size_t n, f
                 return;
         }
     }
-    if (!img.narrow.empty() || img.color_channels() < 4) {
-        // Image::narrow, or floats of fewer than 4 channels: each sample's floats (k / 255, or
+    if (!img.narrow.empty() || !img.packed.empty() || img.color_channels() < 4) {
+        // Image::narrow, Image::packed, or floats of fewer than 4 channels: each sample's floats (k / 255, or
         // read_color's with the absent channels' defaults), their mean in double in sample order.
         for (size_t i = 0; i < n; ++i) {
             double sum[4] = {0, 0, 0, 0};

@@ -70,6 +70,7 @@ DrawRollback::DrawRollback(RenderTarget& target, const TileGrid& grid)
             if (s == img) return;
         seen.push_back(img);
         add_image_plane(img->color, *img, offset, size_t(img->color_channels()));
+        add_image_plane(img->packed, *img, offset, size_t(img->packed_size));
         add_image_plane(img->rgba8, *img, offset, 1);   // 8-bit unorm images: their only storage
         add_image_plane(img->narrow, *img, offset, size_t(Image::narrow_bytes(img->format)));
         add_image_plane(img->integer, *img, offset, size_t(Image::integer_bytes(img->format)));

@@ -112,6 +112,18 @@ void write_image_color(Image& img, size_t offset, const BlendOp& op, const float
         img.store_color(t, stored, mask);
         return;
     }
+    if (!img.packed.empty()) {
+        // Encoded formats (Image::packed: 16F, sRGB, RGB565, ...): through the floats, clamped
+        // unless float (ES 3.0 §4.1.7), then encoded (quantize_color's value).
+        float dst[4], blended[4];
+        img.read_color(t, dst);
+        BlendOp o = op;
+        o.has_alpha = true;
+        blend_float(o, src, dst, !f.is_float(), blended);
+        const bool mask[4] = {op.write[0], op.write[1], op.write[2], op.write[3]};
+        img.encode_color(t, blended, mask);
+        return;
+    }
     const size_t n = size_t(img.color_channels());
     float* dst = &img.color[t * n];
     float blended[4], stored[4];
@@ -188,6 +200,22 @@ void clear_image_color(Image& img, size_t offset, Rect r, const float src[4], co
             for (size_t i = 0; i < count; ++i)
                 for (size_t b = 0; b < n; ++b)
                     if (mask[size_t(from[b])]) img.narrow[(at + i) * n + b] = texel[b];
+        });
+    } else if (!img.packed.empty()) {
+        // The first texel's encoding, copied whole; with a mask, its values stored channel by
+        // channel (a masked channel keeps each texel's own value).
+        const size_t nb = img.packed_size;
+        uint8_t bytes[8];
+        std::memcpy(bytes, &img.packed[first * nb], nb);
+        float texel[4];
+        img.read_color(first, texel);
+        const bool all = mask[0] && mask[1] && mask[2] && mask[3];
+        const bool m[4] = {mask[0], mask[1], mask[2], mask[3]};
+        for_rows(img, offset, r, 1, [&](size_t at, size_t n) {
+            for (size_t i = 0; i < n; ++i) {
+                if (all) std::memcpy(&img.packed[(at + i) * nb], bytes, nb);
+                else img.store_color(at + i, texel, m);
+            }
         });
     } else if (img.format->is_integer()) {
         // The first texel's bytes (a masked channel kept its value there, so each texel keeps

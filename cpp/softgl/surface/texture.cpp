@@ -243,16 +243,17 @@ float depth_value(Encoding e, uint32_t w) {
     return float(double(w) / 16777215.0);
 }
 
-uint64_t Image::allocation_bytes(const FormatInfo* fmt, int32_t w, int32_t h, int32_t d, int32_t s) {
+uint64_t Image::allocation_bytes(const FormatInfo* fmt, int32_t w, int32_t h, int32_t d, int32_t s, bool encoded) {
     const uint64_t n = uint64_t(w) * uint64_t(h) * uint64_t(d) * uint64_t(s);
     if (stores_bytes(fmt)) return n * 4;                      // RGBA bytes per sample
     if (const int b = narrow_bytes(fmt)) return n * uint64_t(b) + kNarrowPad;   // their channels' bytes
+    if (const int b = encoded ? packed_bytes(fmt) : 0) return n * uint64_t(b);   // encoded at the format's size
     if (fmt->kind() == SampleKind::Float) return color_elements(fmt, n) * 4;   // a float per channel
     if (fmt->kind() != SampleKind::Depth) return n * uint64_t(integer_bytes(fmt));   // the channels' widths
     return n * ((fmt->encoding != Encoding::Stencil8 ? 4 : 0) + (fmt->has_stencil ? 1 : 0));
 }
 
-void Image::allocate(const FormatInfo* fmt, int32_t w, int32_t h, int32_t d, int32_t s) {
+void Image::allocate(const FormatInfo* fmt, int32_t w, int32_t h, int32_t d, int32_t s, bool encoded) {
     clear();
     format = fmt;
     width = w, height = h, depth = d, samples = s;
@@ -262,6 +263,10 @@ void Image::allocate(const FormatInfo* fmt, int32_t w, int32_t h, int32_t d, int
             // Absent alpha reads as 1 from the start (e.g. RGB8).
             if (stores_bytes(fmt)) rgba8.assign(n, fmt->bits[3] ? 0u : 0xFF000000u);
             else if (stores_narrow(fmt)) narrow.assign(n * size_t(narrow_bytes(fmt)) + kNarrowPad, 0);   // absent channels are implied
+            else if (encoded && packed_bytes(fmt)) {
+                packed_size = uint8_t(packed_bytes(fmt));
+                packed.assign(n * size_t(packed_size), 0);
+            }
             else color.assign(color_elements(fmt, n), 0.0f);
             break;
         case SampleKind::Int: case SampleKind::Uint: integer.assign(n * size_t(integer_bytes(fmt)), 0); break;
@@ -271,7 +276,7 @@ void Image::allocate(const FormatInfo* fmt, int32_t w, int32_t h, int32_t d, int
             break;
     }
     // Absent channels read as their defaults from the start (e.g. alpha 1 of RGB8).
-    if (color_channels(fmt) == 4 && !fmt->bits[3])
+    if (color_channels() == 4 && !fmt->bits[3])
         for (size_t i = 0; i < n; ++i) color[i * 4 + 3] = 1.0f;
 }
 
@@ -322,6 +327,41 @@ void Image::store_integer(size_t t, const uint32_t in[4], const bool mask[4]) {
     }
 }
 
+namespace {
+
+// Channels of a format kept expanded to floats or halves: the base format's (RED 1, RG 2, RGB 3;
+// RGBA and WebGL 1's luminance/alpha formats 4).
+int expanded_channels(const FormatInfo& f) {
+    const GLenum b = f.base_format;
+    return b == gl::RED ? 1 : b == gl::RG ? 2 : b == gl::RGB ? 3 : 4;
+}
+
+// RGB565, RGBA4, RGB5_A1, RGB10_A2: unorm channels of other than 8 bits, packed in one word.
+bool packed_unorm(const FormatInfo& f) {
+    return f.encoding == Encoding::Unorm && !f.has_stencil && f.base_format != gl::DEPTH_COMPONENT && !f.is_unorm8();
+}
+
+// The linear value of each sRGB byte (ES 3.0 §3.8.15 eq. 3.24 of k / 255, as srgb_to_linear
+// computes it): strictly increasing, so a stored value finds its byte again by search.
+const std::array<float, 256>& srgb_decode_table() {
+    static const std::array<float, 256> table = [] {
+        std::array<float, 256> t{};
+        for (int k = 0; k < 256; ++k) t[size_t(k)] = srgb_to_linear(unorm(uint32_t(k), 8));
+        return t;
+    }();
+    return table;
+}
+
+}  // namespace
+
+int Image::packed_bytes(const FormatInfo* fmt) {
+    if (!fmt || fmt->kind() != SampleKind::Float) return 0;
+    if (fmt->encoding == Encoding::Float16) return 2 * expanded_channels(*fmt);
+    if (fmt->encoding == Encoding::Srgb) return fmt->bits[3] ? 4 : 3;
+    if (packed_unorm(*fmt)) return (fmt->bits[0] + fmt->bits[1] + fmt->bits[2] + fmt->bits[3]) / 8;
+    return 0;
+}
+
 int Image::color_channels(const FormatInfo* fmt) {
     if (!fmt || fmt->kind() != SampleKind::Float || stores_bytes(fmt) || stores_narrow(fmt)) return 0;
     const GLenum b = fmt->base_format;
@@ -345,8 +385,30 @@ void Image::read_color(size_t t, float out[4]) const {
         return;
     }
     // color_channels() floats, the absent channels' defaults (0, alpha 1: ES 3.0 table 3.24).
-    const size_t n = size_t(color_channels());
     out[0] = out[1] = out[2] = 0.0f, out[3] = 1.0f;
+    if (!packed.empty()) {
+        const FormatInfo& f = *format;
+        const size_t nb = packed_size;
+        const uint8_t* p = &packed[t * nb];
+        if (f.encoding == Encoding::Float16) {
+            for (size_t c = 0; c < nb / 2; ++c) {
+                uint16_t h;
+                std::memcpy(&h, p + 2 * c, 2);
+                out[c] = half_to_float(h);
+            }
+        } else if (f.encoding == Encoding::Srgb) {
+            const std::array<float, 256>& linear = srgb_decode_table();
+            for (int c = 0; c < 3; ++c) out[c] = linear[p[c]];
+            if (nb == 4) out[3] = unorm(p[3], 8);   // alpha is linear (ES 3.0 §3.8.15)
+        } else {
+            uint32_t w = 0;
+            std::memcpy(&w, p, nb);
+            for (int c = 0, shift = 0; c < 4 && f.bits[size_t(c)]; shift += f.bits[size_t(c)], ++c)
+                out[c] = unorm((w >> shift) & ((1u << f.bits[size_t(c)]) - 1u), f.bits[size_t(c)]);
+        }
+        return;
+    }
+    const size_t n = size_t(color_channels());
     for (size_t c = 0; c < n; ++c) out[c] = color[t * n + c];
 }
 
@@ -370,9 +432,65 @@ void Image::store_color(size_t t, const float q[4], const bool mask[4]) {
             if (!mask || mask[from[i]]) narrow[t * n + i] = uint8_t(float_to_unorm(q[from[i]], 8));
         return;
     }
+    if (!packed.empty()) {
+        // q holds values of the format (quantize_color's output): each has one encoding.
+        const FormatInfo& f = *format;
+        const size_t nb = packed_size;
+        uint8_t* p = &packed[t * nb];
+        if (f.encoding == Encoding::Float16) {
+            for (size_t c = 0; c < nb / 2; ++c) {
+                if (mask && !mask[c]) continue;
+                const uint16_t h = float_to_half(q[c]);
+                std::memcpy(p + 2 * c, &h, 2);
+            }
+        } else if (f.encoding == Encoding::Srgb) {
+            const std::array<float, 256>& linear = srgb_decode_table();
+            for (int c = 0; c < 3; ++c)
+                if (!mask || mask[c]) p[c] = uint8_t(std::lower_bound(linear.begin(), linear.end() - 1, q[c]) - linear.begin());
+            if (nb == 4 && (!mask || mask[3])) p[3] = uint8_t(float_to_unorm(q[3], 8));
+        } else {
+            uint32_t w = 0;
+            std::memcpy(&w, p, nb);
+            for (int c = 0, shift = 0; c < 4 && f.bits[size_t(c)]; shift += f.bits[size_t(c)], ++c) {
+                if (mask && !mask[c]) continue;
+                const uint32_t ones = (1u << f.bits[size_t(c)]) - 1u;
+                w = (w & ~(ones << shift)) | (float_to_unorm(q[c], f.bits[size_t(c)]) << shift);
+            }
+            std::memcpy(p, &w, nb);
+        }
+        return;
+    }
     const size_t n = size_t(color_channels());
     for (size_t c = 0; c < n; ++c)
         if (!mask || mask[c]) color[t * n + c] = q[c];
+}
+
+void Image::encode_color(size_t t, const float v[4], const bool mask[4]) {
+    // What quantize_color rounds to, encoded at once: binary16 of the value (NaN: the one quiet
+    // NaN), the sRGB byte of eq. 4.1 (alpha: linear), the unorm integer k.
+    const FormatInfo& f = *format;
+    const size_t nb = packed_size;
+    uint8_t* p = &packed[t * nb];
+    if (f.encoding == Encoding::Float16) {
+        for (size_t c = 0; c < nb / 2; ++c) {
+            if (!mask[c]) continue;
+            const uint16_t h = float_to_half(canonical_nan(v[c]));
+            std::memcpy(p + 2 * c, &h, 2);
+        }
+    } else if (f.encoding == Encoding::Srgb) {
+        for (int c = 0; c < 3; ++c)
+            if (mask[c]) p[c] = uint8_t(float_to_unorm(linear_to_srgb(v[c]), 8));
+        if (nb == 4 && mask[3]) p[3] = uint8_t(float_to_unorm(v[3], 8));
+    } else {
+        uint32_t w = 0;
+        std::memcpy(&w, p, nb);
+        for (int c = 0, shift = 0; c < 4 && f.bits[size_t(c)]; shift += f.bits[size_t(c)], ++c) {
+            if (!mask[c]) continue;
+            const uint32_t ones = (1u << f.bits[size_t(c)]) - 1u;
+            w = (w & ~(ones << shift)) | (float_to_unorm(v[c], f.bits[size_t(c)]) << shift);
+        }
+        std::memcpy(p, &w, nb);
+    }
 }
 
 void Image::texel(int32_t x, int32_t y, int32_t z, float out[4]) const {

@@ -9,6 +9,8 @@
 //     ALPHA, LUMINANCE_ALPHA): 4 bytes per texel, RGBA, the byte k standing for k / 255, absent
 //     channels holding their defaults (0, alpha 255; luminance in r, g and b), the same layout
 //     as the RGBA8 drawing buffer, so draws, clears, blits and readPixels take its byte paths;
+//   - renderbuffers of 16-bit float, sRGB and packed small unorm formats: encoded at their own
+//     size (Image::packed);
 //   - other colour formats that sample as float: one float per channel of the base format
 //     (Image::color_channels: RED 1, RG 2, RGB 3, else 4; absent channels implied as 0, alpha 1),
 //     the values a lookup returns
@@ -133,6 +135,17 @@ struct Image {
     // store_color; the sampler's vector paths decode them (narrow_words8/16, surface/sampler.cpp).
     std::vector<uint8_t> narrow;
     static constexpr size_t kNarrowPad = 3;
+    // Renderbuffers (never sampled) of formats with an encoding (packed_bytes() != 0) keep it,
+    // at the format's own size (packed_bytes() per sample, no padding), in place of `color`: the
+    // 16-bit float formats (R16F, RG16F, RGB16F, RGBA16F) as one binary16 per channel; SRGB8 and
+    // SRGB8_ALPHA8 as their encoded bytes (3 or 4); RGB565, RGBA4, RGB5_A1 as one 16-bit word
+    // and RGB10_A2 as one 32-bit word of the channels' unorm integers, red in the low bits. Every
+    // value such a sample can hold (quantize_color's output) has one encoding, so the floats read
+    // back are those stored. Read and written through read_color / store_color. Textures of these
+    // formats keep floats (`color`): the sampler's vector paths read 4 floats a texel, and the
+    // general path that would decode them is ~18x slower (docs/reliability.md, "Memory").
+    std::vector<uint8_t> packed;
+    uint8_t packed_size = 0;                     // bytes per sample of `packed` (0: not encoded)
     std::vector<uint8_t> integer;                // Int/Uint kind: integer_bytes() per texel (sample)
     std::vector<uint32_t> depth_words;           // Depth kind: 1 per texel (sample)
     std::vector<uint8_t> stencil;                // depth-stencil and stencil formats
@@ -144,6 +157,8 @@ struct Image {
         return b == gl::RED || b == gl::LUMINANCE || b == gl::ALPHA ? 1 : b == gl::RG || b == gl::LUMINANCE_ALPHA ? 2 : 0;
     }
     static bool stores_narrow(const FormatInfo* fmt) { return narrow_bytes(fmt) != 0; }
+    // Bytes per sample of a format's encoding (see `packed`), 0 for formats without one.
+    static int packed_bytes(const FormatInfo* fmt);
     // Whether images of `fmt` keep RGBA bytes (rgba8) rather than floats (color): the 8-bit unorm
     // formats of three or four channels (RGBA8, RGB8).
     static bool stores_bytes(const FormatInfo* fmt) { return fmt && fmt->is_unorm8() && !stores_narrow(fmt); }
@@ -158,7 +173,7 @@ struct Image {
     // Floats per texel of `color` for a format stored there: the base format's channels (RED 1,
     // RG 2, RGB 3; RGBA and WebGL 1's luminance/alpha formats, kept expanded, 4), 0 for the others.
     static int color_channels(const FormatInfo* fmt);
-    int color_channels() const { return color_channels(format); }
+    int color_channels() const { return packed.empty() ? color_channels(format) : 0; }
     // The floats `color` holds for n texels of `fmt`.
     static size_t color_elements(const FormatInfo* fmt, size_t n) {
         const int c = color_channels(fmt);
@@ -172,17 +187,21 @@ struct Image {
     // Stores already-quantized colour values (quantize_color's output) into element t, the
     // channels of `mask` only.
     void store_color(size_t t, const float quantized[4], const bool mask[4] = nullptr);
-    // Allocates storage for `fmt` and fills it with zeros (transparent black, depth 0).
-    void allocate(const FormatInfo* fmt, int32_t w, int32_t h, int32_t d, int32_t s = 1);
+    // Of an image kept encoded (`packed`): stores the colour v unquantized, the channels of
+    // `mask`: the same sample as store_color of quantize_color(v), by one conversion.
+    void encode_color(size_t t, const float v[4], const bool mask[4]);
+    // Allocates storage for `fmt` and fills it with zeros (transparent black, depth 0); encoded:
+    // a renderbuffer's image, kept in `packed` when the format has an encoding.
+    void allocate(const FormatInfo* fmt, int32_t w, int32_t h, int32_t d, int32_t s = 1, bool encoded = false);
     // The bytes allocate() would store, computed before allocating (the memory limit is charged first).
-    static uint64_t allocation_bytes(const FormatInfo* fmt, int32_t w, int32_t h, int32_t d, int32_t s);
+    static uint64_t allocation_bytes(const FormatInfo* fmt, int32_t w, int32_t h, int32_t d, int32_t s, bool encoded = false);
     void clear() { *this = Image{}; }
     // Texel (x, y, z) as RGBA float, as sampled (integer formats: converted; depth: (d, 0, 0, 1)).
     void texel(int32_t x, int32_t y, int32_t z, float out[4]) const;
     // Bytes of texel storage this image holds (all its vectors).
     size_t storage_bytes() const {
         return color.size() * sizeof(float) + integer.size() + depth_words.size() * sizeof(uint32_t) +
-               stencil.size() + rgba8.size() * sizeof(uint32_t) + narrow.size();
+               stencil.size() + rgba8.size() * sizeof(uint32_t) + narrow.size() + packed.size();
     }
 };
 
