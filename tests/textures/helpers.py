@@ -49,6 +49,18 @@ def draw_quad(gl, prog, c0=(0, 0, 0), cx=(1, 0, 0), cy=(0, 1, 0)):
     gl.drawArrays(gl.TRIANGLES, 0, 6)
 
 
+def float_source_texture(gl, v, unit=1):
+    """An RGBA32F NEAREST texture of v (h, w, 4) on texture unit `unit` (texelFetch of it gives
+    exact float32 values); TEXTURE0 is active again afterwards."""
+    gl.activeTexture(gl.TEXTURE0 + unit)
+    t = gl.createTexture()
+    gl.bindTexture(gl.TEXTURE_2D, t)
+    gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA32F, v.shape[1], v.shape[0], 0, gl.RGBA, gl.FLOAT, v)
+    for p in (gl.TEXTURE_MIN_FILTER, gl.TEXTURE_MAG_FILTER):
+        gl.texParameteri(gl.TEXTURE_2D, p, gl.NEAREST)
+    gl.activeTexture(gl.TEXTURE0)
+    return t
+
 def float_target(gl, w, h):
     """A bound RGBA32F framebuffer (WebGL 2 + EXT_color_buffer_float) of w x h."""
     assert gl.getExtension("EXT_color_buffer_float") is not None

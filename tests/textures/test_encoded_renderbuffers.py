@@ -8,7 +8,8 @@ import numpy as np
 import pytest
 
 import softgl
-from helpers import draw_quad
+from helpers import draw_quad, float_source_texture as source
+from softgl.programs import program
 
 # name -> channel bits (ES 3.0 table 3.13)
 FORMATS = {"SRGB8_ALPHA8": (8, 8, 8, 8), "RGB565": (5, 6, 5, 0), "RGBA4": (4, 4, 4, 4),
@@ -22,29 +23,6 @@ void main() { o = texelFetch(src, ivec2(gl_FragCoord.xy), 0); }"""
 # A triangle over part of the canvas (edges cut pixels: partial multisample coverage).
 VS_TRI = """#version 300 es
 in vec2 pos; void main() { gl_Position = vec4(pos.x * 0.83 + pos.y * 0.21, pos.y * 0.77 - pos.x * 0.13, 0.0, 1.0); }"""
-
-
-def program(gl, vs, fs):
-    p = gl.createProgram()
-    for kind, src in ((gl.VERTEX_SHADER, vs), (gl.FRAGMENT_SHADER, fs)):
-        s = gl.createShader(kind)
-        gl.shaderSource(s, src)
-        gl.compileShader(s)
-        assert gl.getShaderParameter(s, gl.COMPILE_STATUS), gl.getShaderInfoLog(s)
-        gl.attachShader(p, s)
-    gl.linkProgram(p)
-    assert gl.getProgramParameter(p, gl.LINK_STATUS), gl.getProgramInfoLog(p)
-    return p
-
-
-def source(gl, v):
-    gl.activeTexture(gl.TEXTURE1)
-    t = gl.createTexture()
-    gl.bindTexture(gl.TEXTURE_2D, t)
-    gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA32F, v.shape[1], v.shape[0], 0, gl.RGBA, gl.FLOAT, v)
-    for p in (gl.TEXTURE_MIN_FILTER, gl.TEXTURE_MAG_FILTER):
-        gl.texParameteri(gl.TEXTURE_2D, p, gl.NEAREST)
-    gl.activeTexture(gl.TEXTURE0)
 
 
 def target(gl, internal, w, h, kind, samples=0):

@@ -8,8 +8,9 @@ import numpy as np
 import pytest
 
 import softgl
-from helpers import draw_quad
+from helpers import draw_quad, float_source_texture as source_texture
 from softgl import _core
+from softgl.programs import program
 
 FORMATS = {"R16F": ("RED", 1), "RG16F": ("RG", 2), "RGB16F": ("RGB", 3), "RGBA16F": ("RGBA", 4)}
 # Colour-renderable with EXT_color_buffer_float (WebGL 2; RGB16F is not).
@@ -62,7 +63,7 @@ def fetched(gl, tex, w, h):
     gl.activeTexture(gl.TEXTURE1)
     gl.bindTexture(gl.TEXTURE_2D, tex)
     gl.activeTexture(gl.TEXTURE0)
-    prog = program(gl, FS_OUT)
+    prog = program(gl, VS, FS_OUT)
     gl.useProgram(prog)
     gl.uniform1i(gl.getUniformLocation(prog, "src"), 1)
     draw_quad(gl, prog)
@@ -140,31 +141,6 @@ precision highp float; uniform highp sampler2D src; out vec4 o;
 void main() { o = texelFetch(src, ivec2(gl_FragCoord.xy), 0); }"""
 
 
-def program(gl, fs):
-    p = gl.createProgram()
-    for kind, src in ((gl.VERTEX_SHADER, VS), (gl.FRAGMENT_SHADER, fs)):
-        s = gl.createShader(kind)
-        gl.shaderSource(s, src)
-        gl.compileShader(s)
-        assert gl.getShaderParameter(s, gl.COMPILE_STATUS), gl.getShaderInfoLog(s)
-        gl.attachShader(p, s)
-    gl.linkProgram(p)
-    assert gl.getProgramParameter(p, gl.LINK_STATUS), gl.getProgramInfoLog(p)
-    return p
-
-
-def source_texture(gl, v):
-    """An RGBA32F texture of v (h, w, 4) on unit 1, sampled by texelFetch: exact float32 outputs."""
-    gl.activeTexture(gl.TEXTURE1)
-    t = gl.createTexture()
-    gl.bindTexture(gl.TEXTURE_2D, t)
-    gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA32F, v.shape[1], v.shape[0], 0, gl.RGBA, gl.FLOAT, v)
-    for p in (gl.TEXTURE_MIN_FILTER, gl.TEXTURE_MAG_FILTER):
-        gl.texParameteri(gl.TEXTURE_2D, p, gl.NEAREST)
-    gl.activeTexture(gl.TEXTURE0)
-    return t
-
-
 @pytest.mark.parametrize("kind", ["texture", "renderbuffer"])
 @pytest.mark.parametrize("threads", [1, 2])
 @pytest.mark.parametrize("internal", RENDERABLE)
@@ -178,7 +154,7 @@ def test_rendered_values_round_to_binary16(internal, threads, kind):
     v[1, 2, 0] = np.nan
     source_texture(gl, v)
     attach(gl, internal, w, h, kind=kind)
-    prog = program(gl, FS_OUT)
+    prog = program(gl, VS, FS_OUT)
     gl.useProgram(prog)
     gl.uniform1i(gl.getUniformLocation(prog, "src"), 1)
     draw_quad(gl, prog)
@@ -200,12 +176,12 @@ def test_blending_into_16f_rounds_the_float_sum(internal, kind):
     attach(gl, internal, w, h, np.ascontiguousarray(dst[..., :channels]), kind)
     if kind == "renderbuffer":   # the destination values drawn first, unblended
         source_texture(gl, np.ascontiguousarray(dst))
-        prog = program(gl, FS_OUT)
+        prog = program(gl, VS, FS_OUT)
         gl.useProgram(prog)
         gl.uniform1i(gl.getUniformLocation(prog, "src"), 1)
         draw_quad(gl, prog)
     source_texture(gl, src)
-    prog = program(gl, FS_OUT)
+    prog = program(gl, VS, FS_OUT)
     gl.useProgram(prog)
     gl.uniform1i(gl.getUniformLocation(prog, "src"), 1)
     gl.enable(gl.BLEND)
@@ -228,7 +204,7 @@ def test_masked_clear_of_16f_keeps_the_masked_channels(internal, kind):
     attach(gl, internal, w, h, np.ascontiguousarray(v[..., :channels]), kind)
     if kind == "renderbuffer":   # the first values drawn
         source_texture(gl, v)
-        prog = program(gl, FS_OUT)
+        prog = program(gl, VS, FS_OUT)
         gl.useProgram(prog)
         gl.uniform1i(gl.getUniformLocation(prog, "src"), 1)
         draw_quad(gl, prog)

@@ -412,6 +412,26 @@ void Executor::fuse_texture_moves(const IrProgram& program, const std::vector<ui
     }
     std::vector<uint8_t> dropped(code_.size(), 0);
     bool any = false;
+    // The Mov copying d, when it is the first instruction after k to read d and no control flow
+    // comes before it; code_.size() otherwise.
+    auto sole_copy_of = [&](size_t k, Reg d) {
+        for (size_t j = k + 1; j < code_.size() && !(op_is_control(code_[j].op) && code_[j].op != Op::FunctionBegin); ++j) {
+            bool reads_d = false;
+            each_read(code_[j], [&](Reg r) { reads_d = reads_d || r == d; });
+            if (reads_d) return !dropped[j] && code_[j].op == Op::Mov && code_[j].a == d ? j : code_.size();
+        }
+        return code_.size();
+    };
+    // Whether no instruction strictly between k and j reads or writes x.
+    auto untouched_between = [&](size_t k, size_t j, Reg x) {
+        bool clear = true;
+        for (size_t m = k + 1; m < j && clear; ++m) {
+            if (dropped[m]) continue;
+            each_read(code_[m], [&](Reg r) { clear = clear && r != x; });
+            each_write(code_[m], [&](Reg r) { clear = clear && r != x; });
+        }
+        return clear;
+    };
     for (size_t k = 0; k < code_.size(); ++k) {
         const Instruction& i = code_[k];
         if (op_is_control(i.op) && i.op != Op::FunctionBegin) break;   // the prefix only
@@ -420,26 +440,14 @@ void Executor::fuse_texture_moves(const IrProgram& program, const std::vector<ui
         for (int c = 0; c < 4; ++c) {
             const Reg d = t.dst[c];
             if (d == kNoReg || d >= R || program.is_variable[d] || is_slot[d] || is_constant[d] || reads[d] != 1) continue;
-            // The one reader, with no control flow before it.
-            size_t j = k + 1;
-            bool reached = false;
-            for (; j < code_.size() && !(op_is_control(code_[j].op) && code_[j].op != Op::FunctionBegin); ++j) {
-                bool reads_d = false;
-                each_read(code_[j], [&](Reg r) { reads_d = reads_d || r == d; });
-                if (reads_d) { reached = true; break; }
-            }
-            if (!reached || dropped[j] || code_[j].op != Op::Mov || code_[j].a != d) continue;
+            const size_t j = sole_copy_of(k, d);
+            if (j == code_.size()) continue;
             const Reg x = code_[j].dst;
             bool clear = x != d && x < R && !is_constant[x];
             Instruction lookup = i;
             for_each_read(program, lookup, [&](Reg r) { clear = clear && r != x; });
             for (int e = 0; e < 4; ++e) clear = clear && t.dst[e] != x;
-            for (size_t m = k + 1; m < j && clear; ++m) {
-                if (dropped[m]) continue;
-                each_read(code_[m], [&](Reg r) { clear = clear && r != x; });
-                each_write(code_[m], [&](Reg r) { clear = clear && r != x; });
-            }
-            if (!clear) continue;
+            if (!clear || !untouched_between(k, j, x)) continue;
             t.dst[c] = x;
             dropped[j] = 1;
             any = true;
@@ -454,22 +462,10 @@ void Executor::fuse_texture_moves(const IrProgram& program, const std::vector<ui
         if (dropped[k] || !(i.op == Op::FAdd || i.op == Op::FSub || i.op == Op::FMul || i.op == Op::FDiv)) continue;
         const Reg d = i.dst;
         if (d == kNoReg || d >= R || program.is_variable[d] || is_slot[d] || is_constant[d] || reads[d] != 1) continue;
-        size_t j = k + 1;
-        bool reached = false;
-        for (; j < code_.size() && !(op_is_control(code_[j].op) && code_[j].op != Op::FunctionBegin); ++j) {
-            bool reads_d = false;
-            each_read(code_[j], [&](Reg r) { reads_d = reads_d || r == d; });
-            if (reads_d) { reached = true; break; }
-        }
-        if (!reached || dropped[j] || code_[j].op != Op::Mov || code_[j].a != d) continue;
+        const size_t j = sole_copy_of(k, d);
+        if (j == code_.size()) continue;
         const Reg x = code_[j].dst;
-        bool clear = x != d && x < R && !is_constant[x];
-        for (size_t m = k + 1; m < j && clear; ++m) {
-            if (dropped[m]) continue;
-            each_read(code_[m], [&](Reg r) { clear = clear && r != x; });
-            each_write(code_[m], [&](Reg r) { clear = clear && r != x; });
-        }
-        if (!clear) continue;
+        if (x == d || x >= R || is_constant[x] || !untouched_between(k, j, x)) continue;
         code_[k].dst = x;
         dropped[j] = 1;
         any = true;
