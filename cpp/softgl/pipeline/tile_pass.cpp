@@ -918,6 +918,15 @@ SOFTGL_STEP size_t TilePass::early_tests(Tile& t, const Primitive& prim, Chunk& 
     } else {
         killed_early = early_tests_per_sample<WithSink>(prim, c);
     }
+    t.w.stats.fragments_killed_early += killed_early;
+    if (plan_.depth_only == Path::Taken) {   // nothing reads the quads after their tests: only counted
+        for (size_t qi = 0; qi < count; ++qi) {
+            uint64_t m4;
+            std::memcpy(&m4, &masks[qi * 4], 8);
+            kept += m4 != 0;
+        }
+        return kept;
+    }
     // The quads with a surviving sample move to the front (kept <= qi).
     for (size_t qi = 0; qi < count; ++qi) {
         uint64_t m4;
@@ -928,7 +937,6 @@ SOFTGL_STEP size_t TilePass::early_tests(Tile& t, const Primitive& prim, Chunk& 
         std::memcpy(&masks[kept * 4], &m4, 8);
         ++kept;
     }
-    t.w.stats.fragments_killed_early += killed_early;
     return kept;
 }
 

@@ -82,6 +82,13 @@ void depth_covered_part(SimdLevel level, const PrimitiveSetup& p, const TileRect
         return rasterize_at(level, p, tile, sp, quads, raster);
     EarlyDepth t = test;
     t.prim = &p;
+    // Rows of blocks with no covered block, from rows_y0 on, are rasterized together: a raster
+    // call per row costs more than one for them all (many primitives cover no whole block).
+    int32_t rows_y0 = -1;
+    const auto rasterize_rows = [&](int32_t y1) {
+        if (rows_y0 >= 0) rasterize_at(level, p, TileRect{tile.x0, rows_y0, tile.x1, y1}, sp, quads, raster);
+        rows_y0 = -1;
+    };
     for (int32_t by = part.y0 & ~(kBlockSize - 1); by < part.y1; by += kBlockSize) {
         const int32_t ty0 = std::max(by, tile.y0), ty1 = std::min(by + kBlockSize, tile.y1);
         // Blocks wholly inside the part (and so the tile) only: their quads are raster's.
@@ -96,10 +103,11 @@ void depth_covered_part(SimdLevel level, const PrimitiveSetup& p, const TileRect
                 else if (xa != part.x1) break;
             }
         }
-        if (xa == part.x1) {   // none: the row as raster's quads
-            rasterize_at(level, p, TileRect{tile.x0, ty0, tile.x1, ty1}, sp, quads, raster);
+        if (xa == part.x1) {   // none: the row as raster's quads, with the next ones if they have none
+            if (rows_y0 < 0) rows_y0 = ty0;
             continue;
         }
+        rasterize_rows(ty0);
         rasterize_at(level, p, TileRect{tile.x0, ty0, xa, ty1}, sp, quads, raster);
         uint64_t passed = 0;
         stats.fragments_killed_early += early_depth_rect_at(level, t, xa, by, xb, by + kBlockSize, passed);
@@ -109,6 +117,7 @@ void depth_covered_part(SimdLevel level, const PrimitiveSetup& p, const TileRect
         raster.quads += blocks * (kBlockSize / 2) * (kBlockSize / 2);
         rasterize_at(level, p, TileRect{xb, ty0, tile.x1, ty1}, sp, quads, raster);
     }
+    rasterize_rows(tile.y1);
 }
 
 }  // namespace softgl
