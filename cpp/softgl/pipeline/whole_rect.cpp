@@ -114,6 +114,7 @@ void depth_covered_part(SimdLevel level, const PrimitiveSetup& p, const TileRect
         stats.quads += passed;
         const uint64_t blocks = uint64_t((xb - xa) / kBlockSize);
         raster.blocks_accepted += blocks;
+        stats.blocks_depth_in_place += blocks;
         raster.quads += blocks * (kBlockSize / 2) * (kBlockSize / 2);
         rasterize_at(level, p, TileRect{xb, ty0, tile.x1, ty1}, sp, quads, raster);
     }
