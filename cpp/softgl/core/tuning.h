@@ -72,6 +72,9 @@ struct Tuning {
     // filter for magnification and minification: ES 3.0 §3.8.11; FragmentShader::
     // reads_quad_neighbours_in_draw); off: any implicit-LOD lookup keeps whole quads.
     bool lod_free_helper_lanes = true;
+    // A depth-only draw (DrawPlan::depth_blocks) tests the 8x8 blocks a primitive covers whole in
+    // place (pipeline/whole_rect.h depth_covered_part); off: as the rasterizer's quads.
+    bool depth_blocks = true;
 
     bool operator==(const Tuning& o) const {
         return simd == o.simd && batch_primitives == o.batch_primitives &&
@@ -81,7 +84,7 @@ struct Tuning {
                blit_rows == o.blit_rows && hoist_uniform_values == o.hoist_uniform_values &&
                flat_primitives == o.flat_primitives && pool_spin_microseconds == o.pool_spin_microseconds &&
                texture_copies == o.texture_copies && texel_words == o.texel_words &&
-               lod_free_helper_lanes == o.lod_free_helper_lanes;
+               lod_free_helper_lanes == o.lod_free_helper_lanes && depth_blocks == o.depth_blocks;
     }
     bool operator!=(const Tuning& o) const { return !(*this == o); }
 

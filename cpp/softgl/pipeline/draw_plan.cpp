@@ -210,6 +210,11 @@ DrawPlan plan_draw(const DrawInputs& in, const DrawCall& call, const FragmentOps
                                     {plan.writes_color, Path::WritesColor},
                                     {!early, plan.tests_before_shading},
                                     {plan.blend_lab, Path::BlendLab}});
+    plan.depth_blocks = first_reason({{plan.depth_only != Path::Taken, plan.depth_only},
+                                      {plan.quad_depth != Path::Taken, plan.quad_depth},
+                                      {plan.samples != 1, Path::Multisampled},
+                                      {plan.area_coverage, Path::Smoothing},
+                                      {!in.tuning.depth_blocks, Path::TuningOff}});
     return plan;
 }
 
@@ -282,6 +287,7 @@ std::vector<DrawPlanField> DrawPlan::fields() const {
         path("shading", "fragment_batches", fragment_batches),
         path("shading", "no_helper_lanes", no_helper_lanes),
         path("shading", "depth_only", depth_only),
+        path("shading", "depth_blocks", depth_blocks),
         yes("color", "writes_color", writes_color),
         named("color", "kernel", int(kernel), kKernelNames[int(kernel)]),
         yes("color", "plain_write", plain_write),

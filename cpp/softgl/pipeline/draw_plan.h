@@ -122,6 +122,9 @@ struct DrawPlan {
     // coverage operations, no blend lab): fragments are tested (and depth/stencil written), not
     // shaded. ES 3.0 fragment shaders have no other effect (GLSL ES 3.00 §3.8: no side effects).
     Path depth_only = Path::Taken;
+    // ... and single-sampled with the quad early depth test, no smoothing: the 8x8 blocks a
+    // primitive covers whole are tested in place, without quads (whole_rect.h depth_covered_part).
+    Path depth_blocks = Path::Taken;
     // ---- colour ----
     bool writes_color = false;
     ColorKernel kernel = ColorKernel::Plain;

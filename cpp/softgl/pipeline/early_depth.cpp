@@ -554,6 +554,73 @@ size_t early_depth_test_at(SimdLevel level, const EarlyDepth& t, const Quad* qua
     return early_depth_scalar(t, quads, n, survived);
 }
 
+namespace {
+
+// The reference: a quad at a time through early_depth_scalar (the quads a covered rectangle
+// rasterizes to: every pixel's one sample covered).
+size_t early_depth_rect_scalar(const EarlyDepth& t, int32_t x0, int32_t y0, int32_t x1, int32_t y1,
+                               uint64_t& quads_passed) {
+    size_t killed = 0;
+    uint16_t survived[4];
+    for (int32_t y = y0; y < y1; y += 2)
+        for (int32_t x = x0; x < x1; x += 2) {
+            const Quad q{x, y, 0x0001000100010001ull};
+            killed += early_depth_scalar(t, &q, 1, survived);
+            quads_passed += (survived[0] | survived[1] | survived[2] | survived[3]) != 0;
+        }
+    return killed;
+}
+
+#if defined(SOFTGL_HAVE_AVX2_EARLY_DEPTH)
+// early_depth_avx2's full runs (four quads side by side, all covered), one per 8 pixels of a
+// pair of rows: the same words (DepthWordsAvx2 from the same fx, b * fy) and tests.
+__attribute__((target("avx2"))) size_t early_depth_rect_avx2(const EarlyDepth& t, int32_t x0, int32_t y0, int32_t x1,
+                                                            int32_t y1, uint64_t& quads_passed) {
+    const PrimitiveSetup& p = *t.prim;
+    const DepthWordsAvx2 depth(t);
+    const int64_t x_origin = t.pattern->x[0] - p.origin_x, y_origin = t.pattern->y[0] - p.origin_y;
+    uint32_t* const buffer = t.depth;
+    const size_t pitch = t.pitch;
+    const bool write = t.write;
+    size_t killed = 0;
+    uint64_t passed_quads = 0;
+    for (int32_t y = y0; y < y1; y += 2) {
+        const int64_t Y = int64_t(y) * kSubPixel + y_origin;
+        const __m256d b_fy0 = _mm256_mul_pd(depth.b, _mm256_set1_pd(double(Y) * (1.0 / kSubPixel)));
+        const __m256d b_fy1 = _mm256_mul_pd(depth.b, _mm256_set1_pd(double(Y + kSubPixel) * (1.0 / kSubPixel)));
+        for (int32_t x = x0; x < x1; x += 8) {
+            const int64_t X = int64_t(x) * kSubPixel + x_origin;
+            const __m256d fx0 = _mm256_set1_pd(double(X) * (1.0 / kSubPixel));
+            const __m256d fx_lo = _mm256_add_pd(fx0, _mm256_setr_pd(0, 1, 2, 3));
+            const __m256d fx_hi = _mm256_add_pd(fx0, _mm256_setr_pd(4, 5, 6, 7));
+            uint32_t* const row0 = &buffer[size_t(y) * pitch + size_t(x)];
+            const __m256i pass0 = test_row_avx2(depth, write, row_words_avx2(depth, fx_lo, fx_hi, b_fy0), row0);
+            const __m256i pass1 = test_row_avx2(depth, write, row_words_avx2(depth, fx_lo, fx_hi, b_fy1), row0 + pitch);
+            const unsigned m0 = unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(pass0)));
+            const unsigned m1 = unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(pass1)));
+            killed += size_t(16 - __builtin_popcount(m0 | m1 << 8));
+            const unsigned any = m0 | m1;   // quad q: pixels 2q, 2q + 1 of either row
+            passed_quads += uint64_t(__builtin_popcount((any | any >> 1) & 0x55u));
+        }
+    }
+    quads_passed += passed_quads;
+    return killed;
+}
+#endif
+
+}  // namespace
+
+size_t early_depth_rect_at(SimdLevel level, const EarlyDepth& t, int32_t x0, int32_t y0, int32_t x1, int32_t y1,
+                           uint64_t& quads_passed) {
+#if defined(SOFTGL_HAVE_AVX2_EARLY_DEPTH)
+    // AVX-512 too: its quad kernels give the AVX2 level's words and decisions (early_depth.h).
+    if (t.pattern->count == 1 && (level == SimdLevel::AVX512 || level == SimdLevel::AVX2))
+        return early_depth_rect_avx2(t, x0, y0, x1, y1, quads_passed);
+#endif
+    (void)level;
+    return early_depth_rect_scalar(t, x0, y0, x1, y1, quads_passed);
+}
+
 }  // namespace softgl
 
 namespace softgl {

@@ -43,6 +43,14 @@ inline size_t early_depth_test(const EarlyDepth& t, const Quad* quads, size_t n,
     return early_depth_test_at(best_simd_level(), t, quads, n, survived);
 }
 
+// The same test of every pixel of [x0, x1) x [y0, y1), one sample per pixel, with x0, y0 even and
+// x1 - x0 a multiple of 8, y1 - y0 of 2 (whole 8x8 blocks the primitive covers): the words and
+// decisions early_depth_test gives the quads the rasterizer emits there, without the quads.
+// Returns the number that failed; `quads_passed` gains the number of those quads with a pixel
+// that passed.
+size_t early_depth_rect_at(SimdLevel level, const EarlyDepth& t, int32_t x0, int32_t y0, int32_t x1, int32_t y1,
+                           uint64_t& quads_passed);
+
 // Depth bounds per 8x8 block of a tile, to skip the raster and early depth test of a primitive
 // that fails the test at every pixel of the tile (one sample per pixel, LESS/LEQUAL/GREATER/
 // GEQUAL, 24-bit depth, no stencil). A block's smallest and largest stored words are read when

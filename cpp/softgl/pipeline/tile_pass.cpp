@@ -623,7 +623,8 @@ SOFTGL_STEP void TilePass::prefetch_ahead(const Tile& t, size_t li) const {
 
 // The primitive's quads in the tile: with area coverage (SOFTGL_smooth) every pixel it touches and
 // its covered fraction; with a blend table and no tests, whole blocks are blended in place and
-// only the rest becomes quads (whole_rect.h).
+// only the rest becomes quads (whole_rect.h); likewise a depth-only draw's whole blocks are
+// depth-tested in place.
 void TilePass::raster(Tile& t, const PrimitiveSetup& p) {
     Scratch& w = t.w;
     w.quads.clear();
@@ -637,6 +638,8 @@ void TilePass::raster(Tile& t, const PrimitiveSetup& p) {
     } else if (plan_.whole_rect_blend == Path::Taken && !t.hide) {   // covered blocks in place, the rest as quads
         blend_covered_part(plan_.simd, p, t.rect, pattern_, *blend_table_, buffer_pixels_.color, pitch_, w.quads,
                            w.raster, w.stats);
+    } else if (plan_.depth_blocks == Path::Taken && !t.hide) {   // covered blocks tested in place
+        depth_covered_part(plan_.simd, p, t.rect, pattern_, quad_depth_test_, w.quads, w.raster, w.stats);
     } else {
         rasterize_at(plan_.simd, p, t.rect, pattern_, w.quads, w.raster);
     }
@@ -915,6 +918,15 @@ SOFTGL_STEP size_t TilePass::early_tests(Tile& t, const Primitive& prim, Chunk& 
     } else {
         killed_early = early_tests_per_sample<WithSink>(prim, c);
     }
+    t.w.stats.fragments_killed_early += killed_early;
+    if (plan_.depth_only == Path::Taken) {   // nothing reads the quads after their tests: only counted
+        for (size_t qi = 0; qi < count; ++qi) {
+            uint64_t m4;
+            std::memcpy(&m4, &masks[qi * 4], 8);
+            kept += m4 != 0;
+        }
+        return kept;
+    }
     // The quads with a surviving sample move to the front (kept <= qi).
     for (size_t qi = 0; qi < count; ++qi) {
         uint64_t m4;
@@ -925,7 +937,6 @@ SOFTGL_STEP size_t TilePass::early_tests(Tile& t, const Primitive& prim, Chunk& 
         std::memcpy(&masks[kept * 4], &m4, 8);
         ++kept;
     }
-    t.w.stats.fragments_killed_early += killed_early;
     return kept;
 }
 

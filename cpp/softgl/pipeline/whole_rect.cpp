@@ -75,4 +75,50 @@ void blend_covered_part(SimdLevel level, const PrimitiveSetup& p, const TileRect
     }
 }
 
+void depth_covered_part(SimdLevel level, const PrimitiveSetup& p, const TileRect& tile, const SamplePattern& sp,
+                        const EarlyDepth& test, std::vector<Quad>& quads, RasterStats& raster, DrawStats& stats) {
+    const Part part{std::max(p.x0, tile.x0), std::max(p.y0, tile.y0), std::min(p.x1, tile.x1), std::min(p.y1, tile.y1)};
+    if (part.x1 - part.x0 < kBlockSize || part.y1 - part.y0 < kBlockSize)   // no whole block
+        return rasterize_at(level, p, tile, sp, quads, raster);
+    EarlyDepth t = test;
+    t.prim = &p;
+    // Rows of blocks with no covered block, from rows_y0 on, are rasterized together: a raster
+    // call per row costs more than one for them all (many primitives cover no whole block).
+    int32_t rows_y0 = -1;
+    const auto rasterize_rows = [&](int32_t y1) {
+        if (rows_y0 >= 0) rasterize_at(level, p, TileRect{tile.x0, rows_y0, tile.x1, y1}, sp, quads, raster);
+        rows_y0 = -1;
+    };
+    for (int32_t by = part.y0 & ~(kBlockSize - 1); by < part.y1; by += kBlockSize) {
+        const int32_t ty0 = std::max(by, tile.y0), ty1 = std::min(by + kBlockSize, tile.y1);
+        // Blocks wholly inside the part (and so the tile) only: their quads are raster's.
+        int32_t xa = part.x1, xb = part.x1;
+        if (by >= part.y0 && by + kBlockSize <= part.y1) {
+            // The covered blocks of this row from the first one on, [xa, xb): one run, as a
+            // primitive is convex (a gap would only leave more to rasterize).
+            for (int32_t bx = (part.x0 + kBlockSize - 1) & ~(kBlockSize - 1); bx + kBlockSize <= part.x1; bx += kBlockSize) {
+                const bool covered = covers(p, sp, Part{bx, by, bx + kBlockSize, by + kBlockSize});
+                if (covered && xa == part.x1) xa = bx;
+                if (covered) xb = bx + kBlockSize;
+                else if (xa != part.x1) break;
+            }
+        }
+        if (xa == part.x1) {   // none: the row as raster's quads, with the next ones if they have none
+            if (rows_y0 < 0) rows_y0 = ty0;
+            continue;
+        }
+        rasterize_rows(ty0);
+        rasterize_at(level, p, TileRect{tile.x0, ty0, xa, ty1}, sp, quads, raster);
+        uint64_t passed = 0;
+        stats.fragments_killed_early += early_depth_rect_at(level, t, xa, by, xb, by + kBlockSize, passed);
+        stats.quads += passed;
+        const uint64_t blocks = uint64_t((xb - xa) / kBlockSize);
+        raster.blocks_accepted += blocks;
+        stats.blocks_depth_in_place += blocks;
+        raster.quads += blocks * (kBlockSize / 2) * (kBlockSize / 2);
+        rasterize_at(level, p, TileRect{xb, ty0, tile.x1, ty1}, sp, quads, raster);
+    }
+    rasterize_rows(tile.y1);
+}
+
 }  // namespace softgl

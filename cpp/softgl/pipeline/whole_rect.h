@@ -8,6 +8,7 @@
 
 #include "softgl/core/simd.h"
 #include "softgl/pipeline/draw_stats.h"
+#include "softgl/pipeline/early_depth.h"
 #include "softgl/pipeline/fragment_ops.h"
 #include "softgl/pipeline/raster.h"
 
@@ -21,5 +22,15 @@ namespace softgl {
 void blend_covered_part(SimdLevel level, const PrimitiveSetup& p, const TileRect& tile, const SamplePattern& sp,
                         const BlendTable& table, uint8_t* color, size_t pitch, std::vector<Quad>& quads,
                         RasterStats& raster, DrawStats& stats);
+
+// A depth-only draw (DrawPlan::depth_blocks: nothing shaded, one sample per pixel, the quad early
+// depth test) likewise needs no quads where p covers whole 8x8 blocks: per row of blocks, the run
+// of covered blocks inside p's bounding box is tested in place (early_depth_rect_at, the words and
+// decisions of testing its quads), the rest rasterized and appended to `quads` for the caller to
+// test. A primitive's pixels are distinct, so the order of their tests changes no word. `raster`
+// and `stats` (quads with a passing pixel, fragments killed early) count what rasterizing and
+// testing it all as quads would.
+void depth_covered_part(SimdLevel level, const PrimitiveSetup& p, const TileRect& tile, const SamplePattern& sp,
+                        const EarlyDepth& test, std::vector<Quad>& quads, RasterStats& raster, DrawStats& stats);
 
 }  // namespace softgl
