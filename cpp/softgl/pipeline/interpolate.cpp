@@ -109,13 +109,24 @@ void interpolate_sse2(const VaryingInterpolation& v, const Quad* quads, size_t n
 // Two quads per register (lanes 0..3 quads[i], 4..7 quads[i + 1]), their coordinates loaded as 8
 // int32 words (x at 0 and 4, y at 1 and 5); an odd count's last quad is paired with itself and
 // only its half stored. Compiled for AVX2 (no FMA) here only; called only when the CPU has it.
-template <int V>
+// C > 0: exactly C words, their vertex values broadcast and their rows located once before the
+// loop (the stores through `out` may alias v.values, so the general loop reads them again for
+// every pair): the same operations on the same values.
+template <int V, int C>
 __attribute__((target("avx2"))) void interpolate_avx2(const VaryingInterpolation& v, const Quad* quads, size_t n,
                                                       uint32_t* out, size_t stride) {
     static_assert(sizeof(Quad) == 16 && offsetof(Quad, x) == 0 && offsetof(Quad, y) == 4, "two quads in 8 int32s");
     const float* const values = v.values;
     const int* const words = v.words;
     const size_t count = v.count;
+    constexpr int kHeld = C > 0 ? C : 1;
+    __m256 held[3][kHeld];   // v_0, d_1 (, d_2) of each word
+    float* rows[kHeld];      // each word's lanes
+    if constexpr (C > 0)
+        for (int k = 0; k < C; ++k) {
+            for (int r = 0; r < V; ++r) held[r][k] = _mm256_broadcast_ss(values + size_t(r) * count + size_t(k));
+            rows[k] = reinterpret_cast<float*>(out + size_t(words[k]) * stride);
+        }
     const ConstantQ cq(v.inv_w);
     const __m256 one = _mm256_set1_ps(1.0f), q_constant = _mm256_set1_ps(cq.q);
     const __m256i pick_x = _mm256_setr_epi32(0, 0, 0, 0, 4, 4, 4, 4), pick_y = _mm256_setr_epi32(1, 1, 1, 1, 5, 5, 5, 5);
@@ -138,6 +149,15 @@ __attribute__((target("avx2"))) void interpolate_avx2(const VaryingInterpolation
         const __m256 q = cq.constant ? q_constant : _mm256_div_ps(one, eval(0));
         const __m256 l1 = cq.unit ? eval(1) : _mm256_mul_ps(eval(1), q);
         const __m256 l2 = V == 3 ? (cq.unit ? eval(2) : _mm256_mul_ps(eval(2), q)) : _mm256_setzero_ps();
+        if constexpr (C > 0) {
+            for (int k = 0; k < C; ++k) {
+                __m256 s = _mm256_add_ps(held[0][k], _mm256_mul_ps(l1, held[1][k]));
+                if constexpr (V == 3) s = _mm256_add_ps(s, _mm256_mul_ps(l2, held[2][k]));
+                if (pair) _mm256_storeu_ps(rows[k] + 4 * i, s);
+                else _mm_storeu_ps(rows[k] + 4 * i, _mm256_castps256_ps128(s));
+            }
+            continue;
+        }
         for (size_t k = 0; k < count; ++k) {
             __m256 s = _mm256_add_ps(_mm256_broadcast_ss(values + k), _mm256_mul_ps(l1, _mm256_broadcast_ss(values + count + k)));
             if constexpr (V == 3) s = _mm256_add_ps(s, _mm256_mul_ps(l2, _mm256_broadcast_ss(values + 2 * count + k)));
@@ -145,6 +165,19 @@ __attribute__((target("avx2"))) void interpolate_avx2(const VaryingInterpolation
             if (pair) _mm256_storeu_ps(dst, s);
             else _mm_storeu_ps(dst, _mm256_castps256_ps128(s));
         }
+    }
+}
+
+// interpolate_avx2 with the word count fixed where it is small (texture coordinates, a colour).
+template <int V>
+__attribute__((target("avx2"))) void interpolate_avx2_counted(const VaryingInterpolation& v, const Quad* quads,
+                                                              size_t n, uint32_t* out, size_t stride) {
+    switch (v.count) {
+        case 1: return interpolate_avx2<V, 1>(v, quads, n, out, stride);
+        case 2: return interpolate_avx2<V, 2>(v, quads, n, out, stride);
+        case 3: return interpolate_avx2<V, 3>(v, quads, n, out, stride);
+        case 4: return interpolate_avx2<V, 4>(v, quads, n, out, stride);
+        default: return interpolate_avx2<V, 0>(v, quads, n, out, stride);
     }
 }
 
@@ -294,8 +327,8 @@ void interpolate_varyings_at(SimdLevel level, const VaryingInterpolation& v, con
             [[fallthrough]];
         case SimdLevel::AVX2:
 #if defined(SOFTGL_HAVE_AVX2_INTERPOLATION)
-            return v.vertices == 3 ? interpolate_avx2<3>(v, quads, n, out, stride)
-                                   : interpolate_avx2<2>(v, quads, n, out, stride);
+            return v.vertices == 3 ? interpolate_avx2_counted<3>(v, quads, n, out, stride)
+                                   : interpolate_avx2_counted<2>(v, quads, n, out, stride);
 #endif
             [[fallthrough]];
         case SimdLevel::SSE2:
