@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstring>
+#include <type_traits>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -137,8 +138,11 @@ __attribute__((target("avx2"))) void interpolate_avx2(const VaryingInterpolation
         const FloatPlane& pl = k == 0 ? v.inv_w : v.weight[k - 1];
         pa[k] = _mm256_set1_ps(pl.a), pb[k] = _mm256_set1_ps(pl.b), pc[k] = _mm256_set1_ps(pl.c);
     }
-    for (size_t i = 0; i < n; i += 2) {
-        const bool pair = i + 1 < n;
+    // Quads i and i + 1 (Pair) or quad i alone (an odd count's last); Q: 0 q per lane, 1 q
+    // constant, 2 q == 1 (not multiplied by). Each loop below is one of these, without branches.
+    auto step = [&](size_t i, auto pair_tag, auto q_tag) __attribute__((target("avx2"))) {
+        constexpr bool pair = decltype(pair_tag)::value;
+        constexpr int Q = decltype(q_tag)::value;
         const __m256i xy = pair ? _mm256_loadu_si256(reinterpret_cast<const __m256i*>(quads + i))
                                 : _mm256_broadcastsi128_si256(_mm_loadu_si128(reinterpret_cast<const __m128i*>(quads + i)));
         const __m256 dx = _mm256_cvtepi32_ps(_mm256_sub_epi32(_mm256_add_epi32(_mm256_permutevar8x32_epi32(xy, pick_x), px), base_x));
@@ -146,9 +150,9 @@ __attribute__((target("avx2"))) void interpolate_avx2(const VaryingInterpolation
         auto eval = [&](int k) __attribute__((target("avx2"))) {
             return _mm256_add_ps(_mm256_add_ps(pc[k], _mm256_mul_ps(pa[k], dx)), _mm256_mul_ps(pb[k], dy));
         };
-        const __m256 q = cq.constant ? q_constant : _mm256_div_ps(one, eval(0));
-        const __m256 l1 = cq.unit ? eval(1) : _mm256_mul_ps(eval(1), q);
-        const __m256 l2 = V == 3 ? (cq.unit ? eval(2) : _mm256_mul_ps(eval(2), q)) : _mm256_setzero_ps();
+        const __m256 q = Q == 0 ? _mm256_div_ps(one, eval(0)) : q_constant;
+        const __m256 l1 = Q == 2 ? eval(1) : _mm256_mul_ps(eval(1), q);
+        const __m256 l2 = V == 3 ? (Q == 2 ? eval(2) : _mm256_mul_ps(eval(2), q)) : _mm256_setzero_ps();
         if constexpr (C > 0) {
             for (int k = 0; k < C; ++k) {
                 __m256 s = _mm256_add_ps(held[0][k], _mm256_mul_ps(l1, held[1][k]));
@@ -156,16 +160,24 @@ __attribute__((target("avx2"))) void interpolate_avx2(const VaryingInterpolation
                 if (pair) _mm256_storeu_ps(rows[k] + 4 * i, s);
                 else _mm_storeu_ps(rows[k] + 4 * i, _mm256_castps256_ps128(s));
             }
-            continue;
+        } else {
+            for (size_t k = 0; k < count; ++k) {
+                __m256 s = _mm256_add_ps(_mm256_broadcast_ss(values + k), _mm256_mul_ps(l1, _mm256_broadcast_ss(values + count + k)));
+                if constexpr (V == 3) s = _mm256_add_ps(s, _mm256_mul_ps(l2, _mm256_broadcast_ss(values + 2 * count + k)));
+                float* const dst = reinterpret_cast<float*>(out + size_t(words[k]) * stride + 4 * i);
+                if (pair) _mm256_storeu_ps(dst, s);
+                else _mm_storeu_ps(dst, _mm256_castps256_ps128(s));
+            }
         }
-        for (size_t k = 0; k < count; ++k) {
-            __m256 s = _mm256_add_ps(_mm256_broadcast_ss(values + k), _mm256_mul_ps(l1, _mm256_broadcast_ss(values + count + k)));
-            if constexpr (V == 3) s = _mm256_add_ps(s, _mm256_mul_ps(l2, _mm256_broadcast_ss(values + 2 * count + k)));
-            float* const dst = reinterpret_cast<float*>(out + size_t(words[k]) * stride + 4 * i);
-            if (pair) _mm256_storeu_ps(dst, s);
-            else _mm_storeu_ps(dst, _mm256_castps256_ps128(s));
-        }
-    }
+    };
+    auto loop = [&](auto q_tag) __attribute__((target("avx2"))) {
+        size_t i = 0;
+        for (; i + 1 < n; i += 2) step(i, std::true_type{}, q_tag);
+        if (i < n) step(i, std::false_type{}, q_tag);
+    };
+    if (cq.unit) loop(std::integral_constant<int, 2>{});
+    else if (cq.constant) loop(std::integral_constant<int, 1>{});
+    else loop(std::integral_constant<int, 0>{});
 }
 
 // interpolate_avx2 with the word count fixed where it is small (texture coordinates, a colour).
