@@ -217,11 +217,11 @@ def test_constant_w_every_word_count(inv_w_c, vertices):
 @pytest.mark.parametrize("vertices", [3, 2])
 @pytest.mark.parametrize("constant_w", [False, True])
 def test_small_word_counts(vertices, constant_w):
-    # AVX2 holds the vertex values of up to four words in registers (a loop per count 1..4, the
-    # general loop from 5): each count, with perspective and constant w, even and odd quad counts
+    # AVX2 holds the vertex values of up to eight words (a loop per count 1..8, the general loop
+    # from 9): each count, with perspective and constant w, even and odd quad counts
     # (an odd count's last quad stores half a register), starting mid-row.
     rng = np.random.default_rng(140 + vertices + 10 * constant_w)
-    for words in range(1, 7):
+    for words in range(1, 10):
         for n, start in ((1, 0), (2, 1), (5, 3), (16, 0), (31, 2), (64, 0)):
             planes, ox, oy, _, _ = random_case(rng, 1, vertices, constant_w)
             values = rng.normal(0, 10, (vertices, words)).astype(f32)

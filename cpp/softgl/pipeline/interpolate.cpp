@@ -110,7 +110,7 @@ void interpolate_sse2(const VaryingInterpolation& v, const Quad* quads, size_t n
 // Two quads per register (lanes 0..3 quads[i], 4..7 quads[i + 1]), their coordinates loaded as 8
 // int32 words (x at 0 and 4, y at 1 and 5); an odd count's last quad is paired with itself and
 // only its half stored. Compiled for AVX2 (no FMA) here only; called only when the CPU has it.
-// C > 0: exactly C words, their vertex values broadcast and their rows located once before the
+// C > 0: exactly C words (at most 8), their vertex values broadcast and their rows located once before the
 // loop (the stores through `out` may alias v.values, so the general loop reads them again for
 // every pair): the same operations on the same values.
 template <int V, int C>
@@ -180,7 +180,8 @@ __attribute__((target("avx2"))) void interpolate_avx2(const VaryingInterpolation
     else loop(std::integral_constant<int, 0>{});
 }
 
-// interpolate_avx2 with the word count fixed where it is small (texture coordinates, a colour).
+// interpolate_avx2 with the word count fixed where it is small (texture coordinates and a colour:
+// up to 8 words; held values past the registers are read from the stack, still fewer instructions).
 template <int V>
 __attribute__((target("avx2"))) void interpolate_avx2_counted(const VaryingInterpolation& v, const Quad* quads,
                                                               size_t n, uint32_t* out, size_t stride) {
@@ -189,6 +190,10 @@ __attribute__((target("avx2"))) void interpolate_avx2_counted(const VaryingInter
         case 2: return interpolate_avx2<V, 2>(v, quads, n, out, stride);
         case 3: return interpolate_avx2<V, 3>(v, quads, n, out, stride);
         case 4: return interpolate_avx2<V, 4>(v, quads, n, out, stride);
+        case 5: return interpolate_avx2<V, 5>(v, quads, n, out, stride);
+        case 6: return interpolate_avx2<V, 6>(v, quads, n, out, stride);
+        case 7: return interpolate_avx2<V, 7>(v, quads, n, out, stride);
+        case 8: return interpolate_avx2<V, 8>(v, quads, n, out, stride);
         default: return interpolate_avx2<V, 0>(v, quads, n, out, stride);
     }
 }
