@@ -215,6 +215,20 @@ def test_constant_w_every_word_count(inv_w_c, vertices):
 
 
 @pytest.mark.parametrize("vertices", [3, 2])
+@pytest.mark.parametrize("constant_w", [False, True])
+def test_small_word_counts(vertices, constant_w):
+    # AVX2 holds the vertex values of up to eight words (a loop per count 1..8, the general loop
+    # from 9): each count, with perspective and constant w, even and odd quad counts
+    # (an odd count's last quad stores half a register), starting mid-row.
+    rng = np.random.default_rng(140 + vertices + 10 * constant_w)
+    for words in range(1, 10):
+        for n, start in ((1, 0), (2, 1), (5, 3), (16, 0), (31, 2), (64, 0)):
+            planes, ox, oy, _, _ = random_case(rng, 1, vertices, constant_w)
+            values = rng.normal(0, 10, (vertices, words)).astype(f32)
+            check(planes, ox, oy, raster_quads(n, start), values, (-24, -16))
+
+
+@pytest.mark.parametrize("vertices", [3, 2])
 def test_unit_w_special_weights_and_values(vertices):
     # q = 1: the weights are the plane values themselves, so they must keep -0, infinities, NaN and
     # denormals exactly as l * 1 would. When two NaNs of different bits meet, which one a sum keeps

@@ -3,6 +3,7 @@
 #include <cmath>
 #include <cstddef>
 #include <cstring>
+#include <type_traits>
 
 #if defined(__SSE2__)
 #include <emmintrin.h>
@@ -109,13 +110,24 @@ void interpolate_sse2(const VaryingInterpolation& v, const Quad* quads, size_t n
 // Two quads per register (lanes 0..3 quads[i], 4..7 quads[i + 1]), their coordinates loaded as 8
 // int32 words (x at 0 and 4, y at 1 and 5); an odd count's last quad is paired with itself and
 // only its half stored. Compiled for AVX2 (no FMA) here only; called only when the CPU has it.
-template <int V>
+// C > 0: exactly C words (at most 8), their vertex values broadcast and their rows located once before the
+// loop (the stores through `out` may alias v.values, so the general loop reads them again for
+// every pair): the same operations on the same values.
+template <int V, int C>
 __attribute__((target("avx2"))) void interpolate_avx2(const VaryingInterpolation& v, const Quad* quads, size_t n,
                                                       uint32_t* out, size_t stride) {
     static_assert(sizeof(Quad) == 16 && offsetof(Quad, x) == 0 && offsetof(Quad, y) == 4, "two quads in 8 int32s");
     const float* const values = v.values;
     const int* const words = v.words;
     const size_t count = v.count;
+    constexpr int kHeld = C > 0 ? C : 1;
+    __m256 held[3][kHeld];   // v_0, d_1 (, d_2) of each word
+    float* rows[kHeld];      // each word's lanes
+    if constexpr (C > 0)
+        for (int k = 0; k < C; ++k) {
+            for (int r = 0; r < V; ++r) held[r][k] = _mm256_broadcast_ss(values + size_t(r) * count + size_t(k));
+            rows[k] = reinterpret_cast<float*>(out + size_t(words[k]) * stride);
+        }
     const ConstantQ cq(v.inv_w);
     const __m256 one = _mm256_set1_ps(1.0f), q_constant = _mm256_set1_ps(cq.q);
     const __m256i pick_x = _mm256_setr_epi32(0, 0, 0, 0, 4, 4, 4, 4), pick_y = _mm256_setr_epi32(1, 1, 1, 1, 5, 5, 5, 5);
@@ -126,8 +138,11 @@ __attribute__((target("avx2"))) void interpolate_avx2(const VaryingInterpolation
         const FloatPlane& pl = k == 0 ? v.inv_w : v.weight[k - 1];
         pa[k] = _mm256_set1_ps(pl.a), pb[k] = _mm256_set1_ps(pl.b), pc[k] = _mm256_set1_ps(pl.c);
     }
-    for (size_t i = 0; i < n; i += 2) {
-        const bool pair = i + 1 < n;
+    // Quads i and i + 1 (Pair) or quad i alone (an odd count's last); Q: 0 q per lane, 1 q
+    // constant, 2 q == 1 (not multiplied by). Each loop below is one of these, without branches.
+    auto step = [&](size_t i, auto pair_tag, auto q_tag) __attribute__((target("avx2"))) {
+        constexpr bool pair = decltype(pair_tag)::value;
+        constexpr int Q = decltype(q_tag)::value;
         const __m256i xy = pair ? _mm256_loadu_si256(reinterpret_cast<const __m256i*>(quads + i))
                                 : _mm256_broadcastsi128_si256(_mm_loadu_si128(reinterpret_cast<const __m128i*>(quads + i)));
         const __m256 dx = _mm256_cvtepi32_ps(_mm256_sub_epi32(_mm256_add_epi32(_mm256_permutevar8x32_epi32(xy, pick_x), px), base_x));
@@ -135,16 +150,51 @@ __attribute__((target("avx2"))) void interpolate_avx2(const VaryingInterpolation
         auto eval = [&](int k) __attribute__((target("avx2"))) {
             return _mm256_add_ps(_mm256_add_ps(pc[k], _mm256_mul_ps(pa[k], dx)), _mm256_mul_ps(pb[k], dy));
         };
-        const __m256 q = cq.constant ? q_constant : _mm256_div_ps(one, eval(0));
-        const __m256 l1 = cq.unit ? eval(1) : _mm256_mul_ps(eval(1), q);
-        const __m256 l2 = V == 3 ? (cq.unit ? eval(2) : _mm256_mul_ps(eval(2), q)) : _mm256_setzero_ps();
-        for (size_t k = 0; k < count; ++k) {
-            __m256 s = _mm256_add_ps(_mm256_broadcast_ss(values + k), _mm256_mul_ps(l1, _mm256_broadcast_ss(values + count + k)));
-            if constexpr (V == 3) s = _mm256_add_ps(s, _mm256_mul_ps(l2, _mm256_broadcast_ss(values + 2 * count + k)));
-            float* const dst = reinterpret_cast<float*>(out + size_t(words[k]) * stride + 4 * i);
-            if (pair) _mm256_storeu_ps(dst, s);
-            else _mm_storeu_ps(dst, _mm256_castps256_ps128(s));
+        const __m256 q = Q == 0 ? _mm256_div_ps(one, eval(0)) : q_constant;
+        const __m256 l1 = Q == 2 ? eval(1) : _mm256_mul_ps(eval(1), q);
+        const __m256 l2 = V == 3 ? (Q == 2 ? eval(2) : _mm256_mul_ps(eval(2), q)) : _mm256_setzero_ps();
+        if constexpr (C > 0) {
+            for (int k = 0; k < C; ++k) {
+                __m256 s = _mm256_add_ps(held[0][k], _mm256_mul_ps(l1, held[1][k]));
+                if constexpr (V == 3) s = _mm256_add_ps(s, _mm256_mul_ps(l2, held[2][k]));
+                if (pair) _mm256_storeu_ps(rows[k] + 4 * i, s);
+                else _mm_storeu_ps(rows[k] + 4 * i, _mm256_castps256_ps128(s));
+            }
+        } else {
+            for (size_t k = 0; k < count; ++k) {
+                __m256 s = _mm256_add_ps(_mm256_broadcast_ss(values + k), _mm256_mul_ps(l1, _mm256_broadcast_ss(values + count + k)));
+                if constexpr (V == 3) s = _mm256_add_ps(s, _mm256_mul_ps(l2, _mm256_broadcast_ss(values + 2 * count + k)));
+                float* const dst = reinterpret_cast<float*>(out + size_t(words[k]) * stride + 4 * i);
+                if (pair) _mm256_storeu_ps(dst, s);
+                else _mm_storeu_ps(dst, _mm256_castps256_ps128(s));
+            }
         }
+    };
+    auto loop = [&](auto q_tag) __attribute__((target("avx2"))) {
+        size_t i = 0;
+        for (; i + 1 < n; i += 2) step(i, std::true_type{}, q_tag);
+        if (i < n) step(i, std::false_type{}, q_tag);
+    };
+    if (cq.unit) loop(std::integral_constant<int, 2>{});
+    else if (cq.constant) loop(std::integral_constant<int, 1>{});
+    else loop(std::integral_constant<int, 0>{});
+}
+
+// interpolate_avx2 with the word count fixed where it is small (texture coordinates and a colour:
+// up to 8 words; held values past the registers are read from the stack, still fewer instructions).
+template <int V>
+__attribute__((target("avx2"))) void interpolate_avx2_counted(const VaryingInterpolation& v, const Quad* quads,
+                                                              size_t n, uint32_t* out, size_t stride) {
+    switch (v.count) {
+        case 1: return interpolate_avx2<V, 1>(v, quads, n, out, stride);
+        case 2: return interpolate_avx2<V, 2>(v, quads, n, out, stride);
+        case 3: return interpolate_avx2<V, 3>(v, quads, n, out, stride);
+        case 4: return interpolate_avx2<V, 4>(v, quads, n, out, stride);
+        case 5: return interpolate_avx2<V, 5>(v, quads, n, out, stride);
+        case 6: return interpolate_avx2<V, 6>(v, quads, n, out, stride);
+        case 7: return interpolate_avx2<V, 7>(v, quads, n, out, stride);
+        case 8: return interpolate_avx2<V, 8>(v, quads, n, out, stride);
+        default: return interpolate_avx2<V, 0>(v, quads, n, out, stride);
     }
 }
 
@@ -294,8 +344,8 @@ void interpolate_varyings_at(SimdLevel level, const VaryingInterpolation& v, con
             [[fallthrough]];
         case SimdLevel::AVX2:
 #if defined(SOFTGL_HAVE_AVX2_INTERPOLATION)
-            return v.vertices == 3 ? interpolate_avx2<3>(v, quads, n, out, stride)
-                                   : interpolate_avx2<2>(v, quads, n, out, stride);
+            return v.vertices == 3 ? interpolate_avx2_counted<3>(v, quads, n, out, stride)
+                                   : interpolate_avx2_counted<2>(v, quads, n, out, stride);
 #endif
             [[fallthrough]];
         case SimdLevel::SSE2:
