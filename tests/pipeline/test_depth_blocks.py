@@ -11,7 +11,7 @@ import pytest
 
 import softgl
 from softgl import _core
-from test_depth_bounds import LEVELS, SIMD, scene
+from test_depth_bounds import LEVELS, SIMD, draw_calls, scene
 
 VS = """#version 300 es
 in vec4 aPos;
@@ -70,30 +70,13 @@ def render(on, level, seed, size, threads, target="fbo", fs=DEPTH_FS, stencil=Fa
         gl.stencilOp(gl.KEEP, gl.INCR, gl.INCR)
     gl.stats(reset=True)
     plans = []   # of the draws that rasterize (not those with nothing to write: depth mask off)
-    for d in draws:
-        if d["clear"] is not None:   # a partial clear of the depth words (scissored)
-            gl.enable(gl.SCISSOR_TEST)
-            gl.scissor(size[0] // 4, size[1] // 3, size[0] // 2, size[1] // 2)
-            gl.depthMask(True)
-            gl.clearDepth(d["clear"])
-            gl.clear(gl.DEPTH_BUFFER_BIT)
-            gl.disable(gl.SCISSOR_TEST)
-        gl.depthFunc(getattr(gl, d["func"]))
-        gl.depthMask(d["mask"])
-        if d["offset"]:
-            gl.enable(gl.POLYGON_OFFSET_FILL)
-            gl.polygonOffset(2.0, 40.0)
-        else:
-            gl.disable(gl.POLYGON_OFFSET_FILL)
-        if d["scissor"]:
-            gl.enable(gl.SCISSOR_TEST)
-            gl.scissor(*d["scissor"])
-        else:
-            gl.disable(gl.SCISSOR_TEST)
-        gl.drawArrays(gl.TRIANGLES, d["first"], d["count"])
+
+    def keep_plan():
         plan = gl.last_draw_plan()
         if plan["skip"] == "no":
             plans.append(plan)
+
+    draw_calls(gl, draws, size, keep_plan)
     assert gl.getError() == gl.NO_ERROR and plans
     stats = gl.stats()
     gl.disable(gl.SCISSOR_TEST)

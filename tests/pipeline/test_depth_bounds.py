@@ -62,19 +62,9 @@ def bind_scene(gl, pos, color):
         gl.vertexAttribPointer(loc, 4, gl.FLOAT, False, 0, 0)
 
 
-def render(mode, level, seed, size, threads, antialias=False, smooth=False):
-    """The scene's draws; returns (colour bytes, depth words, counters)."""
-    pos, color, draws = scene(seed)
-    gl = softgl.Context(*size, threads=threads, antialias=antialias, preserveDrawingBuffer=True)
-    _core.testing.set_tuning(gl, depth_bounds=MODES[mode], **({"simd": SIMD[level]} if level >= 0 else {}))
-    bind_scene(gl, pos, color)
-    gl.clearColor(0.2, 0.4, 0.6, 1.0)
-    gl.clearDepth(0.5 if seed % 2 else 1.0)
-    gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT)
-    gl.enable(gl.DEPTH_TEST)
-    if smooth:
-        gl.enable(gl.getExtension("SOFTGL_smooth").POLYGON_SMOOTH)
-    gl.stats(reset=True)
+def draw_calls(gl, draws, size, after=None):
+    """The scene's draws, each with its depth function, mask, polygon offset, scissor and partial
+    depth clear; after() runs after each draw."""
     for d in draws:
         if d["clear"] is not None:   # a partial clear of the depth words (scissored)
             gl.enable(gl.SCISSOR_TEST)
@@ -96,6 +86,24 @@ def render(mode, level, seed, size, threads, antialias=False, smooth=False):
         else:
             gl.disable(gl.SCISSOR_TEST)
         gl.drawArrays(gl.TRIANGLES, d["first"], d["count"])
+        if after is not None:
+            after()
+
+
+def render(mode, level, seed, size, threads, antialias=False, smooth=False):
+    """The scene's draws; returns (colour bytes, depth words, counters)."""
+    pos, color, draws = scene(seed)
+    gl = softgl.Context(*size, threads=threads, antialias=antialias, preserveDrawingBuffer=True)
+    _core.testing.set_tuning(gl, depth_bounds=MODES[mode], **({"simd": SIMD[level]} if level >= 0 else {}))
+    bind_scene(gl, pos, color)
+    gl.clearColor(0.2, 0.4, 0.6, 1.0)
+    gl.clearDepth(0.5 if seed % 2 else 1.0)
+    gl.clear(gl.COLOR_BUFFER_BIT | gl.DEPTH_BUFFER_BIT)
+    gl.enable(gl.DEPTH_TEST)
+    if smooth:
+        gl.enable(gl.getExtension("SOFTGL_smooth").POLYGON_SMOOTH)
+    gl.stats(reset=True)
+    draw_calls(gl, draws, size)
     assert gl.getError() == gl.NO_ERROR
     stats = {k: v for k, v in gl.stats().items() if not k.startswith("seconds")}
     image = gl.readPixels(0, 0, *size, gl.RGBA, gl.UNSIGNED_BYTE).tobytes()
