@@ -941,7 +941,7 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bo
         const DepthTexels8 texels(f, p, layer_at, ref);
         const __m256 t00 = texels(i0, j0), t10 = texels(i1, j0), t01 = texels(i0, j1), t11 = texels(i1, j1);
         const __m256 a00 = _mm256_load_ps(w00), a10 = _mm256_load_ps(w10), a01 = _mm256_load_ps(w01), a11 = _mm256_load_ps(w11);
-        const auto weighted = [&](__m256 t00, __m256 t10, __m256 t01, __m256 t11) {
+        const auto weighted = [&](__m256 t00, __m256 t10, __m256 t01, __m256 t11) __attribute__((target("avx2"))) {
             return weighted_sum8(a00, a10, a01, a11, t00, t10, t01, t11);
         };
         alignas(32) float c0[8], c1[8], c3[8];
@@ -1965,6 +1965,7 @@ __attribute__((target("avx2"))) void cube_levels8(const Fast2D& f, Planes8& plan
                                                   const int32_t levels[3], int count, uint32_t active,
                                                   const int32_t face8[8], const float* s8, const float* t8,
                                                   __m256 result[4], __m256i& inside) {
+    if (count < 1 || count > 3) __builtin_unreachable();   // the caller's 1-3 levels: by_level is filled
     // Per level, the lanes whose first / second level it is (all ones per lane).
     alignas(32) int32_t first[3][8] = {}, second[3][8] = {}, blended[8] = {};
     for (int k = 0; k < 8; ++k) {
