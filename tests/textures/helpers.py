@@ -20,6 +20,26 @@ void main() {
 }
 """
 
+# A receding quad (w grows along y, so the mip level changes along y) and lookups of its uv in a
+# 2D texture, a 2D array and a cube map: the storage tests compare a format against its expansion.
+RECEDING_VS = """#version 300 es
+in vec2 pos; out vec2 uv;
+void main() { float w = 1.0 + (pos.y * 0.5 + 0.5) * 5.0;   // receding: the level changes along y
+              uv = (pos * 0.5 + 0.5) * vec2(1.7, 6.0) - vec2(0.35, 0.2);
+              gl_Position = vec4(pos * w, 0.0, w); }"""
+RECEDING_FS = """#version 300 es
+precision highp float; uniform sampler2D tex; in vec2 uv; out vec4 o;
+void main() { o = texture(tex, uv); }"""
+RECEDING_FS_ARRAY = """#version 300 es
+precision highp float; uniform highp sampler2DArray tex; in vec2 uv; out vec4 o;
+void main() { o = texture(tex, vec3(uv, uv.y * 0.7)); }"""
+RECEDING_FS_CUBE = """#version 300 es
+precision highp float; uniform samplerCube tex; in vec2 uv; out vec4 o;
+void main() { o = texture(tex, vec3(uv.x - 0.5, 0.8 - uv.y * 0.4, 0.6)); }"""
+# (min filter, mag filter) pairs: no LOD choice, bilinear, trilinear.
+STORAGE_FILTERS = [("NEAREST", "NEAREST"), ("LINEAR", "LINEAR"), ("LINEAR_MIPMAP_LINEAR", "LINEAR")]
+
+
 
 def fs3(sampler="sampler2D", lookup="texture(tex, uvw.xy)", extra=""):
     return f"""#version 300 es

@@ -12,23 +12,10 @@ import numpy as np
 import pytest
 
 import softgl
-from helpers import draw_quad
+from helpers import RECEDING_FS as FS, RECEDING_FS_ARRAY as FS_ARRAY, RECEDING_FS_CUBE as FS_CUBE, RECEDING_VS as VS
+from helpers import STORAGE_FILTERS as FILTERS, draw_quad
 from softgl import _core
 
-VS = """#version 300 es
-in vec2 pos; out vec2 uv;
-void main() { float w = 1.0 + (pos.y * 0.5 + 0.5) * 5.0;   // receding: the level changes along y
-              uv = (pos * 0.5 + 0.5) * vec2(1.7, 6.0) - vec2(0.35, 0.2);
-              gl_Position = vec4(pos * w, 0.0, w); }"""
-FS = """#version 300 es
-precision highp float; uniform sampler2D tex; in vec2 uv; out vec4 o;
-void main() { o = texture(tex, uv); }"""
-FS_ARRAY = """#version 300 es
-precision highp float; uniform highp sampler2DArray tex; in vec2 uv; out vec4 o;
-void main() { o = texture(tex, vec3(uv, uv.y * 0.7)); }"""
-FS_CUBE = """#version 300 es
-precision highp float; uniform samplerCube tex; in vec2 uv; out vec4 o;
-void main() { o = texture(tex, vec3(uv.x - 0.5, 0.8 - uv.y * 0.4, 0.6)); }"""
 
 # internal format -> (client format, channels, values): values(rng, shape) are floats the format
 # holds exactly (so the RGBA32F upload of the same floats is the same texture).
@@ -50,7 +37,6 @@ FORMATS = {
     "R11F_G11F_B10F": ("RGB", 3, _dyadic),
     "RGB9_E5": ("RGB", 3, _dyadic),
 }
-FILTERS = [("NEAREST", "NEAREST"), ("LINEAR", "LINEAR"), ("LINEAR_MIPMAP_LINEAR", "LINEAR")]
 W, H = 64, 48
 
 

@@ -10,22 +10,14 @@ import numpy as np
 import pytest
 
 import softgl
-from helpers import draw_quad
+from helpers import RECEDING_FS as FS, RECEDING_FS_ARRAY as FS_ARRAY, RECEDING_FS_CUBE as FS_CUBE, RECEDING_VS as VS
+from helpers import STORAGE_FILTERS as FILTERS, draw_quad
 from softgl import _core
 
-VS = """#version 300 es
-in vec2 pos; out vec2 uv;
-void main() { float w = 1.0 + (pos.y * 0.5 + 0.5) * 5.0;   // receding: the level changes along y
-              uv = (pos * 0.5 + 0.5) * vec2(1.7, 6.0) - vec2(0.35, 0.2);
-              gl_Position = vec4(pos * w, 0.0, w); }"""
-FS = """#version 300 es
-precision highp float; uniform sampler2D tex; in vec2 uv; out vec4 o;
-void main() { o = texture(tex, uv); }"""
 
 # (internal format, format, channels): the narrow formats and how RGBA8 spells them.
 FORMATS = {"R8": ("R8", "RED", 1), "RG8": ("RG8", "RG", 2), "LUMINANCE": ("LUMINANCE", "LUMINANCE", 1),
            "ALPHA": ("ALPHA", "ALPHA", 1), "LUMINANCE_ALPHA": ("LUMINANCE_ALPHA", "LUMINANCE_ALPHA", 2)}
-FILTERS = [("NEAREST", "NEAREST"), ("LINEAR", "LINEAR"), ("LINEAR_MIPMAP_LINEAR", "LINEAR")]
 W, H = 64, 48
 
 
@@ -95,14 +87,6 @@ def test_narrow_formats_sample_as_their_rgba8_expansion(name, filters, wrap, siz
         if path == "best":   # and RGBA8 itself, at this configuration: the same bits
             rgba = draw([expand(name, k) for k in levels], "RGBA8", "RGBA", filters, wrap, threads, level, path)
             np.testing.assert_array_equal(rgba.view(np.uint32), want.view(np.uint32))
-
-
-FS_ARRAY = """#version 300 es
-precision highp float; uniform highp sampler2DArray tex; in vec2 uv; out vec4 o;
-void main() { o = texture(tex, vec3(uv, uv.y * 0.7)); }"""
-FS_CUBE = """#version 300 es
-precision highp float; uniform samplerCube tex; in vec2 uv; out vec4 o;
-void main() { o = texture(tex, vec3(uv.x - 0.5, 0.8 - uv.y * 0.4, 0.6)); }"""
 
 
 def draw_layers(layers, internal, fmt, kind, threads, simd, path):
