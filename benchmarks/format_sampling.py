@@ -57,13 +57,7 @@ def main() -> None:
                   getattr(gl, client_type), data)
     for pname, value in ((gl.TEXTURE_MIN_FILTER, gl.LINEAR), (gl.TEXTURE_MAG_FILTER, gl.LINEAR)):
         gl.texParameteri(gl.TEXTURE_2D, pname, value)
-    prog = gl.createProgram()
-    for kind, src in ((gl.VERTEX_SHADER, VS), (gl.FRAGMENT_SHADER, FS)):
-        s = gl.createShader(kind)
-        gl.shaderSource(s, src)
-        gl.compileShader(s)
-        gl.attachShader(prog, s)
-    gl.linkProgram(prog)
+    prog = softgl.program(gl, VS, FS)
     gl.useProgram(prog)
     buf = gl.createBuffer()
     gl.bindBuffer(gl.ARRAY_BUFFER, buf)

@@ -166,13 +166,7 @@ def line_positions(seed):
 def draw_lines(positions, simd, threads):
     """Per pixel, how many of the lines (one draw each) wrote it."""
     gl = softgl.Context(W, H, threads=threads, antialias=False)
-    prog = gl.createProgram()
-    for kind, src in ((gl.VERTEX_SHADER, VS), (gl.FRAGMENT_SHADER, FS)):
-        s = gl.createShader(kind)
-        gl.shaderSource(s, src)
-        gl.compileShader(s)
-        gl.attachShader(prog, s)
-    gl.linkProgram(prog)
+    prog = softgl.program(gl, VS, FS)
     gl.useProgram(prog)
     buf = gl.createBuffer()
     gl.bindBuffer(gl.ARRAY_BUFFER, buf)
