@@ -7,6 +7,8 @@ NaN, directions on every face, across edges and corners, magnified and minified.
 drawn by the general path, the fast path without SIMD, with AVX2 blocks and with the best SIMD
 (test_sampling_fast_path.Renderer) and compared as uint32 bits (NaNs as NaNs); gl.stats() shows
 that the fast path served the lookups."""
+import itertools
+
 import numpy as np
 import pytest
 
@@ -254,3 +256,61 @@ def test_ordinary_benchmark_scenes_same_bytes_on_every_path(key):
     assert images[0].std() > 10
     for img in images[1:]:
         np.testing.assert_array_equal(img, images[0])
+
+
+@pytest.mark.parametrize("fmt", ["RGBA8", "RGBA16F"])
+@pytest.mark.parametrize("min_filter,mag_filter", [("LINEAR", "LINEAR"), ("NEAREST", "NEAREST"),
+                                                   ("LINEAR_MIPMAP_LINEAR", "LINEAR")])
+def test_cube_queries_of_every_lane_count(min_filter, mag_filter, fmt):
+    # Small canvases and triangles: queries whose last 1-7 lanes the cube blocks take as one
+    # padded block of 8 (sampler.cpp sample_2d), across face edges (seamless: those lanes again
+    # by sample_lane), with implicit and explicit LODs; every path gives the general path's bits.
+    gl = softgl.Context(16, 16, antialias=False)
+    if fmt == "RGBA8":
+        cube_levels(gl, 8)
+    else:
+        cube_levels(gl, 8, gl.RGBA16F, gl.FLOAT, np.float32)
+    set_params(gl, gl.TEXTURE_CUBE_MAP, min_filter, mag_filter)
+    # The whole viewport (w h lanes), and its lower left half.
+    tris = np.array([-1, -1, 3, -1, -1, 3, -1, -1, 1, -1, -1, 1], np.float32)
+    for lookup in ("texture(tex, p)", "textureLod(tex, p, lod)"):
+        prog = softgl.program(gl, VS_CUBE, fs(lookup, "samplerCube"))
+        gl.useProgram(prog)
+        gl.uniform1f(gl.getUniformLocation(prog, "lod"), 0.6)
+        gl.uniform2f(gl.getUniformLocation(prog, "special"), 1.0, 0.0)
+        buf = gl.createBuffer()
+        gl.bindBuffer(gl.ARRAY_BUFFER, buf)
+        gl.bufferData(gl.ARRAY_BUFFER, tris, gl.STATIC_DRAW)
+        loc = gl.getAttribLocation(prog, "pos")
+        gl.enableVertexAttribArray(loc)
+        gl.vertexAttribPointer(loc, 2, gl.FLOAT, False, 0, 0)
+        for (w, h), first in itertools.product(((1, 1), (2, 1), (3, 1), (3, 2), (5, 3), (7, 1), (9, 2), (11, 5), (13, 7)),
+                                               (0, 3)):
+            gl.viewport(0, 0, w, h)
+            images = []
+            for path in PATHS:
+                use_path(gl, path)
+                gl.clearColor(0.25, 0.25, 0.25, 0.25)
+                gl.clear(gl.COLOR_BUFFER_BIT)
+                # A corner of three faces in the middle of the viewport.
+                gl.uniform3f(gl.getUniformLocation(prog, "c0"), -1.1, -0.9, 1.0)
+                gl.uniform3f(gl.getUniformLocation(prog, "cx"), 2.3, 0.2, -0.1)
+                gl.uniform3f(gl.getUniformLocation(prog, "cy"), 0.1, 2.1, -0.2)
+                gl.drawArrays(gl.TRIANGLES, first, 3)
+                images.append(gl.readPixels(0, 0, w, h, gl.RGBA, gl.UNSIGNED_BYTE))
+                assert (fast_queries(gl) > 0) == (path != GENERAL) or (first and w * h < 4)
+            assert (images[0] != 64).any() or (first and w * h < 4)
+            for img in images[1:]:
+                np.testing.assert_array_equal(img, images[0], err_msg=f"{lookup} {w}x{h}")
+
+
+VS_CUBE = """#version 300 es
+in vec2 pos;
+uniform vec3 c0, cx, cy;
+out vec3 uvw;
+void main() {
+    vec2 f = pos * 0.5 + 0.5;
+    uvw = c0 + f.x * cx + f.y * cy;
+    gl_Position = vec4(pos, 0.0, 1.0);
+}
+"""

@@ -1932,6 +1932,9 @@ struct CubeQuery {
     float w, h;          // the base level's size (lambda)
     LambdaMemo* memo;
     bool seamless;       // lanes whose footprint leaves the face go to sample_lane
+    // With seamless filtering, lane `lane` of q sampled again lane by lane (sample_lane).
+    void (*again)(void* context, int lane);
+    void* context;
 };
 
 // One face of a cube map filtered for 8 lanes at the block's levels: planes[level]'s sizes, the
@@ -2013,7 +2016,8 @@ __attribute__((target("avx2"))) void cube_levels8(const Fast2D& f, Planes8& plan
 // holds the active lanes whose texels cross a face edge under seamless filtering, which the
 // caller samples again by sample_lane (ES 3.0 §3.8.9.1), as one_lane does.
 template <int kBytes, LevelMode kMode>
-__attribute__((target("avx2"))) bool cube_block8(const CubeQuery& cq, Planes8& planes, int l, uint32_t& outside) {
+__attribute__((target("avx2"), always_inline)) inline bool cube_block8(const CubeQuery& cq, Planes8& planes, int l,
+                                                                       uint32_t& outside) {
     const glsl::TextureQuery& q = *cq.q;
     const Fast2D& f = *cq.f;
     glsl::Scalar* const out[4] = {q.out[0], q.out[1], q.out[2], q.out[3]};
@@ -2091,7 +2095,20 @@ __attribute__((target("avx2"))) bool cube_block8(const CubeQuery& cq, Planes8& p
     return true;
 }
 
-using CubeBlock8 = bool (*)(const CubeQuery&, Planes8&, int, uint32_t&);
+// The blocks of 8 of lanes [l, end) by cube_block8 in one loop (the query's constants loaded
+// once), each block's lanes that leave the face sampled again by cq.again: the first lane of
+// the first block cube_block8 declines (the caller takes it), else the lanes' end.
+template <int kBytes, LevelMode kMode>
+__attribute__((target("avx2"))) int cube_run8(const CubeQuery& cq, Planes8& planes, int l, int end) {
+    for (; l + 8 <= end; l += 8) {
+        uint32_t outside;
+        if (!cube_block8<kBytes, kMode>(cq, planes, l, outside)) return l;
+        for (; outside; outside &= outside - 1) cq.again(cq.context, l + __builtin_ctz(outside));
+    }
+    return l;
+}
+
+using CubeBlock8 = int (*)(const CubeQuery&, Planes8&, int, int);
 
 // The cube block for a query's storage and level mode, or null (levels of mixed storage, or
 // texel numbers beyond int32: the general code).
@@ -2099,9 +2116,9 @@ inline CubeBlock8 cube_blocks8(const Fast2D& f, bool one_storage, LevelMode mode
     if (!one_storage) return nullptr;
 #define SOFTGL_CUBE(B)                                                                         \
     switch (mode) {                                                                            \
-        case LevelMode::FixedNearest: return cube_block8<B, LevelMode::FixedNearest>;          \
-        case LevelMode::FixedLinear: return cube_block8<B, LevelMode::FixedLinear>;            \
-        default: return cube_block8<B, LevelMode::PerBlock>;                                   \
+        case LevelMode::FixedNearest: return cube_run8<B, LevelMode::FixedNearest>;           \
+        case LevelMode::FixedLinear: return cube_run8<B, LevelMode::FixedLinear>;             \
+        default: return cube_run8<B, LevelMode::PerBlock>;                                    \
     }
     if (f.planes[0].rgba8) SOFTGL_CUBE(1)
     if (f.planes[0].narrow) SOFTGL_CUBE(2)   // Image::narrow: shaped_words8 decodes the texels
@@ -2804,8 +2821,8 @@ using Blocks16 = int (*)(const ColourQuery&, int);
 // active lanes whose texels leave the face (inside8, as Fast2D::inside and cube_block8's
 // `inside`: every face of a level has one size), which the caller samples again by sample_lane.
 template <int kBytes, bool kLinear>
-__attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) void cube_block16(const CubeQuery& cq, int32_t level, int l,
-                                                                        uint32_t& outside) {
+__attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"), always_inline)) inline void cube_block16(const CubeQuery& cq, int32_t level,
+                                                                                             int l, uint32_t& outside) {
     const glsl::TextureQuery& q = *cq.q;
     const Fast2D& f = *cq.f;
     glsl::Scalar* const out[4] = {q.out[0], q.out[1], q.out[2], q.out[3]};
@@ -2853,7 +2870,18 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) void cube_block16(const Cu
             if (out[c]) _mm512_mask_storeu_ps(&out[c][l].f, __mmask16(~active), _mm512_set1_ps(c == 3 ? 1.0f : 0.0f));
 }
 
-using CubeBlock16 = void (*)(const CubeQuery&, int32_t, int, uint32_t&);
+// The blocks of 16 of lanes [l, end) by cube_block16 in one loop, as cube_run8: the lanes' end.
+template <int kBytes, bool kLinear>
+__attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) int cube_run16(const CubeQuery& cq, int32_t level, int l, int end) {
+    for (; l + 16 <= end; l += 16) {
+        uint32_t outside;
+        cube_block16<kBytes, kLinear>(cq, level, l, outside);
+        for (; outside; outside &= outside - 1) cq.again(cq.context, l + __builtin_ctz(outside));
+    }
+    return l;
+}
+
+using CubeBlock16 = int (*)(const CubeQuery&, int32_t, int, int);
 
 // ---- Depth lookups (with or without the comparison) in blocks of 16 (AVX-512) with one fixed
 // filter, no layers, both axes CLAMP_TO_EDGE or both REPEAT of powers of two, a plane whose
@@ -2975,9 +3003,9 @@ inline DepthBlock16 depth_blocks16(const Fast2D& f, const ColourQuery& cq) {
 inline CubeBlock16 cube_blocks16(const Fast2D& f, bool one_storage, LevelMode mode) {
     if (!one_storage || mode == LevelMode::PerBlock) return nullptr;
     const bool linear = mode == LevelMode::FixedLinear;
-    if (f.planes[0].rgba8) return linear ? cube_block16<1, true> : cube_block16<1, false>;
-    if (f.planes[0].narrow) return linear ? cube_block16<2, true> : cube_block16<2, false>;
-    return linear ? cube_block16<0, true> : cube_block16<0, false>;
+    if (f.planes[0].rgba8) return linear ? cube_run16<1, true> : cube_run16<1, false>;
+    if (f.planes[0].narrow) return linear ? cube_run16<2, true> : cube_run16<2, false>;
+    return linear ? cube_run16<0, true> : cube_run16<0, false>;
 }
 
 // colour_blocks16_shaped by SamplingPlan::colour_shape, as kColourBlocks8.
@@ -3342,10 +3370,19 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
         glsl::Scalar* const out[4] = {q.out[0], q.out[1], q.out[2], q.out[3]};
         // Colour cube maps of one storage: cube_block8 (blocks whose lanes share their levels).
         const LevelMode mode = needs_lambda ? LevelMode::PerBlock : fixed.linear ? LevelMode::FixedLinear : LevelMode::FixedNearest;
-        const CubeBlock8 cube_block8 = depth ? nullptr : cube_blocks8(f, plan.one_storage, mode);
-        const CubeBlock16 cube_block16 =
+        const CubeBlock8 cube_run8 = depth ? nullptr : cube_blocks8(f, plan.one_storage, mode);
+        const CubeBlock16 cube_run16 =
             depth || simd != SimdBlocks::Avx512 ? nullptr : cube_blocks16(f, plan.one_storage, mode);
-        const CubeQuery cube_query{&f, &q, w, h, &lambda_of, bt.seamless_cube};
+        // Lanes whose footprint leaves the face under seamless filtering: sample_lane (as one_lane).
+        struct Again {
+            const TextureUnitSampler* sampler;
+            const glsl::TextureQuery* q;
+        } again{this, &q};
+        const auto sample_again = [](void* context, int lane) {
+            const Again& a = *static_cast<const Again*>(context);
+            a.sampler->sample_lane(*a.q, lane);
+        };
+        const CubeQuery cube_query{&f, &q, w, h, &lambda_of, bt.seamless_cube, sample_again, &again};
         Planes8 cube_planes(f);
         const auto all_active = [&](int first) {
             if (!q.active) return true;
@@ -3407,18 +3444,12 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
             return true;
         };
         while (l + 8 <= q.lane_count) {
-            uint32_t outside;
-            if (cube_block16 && l + 16 <= q.lane_count) {
-                cube_block16(cube_query, fixed.first, l, outside);
-                for (; outside; outside &= outside - 1) sample_lane(q, l + __builtin_ctz(outside));
-                l += 16;
+            if (cube_run16 && l + 16 <= q.lane_count) {
+                l = cube_run16(cube_query, fixed.first, l, q.lane_count);
                 continue;
             }
-            if (cube_block8 && cube_block8(cube_query, cube_planes, l, outside)) {
-                for (; outside; outside &= outside - 1) sample_lane(q, l + __builtin_ctz(outside));
-                l += 8;
-                continue;
-            }
+            // cube_run8 stops at a block whose lanes do not share their levels (taken below).
+            if (cube_run8 && (l = cube_run8(cube_query, cube_planes, l, q.lane_count)) + 8 > q.lane_count) break;
             if (all_active(l) && cube_block()) {
                 l += 8;
                 continue;
@@ -3451,6 +3482,42 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
                 store_lanes8(result, out, l);
             }
             l += 8;
+        }
+        if (cube_run8 && l < q.lane_count) {
+            // The last 1-7 lanes: one block of 8 over copies of their operands, the lanes beyond
+            // them inactive (they add no level or face; their results are dropped), as the colour
+            // blocks' tail: a block's lanes give one_lane's bits whatever the other lanes hold.
+            // Lanes leaving the face go to sample_lane after their block results are copied.
+            const int n = q.lane_count - l;
+            alignas(32) glsl::Scalar coord[3][8] = {}, ddx[3][8] = {}, ddy[3][8] = {}, lod[8] = {}, result[4][8];
+            alignas(32) uint32_t active[8] = {};
+            glsl::TextureQuery tail = q;
+            tail.lane_count = 8;
+            const auto lanes_of = [&](const glsl::Scalar* src, glsl::Scalar* dst) -> const glsl::Scalar* {
+                if (!src) return nullptr;
+                std::copy_n(src + l, n, dst);
+                return dst;
+            };
+            for (int k = 0; k < 3; ++k) {
+                tail.coord[k] = lanes_of(q.coord[k], coord[k]);
+                tail.ddx[k] = lanes_of(q.ddx[k], ddx[k]);
+                tail.ddy[k] = lanes_of(q.ddy[k], ddy[k]);
+            }
+            tail.lod = lanes_of(q.lod, lod);
+            for (int k = 0; k < n; ++k) active[k] = q.active ? q.active[l + k] : ~0u;
+            tail.active = active;
+            for (int c = 0; c < 4; ++c) tail.out[c] = q.out[c] ? result[c] : nullptr;
+            uint32_t outside = 0;
+            CubeQuery tail_query = cube_query;
+            tail_query.q = &tail;
+            tail_query.again = [](void* context, int lane) { *static_cast<uint32_t*>(context) |= 1u << lane; };
+            tail_query.context = &outside;
+            if (cube_run8(tail_query, cube_planes, 0, 8) == 8) {
+                for (int c = 0; c < 4; ++c)
+                    if (q.out[c]) std::copy_n(result[c], n, q.out[c] + l);
+                for (; outside; outside &= outside - 1) sample_lane(q, l + __builtin_ctz(outside));
+                l = q.lane_count;
+            }
         }
     }
 #endif
