@@ -3615,7 +3615,7 @@ void TextureUnitSampler::sample(const glsl::TextureQuery& q) {
 // v = float32(S / (255 * 65536)) of an integer sum S <= 255 * 65536, which the colour kernels
 // write as floor(v * 255 + 1/2). That byte is round(S / 65536) with ties (S = 65536 k + 32768)
 // up for k < 128 and down from there (v rounds below (2k + 1) / 510 in [1/2, 1)), i.e.
-// (S + 32768 - (S >> 23)) >> 16 (tests/textures/test_texel_words.py checks every S). The texels,
+// (S + 32768 - (S >> 23)) >> 16 (tests/textures/test_linear_words.py checks every S). The texels,
 // weights and sums are Fast2D::filter's (level base, layer 0), the AVX2 blocks filter8_shaped's.
 
 namespace {
