@@ -43,6 +43,7 @@ py::dict as_dict(const Tuning& t) {
     d["pool_spin_microseconds"] = t.pool_spin_microseconds;
     d["texture_copies"] = t.texture_copies;
     d["texel_words"] = t.texel_words;
+    d["linear_words"] = t.linear_words;
     d["lod_free_helper_lanes"] = t.lod_free_helper_lanes;
     d["depth_blocks"] = t.depth_blocks;
     return d;
@@ -92,6 +93,8 @@ void update(Tuning& t, const py::kwargs& fields) {
             next.texture_copies = value.cast<bool>();
         } else if (k == "texel_words") {
             next.texel_words = value.cast<bool>();
+        } else if (k == "linear_words") {
+            next.linear_words = value.cast<bool>();
         } else if (k == "lod_free_helper_lanes") {
             next.lod_free_helper_lanes = value.cast<bool>();
         } else if (k == "depth_blocks") {
@@ -116,7 +119,7 @@ void bind_tuning(py::module_& m) {
         return before;
     }, py::arg("context"),
        "Sets the named switches of the context (simd, batch_primitives, hidden_surface_removal, depth_bounds, "
-       "fragment_copies, sampler_path, fragment_batches, skip_helper_lanes, hoist_uniform_values, flat_primitives, blit_rows, pool_spin_microseconds, texture_copies, texel_words, lod_free_helper_lanes, depth_blocks); returns the previous ones as a dict, to pass back.");
+       "fragment_copies, sampler_path, fragment_batches, skip_helper_lanes, hoist_uniform_values, flat_primitives, blit_rows, pool_spin_microseconds, texture_copies, texel_words, linear_words, lod_free_helper_lanes, depth_blocks); returns the previous ones as a dict, to pass back.");
     t.def("default_tuning", [] { return as_dict(Tuning::process_default()); },
           "The switches new contexts start with.");
     t.def("set_default_tuning", [](const py::kwargs& fields) {

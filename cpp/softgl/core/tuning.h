@@ -67,6 +67,10 @@ struct Tuning {
     // channels, one sample), the texels' RGBA8 words go to the pixels as they are (pipeline/
     // tile_pass, "texel words"); off: as floats through the colour kernels.
     bool texel_words = true;
+    // ... and also where it is LINEAR of one 8-bit unorm level (no mipmaps: the mag filter, or a
+    // min filter without them): each pixel's bytes from the fixed-point rule's integer sums
+    // (surface/sampler, "texel words"); off: such lookups as floats through the colour kernels.
+    bool linear_words = true;
     // ... skip_helper_lanes also for a shader whose only quad-neighbour reads are implicit-LOD
     // lookups of textures whose LOD cannot change the result during the draw (no mipmaps, one
     // filter for magnification and minification: ES 3.0 §3.8.11; FragmentShader::
@@ -83,7 +87,7 @@ struct Tuning {
                fragment_batches == o.fragment_batches && skip_helper_lanes == o.skip_helper_lanes &&
                blit_rows == o.blit_rows && hoist_uniform_values == o.hoist_uniform_values &&
                flat_primitives == o.flat_primitives && pool_spin_microseconds == o.pool_spin_microseconds &&
-               texture_copies == o.texture_copies && texel_words == o.texel_words &&
+               texture_copies == o.texture_copies && texel_words == o.texel_words && linear_words == o.linear_words &&
                lod_free_helper_lanes == o.lod_free_helper_lanes && depth_blocks == o.depth_blocks;
     }
     bool operator!=(const Tuning& o) const { return !(*this == o); }

@@ -64,9 +64,10 @@ public:
     virtual bool lod_matters(const TextureQuery&) const { return true; }
     // Texel words (docs/architecture.md, "Fast paths"): true when every result of `query` (all but
     // its coordinates, derivatives and outputs filled in) is the four channels k / 255 of one
-    // 8-bit unorm texel whatever the coordinates (NEAREST of byte storage, no LOD choice);
-    // sample_words then gives those texels' RGBA8 words (channel c in byte c), words[lane].
-    virtual bool gives_words(const TextureQuery&) const { return false; }
+    // 8-bit unorm texel whatever the coordinates (NEAREST of byte storage, no LOD choice), or,
+    // where `linear` allows, the fixed-point LINEAR rule of one 8-bit unorm level; sample_words
+    // then gives the RGBA8 words (channel c in byte c) a plain write makes of them, words[lane].
+    virtual bool gives_words(const TextureQuery&, bool linear) const { (void)linear; return false; }
     virtual void sample_words(const TextureQuery& query, uint32_t* words) { (void)query, (void)words; }
     // False when the level of detail can change no lookup of dimension `dim` during the current
     // draw (whichever unit it reads): such lookups then need no quad neighbours.

@@ -60,7 +60,7 @@ enum class Path : uint8_t {
     AttachmentSizesDiffer,  // the depth image is wider than the target: its rows are not the target's
     WritesColor,            // a colour buffer receives the shader's colour
     NotTextureCopy,         // the shader is not one texture lookup copied to its colour
-    NotNearestBytes,        // the lookup is not NEAREST of 8-bit unorm storage (TextureSampler::gives_words)
+    NotNearestBytes,        // the lookup is not NEAREST (nor one LINEAR level) of 8-bit unorm storage (TextureSampler::gives_words)
 };
 const char* path_name(Path p);
 

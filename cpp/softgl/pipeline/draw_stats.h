@@ -34,7 +34,7 @@ struct DrawStats {
     uint64_t draws_with_rollback = 0;      // kept copies of the pixels they wrote (pipeline/draw_rollback.h)
     uint64_t texture_queries_fast = 0;
     uint64_t draws_texture_copy = 0;       // a shader that is one texture lookup: the sampler asked without the executor
-    uint64_t draws_texel_words = 0;        // ... NEAREST of 8-bit unorm texels, their words written as they are     // lookups (per instruction and batch of lanes) served by the 2D fast path
+    uint64_t draws_texel_words = 0;        // ... NEAREST (or one LINEAR level) of 8-bit unorm texels, their words written     // lookups (per instruction and batch of lanes) served by the 2D fast path
     uint64_t blocks_depth_in_place = 0;    // depth-only draws' covered 8x8 blocks tested without quads (whole_rect.h)
     double seconds_vertex = 0, seconds_setup = 0, seconds_fragment = 0;
     void add(const DrawStats& o);

@@ -326,7 +326,7 @@ bool GlslFragmentShader::gives_texel_words() const {
     FragmentBatch one;
     one.lanes = 1;
     one.varyings.assign(size_t(std::max(texture_copy_.word[0], texture_copy_.word[1]) + 1), 0);
-    return textures_->gives_words(texture_copy_query(one, 0));
+    return textures_->gives_words(texture_copy_query(one, 0), linear_words_);
 }
 
 void GlslFragmentShader::run_words(const FragmentBatch& b, uint32_t* words, unsigned worker) const {
@@ -432,6 +432,7 @@ void GlslFragmentShader::prepare(unsigned workers, const Tuning& tuning) const {
     if (workers_.size() < workers) workers_.resize(workers);
     sampler_path_ = tuning.sampler_path;
     texture_copies_ = tuning.texture_copies;
+    linear_words_ = tuning.linear_words;
     simd_ = std::min(tuning.simd, best_simd_level());   // Executor::set_simd_level's
     for (Worker& w : workers_) {
         if (!w.executor || w.executor->hoists() != tuning.hoist_uniform_values)

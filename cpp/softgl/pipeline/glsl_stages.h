@@ -133,6 +133,7 @@ private:
     glsl::TextureQuery texture_copy_query(const FragmentBatch& batch, unsigned worker) const;
     TextureCopy texture_copy_;
     mutable bool texture_copies_ = true;                     // the draw's Tuning::texture_copies (prepare)
+    mutable bool linear_words_ = true;                       // ... and Tuning::linear_words
     mutable SimdLevel simd_ = best_simd_level();             // the draw's (prepare), as the executor's
     const glsl::Scalar* uniforms_ = nullptr;
     struct Worker {

@@ -138,8 +138,9 @@ public:
     virtual bool copies_texture() const { return false; }
     // Texel words (docs/architecture.md, "Fast paths"): whether, for this draw (after prepare, with
     // its textures bound), run() gives every lane the channels k / 255 of one 8-bit unorm texel
-    // (a texture copy of a NEAREST lookup of byte storage); run_words then gives those texels'
-    // RGBA8 words, words[lane], instead of the floats.
+    // (a texture copy of a NEAREST lookup of byte storage), or, with Tuning::linear_words, a
+    // LINEAR lookup of one such level; run_words then gives the RGBA8 words a plain write makes
+    // of those channels, words[lane], instead of the floats.
     virtual bool gives_texel_words() const { return false; }
     virtual void run_words(const FragmentBatch& batch, uint32_t* words, unsigned worker) const {
         (void)batch, (void)words, (void)worker;

@@ -3677,8 +3677,20 @@ void TextureUnitSampler::sample(const glsl::TextureQuery& q) {
 // else changes them (a plain write of all channels) the texels' words can go to the pixels as
 // they are. The texel each lane reads is Fast2D::filter's (NEAREST, level base, layer 0), and
 // the AVX2 blocks are filter8_shaped's NEAREST operations: the same texel at every level.
+//
+// LINEAR of one level (Tuning::linear_words): the fixed-point rule gives each channel
+// v = float32(S / (255 * 65536)) of an integer sum S <= 255 * 65536, which the colour kernels
+// write as floor(v * 255 + 1/2). That byte is round(S / 65536) with ties (S = 65536 k + 32768)
+// up for k < 128 and down from there (v rounds below (2k + 1) / 510 in [1/2, 1)), i.e.
+// (S + 32768 - (S >> 23)) >> 16 (tests/textures/test_linear_words.py checks every S). The texels,
+// weights and sums are Fast2D::filter's (level base, layer 0), the AVX2 blocks filter8_shaped's.
 
-bool TextureUnitSampler::gives_words(const glsl::TextureQuery& q) const {
+namespace {
+// The byte a plain write makes of the rule's sum S.
+inline uint32_t linear_byte(uint32_t S) { return (S + 0x8000u - (S >> 23)) >> 16; }
+}  // namespace
+
+bool TextureUnitSampler::gives_words(const glsl::TextureQuery& q, bool linear) const {
     if (q.kind != TextureKind::Sample || q.dim != SamplerDim::Tex2D || q.shadow || q.result != BaseType::Float ||
         q.lod_mode != TextureLod::Implicit || q.path == SamplerPath::General)
         return false;
@@ -3687,9 +3699,9 @@ bool TextureUnitSampler::gives_words(const glsl::TextureQuery& q) const {
     const BoundTexture& bt = units[size_t(unit)][0];
     const SamplingPlan& plan = bt.plan;
     if (!bt.texture || !plan.usable || bt.params.max_anisotropy > 1.0f) return false;   // (as sample: anisotropic)
-    if (plan.depth || !plan.one_storage || plan.needs_lambda || plan.mag_linear) return false;
+    if (plan.depth || !plan.one_storage || plan.needs_lambda || (plan.mag_linear && !linear)) return false;
     const Plane& p = plan.planes[0];
-    return (p.rgba8 || p.narrow) && p.layers == 1;
+    return (p.rgba8 || p.narrow) && p.layers == 1 && (!plan.mag_linear || p.unorm8);
 }
 
 namespace {
@@ -3716,7 +3728,93 @@ __attribute__((target("avx2"))) int nearest_words8(const Plane& p, int off_s, in
     }
     return l;
 }
+
+// Channels 0 and 2 of the texels left and right blended horizontally, H = (256 - A) k0 + A k1
+// (16 bits, exact), less 2^15 (the top bit flipped).
+__attribute__((target("avx2"), always_inline)) inline __m256i linear_half_row8(__m256i left, __m256i right, __m256i wa,
+                                                                              __m256i nwa) {
+    const __m256i bytes = _mm256_set1_epi32(0x00FF00FF);
+    return _mm256_xor_si256(_mm256_add_epi16(_mm256_mullo_epi16(_mm256_and_si256(left, bytes), nwa),
+                                             _mm256_mullo_epi16(_mm256_and_si256(right, bytes), wa)),
+                            _mm256_set1_epi32(int(0x80008000u)));
+}
+
+// linear_byte(m + 2^23) of 8 lanes: S >> 23 is 1 exactly where m >= 0.
+__attribute__((target("avx2"), always_inline)) inline __m256i linear_bytes8(__m256i m) {
+    return _mm256_srli_epi32(_mm256_sub_epi32(_mm256_add_epi32(m, _mm256_set1_epi32(0x807FFF)), _mm256_srai_epi32(m, 31)), 16);
+}
+
+// The words of unorm8_rows8's sums: the rows' horizontal blends H = (256 - A) k0 + A k1 as
+// there (16 bits, r, b in `even` and g, a in `odd`), less 2^15 (signed 16-bit), then per channel
+// vpmaddwd gives (256 - B)(H0 - 2^15) + B (H1 - 2^15) = S - 2^23 (|.| <= 2^23), and linear_byte
+// of S. The madd pairs lanes (0, 1 | 4, 5) and (2, 3 | 6, 7); packus puts them back in order.
+__attribute__((target("avx2"), always_inline)) inline __m256i linear_words_of8(__m256i t00, __m256i t10, __m256i t01,
+                                                                              __m256i t11, __m256i ai, __m256i bi) {
+    const __m256i k256 = _mm256_set1_epi32(256);
+    const __m256i nai = _mm256_sub_epi32(k256, ai);
+    const __m256i wa = _mm256_or_si256(ai, _mm256_slli_epi32(ai, 16)), nwa = _mm256_or_si256(nai, _mm256_slli_epi32(nai, 16));
+    const __m256i e0 = linear_half_row8(t00, t10, wa, nwa), o0 = linear_half_row8(_mm256_srli_epi32(t00, 8), _mm256_srli_epi32(t10, 8), wa, nwa);
+    const __m256i e1 = linear_half_row8(t01, t11, wa, nwa), o1 = linear_half_row8(_mm256_srli_epi32(t01, 8), _mm256_srli_epi32(t11, 8), wa, nwa);
+    const __m256i wb = _mm256_or_si256(_mm256_sub_epi32(k256, bi), _mm256_slli_epi32(bi, 16));
+    const __m256i wlo = _mm256_unpacklo_epi32(wb, wb), whi = _mm256_unpackhi_epi32(wb, wb);
+    const __m256i even = _mm256_packus_epi32(linear_bytes8(_mm256_madd_epi16(_mm256_unpacklo_epi16(e0, e1), wlo)),
+                                             linear_bytes8(_mm256_madd_epi16(_mm256_unpackhi_epi16(e0, e1), whi)));
+    const __m256i odd = _mm256_packus_epi32(linear_bytes8(_mm256_madd_epi16(_mm256_unpacklo_epi16(o0, o1), wlo)),
+                                            linear_bytes8(_mm256_madd_epi16(_mm256_unpackhi_epi16(o0, o1), whi)));
+    return _mm256_or_si256(even, _mm256_slli_epi16(odd, 8));
+}
+
+// filter8_shaped's LINEAR operations for lanes [0, n) in blocks of 8, their words stored;
+// returns the lanes done.
+template <int kBytes, WrapKind kWrap>
+__attribute__((target("avx2"))) int linear_words8(const Plane& p, int off_s, int off_t, const glsl::Scalar* s,
+                                                  const glsl::Scalar* t, int n, uint32_t* words) {
+    const __m256 width_f = _mm256_set1_ps(float(p.width)), height_f = _mm256_set1_ps(float(p.height));
+    const __m256 os = _mm256_set1_ps(float(off_s)), ot = _mm256_set1_ps(float(off_t)), half = _mm256_set1_ps(0.5f);
+    const __m256i width = _mm256_set1_epi32(p.width), last_i = _mm256_set1_epi32(p.width - 1),
+                  last_j = _mm256_set1_epi32(p.height - 1);
+    int l = 0;
+    for (; l + 8 <= n; l += 8) {
+        const __m256 u = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(&s[l].f), width_f), os);
+        const __m256 v = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(&t[l].f), height_f), ot);
+        const __m256 u0 = _mm256_sub_ps(u, half), v0 = _mm256_sub_ps(v, half);
+        const __m256 fu = _mm256_floor_ps(u0), fv = _mm256_floor_ps(v0);
+        __m256i i0, i1, j0, j1;
+        wrap_shaped8<kWrap, true>(ifloor_floored8(fu), last_i, i0, i1);
+        wrap_shaped8<kWrap, true>(ifloor_floored8(fv), last_j, j0, j1);
+        const __m256i ai = _mm256_cvttps_epi32(weight8x8(_mm256_sub_ps(u0, fu)));
+        const __m256i bi = _mm256_cvttps_epi32(weight8x8(_mm256_sub_ps(v0, fv)));
+        const __m256i row0 = _mm256_mullo_epi32(j0, width), row1 = _mm256_mullo_epi32(j1, width);
+        const __m256i w = linear_words_of8(shaped_words8<kBytes>(p, _mm256_add_epi32(row0, i0)),
+                                           shaped_words8<kBytes>(p, _mm256_add_epi32(row0, i1)),
+                                           shaped_words8<kBytes>(p, _mm256_add_epi32(row1, i0)),
+                                           shaped_words8<kBytes>(p, _mm256_add_epi32(row1, i1)), ai, bi);
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(words + l), w);
+    }
+    return l;
+}
 #endif
+
+// Fast2D::filter's LINEAR of one lane of an 8-bit unorm plane (layer 0), as a plain write's word.
+inline uint32_t linear_word(const Plane& p, GLenum wrap_s, GLenum wrap_t, int off_s, int off_t, float s, float t) {
+    const float u = s * float(p.width) + float(off_s), v = t * float(p.height) + float(off_t);
+    const float u0 = u - 0.5f, v0 = v - 0.5f;
+    int32_t i0, i1, j0, j1;
+    wrap_pair(wrap_s, ifloor(u0), p.width, p.width_pot, i0, i1);
+    wrap_pair(wrap_t, ifloor(v0), p.height, p.height_pot, j0, j1);
+    const uint32_t A = uint32_t(weight8(u0 - std::floor(u0))), B = uint32_t(weight8(v0 - std::floor(v0)));
+    const uint32_t w[4] = {(256 - A) * (256 - B), A * (256 - B), (256 - A) * B, A * B};
+    const size_t row0 = size_t(j0) * size_t(p.width), row1 = size_t(j1) * size_t(p.width);
+    const uint32_t k[4] = {unorm8_texel(p, row0 + size_t(i0)), unorm8_texel(p, row0 + size_t(i1)),
+                           unorm8_texel(p, row1 + size_t(i0)), unorm8_texel(p, row1 + size_t(i1))};
+    uint32_t word = 0;
+    for (int c = 0; c < 4; ++c) {
+        uint32_t S = 0;
+        for (int n = 0; n < 4; ++n) S += w[n] * ((k[n] >> (8 * c)) & 255u);
+        word |= linear_byte(S) << (8 * c);
+    }
+    return word;
+}
 
 }  // namespace
 
@@ -3731,9 +3829,25 @@ void TextureUnitSampler::sample_words(const glsl::TextureQuery& q, uint32_t* wor
     const glsl::Scalar* const t = q.coord[1];
     int l = 0;
 #ifdef SOFTGL_SAMPLER_AVX2
-    if (q.path != SamplerPath::Scalar && q.simd >= SimdLevel::AVX2 && int32_indices(p)) {
-        const bool repeat = wrap_s == gl::REPEAT && wrap_t == gl::REPEAT && p.width_pot && p.height_pot;
-        const bool clamp = wrap_s == gl::CLAMP_TO_EDGE && wrap_t == gl::CLAMP_TO_EDGE;
+    const bool avx2 = q.path != SamplerPath::Scalar && q.simd >= SimdLevel::AVX2 && int32_indices(p);
+    const bool repeat = wrap_s == gl::REPEAT && wrap_t == gl::REPEAT && p.width_pot && p.height_pot;
+    const bool clamp = wrap_s == gl::CLAMP_TO_EDGE && wrap_t == gl::CLAMP_TO_EDGE;
+#endif
+    if (bt.plan.mag_linear) {   // one LINEAR level (gives_words)
+#ifdef SOFTGL_SAMPLER_AVX2
+        if (avx2) {
+            if (p.rgba8 && repeat) l = linear_words8<1, WrapKind::RepeatPot>(p, off_s, off_t, s, t, q.lane_count, words);
+            else if (p.rgba8 && clamp) l = linear_words8<1, WrapKind::Clamp>(p, off_s, off_t, s, t, q.lane_count, words);
+            else if (p.narrow && repeat) l = linear_words8<2, WrapKind::RepeatPot>(p, off_s, off_t, s, t, q.lane_count, words);
+            else if (p.narrow && clamp) l = linear_words8<2, WrapKind::Clamp>(p, off_s, off_t, s, t, q.lane_count, words);
+        }
+#endif
+        for (; l < q.lane_count; ++l) words[l] = linear_word(p, wrap_s, wrap_t, off_s, off_t, s[l].f, t[l].f);
+        if (q.fast_queries) ++*q.fast_queries;
+        return;
+    }
+#ifdef SOFTGL_SAMPLER_AVX2
+    if (avx2) {
         if (p.rgba8 && repeat) l = nearest_words8<1, WrapKind::RepeatPot>(p, off_s, off_t, s, t, q.lane_count, words);
         else if (p.rgba8 && clamp) l = nearest_words8<1, WrapKind::Clamp>(p, off_s, off_t, s, t, q.lane_count, words);
         else if (p.narrow && repeat) l = nearest_words8<2, WrapKind::RepeatPot>(p, off_s, off_t, s, t, q.lane_count, words);

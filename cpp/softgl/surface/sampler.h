@@ -64,7 +64,7 @@ public:
     void plan_units(const uint32_t filled[4]);
     void sample(const glsl::TextureQuery& query) override;
     bool lod_matters(const glsl::TextureQuery& query) const override;
-    bool gives_words(const glsl::TextureQuery& query) const override;
+    bool gives_words(const glsl::TextureQuery& query, bool linear) const override;
     void sample_words(const glsl::TextureQuery& query, uint32_t* words) override;
     bool lod_matters_in(glsl::SamplerDim dim) const override;
     // Bit dim_index: no unit's texture of that dimension lets the LOD change a lookup during the
