@@ -529,10 +529,13 @@ __attribute__((always_inline)) inline Quad* window_block(Quad* q, const WindowEd
     counts.accepted += whole;
     counts.partial += !whole;
     // Quads never straddle blocks (both start on even pixels): the block's quads are its bits.
+    // A quad's pixels are bits sh, sh + 1, sh + 8 and sh + 9 of covered: one shift, each bit
+    // moved to its pixel's 16 (spread_quad_bits' layout).
     for (uint64_t rest = quads & window_quads(block); rest; rest &= rest - 1) {
         const int sh = __builtin_ctzll(rest);
+        const uint64_t x = covered >> sh;
         put(q++, ox + (sh & (kWindow - 1)), oy + (sh >> 3),
-            spread_quad_bits((covered >> sh & 3) | (covered >> (sh + kWindow) & 3) << 2));
+            (x & 1) | (x & 2) << 15 | (x & (uint64_t(1) << kWindow)) << 24 | (x & (uint64_t(2) << kWindow)) << 39);
     }
     return q;
 }
@@ -577,10 +580,23 @@ void raster_masked_blocks(const PrimitiveSetup& p, int32_t x0, int32_t y0, int32
     Quad* const begin = out.data() + first;
     Quad* q = begin;
     BlockCounts counts;
+    // Each block's window_edges, stepped from the row's first block: the same exact int64 edge
+    // values (a block to the right adds a * 8 pixels), clamped alike.
+    const int32_t bx0 = x0 & ~(kBlockSize - 1);
+    WindowEdges<N> w = window_edges<N>(p, bx0, y0 & ~(kBlockSize - 1), kWindow);
+    int64_t step[N];
+    for (int i = 0; i < N; ++i) step[i] = p.a[i] * (int64_t(kBlockSize) * kSubPixel);
     for (int32_t by = y0 & ~(kBlockSize - 1); by < y1; by += kBlockSize) {
         const int r0 = std::max(by, y0) - by, r1 = std::min(by + kBlockSize, y1) - by;
-        for (int32_t bx = x0 & ~(kBlockSize - 1); bx < x1; bx += kBlockSize) {
-            const WindowEdges<N> w = window_edges<N>(p, bx, by, r1);
+        w.rows = r1;
+        int64_t e[N];
+        const int64_t X = int64_t(bx0) * kSubPixel + kSubPixel / 2, Y = int64_t(by) * kSubPixel + kSubPixel / 2;
+        for (int i = 0; i < N; ++i) e[i] = p.a[i] * X + p.b[i] * Y + p.c[i];
+        for (int32_t bx = bx0; bx < x1; bx += kBlockSize) {
+            for (int i = 0; i < N; ++i) {
+                w.e0[i] = int32_t(std::min(std::max(e[i], -kWindowClamp), kWindowClamp));
+                e[i] += step[i];
+            }
             const uint64_t block = window_rect(std::max(bx, x0) - bx, r0, std::min(bx + kBlockSize, x1) - bx, r1);
             const uint64_t covered = block & masks(w);
             if (covered == ~uint64_t(0)) {   // whole and unclipped: 16 full quads

@@ -735,9 +735,9 @@ void TilePass::gather_quads(Tile& t, const Primitive& prim, const Chunk& c) {
             std::copy_n(c.quads + i, n, g.quad.data() + g.quads);
             std::copy_n(c.masks + 4 * i, lanes, g.masks.data() + L0);
             uint32_t* const v = b.varyings.data() + L0;
-            if (prim.interpolate) {
+            if (prim.interpolate && !prim.flat_weights) {
                 interpolate_varyings_at(plan_.simd, prim.vi, c.quads + i, n, v, kChunkLanes);
-            } else {
+            } else {   // flat with finite weights: interpolation gives every vertex's bits
                 for (int word : *smooth_words_) std::fill_n(v + size_t(word) * kChunkLanes, lanes, provoking[word]);
             }
             for (int word : *flat_words_) std::fill_n(v + size_t(word) * kChunkLanes, lanes, provoking[word]);
@@ -787,9 +787,9 @@ void TilePass::gather_pixels(Tile& t, const Primitive& prim, const Chunk& c) {
         }
         if (n) {
             uint32_t* const v = b.varyings.data() + L0;
-            if (prim.interpolate) {
+            if (prim.interpolate && !prim.flat_weights) {
                 interpolate_pixels_at(plan_.simd, prim.vi, g.xy.data() + 2 * L0, n, v, kChunkLanes);
-            } else {
+            } else {   // flat with finite weights: interpolation gives every vertex's bits
                 for (int word : *smooth_words_) std::fill_n(v + size_t(word) * kChunkLanes, n, provoking[word]);
             }
             for (int word : *flat_words_) std::fill_n(v + size_t(word) * kChunkLanes, n, provoking[word]);
