@@ -126,7 +126,10 @@ def test_float_and_integer_storage_is_sized_by_the_format():
     their base format (the 32F formats: the table's bytes; the others, e.g. R16F, RGB565, SRGB8,
     4 bytes a channel, kept as float32 so that sampling and blending read them without a
     decode), plus 12 bytes of padding an image with fewer than 4 channels (Image::kColorPad: a
-    4-float load at the last texel stays inside). Before: 16 bytes a texel for every one."""
+    4-float load at the last texel stays inside). The 16F formats store one binary16 a channel
+    (the table's bytes; the sampler's texel loads decode them) plus 6 bytes of padding below 4
+    channels (Image::kHalfPad: a 4-half load at the last texel). Before: 16 bytes a texel for
+    every one."""
     names = list(TABLE_3_13)
     out = run_child("""
 gl = softgl.Context(4, 4, antialias=False, version=2)
@@ -146,6 +149,8 @@ print(*[delta(n) for n in %r], gl.getError())
         channels = sum(1 for b in bits if b)
         if name.endswith(("UI", "I")):
             want = n * spec_bytes(name)                       # the table's bytes
+        elif name.endswith("16F"):
+            want = n * spec_bytes(name) + (6 if channels < 4 else 0)   # binary16 per channel
         else:
             want = n * 4 * channels + (12 if channels < 4 else 0)   # float32 per channel
             if name.endswith("32F"):
@@ -198,7 +203,8 @@ print(gl.getError(), vm_hwm() - before)
 
 def test_peak_rss_follows_the_format():
     """A 4096 x 4096 texture in a child process: VmHWM grows by what the format stores (RGBA32F
-    256 MiB, R32F 64 MiB, R16F 64 MiB as float32, RG16F 128 MiB; before: 256 MiB each)."""
+    256 MiB, R32F 64 MiB, R16F 32 MiB, RG16F 64 MiB (as binary16; 64 and 128 MiB as float32);
+    before: 256 MiB each)."""
     grow = {}
     for name in ["RGBA32F", "R32F", "R16F", "RG16F", "R8UI"]:
         out = run_child("""
@@ -211,7 +217,7 @@ print(gl.getError(), vm_hwm() - before)
         assert int(out[0]) == softgl.NO_ERROR
         grow[name] = int(out[1])
     texels = 4096 * 4096
-    for name, stored in [("RGBA32F", 16), ("R32F", 4), ("R16F", 4), ("RG16F", 8), ("R8UI", 1)]:
+    for name, stored in [("RGBA32F", 16), ("R32F", 4), ("R16F", 2), ("RG16F", 4), ("R8UI", 1)]:
         assert abs(grow[name] - texels * stored) < 8 * MiB, (name, grow[name] / MiB)
 
 

@@ -1,8 +1,7 @@
 """16-bit float formats (R16F, RG16F, RGB16F, RGBA16F): a texel or sample holds the binary16 value
 of what was uploaded or rendered, rounded to nearest with ties to even, beyond the largest half
-(65504) to +-Inf, NaN as NaN. Textures keep it as float32 (the sampler's vector paths read 4
-floats a texel), renderbuffers as binary16 (Image::packed, surface/texture.h); both must hold the
-same values. The expected values come from NumPy's float32 -> float16 conversion (IEEE 754
+(65504) to +-Inf, NaN as NaN. Textures and renderbuffers keep it as binary16 (Image::packed,
+surface/texture.h; the sampler's texel loads decode it); both must hold the same values. The expected values come from NumPy's float32 -> float16 conversion (IEEE 754
 round to nearest even) or are exact by construction, never from softgl."""
 import numpy as np
 import pytest
@@ -220,16 +219,17 @@ def test_masked_clear_of_16f_keeps_the_masked_channels(internal, kind):
     assert same(read_rgba(gl, w, h), want)
 
 
-def test_16f_renderbuffers_take_two_bytes_a_channel_and_textures_four():
+def test_16f_renderbuffers_and_textures_take_two_bytes_a_channel():
     """The ledger's charge: a 16F renderbuffer 2 bytes a channel a sample (ES 3.0 table 3.13: 16
-    bits; before: 4), a 16F texture 4 (float32 for the sampler) plus 12 bytes below 4 channels."""
+    bits; before: 4), a 16F texture 2 a texel's channel plus 6 bytes below 4 channels (a 4-half
+    load at the last texel stays inside; before: float32, 4 a channel plus 12)."""
     gl = context()
     for internal, (_, channels) in FORMATS.items():
         before = softgl._core.memory_in_use()
         t = gl.createTexture()
         gl.bindTexture(gl.TEXTURE_2D, t)
         gl.texStorage2D(gl.TEXTURE_2D, 1, getattr(gl, internal), 40, 24)
-        assert softgl._core.memory_in_use() - before == 40 * 24 * 4 * channels + (12 if channels < 4 else 0), internal
+        assert softgl._core.memory_in_use() - before == 40 * 24 * 2 * channels + (6 if channels < 4 else 0), internal
         gl.deleteTexture(t)
         if internal not in RENDERABLE:
             continue

@@ -9,7 +9,9 @@ SimdLevel best_simd_level() {
         if (__builtin_cpu_supports("avx512f") && __builtin_cpu_supports("avx512bw") &&
             __builtin_cpu_supports("avx512dq") && __builtin_cpu_supports("avx512vl"))
             return SimdLevel::AVX512;
-        return __builtin_cpu_supports("avx2") ? SimdLevel::AVX2 : SimdLevel::SSE2;
+        // The AVX2 kernels also convert halves with F16C (the sampler's 16-bit float textures);
+        // every CPU with AVX2 has it.
+        return __builtin_cpu_supports("avx2") && __builtin_cpu_supports("f16c") ? SimdLevel::AVX2 : SimdLevel::SSE2;
     }();
     return level;
 }

@@ -459,6 +459,14 @@ inline uint32_t narrow_rgba8(const Plane& p, size_t n) {
 }
 inline uint32_t unorm8_texel(const Plane& p, size_t n) { return p.rgba8 ? p.rgba8[n] : narrow_rgba8(p, n); }
 
+// The binary16 at h (SampledLevel::half) as a float: exact. Stored halves are never signalling
+// NaNs (quantize_color's NaN is 0x7E00), so this and F16C's conversion give the same bits.
+inline float half_at(const uint16_t* h) {
+    uint16_t v;
+    std::memcpy(&v, h, 2);
+    return half_to_float(v);
+}
+
 // wrap() of a texel coordinate and of its right/upper neighbour, as LINEAR uses them (REPEAT of
 // a power of two masks: the same as the modulo for any int in two's complement).
 inline void wrap_pair(GLenum mode, int32_t i, int32_t size, bool pot, int32_t& a, int32_t& b) {
@@ -534,6 +542,12 @@ struct Fast2D {
             // color_channels floats, then the absent channels' values (SampledLevel::color_fill).
             const size_t nc = p.color_channels;
             for (size_t c = 0; c < 4; ++c) out[c] = c < nc ? p.color[n * nc + c] : p.color_fill[c];
+            return;
+        }
+        if (p.half) {
+            // color_channels halves, decoded exactly (the vector paths' F16C gives the same bits).
+            const size_t nc = p.color_channels;
+            for (size_t c = 0; c < 4; ++c) out[c] = c < nc ? half_at(p.half + n * nc + c) : p.color_fill[c];
             return;
         }
         float d = depth_value(p.depth_encoding, p.depth[n]);
@@ -657,7 +671,7 @@ inline bool int32_indices(const Plane& p) {
 #define SOFTGL_SAMPLER_AVX2 1
 
 // ifloor of values that are already integral (or NaN, or infinite): NaN -> 0, saturated.
-__attribute__((target("avx2"))) inline __m256i ifloor_floored8(__m256 fl) {
+__attribute__((target("avx2,f16c"))) inline __m256i ifloor_floored8(__m256 fl) {
     const __m256 lo = _mm256_set1_ps(-1073741824.0f), hi = _mm256_set1_ps(1073741824.0f);
     __m256i i = _mm256_cvttps_epi32(_mm256_min_ps(_mm256_max_ps(fl, lo), hi));   // NaN -> lo here
     i = _mm256_min_epi32(i, _mm256_set1_epi32(1073741823));
@@ -667,7 +681,7 @@ __attribute__((target("avx2"))) inline __m256i ifloor_floored8(__m256 fl) {
 // narrow_rgba8 of 8 lanes: each texel's 4 bytes read at byte narrow_bytes * index (the channels'
 // bytes first; Image::kNarrowPad keeps the last texel's read inside the storage), then moved to
 // their RGBA places and the absent channels filled (SampledLevel::narrow_shuffle, narrow_fill).
-__attribute__((target("avx2"), always_inline)) inline __m256i narrow_words8(const Plane& p, __m256i index) {
+__attribute__((target("avx2,f16c"), always_inline)) inline __m256i narrow_words8(const Plane& p, __m256i index) {
     const __m256i at = _mm256_sll_epi32(index, _mm_cvtsi32_si128(p.narrow_bytes - 1));
     const __m256i w = _mm256_i32gather_epi32(reinterpret_cast<const int*>(p.narrow), at, 1);
     const __m256i order = _mm256_broadcastsi128_si256(_mm_loadu_si128(reinterpret_cast<const __m128i*>(p.narrow_shuffle)));
@@ -676,21 +690,21 @@ __attribute__((target("avx2"), always_inline)) inline __m256i narrow_words8(cons
 
 // The RGBA bytes (Image::rgba8's words) of the texels numbered `index` of an 8-bit unorm plane
 // (rgba8 or narrow) for 8 lanes: one gather.
-__attribute__((target("avx2"), always_inline)) inline __m256i unorm8_words8(const Plane& p, __m256i index) {
+__attribute__((target("avx2,f16c"), always_inline)) inline __m256i unorm8_words8(const Plane& p, __m256i index) {
     if (p.rgba8) return _mm256_i32gather_epi32(reinterpret_cast<const int*>(p.rgba8), index, 4);
     return narrow_words8(p, index);
 }
 
 // unorm8_words8 of a storage known from the block loop's shape (kBytes: 1 rgba8, 2 narrow).
 template <int kBytes>
-__attribute__((target("avx2"), always_inline)) inline __m256i shaped_words8(const Plane& p, __m256i index) {
+__attribute__((target("avx2,f16c"), always_inline)) inline __m256i shaped_words8(const Plane& p, __m256i index) {
     if constexpr (kBytes == 2) return narrow_words8(p, index);
     else return _mm256_i32gather_epi32(reinterpret_cast<const int*>(p.rgba8), index, 4);
 }
 
 // wrap_pair / wrap_one of 8 lanes: REPEAT of a power of two and CLAMP_TO_EDGE here, the rest
 // lane by lane.
-__attribute__((target("avx2"))) inline void wrap8(GLenum mode, __m256i i, int32_t size, bool pot, bool pair,
+__attribute__((target("avx2,f16c"))) inline void wrap8(GLenum mode, __m256i i, int32_t size, bool pot, bool pair,
                                                   int32_t a[8], int32_t b[8]) {
     const __m256i last = _mm256_set1_epi32(size - 1), one = _mm256_set1_epi32(1);
     if (mode == gl::REPEAT && pot) {
@@ -715,13 +729,13 @@ __attribute__((target("avx2"))) inline void wrap8(GLenum mode, __m256i i, int32_
 static_assert(sizeof(glsl::Scalar) == sizeof(float), "8 lanes of coordinates load as 8 floats");
 
 // weight8 of 8 lanes: round to nearest even, then max(w, 0) (NaN -> 0) and min(w, 256).
-__attribute__((target("avx2"))) inline __m256 weight8x8(__m256 frac) {
+__attribute__((target("avx2,f16c"))) inline __m256 weight8x8(__m256 frac) {
     const __m256 w = _mm256_round_ps(_mm256_mul_ps(frac, _mm256_set1_ps(256.0f)), _MM_FROUND_TO_NEAREST_INT | _MM_FROUND_NO_EXC);
     return _mm256_min_ps(_mm256_max_ps(w, _mm256_setzero_ps()), _mm256_set1_ps(256.0f));
 }
 
 // w00 t00 + w10 t10 + w01 t01 + w11 t11 of 8 lanes, in Fast2D::filter's order.
-__attribute__((target("avx2"))) inline __m256 weighted_sum8(__m256 w00, __m256 w10, __m256 w01, __m256 w11, __m256 t00,
+__attribute__((target("avx2,f16c"))) inline __m256 weighted_sum8(__m256 w00, __m256 w10, __m256 w01, __m256 w11, __m256 t00,
                                                             __m256 t10, __m256 t01, __m256 t11) {
     __m256 sum = _mm256_mul_ps(w00, t00);
     sum = _mm256_add_ps(sum, _mm256_mul_ps(w10, t10));
@@ -735,7 +749,7 @@ __attribute__((target("avx2"))) inline __m256 weighted_sum8(__m256 w00, __m256 w
 // compare_passes' (ordered, NOTEQUAL unordered: NaN fails all but NOTEQUAL).
 
 // Unsigned 32-bit words as doubles, exactly: the bits of 2^52 + w, less 2^52.
-__attribute__((target("avx2"))) inline __m256d words_as_double4(__m128i w) {
+__attribute__((target("avx2,f16c"))) inline __m256d words_as_double4(__m128i w) {
     const __m256i bits = _mm256_or_si256(_mm256_cvtepu32_epi64(w), _mm256_set1_epi64x(0x4330000000000000LL));
     return _mm256_sub_pd(_mm256_castsi256_pd(bits), _mm256_set1_pd(4503599627370496.0));
 }
@@ -746,7 +760,7 @@ __attribute__((target("avx2"))) inline __m256d words_as_double4(__m128i w) {
 // over (2^n - 1) 2^k, and it is never 0: 2^n - 1 is odd, so w / (2^n - 1) is dyadic only when
 // it is an integer), so both round to the same float (all 2^16 and 2^24 words:
 // tests/textures/test_depth_values.py).
-__attribute__((target("avx2"))) inline __m256 depth_values8(Encoding e, __m256i words) {
+__attribute__((target("avx2,f16c"))) inline __m256 depth_values8(Encoding e, __m256i words) {
     if (e == Encoding::Depth32F) return _mm256_castsi256_ps(words);
     const __m256d reciprocal = _mm256_set1_pd(e == Encoding::Depth16 ? 1.0 / 65535.0 : 1.0 / 16777215.0);
     const __m128 lo = _mm256_cvtpd_ps(_mm256_mul_pd(words_as_double4(_mm256_castsi256_si128(words)), reciprocal));
@@ -755,7 +769,7 @@ __attribute__((target("avx2"))) inline __m256 depth_values8(Encoding e, __m256i 
 }
 
 // compare_passes(func, ref, d) of 8 lanes as 1.0f / 0.0f.
-__attribute__((target("avx2"))) inline __m256 compare8(GLenum func, __m256 ref, __m256 d) {
+__attribute__((target("avx2,f16c"))) inline __m256 compare8(GLenum func, __m256 ref, __m256 d) {
     __m256 pass;
     switch (func) {
         case gl::LEQUAL: pass = _mm256_cmp_ps(ref, d, _CMP_LE_OQ); break;
@@ -781,7 +795,7 @@ struct DepthTexels8 {
     __m256 ref;       // the references, clamped to [0, 1] for fixed-point formats (ES 3.0 §3.8.16)
 
     // layer_at null: every lane in layer 0.
-    __attribute__((target("avx2"))) DepthTexels8(const Fast2D& f_, const Plane& p_, const size_t layer_at_[8], const float* refs)
+    __attribute__((target("avx2,f16c"))) DepthTexels8(const Fast2D& f_, const Plane& p_, const size_t layer_at_[8], const float* refs)
         : f(f_), p(p_), layer_at(layer_at_) {
         indexable = uint64_t(p.width) * uint64_t(p.height) * uint64_t(p.layers) <= uint64_t(INT32_MAX);
         base = _mm256_setzero_si256();
@@ -798,7 +812,7 @@ struct DepthTexels8 {
                                    _mm256_cmp_ps(ref, zero, _CMP_LT_OQ));
         }
     }
-    __attribute__((target("avx2"))) __m256 operator()(const int32_t i[8], const int32_t j[8]) const {
+    __attribute__((target("avx2,f16c"))) __m256 operator()(const int32_t i[8], const int32_t j[8]) const {
         __m256i words;
         if (indexable) {
             const __m256i at = _mm256_add_epi32(
@@ -815,18 +829,34 @@ struct DepthTexels8 {
         return f.compare ? compare8(f.compare_func, ref, d) : d;
     }
     // operator() of indexable planes with the texels' rows (j * width) and columns as vectors.
-    __attribute__((target("avx2"))) __m256 at(__m256i row, __m256i i) const {
+    __attribute__((target("avx2,f16c"))) __m256 at(__m256i row, __m256i i) const {
         const __m256i words = _mm256_i32gather_epi32(reinterpret_cast<const int*>(p.depth), _mm256_add_epi32(_mm256_add_epi32(base, row), i), 4);
         const __m256 d = depth_values8(p.depth_encoding, words);
         return f.compare ? compare8(f.compare_func, ref, d) : d;
     }
 };
 
-// The float texel at `at` of plane p as RGBA: a 4-float load (Image::kColorPad keeps it inside
-// the storage), the channels the plane lacks replaced by their values (SampledLevel::color_fill),
-// as Fast2D::texel reads it.
-__attribute__((target("avx2"), always_inline)) inline __m128 color_texel4(const Plane& p, const float* at) {
-    const __m128 x = _mm_loadu_ps(at);
+// The 8 bytes at h (4 halves) as one integer.
+inline long long load_u64(const uint16_t* h) {
+    long long v;
+    std::memcpy(&v, h, 8);
+    return v;
+}
+
+// 4 halves at h as floats (F16C: exact, as half_at).
+__attribute__((target("avx2,f16c"), always_inline)) inline __m128 halves4(const uint16_t* h) {
+    return _mm_cvtph_ps(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(h)));
+}
+// 8 halves at h (two texels of 4 channels) as floats.
+__attribute__((target("avx2,f16c"), always_inline)) inline __m256 halves8(const uint16_t* h) {
+    return _mm256_cvtph_ps(_mm_loadu_si128(reinterpret_cast<const __m128i*>(h)));
+}
+
+// The texel whose first channel is element e of plane p's colour storage as RGBA: a 4-float (or
+// 4-half) load (Image::kColorPad, kHalfPad keep it inside the storage), the channels the plane
+// lacks replaced by their values (SampledLevel::color_fill), as Fast2D::texel reads it.
+__attribute__((target("avx2,f16c"), always_inline)) inline __m128 color_texel4(const Plane& p, size_t e) {
+    const __m128 x = p.half ? halves4(p.half + e) : _mm_loadu_ps(p.color + e);
     if (p.color_channels == 4) return x;
     const __m128 absent = _mm_castsi128_ps(_mm_cmpgt_epi32(_mm_setr_epi32(0, 1, 2, 3), _mm_set1_epi32(p.color_channels - 1)));
     return _mm_blendv_ps(x, _mm_loadu_ps(p.color_fill), absent);
@@ -834,15 +864,15 @@ __attribute__((target("avx2"), always_inline)) inline __m128 color_texel4(const 
 
 // Fast2D::filter of one plane for 8 lanes (r: the layers of a 2D array, else null).
 // Depth planes (ref: the lanes' references, or null) read their texels through DepthTexels8.
-__attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bool linear, const float* s,
+__attribute__((target("avx2,f16c"))) void filter8(const Fast2D& f, const Plane& p, bool linear, const float* s,
                                              const float* t, const float* r, float out[8][4], const float* ref = nullptr) {
     size_t layer_at[8] = {};   // the first texel of each lane's layer
     if (r)
         for (int l = 0; l < 8; ++l)
             layer_at[l] = size_t(std::clamp(ifloor(r[l] + 0.5f), 0, p.layers - 1)) * size_t(p.height) * size_t(p.width);
-    const float* layer[8] = {};   // colour planes: where each lane's layer starts
-    if (p.color)
-        for (int l = 0; l < 8; ++l) layer[l] = p.color + layer_at[l] * p.color_channels;
+    size_t layer[8] = {};   // colour planes: the element where each lane's layer starts
+    if (p.color || p.half)
+        for (int l = 0; l < 8; ++l) layer[l] = layer_at[l] * p.color_channels;
     const __m256 u = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(s), _mm256_set1_ps(float(p.width))), _mm256_set1_ps(float(f.off_s)));
     const __m256 v = _mm256_add_ps(_mm256_mul_ps(_mm256_loadu_ps(t), _mm256_set1_ps(float(p.height))), _mm256_set1_ps(float(f.off_t)));
     alignas(32) int32_t i0[8], i1[8], j0[8], j1[8];
@@ -941,7 +971,7 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bo
         const DepthTexels8 texels(f, p, layer_at, ref);
         const __m256 t00 = texels(i0, j0), t10 = texels(i1, j0), t01 = texels(i0, j1), t11 = texels(i1, j1);
         const __m256 a00 = _mm256_load_ps(w00), a10 = _mm256_load_ps(w10), a01 = _mm256_load_ps(w01), a11 = _mm256_load_ps(w11);
-        const auto weighted = [&](__m256 t00, __m256 t10, __m256 t01, __m256 t11) __attribute__((target("avx2"))) {
+        const auto weighted = [&](__m256 t00, __m256 t10, __m256 t01, __m256 t11) __attribute__((target("avx2,f16c"))) {
             return weighted_sum8(a00, a10, a01, a11, t00, t10, t01, t11);
         };
         alignas(32) float c0[8], c1[8], c3[8];
@@ -956,8 +986,8 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const Plane& p, bo
     }
     for (int l = 0; l < 8; ++l) {
         const size_t nc = p.color_channels;
-        const float* row0 = layer[l] + size_t(j0[l]) * size_t(p.width) * nc;
-        const float* row1 = layer[l] + size_t(j1[l]) * size_t(p.width) * nc;
+        const size_t row0 = layer[l] + size_t(j0[l]) * size_t(p.width) * nc;
+        const size_t row1 = layer[l] + size_t(j1[l]) * size_t(p.width) * nc;
         __m128 sum = _mm_mul_ps(_mm_set1_ps(w00[l]), color_texel4(p, row0 + size_t(i0[l]) * nc));
         sum = _mm_add_ps(sum, _mm_mul_ps(_mm_set1_ps(w10[l]), color_texel4(p, row0 + size_t(i1[l]) * nc)));
         sum = _mm_add_ps(sum, _mm_mul_ps(_mm_set1_ps(w01[l]), color_texel4(p, row1 + size_t(i0[l]) * nc)));
@@ -979,12 +1009,12 @@ inline void store_lanes8(const float result[8][4], glsl::Scalar* const out[4], i
     }
 }
 
-__attribute__((target("avx2"))) inline __m256 load8(const glsl::Scalar* p, int l) {
+__attribute__((target("avx2,f16c"))) inline __m256 load8(const glsl::Scalar* p, int l) {
     return p ? _mm256_loadu_ps(&p[l].f) : _mm256_setzero_ps();
 }
 
 // (double) v² of lanes 4 * half .. 4 * half + 3.
-__attribute__((target("avx2"))) inline __m256d square_wide(__m256 v, int half) {
+__attribute__((target("avx2,f16c"))) inline __m256d square_wide(__m256 v, int half) {
     const __m256d d = _mm256_cvtps_pd(half ? _mm256_extractf128_ps(v, 1) : _mm256_castps256_ps128(v));
     return _mm256_mul_pd(d, d);
 }
@@ -995,11 +1025,11 @@ __attribute__((target("avx2"))) inline __m256d square_wide(__m256 v, int half) {
 // to k = 8 (the next term is below 2^-49.9 of the sum), the sum by Estrin's scheme (short
 // dependency chains: the terms' order does not matter to lambda_exact4's rounding test).
 // 1 / (2k + 1) + y / (2k + 3): two terms of the series.
-__attribute__((target("avx2"))) inline __m256d series_pair4(__m256d y, int k) {
+__attribute__((target("avx2,f16c"))) inline __m256d series_pair4(__m256d y, int k) {
     return _mm256_add_pd(_mm256_set1_pd(1.0 / double(2 * k + 1)), _mm256_mul_pd(y, _mm256_set1_pd(1.0 / double(2 * k + 3))));
 }
 
-__attribute__((target("avx2"))) inline __m256d half_log2_approx4(__m256d x) {
+__attribute__((target("avx2,f16c"))) inline __m256d half_log2_approx4(__m256d x) {
     const __m256i bits = _mm256_castpd_si256(x);
     // The exponent field as a double: 2^52 + field, less 2^52 + 1023.
     const __m256d field = _mm256_castsi256_pd(_mm256_or_si256(_mm256_srli_epi64(bits, 52), _mm256_set1_epi64x(0x4330000000000000LL)));
@@ -1027,7 +1057,7 @@ __attribute__((target("avx2"))) inline __m256d half_log2_approx4(__m256d x) {
 // log2(sqrt(rho2)) with sqrt rounded to double (within 2^-52.4 of log2(rho2) / 2), within
 // 2^-49 |L| + 2^-52.4 of L, and libm's (within an ulp of it) both lie inside it, so rounding
 // either gives that float. The rest (about one lane in 2^20) are left to LambdaMemo.
-__attribute__((target("avx2"))) inline int lambda_exact4(__m256d rho2, __m128& lambda) {
+__attribute__((target("avx2,f16c"))) inline int lambda_exact4(__m256d rho2, __m128& lambda) {
     const __m256d L = half_log2_approx4(rho2);
     const __m256d margin = _mm256_add_pd(_mm256_mul_pd(_mm256_andnot_pd(_mm256_set1_pd(-0.0), L), _mm256_set1_pd(0x1p-45)),
                                          _mm256_set1_pd(0x1p-50));
@@ -1042,7 +1072,7 @@ __attribute__((target("avx2"))) inline int lambda_exact4(__m256d rho2, __m128& l
 
 // The lambdas of lanes l..l+7 from their rho² (max of the squared lengths along x and y, in
 // double), as lambda_at: float(log2(sqrt(rho²))) plus the lanes' bias.
-__attribute__((target("avx2"))) void lambdas_of_rho2_8(const glsl::TextureQuery& q, int l, const double rho2[8],
+__attribute__((target("avx2,f16c"))) void lambdas_of_rho2_8(const glsl::TextureQuery& q, int l, const double rho2[8],
                                                        LambdaMemo& lambda_of, float out[8]) {
     // Each half of the block with one rho² in all its lanes (derivatives that differ in bits
     // that do not reach rho²): one LambdaMemo lookup per half.
@@ -1071,7 +1101,7 @@ __attribute__((target("avx2"))) void lambdas_of_rho2_8(const glsl::TextureQuery&
     }
 }
 
-__attribute__((target("avx2"))) int lambdas_exact4_at(const double* rho2, LambdaMemo& lambda_of, float* out) {
+__attribute__((target("avx2,f16c"))) int lambdas_exact4_at(const double* rho2, LambdaMemo& lambda_of, float* out) {
     __m128 lambda;
     const int sure = lambda_exact4(_mm256_loadu_pd(rho2), lambda);
     _mm_storeu_ps(out, lambda);
@@ -1081,7 +1111,7 @@ __attribute__((target("avx2"))) int lambdas_exact4_at(const double* rho2, Lambda
 }
 
 // lambda8 (below) of a block whose derivatives differ between lanes: out of line, the longer case.
-__attribute__((target("avx2"), noinline)) void lambda8_lanes(const glsl::TextureQuery& q, int l, float w, float h,
+__attribute__((target("avx2,f16c"), noinline)) void lambda8_lanes(const glsl::TextureQuery& q, int l, float w, float h,
                                                             LambdaMemo& lambda_of, __m256 dx0, __m256 dx1, __m256 dy0,
                                                             __m256 dy1, float out[8]) {
     const __m256 ws = _mm256_set1_ps(w), hs = _mm256_set1_ps(h), zero = _mm256_setzero_ps();
@@ -1102,7 +1132,7 @@ __attribute__((target("avx2"), noinline)) void lambda8_lanes(const glsl::Texture
 // The lambdas of lanes l..l+7 (Implicit, Bias, Gradient), as lambda_at in sample_2d computes them:
 // rho² 8 at a time (float products, widened, squared and summed in double). Inline: a block whose
 // lanes share their derivatives (affine coordinates) costs one LambdaMemo lookup and no call.
-__attribute__((target("avx2"), always_inline)) inline void lambda8(const glsl::TextureQuery& q, int l, float w, float h,
+__attribute__((target("avx2,f16c"), always_inline)) inline void lambda8(const glsl::TextureQuery& q, int l, float w, float h,
                                                                   LambdaMemo& lambda_of, float out[8]) {
     const __m256 dx0 = load8(q.ddx[0], l), dx1 = load8(q.ddx[1], l), dy0 = load8(q.ddy[0], l), dy1 = load8(q.ddy[1], l);
     if (!q.ddx[2] && !q.ddy[2]) {
@@ -1129,12 +1159,12 @@ __attribute__((target("avx2"), always_inline)) inline void lambda8(const glsl::T
 
 
 // lambda_at's explicit level of lanes l..l+7: the lanes' own (0 without one), no bias.
-__attribute__((target("avx2"))) inline void explicit_lambdas8(const glsl::TextureQuery& q, int l, float out[8]) {
+__attribute__((target("avx2,f16c"))) inline void explicit_lambdas8(const glsl::TextureQuery& q, int l, float out[8]) {
     _mm256_store_ps(out, q.lod ? _mm256_loadu_ps(&q.lod[l].f) : _mm256_setzero_ps());
 }
 
 // The lambdas of lanes l..l+7 of a 2D query, as lambda_at: explicit, or from the derivatives.
-__attribute__((target("avx2"))) inline void query_lambdas8(const glsl::TextureQuery& q, int l, float w, float h,
+__attribute__((target("avx2,f16c"))) inline void query_lambdas8(const glsl::TextureQuery& q, int l, float w, float h,
                                                            LambdaMemo& lambda_of, float out[8]) {
     if (q.lod_mode == TextureLod::Explicit) explicit_lambdas8(q, l, out);
     else lambda8(q, l, w, h, lambda_of, out);
@@ -1142,7 +1172,7 @@ __attribute__((target("avx2"))) inline void query_lambdas8(const glsl::TextureQu
 
 // The block's lambdas with its inactive lanes taking the first active lane's, so that they add
 // no level to the block's choice (active != 0).
-__attribute__((target("avx2"))) inline __m256 active_lambdas8(const float lambda[8], uint32_t active) {
+__attribute__((target("avx2,f16c"))) inline __m256 active_lambdas8(const float lambda[8], uint32_t active) {
     const __m256 v = _mm256_load_ps(lambda);
     if (active == 0xFFu) return v;
     const __m256i bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
@@ -1162,7 +1192,7 @@ struct BlockChoice {
 // Fast2D::choose of 8 lanes when they all magnify, all minify without mipmaps, or all blend the
 // same two levels (*_MIPMAP_LINEAR) or take the last one: the common cases, as lambda varies
 // little inside a block. False (bc unspecified) otherwise.
-__attribute__((target("avx2"), always_inline)) inline bool choose_block8(const Fast2D& f, __m256 v, BlockChoice& bc) {
+__attribute__((target("avx2,f16c"), always_inline)) inline bool choose_block8(const Fast2D& f, __m256 v, BlockChoice& bc) {
     const __m256 lo = _mm256_set1_ps(f.min_lod), hi = _mm256_set1_ps(f.max_lod);
     // std::clamp(v, lo, hi) = v < lo ? lo : hi < v ? hi : v (NaN stays NaN).
     v = _mm256_blendv_ps(_mm256_blendv_ps(v, hi, _mm256_cmp_ps(hi, v, _CMP_LT_OQ)), lo, _mm256_cmp_ps(v, lo, _CMP_LT_OQ));
@@ -1185,7 +1215,7 @@ __attribute__((target("avx2"), always_inline)) inline bool choose_block8(const F
 }
 
 // choose_block8 as per-lane LevelChoices.
-__attribute__((target("avx2"))) bool choose8(const Fast2D& f, const float lambda[8], LevelChoice ch[8]) {
+__attribute__((target("avx2,f16c"))) bool choose8(const Fast2D& f, const float lambda[8], LevelChoice ch[8]) {
     BlockChoice bc;
     if (!choose_block8(f, _mm256_loadu_ps(lambda), bc)) return false;
     alignas(32) float frac[8] = {};
@@ -1195,7 +1225,7 @@ __attribute__((target("avx2"))) bool choose8(const Fast2D& f, const float lambda
 }
 
 // Fast2D::filter(LevelChoice) of 8 lanes that share the levels (frac per lane).
-__attribute__((target("avx2"))) void filter8(const Fast2D& f, const LevelChoice ch[8], const float* s, const float* t,
+__attribute__((target("avx2,f16c"))) void filter8(const Fast2D& f, const LevelChoice ch[8], const float* s, const float* t,
                                              const float* r, const float* ref, float out[8][4]) {
     filter8(f, f.planes[size_t(ch[0].first)], ch[0].linear, s, t, r, out, ref);
     if (ch[0].second < 0) return;
@@ -1209,7 +1239,7 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const LevelChoice 
 
 // filter8(LevelChoice) of 8 lanes whose levels differ: each of the `count` distinct levels
 // filtered for all 8 lanes, each lane's result taken from (or blended between) its own.
-__attribute__((target("avx2"))) void filter8(const Fast2D& f, const LevelChoice ch[8], const int32_t levels[3], int count,
+__attribute__((target("avx2,f16c"))) void filter8(const Fast2D& f, const LevelChoice ch[8], const int32_t levels[3], int count,
                                              const float* s, const float* t, const float* r, const float* ref, float out[8][4]) {
     float by_level[3][8][4];
     for (int i = 0; i < count; ++i) filter8(f, f.planes[size_t(levels[i])], ch[0].linear, s, t, r, by_level[i], ref);
@@ -1231,7 +1261,7 @@ __attribute__((target("avx2"))) void filter8(const Fast2D& f, const LevelChoice 
 // and for NaN, and the same float operations in the same order, so the same s, t bits.
 // With ddx, ddy (each component may be null: 0), also cube_coords' derivatives of s and t:
 // ds[0], dt[0] along x, ds[1], dt[1] along y.
-__attribute__((target("avx2"))) inline void cube_coords8(const float* x, const float* y, const float* z, int32_t face[8],
+__attribute__((target("avx2,f16c"))) inline void cube_coords8(const float* x, const float* y, const float* z, int32_t face[8],
                                                          float s[8], float t[8], const float* const* ddx = nullptr,
                                                          const float* const* ddy = nullptr, float ds[2][8] = nullptr,
                                                          float dt[2][8] = nullptr) {
@@ -1275,7 +1305,7 @@ __attribute__((target("avx2"))) inline void cube_coords8(const float* x, const f
 }
 
 // Fast2D::inside of one plane for 8 lanes: bit k set when lane k's texels lie inside the face.
-__attribute__((target("avx2"))) inline uint32_t inside8(const Plane& p, bool linear, const float* s, const float* t) {
+__attribute__((target("avx2,f16c"))) inline uint32_t inside8(const Plane& p, bool linear, const float* s, const float* t) {
     __m256 u = _mm256_mul_ps(_mm256_loadu_ps(s), _mm256_set1_ps(float(p.width)));
     __m256 v = _mm256_mul_ps(_mm256_loadu_ps(t), _mm256_set1_ps(float(p.height)));
     int32_t w = p.width, h = p.height;
@@ -1306,7 +1336,7 @@ struct Plane8 {
     bool fits;   // int32_indices
 };
 
-__attribute__((target("avx2"))) inline Plane8 plane8(const Fast2D& f, const Plane& p) {
+__attribute__((target("avx2,f16c"))) inline Plane8 plane8(const Fast2D& f, const Plane& p) {
     const bool fits = int32_indices(p);
     return {&p,
             _mm256_set1_ps(float(p.width)), _mm256_set1_ps(float(p.height)),
@@ -1317,7 +1347,7 @@ __attribute__((target("avx2"))) inline Plane8 plane8(const Fast2D& f, const Plan
 
 // wrap_pair / wrap_one of 8 lanes as vectors (last = size - 1): REPEAT of a power of two and
 // CLAMP_TO_EDGE here, the rest lane by lane.
-__attribute__((target("avx2"), always_inline)) inline void wrap8v(GLenum mode, __m256i i, __m256i last, int32_t size,
+__attribute__((target("avx2,f16c"), always_inline)) inline void wrap8v(GLenum mode, __m256i i, __m256i last, int32_t size,
                                                                   bool pot, bool pair, __m256i& a, __m256i& b) {
     const __m256i one = _mm256_set1_epi32(1);
     if (mode == gl::REPEAT && pot) {
@@ -1340,7 +1370,7 @@ __attribute__((target("avx2"), always_inline)) inline void wrap8v(GLenum mode, _
 }
 
 // The first texel of each lane's layer (Fast2D::filter: clamp(ifloor(r + 1/2), 0, layers - 1)).
-__attribute__((target("avx2"), always_inline)) inline __m256i layer_start8(const Plane8& P, const float* r) {
+__attribute__((target("avx2,f16c"), always_inline)) inline __m256i layer_start8(const Plane8& P, const float* r) {
     if (!r || P.p->layers == 1) return _mm256_setzero_si256();
     const __m256 fl = _mm256_floor_ps(_mm256_add_ps(_mm256_loadu_ps(r), _mm256_set1_ps(0.5f)));
     const __m256i layer = _mm256_max_epi32(_mm256_min_epi32(ifloor_floored8(fl), P.last_layer), _mm256_setzero_si256());
@@ -1349,7 +1379,7 @@ __attribute__((target("avx2"), always_inline)) inline __m256i layer_start8(const
 
 // The channels of 8 packed texels: k (bytes) or k / 255, unorm(k, 8) as the float storage holds
 // it (a correctly rounded division: the same float).
-__attribute__((target("avx2"), always_inline)) inline void unpack8(__m256i t, __m256 out[4], bool bytes) {
+__attribute__((target("avx2,f16c"), always_inline)) inline void unpack8(__m256i t, __m256 out[4], bool bytes) {
     const __m256i byte = _mm256_set1_epi32(255);
     const __m256 k255 = _mm256_set1_ps(255.0f);
     for (int c = 0; c < 4; ++c) {
@@ -1359,14 +1389,38 @@ __attribute__((target("avx2"), always_inline)) inline void unpack8(__m256i t, __
     }
 }
 
+// The halves of 8 texels whose first channels are the elements e (texel number times channels)
+// of a 16-bit float plane as channel vectors: two gathers of 4 texels' 8 bytes (lanes 0, 2, 4, 6
+// and 1, 3, 5, 7), a transpose in 16 bits that leaves each channel's 8 halves in lane order, one
+// exact conversion per channel. Channels the plane lacks hold the next texel's (or the pad).
+__attribute__((target("avx2,f16c"), always_inline)) inline void half_texels8(const uint16_t* h, __m256i e, __m256 out[4]) {
+    const __m256i split = _mm256_permutevar8x32_epi32(e, _mm256_setr_epi32(0, 2, 4, 6, 1, 3, 5, 7));
+    const long long* base = reinterpret_cast<const long long*>(h);
+    const __m256i a = _mm256_i32gather_epi64(base, _mm256_castsi256_si128(split), 2);        // t0 t2 | t4 t6
+    const __m256i b = _mm256_i32gather_epi64(base, _mm256_extracti128_si256(split, 1), 2);   // t1 t3 | t5 t7
+    const __m256i x = _mm256_unpacklo_epi16(a, b), y = _mm256_unpackhi_epi16(a, b);         // t0 t1, t2 t3 | t4 t5, t6 t7
+    // r0-3 g0-3 | r4-7 g4-7 and b0-3 a0-3 | b4-7 a4-7, then the 64-bit quarters in channel order.
+    const __m256i rg = _mm256_permute4x64_epi64(_mm256_unpacklo_epi32(x, y), _MM_SHUFFLE(3, 1, 2, 0));
+    const __m256i ba = _mm256_permute4x64_epi64(_mm256_unpackhi_epi32(x, y), _MM_SHUFFLE(3, 1, 2, 0));
+    out[0] = _mm256_cvtph_ps(_mm256_castsi256_si128(rg));
+    out[1] = _mm256_cvtph_ps(_mm256_extracti128_si256(rg, 1));
+    out[2] = _mm256_cvtph_ps(_mm256_castsi256_si128(ba));
+    out[3] = _mm256_cvtph_ps(_mm256_extracti128_si256(ba, 1));
+}
+
 // The float texels (4 per texel) numbered `index` of 8 lanes as channel vectors: 8 loads and a
-// 4x4 transpose in each half.
-__attribute__((target("avx2"), always_inline)) inline void float_texels8(const Plane& p, __m256i index, __m256 out[4]) {
+// 4x4 transpose in each half (halves: half_texels8).
+__attribute__((target("avx2,f16c"), always_inline)) inline void float_texels8(const Plane& p, __m256i index, __m256 out[4]) {
     alignas(32) int32_t at[8];
     _mm256_store_si256(reinterpret_cast<__m256i*>(at), index);
     // Register k: lane k's texel in the low half, lane k + 4's in the high half.
     __m256 r[4];
     const size_t nc = p.color_channels;
+    if (p.half) {   // element numbers in int32: nc * index < 4 * 2^28 (kMaxTextureSize is 16384)
+        half_texels8(p.half, _mm256_mullo_epi32(index, _mm256_set1_epi32(int(nc))), out);
+        for (size_t c = nc; c < 4; ++c) out[c] = _mm256_set1_ps(p.color_fill[c]);
+        return;
+    }
     for (int k = 0; k < 4; ++k)
         r[k] = _mm256_insertf128_ps(_mm256_castps128_ps256(_mm_loadu_ps(p.color + size_t(at[k]) * nc)),
                                     _mm_loadu_ps(p.color + size_t(at[k + 4]) * nc), 1);
@@ -1382,7 +1436,7 @@ __attribute__((target("avx2"), always_inline)) inline void float_texels8(const P
 
 // The texels numbered `index` of 8 lanes as channel vectors: from the bytes by one gather, or
 // from the floats. bytes: as k = 255 v (exact for the unorm8 fixed-point rule), else as the floats v.
-__attribute__((target("avx2"), always_inline)) inline void texels8(const Plane& p, __m256i index, bool bytes, __m256 out[4]) {
+__attribute__((target("avx2,f16c"), always_inline)) inline void texels8(const Plane& p, __m256i index, bool bytes, __m256 out[4]) {
     if (p.rgba8 || p.narrow) {
         unpack8(unorm8_words8(p, index), out, bytes);
         return;
@@ -1393,7 +1447,7 @@ __attribute__((target("avx2"), always_inline)) inline void texels8(const Plane& 
 }
 
 // Fast2D::filter lane by lane, as channel vectors (planes whose texel numbers exceed int32).
-__attribute__((target("avx2"), noinline)) void filter8_lanes(const Fast2D& f, const Plane& p, bool linear, const float* s,
+__attribute__((target("avx2,f16c"), noinline)) void filter8_lanes(const Fast2D& f, const Plane& p, bool linear, const float* s,
                                                              const float* t, const float* r, __m256 out[4]) {
     alignas(32) float lanes[4][8];
     for (int k = 0; k < 8; ++k) {
@@ -1406,7 +1460,7 @@ __attribute__((target("avx2"), noinline)) void filter8_lanes(const Fast2D& f, co
 
 // Fast2D::filter of one colour plane (p.rgba8 when set, else p.color) for 8 lanes (r: the
 // layers of a 2D array, else null).
-__attribute__((target("avx2"), always_inline)) inline void filter8_color(const Fast2D& f, const Plane8& P, bool linear,
+__attribute__((target("avx2,f16c"), always_inline)) inline void filter8_color(const Fast2D& f, const Plane8& P, bool linear,
                                                                          const float* s, const float* t, const float* r,
                                                                          __m256 out[4]) {
     const Plane& p = *P.p;
@@ -1455,7 +1509,7 @@ __attribute__((target("avx2"), always_inline)) inline void filter8_color(const F
 }
 
 // The lanes' fractions between their two levels (LevelChoice::frac).
-__attribute__((target("avx2"), always_inline)) inline __m256 fractions8(const LevelChoice ch[8]) {
+__attribute__((target("avx2,f16c"), always_inline)) inline __m256 fractions8(const LevelChoice ch[8]) {
     alignas(32) float frac[8];
     for (int k = 0; k < 8; ++k) frac[k] = ch[k].frac;
     return _mm256_load_ps(frac);
@@ -1463,7 +1517,7 @@ __attribute__((target("avx2"), always_inline)) inline __m256 fractions8(const Le
 
 // Fast2D::filter(LevelChoice) of 8 lanes that share the levels (frac per lane):
 // (1 - frac) a + frac b per channel.
-__attribute__((target("avx2"))) void filter8_color(const Fast2D& f, const LevelChoice ch[8], const float* s, const float* t,
+__attribute__((target("avx2,f16c"))) void filter8_color(const Fast2D& f, const LevelChoice ch[8], const float* s, const float* t,
                                                    const float* r, __m256 out[4]) {
     filter8_color(f, plane8(f, f.planes[size_t(ch[0].first)]), ch[0].linear, s, t, r, out);
     if (ch[0].second < 0) return;
@@ -1475,7 +1529,7 @@ __attribute__((target("avx2"))) void filter8_color(const Fast2D& f, const LevelC
 
 // filter8_color(LevelChoice) of 8 lanes whose levels differ: each of the `count` distinct levels
 // filtered for all 8 lanes, each lane's result taken from (or blended between) its own.
-__attribute__((target("avx2"))) void filter8_color(const Fast2D& f, const LevelChoice ch[8], const int32_t levels[3],
+__attribute__((target("avx2,f16c"))) void filter8_color(const Fast2D& f, const LevelChoice ch[8], const int32_t levels[3],
                                                    int count, const float* s, const float* t, const float* r,
                                                    __m256 out[4]) {
     __m256 by_level[3][4];
@@ -1503,7 +1557,7 @@ __attribute__((target("avx2"))) void filter8_color(const Fast2D& f, const LevelC
 
 // Channel vectors of lanes l .. l + 7 into the outputs (null: not needed); inactive lanes
 // (bit k of `inactive`) get (0, 0, 0, 1), as sample_lanes gives them.
-__attribute__((target("avx2"), always_inline)) inline void store8(const __m256 v[4], glsl::Scalar* const out[4], int l,
+__attribute__((target("avx2,f16c"), always_inline)) inline void store8(const __m256 v[4], glsl::Scalar* const out[4], int l,
                                                                   uint32_t inactive) {
     if (!inactive) {
         for (int c = 0; c < 4; ++c)
@@ -1517,7 +1571,7 @@ __attribute__((target("avx2"), always_inline)) inline void store8(const __m256 v
 }
 
 // Bit k: lane l + k (k < 8) is active.
-__attribute__((target("avx2"), always_inline)) inline uint32_t active8(const glsl::TextureQuery& q, int l) {
+__attribute__((target("avx2,f16c"), always_inline)) inline uint32_t active8(const glsl::TextureQuery& q, int l) {
     if (!q.active) return 0xFFu;
     const __m256i a = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(q.active + l));
     return ~uint32_t(_mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(a, _mm256_setzero_si256())))) & 0xFFu;
@@ -1556,7 +1610,7 @@ inline bool same_levels(const LevelChoice* ch, int n) {
 
 // The levels of lanes l .. l + n - 1 (n = 8 or 16) in ch; inactive lanes take those of the first
 // active lane, so that they add no level.
-__attribute__((target("avx2"))) inline void choose_lanes(const ColourQuery& cq, int l, int n, uint32_t active, LevelChoice* ch) {
+__attribute__((target("avx2,f16c"))) inline void choose_lanes(const ColourQuery& cq, int l, int n, uint32_t active, LevelChoice* ch) {
     const glsl::TextureQuery& q = *cq.q;
     for (int part = 0; part < n; part += 8) {
         alignas(32) float lambda[8];
@@ -1576,7 +1630,7 @@ __attribute__((target("avx2"))) inline void choose_lanes(const ColourQuery& cq, 
 // kEncoding: the plane's depth_encoding; kFunc: the comparison (f.compare_func), 0 without one,
 // fixed at compile time so that no texel branches on them (filter8_depth picks the instance).
 template <Encoding kEncoding, GLenum kFunc>
-__attribute__((target("avx2"))) void filter8_depth_as(const Fast2D& f, const Plane& p, bool linear, const float* s,
+__attribute__((target("avx2,f16c"))) void filter8_depth_as(const Fast2D& f, const Plane& p, bool linear, const float* s,
                                                       const float* t, const float* r, const float* ref, __m256 out[4]) {
     size_t layer_at[8];   // the first texel of each lane's layer (r: a 2D array's layers)
     if (r)
@@ -1591,7 +1645,7 @@ __attribute__((target("avx2"))) void filter8_depth_as(const Fast2D& f, const Pla
     const __m256i width = _mm256_set1_epi32(p.width);
     __m256i i0, i1, j0, j1;
     // The texels (i, j) of the 8 lanes: by vectors when every index fits an int32, else lane by lane.
-    const auto texel = [&texels, width](__m256i i, __m256i j) __attribute__((target("avx2"))) {
+    const auto texel = [&texels, width](__m256i i, __m256i j) __attribute__((target("avx2,f16c"))) {
         if (texels.indexable) {
             // DepthTexels8::at with the encoding and the comparison known.
             const __m256i at = _mm256_add_epi32(_mm256_add_epi32(texels.base, _mm256_mullo_epi32(j, width)), i);
@@ -1626,7 +1680,7 @@ __attribute__((target("avx2"))) void filter8_depth_as(const Fast2D& f, const Pla
 }
 
 template <Encoding kEncoding>
-__attribute__((target("avx2"))) void filter8_depth_of(const Fast2D& f, const Plane& p, bool linear, const float* s,
+__attribute__((target("avx2,f16c"))) void filter8_depth_of(const Fast2D& f, const Plane& p, bool linear, const float* s,
                                                       const float* t, const float* r, const float* ref, __m256 out[4]) {
     switch (f.compare ? f.compare_func : 0) {
         case 0: return filter8_depth_as<kEncoding, 0>(f, p, linear, s, t, r, ref, out);
@@ -1641,7 +1695,7 @@ __attribute__((target("avx2"))) void filter8_depth_of(const Fast2D& f, const Pla
     }
 }
 
-__attribute__((target("avx2"))) void filter8_depth(const Fast2D& f, const Plane& p, bool linear, const float* s,
+__attribute__((target("avx2,f16c"))) void filter8_depth(const Fast2D& f, const Plane& p, bool linear, const float* s,
                                                    const float* t, const float* r, const float* ref, __m256 out[4]) {
     switch (p.depth_encoding) {
         case Encoding::Depth16: return filter8_depth_of<Encoding::Depth16>(f, p, linear, s, t, r, ref, out);
@@ -1653,7 +1707,7 @@ __attribute__((target("avx2"))) void filter8_depth(const Fast2D& f, const Plane&
 // The depth lookups (with or without the comparison) of the block of lanes l .. l + 7 whose lanes
 // share their levels, channel-major straight into the outputs (filter8_depth; inactive lanes
 // (0, 0, 0, 1)): false (nothing written) when their levels differ.
-__attribute__((target("avx2"))) bool depth_block8(const ColourQuery& cq, int l) {
+__attribute__((target("avx2,f16c"))) bool depth_block8(const ColourQuery& cq, int l) {
     const glsl::TextureQuery& q = *cq.q;
     const Fast2D& f = *cq.f;
     glsl::Scalar* const out[4] = {q.out[0], q.out[1], q.out[2], q.out[3]};
@@ -1688,7 +1742,7 @@ __attribute__((target("avx2"))) bool depth_block8(const ColourQuery& cq, int l) 
 // The colour lookups of lanes [l, end) in blocks of 8: returns where it stopped, at the first
 // block whose lanes need more than 3 levels or two filters (the caller takes it lane by lane),
 // or at the last block that fits.
-__attribute__((target("avx2"))) int colour_blocks8(const ColourQuery& cq, int l, int end) {
+__attribute__((target("avx2,f16c"))) int colour_blocks8(const ColourQuery& cq, int l, int end) {
     const glsl::TextureQuery& q = *cq.q;
     const Fast2D& f = *cq.f;
     glsl::Scalar* const out[4] = {q.out[0], q.out[1], q.out[2], q.out[3]};
@@ -1729,7 +1783,7 @@ enum class LevelMode : uint8_t { FixedNearest, FixedLinear, PerBlock };
 
 // wrap_one (kPair: false) or wrap_pair (kPair: true) of 8 lanes, i the floored coordinate.
 template <WrapKind kWrap, bool kPair>
-__attribute__((target("avx2"), always_inline)) inline void wrap_shaped8(__m256i i, __m256i last, __m256i& a, __m256i& b) {
+__attribute__((target("avx2,f16c"), always_inline)) inline void wrap_shaped8(__m256i i, __m256i last, __m256i& a, __m256i& b) {
     const __m256i one = _mm256_set1_epi32(1);
     if constexpr (kWrap == WrapKind::RepeatPot) {
         a = _mm256_and_si256(i, last);
@@ -1743,7 +1797,7 @@ __attribute__((target("avx2"), always_inline)) inline void wrap_shaped8(__m256i 
 
 // texels8 of one storage (kBytes: 1 p.rgba8, 2 p.narrow, 0 p.color).
 template <int kBytes>
-__attribute__((target("avx2"), always_inline)) inline void texels_shaped8(const Plane& p, __m256i index, bool bytes, __m256 out[4]) {
+__attribute__((target("avx2,f16c"), always_inline)) inline void texels_shaped8(const Plane& p, __m256i index, bool bytes, __m256 out[4]) {
     if constexpr (kBytes) {
         unpack8(shaped_words8<kBytes>(p, index), out, bytes);
     } else {
@@ -1752,7 +1806,7 @@ __attribute__((target("avx2"), always_inline)) inline void texels_shaped8(const 
 }
 
 // One row of unorm8_rows8: the horizontal blends of 8 lanes' left and right texels as channel vectors.
-__attribute__((target("avx2"), always_inline)) inline void unorm8_row8(__m256i left, __m256i right, __m256i wa, __m256i nwa,
+__attribute__((target("avx2,f16c"), always_inline)) inline void unorm8_row8(__m256i left, __m256i right, __m256i wa, __m256i nwa,
                                                                        __m256 h[4]) {
     const __m256i bytes = _mm256_set1_epi32(0x00FF00FF), low = _mm256_set1_epi32(0xFFFF);
     const __m256i even = _mm256_add_epi16(_mm256_mullo_epi16(_mm256_and_si256(left, bytes), nwa),
@@ -1770,7 +1824,7 @@ __attribute__((target("avx2"), always_inline)) inline void unorm8_row8(__m256i l
 // H = (256 - A) k0 + A k1 of every channel in 16-bit integers (at most 256 * 255: exact), two
 // channels per 32-bit lane (r, b and g, a), then (256 - B) H0 + B H1 in float (integers below
 // 2^24: exact). The same integer sums as the four products, so the same bits after the division.
-__attribute__((target("avx2"), always_inline)) inline void unorm8_rows8(__m256i t00, __m256i t10, __m256i t01, __m256i t11,
+__attribute__((target("avx2,f16c"), always_inline)) inline void unorm8_rows8(__m256i t00, __m256i t10, __m256i t01, __m256i t11,
                                                                         __m256 A, __m256 B, __m256 out[4]) {
     const __m256i ai = _mm256_cvttps_epi32(A), nai = _mm256_sub_epi32(_mm256_set1_epi32(256), ai);
     const __m256i wa = _mm256_or_si256(ai, _mm256_slli_epi32(ai, 16)), nwa = _mm256_or_si256(nai, _mm256_slli_epi32(nai, 16));
@@ -1788,7 +1842,7 @@ __attribute__((target("avx2"), always_inline)) inline void unorm8_rows8(__m256i 
 // applied (Fast2D::inside, as inside8: for LINEAR, i1 - i0 = 1 exactly when ifloor(u - 1/2) is in
 // [0, width - 2]; for NEAREST the clamp leaves i unchanged exactly when it is in [0, width - 1]).
 template <int kBytes, bool kLinear, WrapKind kWrap>
-__attribute__((target("avx2"), always_inline)) inline void filter8_shaped(const Plane8& P, const float* s, const float* t,
+__attribute__((target("avx2,f16c"), always_inline)) inline void filter8_shaped(const Plane8& P, const float* s, const float* t,
                                                                           __m256 out[4], const Plane* face = nullptr,
                                                                           __m256i* inside = nullptr) {
     const Plane& p = face ? *face : *P.p;
@@ -1843,7 +1897,7 @@ struct Planes8 {
     const Fast2D& f;
     Plane8 at[16];
     uint32_t made = 0;
-    __attribute__((target("avx2"), always_inline)) const Plane8& operator[](int32_t level) {
+    __attribute__((target("avx2,f16c"), always_inline)) const Plane8& operator[](int32_t level) {
         if (!(made >> level & 1)) at[level] = plane8(f, f.planes[size_t(level)]), made |= 1u << level;
         return at[level];
     }
@@ -1851,7 +1905,7 @@ struct Planes8 {
 
 // The colour lookups of lanes [l, end) in blocks of 8 of one query shape (as colour_blocks8).
 template <int kBytes, WrapKind kWrap, LevelMode kMode>
-__attribute__((target("avx2"))) int colour_blocks8_shaped(const ColourQuery& cq, int l, int end) {
+__attribute__((target("avx2,f16c"))) int colour_blocks8_shaped(const ColourQuery& cq, int l, int end) {
     const glsl::TextureQuery& q = *cq.q;
     const Fast2D& f = *cq.f;
     glsl::Scalar* const out[4] = {q.out[0], q.out[1], q.out[2], q.out[3]};
@@ -1941,7 +1995,7 @@ struct CubeQuery {
 // face's texels. inside: the lanes whose texels lie inside the face at every level read (the
 // same for all faces).
 template <int kBytes, LevelMode kMode>
-__attribute__((target("avx2"), always_inline)) inline void cube_face8(const Fast2D& f, Planes8& planes, const BlockChoice& bc,
+__attribute__((target("avx2,f16c"), always_inline)) inline void cube_face8(const Fast2D& f, Planes8& planes, const BlockChoice& bc,
                                                                       int face, const float* s8, const float* t8,
                                                                       __m256 dst[4], __m256i& inside) {
     const Plane* levels = f.planes + size_t(face) * size_t(f.face_stride);
@@ -1964,7 +2018,7 @@ __attribute__((target("avx2"), always_inline)) inline void cube_face8(const Fast
 // on its own face, as filter8_color(levels) does for one plane. inside: per lane, whether its
 // texels lie inside the face at each level it reads.
 template <int kBytes, bool kLinear>
-__attribute__((target("avx2"))) void cube_levels8(const Fast2D& f, Planes8& planes, const LevelChoice ch[8],
+__attribute__((target("avx2,f16c"))) void cube_levels8(const Fast2D& f, Planes8& planes, const LevelChoice ch[8],
                                                   const int32_t levels[3], int count, uint32_t active,
                                                   const int32_t face8[8], const float* s8, const float* t8,
                                                   __m256 result[4], __m256i& inside) {
@@ -2016,8 +2070,8 @@ __attribute__((target("avx2"))) void cube_levels8(const Fast2D& f, Planes8& plan
 // holds the active lanes whose texels cross a face edge under seamless filtering, which the
 // caller samples again by sample_lane (ES 3.0 §3.8.9.1), as one_lane does.
 template <int kBytes, LevelMode kMode>
-__attribute__((target("avx2"), always_inline)) inline bool cube_block8(const CubeQuery& cq, Planes8& planes, int l,
-                                                                       uint32_t& outside) {
+__attribute__((target("avx2,f16c"), always_inline)) inline bool cube_block8(const CubeQuery& cq, Planes8& planes, int l,
+                                                                            uint32_t& outside) {
     const glsl::TextureQuery& q = *cq.q;
     const Fast2D& f = *cq.f;
     glsl::Scalar* const out[4] = {q.out[0], q.out[1], q.out[2], q.out[3]};
@@ -2099,7 +2153,7 @@ __attribute__((target("avx2"), always_inline)) inline bool cube_block8(const Cub
 // once), each block's lanes that leave the face sampled again by cq.again: the first lane of
 // the first block cube_block8 declines (the caller takes it), else the lanes' end.
 template <int kBytes, LevelMode kMode>
-__attribute__((target("avx2"))) int cube_run8(const CubeQuery& cq, Planes8& planes, int l, int end) {
+__attribute__((target("avx2,f16c"))) int cube_run8(const CubeQuery& cq, Planes8& planes, int l, int end) {
     for (; l + 8 <= end; l += 8) {
         uint32_t outside;
         if (!cube_block8<kBytes, kMode>(cq, planes, l, outside)) return l;
@@ -2127,7 +2181,7 @@ inline CubeBlock8 cube_blocks8(const Fast2D& f, bool one_storage, LevelMode mode
 }
 
 // ---- AVX-512: blocks of 16 lanes, results straight into the structure-of-arrays outputs.
-#define SOFTGL_SAMPLER_AVX512 "avx512f,avx512bw,avx512dq,avx512vl"
+#define SOFTGL_SAMPLER_AVX512 "avx512f,avx512bw,avx512dq,avx512vl,f16c"
 // GCC 12's AVX-512 intrinsics start from _mm512_undefined_*(), which -W(maybe-)uninitialized
 // reports once they are inlined here (GCC bug 105593, fixed in GCC 13).
 #pragma GCC diagnostic push
@@ -2288,11 +2342,12 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512))) inline void wrap16(GLenum mode, _
 template <bool kLayered>
 struct Layers16 {
     const float* plane;
-    const float* lane[kLayered ? 16 : 1];
-    // Floats per texel and the absent channels' values (SampledLevel::color_channels, color_fill).
+    const uint16_t* half;   // 16-bit float planes (SampledLevel::half; plane null)
+    size_t lane[kLayered ? 16 : 1];   // the element where lane l's layer starts
+    // Floats (halves) per texel and the absent channels' values (SampledLevel::color_channels, color_fill).
     int32_t channels;
     const float* fill;
-    const float* at(int l) const { return kLayered ? lane[l] : plane; }
+    size_t at(int l) const { return kLayered ? lane[l] : 0; }
 };
 
 // The texels of 16 lanes (at(l) + 4 * index[l]) as four channel vectors: out[c] lane l =
@@ -2304,10 +2359,30 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512))) inline void texels16(const Layers
     alignas(64) int32_t at[16];
     _mm512_store_si512(at, _mm512_mullo_epi32(index, _mm512_set1_epi32(layers.channels)));
     __m512 r[4];
-    for (int k = 0; k < 4; ++k) {
-        r[k] = _mm512_castps128_ps512(_mm_loadu_ps(layers.at(k) + at[k]));
-        for (int m = 1; m < 4; ++m)
-            r[k] = _mm512_insertf32x4(r[k], _mm_loadu_ps(layers.at(k + 4 * m) + at[k + 4 * m]), m);
+    if (!kLayered && layers.half) {   // one plane: half_texels8 of each 8 lanes
+        const __m512i e = _mm512_mullo_epi32(index, _mm512_set1_epi32(layers.channels));
+        __m256 lo[4], hi[4];
+        half_texels8(layers.half, _mm512_castsi512_si256(e), lo);
+        half_texels8(layers.half, _mm512_extracti64x4_epi64(e, 1), hi);
+        for (int c = 0; c < 4; ++c)
+            out[c] = c < layers.channels ? _mm512_insertf32x8(_mm512_castps256_ps512(lo[c]), hi[c], 1) : _mm512_set1_ps(layers.fill[c]);
+        return;
+    }
+    if (layers.half) {
+        // 4 texels' halves (lanes k, k + 4, k + 8, k + 12) in one 256-bit register, converted at once.
+        const uint16_t* h = layers.half;
+        for (int k = 0; k < 4; ++k) {
+            const __m256i x = _mm256_setr_epi64x(load_u64(h + layers.at(k) + at[k]), load_u64(h + layers.at(k + 4) + at[k + 4]),
+                                                 load_u64(h + layers.at(k + 8) + at[k + 8]),
+                                                 load_u64(h + layers.at(k + 12) + at[k + 12]));
+            r[k] = _mm512_cvtph_ps(x);
+        }
+    } else {
+        for (int k = 0; k < 4; ++k) {
+            r[k] = _mm512_castps128_ps512(_mm_loadu_ps(layers.plane + layers.at(k) + at[k]));
+            for (int m = 1; m < 4; ++m)
+                r[k] = _mm512_insertf32x4(r[k], _mm_loadu_ps(layers.plane + layers.at(k + 4 * m) + at[k + 4 * m]), m);
+        }
     }
     const __m512d t0 = _mm512_castps_pd(_mm512_unpacklo_ps(r[0], r[1])), t1 = _mm512_castps_pd(_mm512_unpackhi_ps(r[0], r[1]));
     const __m512d t2 = _mm512_castps_pd(_mm512_unpacklo_ps(r[2], r[3])), t3 = _mm512_castps_pd(_mm512_unpackhi_ps(r[2], r[3]));
@@ -2396,8 +2471,12 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512))) inline void texel_pairs16(const L
     __m512 x[8];
     for (int m = 0; m < 8; ++m) {
         const int l = m < 4 ? m : m + 4;
-        x[m] = _mm512_insertf32x8(_mm512_castps256_ps512(_mm256_loadu_ps(layers.at(l) + at[l])),
-                                  _mm256_loadu_ps(layers.at(l + 4) + at[l + 4]), 1);
+        if (layers.half)   // two texels' 8 halves per load, converted at once
+            x[m] = _mm512_insertf32x8(_mm512_castps256_ps512(halves8(layers.half + layers.at(l) + at[l])),
+                                      halves8(layers.half + layers.at(l + 4) + at[l + 4]), 1);
+        else
+            x[m] = _mm512_insertf32x8(_mm512_castps256_ps512(_mm256_loadu_ps(layers.plane + layers.at(l) + at[l])),
+                                      _mm256_loadu_ps(layers.plane + layers.at(l + 4) + at[l + 4]), 1);
     }
     // s[4 * h + c]: channel c of lanes 8h .. 8h + 3 (left texel in slot 0, right in slot 1) and
     // of lanes 8h + 4 .. 8h + 7 (slots 2 and 3).
@@ -2422,7 +2501,7 @@ template <bool kLayered>
 __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) void filter16(const Fast2D& f, const Plane& p, bool linear,
                                                              const float* s, const float* t, const float* r,
                                                              __m512 out[4]) {
-    Layers16<kLayered> layers{p.color, {}, p.color_channels, p.color_fill};
+    Layers16<kLayered> layers{p.color, p.half, {}, p.color_channels, p.color_fill};
     // Byte planes: each lane's first texel of its layer, added to the gathers' indices (int32:
     // filter16 below takes planes whose texel numbers fit).
     alignas(64) int32_t layer_start[16] = {};
@@ -2430,7 +2509,7 @@ __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"))) void filter16(const Fast2D
         for (int l = 0; l < 16; ++l) {
             const size_t start = size_t(std::clamp(ifloor(r[l] + 0.5f), 0, p.layers - 1)) * size_t(p.height) * size_t(p.width);
             if (p.rgba8 || p.narrow) layer_start[l] = int32_t(start);
-            else layers.lane[l] = p.color + start * p.color_channels;
+            else layers.lane[l] = start * p.color_channels;
         }
     const __m512i layer0 = _mm512_load_si512(layer_start);
     const __m512 u = _mm512_add_ps(_mm512_mul_ps(_mm512_loadu_ps(s), _mm512_set1_ps(float(p.width))), _mm512_set1_ps(float(f.off_s)));
@@ -2653,7 +2732,7 @@ template <int kBytes, bool kLinear, WrapKind kWrap>
 __attribute__((target(SOFTGL_SAMPLER_AVX512 ",fma"), always_inline)) inline void filter16_shaped(const Fast2D& f, const Plane& p,
                                                                                                const float* s, const float* t,
                                                                                                __m512 out[4]) {
-    const Layers16<false> layers{p.color, {}, p.color_channels, p.color_fill};
+    const Layers16<false> layers{p.color, p.half, {}, p.color_channels, p.color_fill};
     const __m512 u = _mm512_add_ps(_mm512_mul_ps(_mm512_loadu_ps(s), _mm512_set1_ps(float(p.width))), _mm512_set1_ps(float(f.off_s)));
     const __m512 v = _mm512_add_ps(_mm512_mul_ps(_mm512_loadu_ps(t), _mm512_set1_ps(float(p.height))), _mm512_set1_ps(float(f.off_t)));
     const __m512i width = _mm512_set1_epi32(p.width);
@@ -3117,7 +3196,8 @@ SamplingPlan plan_sampling(const BoundTexture& bt, int dim) {
             const bool level_bytes = level.rgba8 != nullptr || level.narrow != nullptr;
             if (level_bytes && !fits) return plan;
             one_storage = one_storage && level_bytes == bytes && level.unorm8 == bytes &&
-                          (bytes || level.color != nullptr) && fits;
+                          (bytes || level.color != nullptr || level.half != nullptr) &&
+                          (level.half != nullptr) == (plan.planes[0].half != nullptr) && fits;
             pot = pot && level.width_pot && level.height_pot;
             // A complete cube map's faces have each level's size and format (ES 3.0 §3.8.14): the
             // other faces' planes must be stored as face 0's (cube_block8 reads them by its shape).
@@ -3126,6 +3206,7 @@ SamplingPlan plan_sampling(const BoundTexture& bt, int dim) {
                              level.layers != first.layers || (level.rgba8 != nullptr) != (first.rgba8 != nullptr) ||
                              (level.narrow != nullptr) != (first.narrow != nullptr) ||
                              level.narrow_bytes != first.narrow_bytes || (level.color != nullptr) != (first.color != nullptr) ||
+                             (level.half != nullptr) != (first.half != nullptr) ||
                              level.unorm8 != first.unorm8))
                 return plan;
         }
@@ -3710,7 +3791,7 @@ namespace {
 // filter8_shaped's NEAREST texel numbers of lanes [0, n) in blocks of 8, their words stored;
 // returns the lanes done.
 template <int kBytes, WrapKind kWrap>
-__attribute__((target("avx2"))) int nearest_words8(const Plane& p, int off_s, int off_t, const glsl::Scalar* s,
+__attribute__((target("avx2,f16c"))) int nearest_words8(const Plane& p, int off_s, int off_t, const glsl::Scalar* s,
                                                    const glsl::Scalar* t, int n, uint32_t* words) {
     const __m256 width_f = _mm256_set1_ps(float(p.width)), height_f = _mm256_set1_ps(float(p.height));
     const __m256 os = _mm256_set1_ps(float(off_s)), ot = _mm256_set1_ps(float(off_t));
@@ -3731,7 +3812,7 @@ __attribute__((target("avx2"))) int nearest_words8(const Plane& p, int off_s, in
 
 // Channels 0 and 2 of the texels left and right blended horizontally, H = (256 - A) k0 + A k1
 // (16 bits, exact), less 2^15 (the top bit flipped).
-__attribute__((target("avx2"), always_inline)) inline __m256i linear_half_row8(__m256i left, __m256i right, __m256i wa,
+__attribute__((target("avx2,f16c"), always_inline)) inline __m256i linear_half_row8(__m256i left, __m256i right, __m256i wa,
                                                                               __m256i nwa) {
     const __m256i bytes = _mm256_set1_epi32(0x00FF00FF);
     return _mm256_xor_si256(_mm256_add_epi16(_mm256_mullo_epi16(_mm256_and_si256(left, bytes), nwa),
@@ -3740,7 +3821,7 @@ __attribute__((target("avx2"), always_inline)) inline __m256i linear_half_row8(_
 }
 
 // linear_byte(m + 2^23) of 8 lanes: S >> 23 is 1 exactly where m >= 0.
-__attribute__((target("avx2"), always_inline)) inline __m256i linear_bytes8(__m256i m) {
+__attribute__((target("avx2,f16c"), always_inline)) inline __m256i linear_bytes8(__m256i m) {
     return _mm256_srli_epi32(_mm256_sub_epi32(_mm256_add_epi32(m, _mm256_set1_epi32(0x807FFF)), _mm256_srai_epi32(m, 31)), 16);
 }
 
@@ -3748,7 +3829,7 @@ __attribute__((target("avx2"), always_inline)) inline __m256i linear_bytes8(__m2
 // there (16 bits, r, b in `even` and g, a in `odd`), less 2^15 (signed 16-bit), then per channel
 // vpmaddwd gives (256 - B)(H0 - 2^15) + B (H1 - 2^15) = S - 2^23 (|.| <= 2^23), and linear_byte
 // of S. The madd pairs lanes (0, 1 | 4, 5) and (2, 3 | 6, 7); packus puts them back in order.
-__attribute__((target("avx2"), always_inline)) inline __m256i linear_words_of8(__m256i t00, __m256i t10, __m256i t01,
+__attribute__((target("avx2,f16c"), always_inline)) inline __m256i linear_words_of8(__m256i t00, __m256i t10, __m256i t01,
                                                                               __m256i t11, __m256i ai, __m256i bi) {
     const __m256i k256 = _mm256_set1_epi32(256);
     const __m256i nai = _mm256_sub_epi32(k256, ai);
@@ -3767,7 +3848,7 @@ __attribute__((target("avx2"), always_inline)) inline __m256i linear_words_of8(_
 // filter8_shaped's LINEAR operations for lanes [0, n) in blocks of 8, their words stored;
 // returns the lanes done.
 template <int kBytes, WrapKind kWrap>
-__attribute__((target("avx2"))) int linear_words8(const Plane& p, int off_s, int off_t, const glsl::Scalar* s,
+__attribute__((target("avx2,f16c"))) int linear_words8(const Plane& p, int off_s, int off_t, const glsl::Scalar* s,
                                                   const glsl::Scalar* t, int n, uint32_t* words) {
     const __m256 width_f = _mm256_set1_ps(float(p.width)), height_f = _mm256_set1_ps(float(p.height));
     const __m256 os = _mm256_set1_ps(float(off_s)), ot = _mm256_set1_ps(float(off_t)), half = _mm256_set1_ps(0.5f);

@@ -247,7 +247,7 @@ uint64_t Image::allocation_bytes(const FormatInfo* fmt, int32_t w, int32_t h, in
     const uint64_t n = uint64_t(w) * uint64_t(h) * uint64_t(d) * uint64_t(s);
     if (stores_bytes(fmt)) return n * 4;                      // RGBA bytes per sample
     if (const int b = narrow_bytes(fmt)) return n * uint64_t(b) + kNarrowPad;   // their channels' bytes
-    if (const int b = encoded ? packed_bytes(fmt) : 0) return n * uint64_t(b);   // encoded at the format's size
+    if (const size_t b = packed_elements(fmt, size_t(n), encoded)) return b;   // encoded at the format's size
     if (fmt->kind() == SampleKind::Float) return color_elements(fmt, n) * 4;   // a float per channel
     if (fmt->kind() != SampleKind::Depth) return n * uint64_t(integer_bytes(fmt));   // the channels' widths
     return n * ((fmt->encoding != Encoding::Stencil8 ? 4 : 0) + (fmt->has_stencil ? 1 : 0));
@@ -263,9 +263,12 @@ void Image::allocate(const FormatInfo* fmt, int32_t w, int32_t h, int32_t d, int
             // Absent alpha reads as 1 from the start (e.g. RGB8).
             if (stores_bytes(fmt)) rgba8.assign(n, fmt->bits[3] ? 0u : 0xFF000000u);
             else if (stores_narrow(fmt)) narrow.assign(n * size_t(narrow_bytes(fmt)) + kNarrowPad, 0);   // absent channels are implied
-            else if (encoded && packed_bytes(fmt)) {
+            else if (const size_t b = packed_elements(fmt, n, encoded)) {
                 packed_size = uint8_t(packed_bytes(fmt));
-                packed.assign(n * size_t(packed_size), 0);
+                packed.assign(b, 0);
+                // WebGL 1's LUMINANCE16F / LUMINANCE_ALPHA16F... kept expanded: absent alpha is 1.
+                if (packed_size == 8 && !fmt->bits[3])
+                    for (size_t i = 0; i < n; ++i) packed[i * 8 + 6] = 0x00, packed[i * 8 + 7] = 0x3C;
             }
             else color.assign(color_elements(fmt, n), 0.0f);
             break;
@@ -360,6 +363,13 @@ int Image::packed_bytes(const FormatInfo* fmt) {
     if (fmt->encoding == Encoding::Srgb) return fmt->bits[3] ? 4 : 3;
     if (packed_unorm(*fmt)) return (fmt->bits[0] + fmt->bits[1] + fmt->bits[2] + fmt->bits[3]) / 8;
     return 0;
+}
+
+size_t Image::packed_elements(const FormatInfo* fmt, size_t n, bool encoded) {
+    const int b = packed_bytes(fmt);
+    if (b == 0 || (!encoded && fmt->encoding != Encoding::Float16)) return 0;
+    // Textures (sampled: 4-half loads) below 4 channels: the pad after the last texel.
+    return n * size_t(b) + (!encoded && b < 8 ? kHalfPad : 0);
 }
 
 int Image::color_channels(const FormatInfo* fmt) {
@@ -803,6 +813,10 @@ void Texture::refresh_sampling(int32_t base, int32_t q) {
                        nc && img->color.size() == Image::color_elements(img->format, img->texel_count())) {
                 s.color = img->color.data();
                 s.color_channels = uint8_t(nc);
+            } else if (img->format->encoding == Encoding::Float16 && !img->packed.empty() &&
+                       img->packed.size() == Image::packed_elements(img->format, img->texel_count(), false)) {
+                s.half = reinterpret_cast<const uint16_t*>(img->packed.data());
+                s.color_channels = uint8_t(img->packed_size / 2);
             } else if (img->format->is_depth() && img->depth_words.size() == img->texel_count()) {
                 s.depth = img->depth_words.data();
                 s.depth_encoding = img->format->encoding;

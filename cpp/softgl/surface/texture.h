@@ -9,8 +9,8 @@
 //     ALPHA, LUMINANCE_ALPHA): 4 bytes per texel, RGBA, the byte k standing for k / 255, absent
 //     channels holding their defaults (0, alpha 255; luminance in r, g and b), the same layout
 //     as the RGBA8 drawing buffer, so draws, clears, blits and readPixels take its byte paths;
-//   - renderbuffers of 16-bit float, sRGB and packed small unorm formats: encoded at their own
-//     size (Image::packed);
+//   - renderbuffers of 16-bit float, sRGB and packed small unorm formats, and textures of the
+//     16-bit float formats: encoded at their own size (Image::packed);
 //   - other colour formats that sample as float: one float per channel of the base format
 //     (Image::color_channels: RED 1, RG 2, RGB 3, else 4; absent channels implied as 0, alpha 1),
 //     the values a lookup returns
@@ -141,11 +141,16 @@ struct Image {
     // SRGB8_ALPHA8 as their encoded bytes (3 or 4); RGB565, RGBA4, RGB5_A1 as one 16-bit word
     // and RGB10_A2 as one 32-bit word of the channels' unorm integers, red in the low bits. Every
     // value such a sample can hold (quantize_color's output) has one encoding, so the floats read
-    // back are those stored. Read and written through read_color / store_color. Textures of these
-    // formats keep floats (`color`): the sampler's vector paths read 4 floats a texel, and the
-    // general path that would decode them is ~18x slower (docs/reliability.md, "Memory").
+    // back are those stored. Read and written through read_color / store_color. Textures of the
+    // 16-bit float formats are kept so too (the sampler's texel loads decode 4 halves a texel:
+    // SampledLevel::half), then kHalfPad bytes (0) below 4 channels so that a 4-half load at any
+    // texel stays inside; textures of the other formats keep floats (`color`).
     std::vector<uint8_t> packed;
     uint8_t packed_size = 0;                     // bytes per sample of `packed` (0: not encoded)
+    static constexpr size_t kHalfPad = 6;
+    // Bytes of `packed` for n texels (samples) of `fmt`, 0 when images of it keep no encoding:
+    // renderbuffers (encoded) of any format with one, textures of the 16-bit float formats.
+    static size_t packed_elements(const FormatInfo* fmt, size_t n, bool encoded);
     std::vector<uint8_t> integer;                // Int/Uint kind: integer_bytes() per texel (sample)
     std::vector<uint32_t> depth_words;           // Depth kind: 1 per texel (sample)
     std::vector<uint8_t> stencil;                // depth-stencil and stencil formats
@@ -238,9 +243,13 @@ inline constexpr float kMaxAnisotropy = 16.0f;
 
 // One level of one face as the sampler's fast path reads it (surface/sampler.cpp): its storage
 // and sizes resolved once per draw instead of per lookup. Exactly one of `color` (Float kind),
-// `rgba8` (8-bit unorm formats) and `depth` (Depth kind) is set.
+// `half` (16-bit float formats), `rgba8` / `narrow` (8-bit unorm formats) and `depth` (Depth kind) is set.
 struct SampledLevel {
     const float* color = nullptr;      // color_channels floats per texel, layer-major then row-major
+    // 16-bit float textures (Image::packed): color_channels binary16 per texel (color null), read
+    // by the same paths as `color`, each texel load decoding its 4 halves (binary16 to float32 is
+    // exact: the floats a float32 copy of the texel would hold).
+    const uint16_t* half = nullptr;
     // Floats per texel of `color` (Image::color_channels) and the values of the channels it
     // lacks (color_fill[c] for c >= color_channels: 0, alpha 1), substituted as texels are read.
     uint8_t color_channels = 4;
