@@ -106,8 +106,8 @@ void write_color_lanes_at(SimdLevel level, ColorKernel kernel, const BlendOp& op
 // coverage of 0 or 1; src as write_color_lanes) over the single-sampled RGBA8 buffer `buffer`,
 // their covered pixels blended there; returns the number of pixels written. Bit for bit
 // load_chunk_pixels, write_color_lanes_at and store_chunk_pixels (pipeline/chunk_pixels.h), which
-// it runs itself without `in_place` (Tuning::blend_in_place) or below AVX2; with it, the AVX2 and
-// AVX-512 levels read and write the quads' rows straight from registers, with no lane copies.
+// it runs itself without `in_place` (Tuning::blend_in_place) or below AVX2; with it, the AVX2 (with
+// FMA) and AVX-512 levels read and write the quads' rows straight from registers, with no lane copies.
 // `scratch` holds 4n lanes; quads_in_place counts the quads blended in place. Not for Generic.
 struct ChunkPixels;
 struct Quad;
