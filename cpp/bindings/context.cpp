@@ -434,6 +434,7 @@ void bind_drawing(ContextClass& cls) {
             SOFTGL_STAT(draws_copied_varying) SOFTGL_STAT(draws_with_rollback)
             SOFTGL_STAT(fragments_flat) SOFTGL_STAT(draws_flat_primitives) SOFTGL_STAT(draws_texture_copy)
             SOFTGL_STAT(draws_texel_words) SOFTGL_STAT(blocks_depth_in_place)
+            SOFTGL_STAT(quads_blended_in_place)
             SOFTGL_STAT(seconds_vertex)
             SOFTGL_STAT(seconds_setup) SOFTGL_STAT(seconds_fragment)
 #undef SOFTGL_STAT

@@ -46,6 +46,7 @@ py::dict as_dict(const Tuning& t) {
     d["linear_words"] = t.linear_words;
     d["lod_free_helper_lanes"] = t.lod_free_helper_lanes;
     d["depth_blocks"] = t.depth_blocks;
+    d["blend_in_place"] = t.blend_in_place;
     return d;
 }
 
@@ -99,6 +100,8 @@ void update(Tuning& t, const py::kwargs& fields) {
             next.lod_free_helper_lanes = value.cast<bool>();
         } else if (k == "depth_blocks") {
             next.depth_blocks = value.cast<bool>();
+        } else if (k == "blend_in_place") {
+            next.blend_in_place = value.cast<bool>();
         } else {
             throw py::type_error("set_tuning: no field '" + k + "' (fields: " +
                                  std::string(py::str(as_dict(Tuning{}).attr("keys")())) + ")");
@@ -119,7 +122,7 @@ void bind_tuning(py::module_& m) {
         return before;
     }, py::arg("context"),
        "Sets the named switches of the context (simd, batch_primitives, hidden_surface_removal, depth_bounds, "
-       "fragment_copies, sampler_path, fragment_batches, skip_helper_lanes, hoist_uniform_values, flat_primitives, blit_rows, pool_spin_microseconds, texture_copies, texel_words, linear_words, lod_free_helper_lanes, depth_blocks); returns the previous ones as a dict, to pass back.");
+       "fragment_copies, sampler_path, fragment_batches, skip_helper_lanes, hoist_uniform_values, flat_primitives, blit_rows, pool_spin_microseconds, texture_copies, texel_words, linear_words, lod_free_helper_lanes, depth_blocks, blend_in_place); returns the previous ones as a dict, to pass back.");
     t.def("default_tuning", [] { return as_dict(Tuning::process_default()); },
           "The switches new contexts start with.");
     t.def("set_default_tuning", [](const py::kwargs& fields) {

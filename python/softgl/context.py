@@ -407,7 +407,8 @@ class Context(_core.Context):
         ``draws_texture_copy`` (a shader that is one texture lookup, served by the sampler without
         the executor; ``draws_texel_words`` those whose NEAREST texels' bytes went to the pixels
         as they are, or a LINEAR level's bytes from its integer sums). ``blocks_depth_in_place`` counts the 8x8 blocks a depth-only draw's
-        primitives cover whole, depth-tested without quads. ``draws_with_rollback`` counts draws that kept a copy
+        primitives cover whole, depth-tested without quads; ``quads_blended_in_place`` the quads
+        whose pixels the colour kernels blended straight in the buffer. ``draws_with_rollback`` counts draws that kept a copy
         of each tile they wrote, to put it back if stopped (docs/reliability.md, "Work budget
         and Ctrl-C": draws in several batches, with a fragment loop of unknown length, or with
         much fragment work)."""

@@ -184,7 +184,7 @@ def tuned(gl, **fields):
     """Within the block, ``gl`` draws with these speed-path switches (fields of core/tuning.h:
     simd, batch_primitives, hidden_surface_removal, depth_bounds, fragment_copies, sampler_path,
     fragment_batches, skip_helper_lanes, hoist_uniform_values, blit_rows, pool_spin_microseconds,
-    texture_copies, texel_words, linear_words, lod_free_helper_lanes, depth_blocks; see softgl._core.testing.set_tuning); afterwards its previous switches are back. Yields the
+    texture_copies, texel_words, linear_words, lod_free_helper_lanes, depth_blocks, blend_in_place; see softgl._core.testing.set_tuning); afterwards its previous switches are back. Yields the
     context's switches as they were."""
     from softgl import _core
     previous = _core.testing.set_tuning(gl, **fields)

@@ -110,9 +110,13 @@ def bits_of(x):
     return int(np.float32(x).view(np.uint32))
 
 
+@pytest.mark.parametrize("in_place", [False, True])
 @pytest.mark.parametrize("level", range(_core.testing.simd_level() + 1))
-def test_lane_conversion_equals_float_to_unorm8(level):
-    mismatches = _core.testing.unorm8_conversion_mismatches
+def test_lane_conversion_equals_float_to_unorm8(level, in_place):
+    # in_place: through write_color_quads_at (Tuning::blend_in_place), whose AVX2 level converts
+    # by an FMA of its own.
+    def mismatches(*args):
+        return _core.testing.unorm8_conversion_mismatches(*args, in_place=in_place)
     # Every 29th float in [0, 1] (each exponent, each mantissa residue class over the sweep).
     assert mismatches(level, 0, F32_ONE, 29) == 0
     # Every float within 64 ulps of each rounding boundary (k + 0.5) / 255 and each k / 255,
@@ -137,6 +141,13 @@ def test_avx512_conversion_every_float_in_0_1():
     # The AVX-512 lanes convert with an FMA into the integer range of floats (fragment_ops.cpp,
     # unorm8_pixels_ps16): checked on every float in [0, 1], about 1.07e9 values.
     assert _core.testing.unorm8_conversion_mismatches(3, 0, F32_ONE) == 0
+
+
+@pytest.mark.skipif(_core.testing.simd_level() < 2, reason="the in-place AVX2 kernel needs AVX2")
+def test_in_place_avx2_conversion_every_float_in_0_1():
+    # write_color_quads_at's AVX2 level converts with an FMA into the integer range of floats
+    # (fragment_ops.cpp, blend8_fma), as the AVX-512 lanes do: every float in [0, 1].
+    assert _core.testing.unorm8_conversion_mismatches(2, 0, F32_ONE, in_place=True) == 0
 
 
 def test_lane_kernels_every_tail_length():

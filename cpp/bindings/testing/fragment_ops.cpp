@@ -6,6 +6,7 @@
 #include <pybind11/stl.h>
 
 #include "hooks.h"
+#include "softgl/pipeline/chunk_pixels.h"
 #include "softgl/pipeline/fragment_ops.h"
 #include "softgl/surface/formats.h"
 
@@ -62,7 +63,7 @@ std::pair<py::array_t<uint8_t>, int> fragment_ops_write(const std::array<uint32_
 // float bit patterns first, first + step, ... <= last: runs the Plain kernel at `level` on all
 // four channels of each value and returns how many bytes differ. In C++ so that every float in
 // [0, 1] (about 1.07e9) can be checked in seconds.
-uint64_t unorm8_conversion_mismatches(int level, uint32_t first, uint32_t last, uint32_t step) {
+uint64_t unorm8_conversion_mismatches(int level, uint32_t first, uint32_t last, uint32_t step, bool in_place) {
     State state;   // blending off, every channel written
     const BlendOp op = BlendOp::from_state(state, true);
     constexpr size_t block = 4096;
@@ -76,12 +77,37 @@ uint64_t unorm8_conversion_mismatches(int level, uint32_t first, uint32_t last, 
             const uint32_t bits = uint32_t(b);
             std::memcpy(&src[n], &bits, 4);
         }
-        // stride 0: the four channels of lane l all read src[l].
-        write_color_lanes_at(SimdLevel(level), ColorKernel::Plain, op, src.data(), 0, px.data(), n);
-        for (size_t i = 0; i < n; ++i) {
-            const uint32_t want = float_to_unorm8(src[i]) * 0x01010101u;
-            if (px[i] != want)
-                for (int c = 0; c < 4; ++c) mismatches += ((px[i] ^ want) >> (8 * c) & 0xFF) != 0;
+        if (!in_place) {
+            // stride 0: the four channels of lane l all read src[l].
+            write_color_lanes_at(SimdLevel(level), ColorKernel::Plain, op, src.data(), 0, px.data(), n);
+            for (size_t i = 0; i < n; ++i) {
+                const uint32_t want = float_to_unorm8(src[i]) * 0x01010101u;
+                if (px[i] != want)
+                    for (int c = 0; c < 4; ++c) mismatches += ((px[i] ^ want) >> (8 * c) & 0xFF) != 0;
+            }
+            continue;
+        }
+        // write_color_quads_at: quads side by side over two rows, channels 0-2 and then 3 written
+        // (the other kept: the kernel reads the destination, as blend_in_place needs).
+        const size_t quads = (n + 3) / 4, width = 2 * quads;
+        for (size_t i = n; i < 4 * quads; ++i) src[i] = 0.0f;
+        std::vector<Quad> q(quads);
+        for (size_t i = 0; i < quads; ++i) q[i].x = int32_t(2 * i), q[i].y = 0;
+        std::vector<uint16_t> masks(4 * quads, 1);
+        std::vector<uint32_t> image(2 * width), scratch(4 * quads);
+        for (int pass = 0; pass < 2; ++pass) {
+            BlendOp masked = op;
+            masked.write = {pass == 0, pass == 0, pass == 0, pass == 1};
+            std::fill(image.begin(), image.end(), 0u);
+            const ChunkPixels buffer{reinterpret_cast<uint8_t*>(image.data()), width, int32_t(width) - 1, 1};
+            uint64_t in_place_quads = 0;
+            write_color_quads_at(SimdLevel(level), true, ColorKernel::Plain, masked, src.data(), 0, buffer, q.data(),
+                                 masks.data(), quads, scratch.data(), in_place_quads);
+            for (size_t i = 0; i < n; ++i) {
+                const uint32_t got = image[(i >> 1 & 1) * width + 2 * (i / 4) + (i & 1)];
+                for (int c = 0; c < 4; ++c)
+                    if (masked.write[size_t(c)]) mismatches += (got >> (8 * c) & 0xFF) != float_to_unorm8(src[i]);
+            }
         }
     }
     return mismatches;
@@ -129,7 +155,7 @@ void bind_testing_fragment_ops(py::module_& t) {
           py::arg("mask"), py::arg("has_alpha"), py::arg("src"), py::arg("dst"), py::arg("lanes"),
           py::arg("level") = -1);
     t.def("unorm8_conversion_mismatches", &unorm8_conversion_mismatches, py::arg("level"), py::arg("first"),
-          py::arg("last"), py::arg("step") = 1);
+          py::arg("last"), py::arg("step") = 1, py::arg("in_place") = false);
     t.def("interpolated_color_lanes", &interpolated_color_lanes, py::arg("level"), py::arg("fused"),
           py::arg("planes"), py::arg("origin_x"), py::arg("origin_y"), py::arg("quads"), py::arg("values"),
           py::arg("base_x"), py::arg("base_y"), py::arg("first"), py::arg("blend"), py::arg("funcs_and_equations"),

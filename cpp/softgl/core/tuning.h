@@ -79,6 +79,9 @@ struct Tuning {
     // A depth-only draw (DrawPlan::depth_blocks) tests the 8x8 blocks a primitive covers whole in
     // place (pipeline/whole_rect.h depth_covered_part); off: as the rasterizer's quads.
     bool depth_blocks = true;
+    // The colour kernels of single-sampled RGBA8 quads that read the destination blend it in place
+    // at AVX2 and AVX-512 (fragment_ops.h write_color_quads_at); off: gathered into lanes and back.
+    bool blend_in_place = true;
 
     bool operator==(const Tuning& o) const {
         return simd == o.simd && batch_primitives == o.batch_primitives &&
@@ -88,7 +91,8 @@ struct Tuning {
                blit_rows == o.blit_rows && hoist_uniform_values == o.hoist_uniform_values &&
                flat_primitives == o.flat_primitives && pool_spin_microseconds == o.pool_spin_microseconds &&
                texture_copies == o.texture_copies && texel_words == o.texel_words && linear_words == o.linear_words &&
-               lod_free_helper_lanes == o.lod_free_helper_lanes && depth_blocks == o.depth_blocks;
+               lod_free_helper_lanes == o.lod_free_helper_lanes && depth_blocks == o.depth_blocks &&
+               blend_in_place == o.blend_in_place;
     }
     bool operator!=(const Tuning& o) const { return !(*this == o); }
 

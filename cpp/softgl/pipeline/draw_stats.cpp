@@ -20,6 +20,7 @@ void DrawStats::add(const DrawStats& o) {
     fragments_flat += o.fragments_flat; draws_flat_primitives += o.draws_flat_primitives;
     draws_texture_copy += o.draws_texture_copy; draws_texel_words += o.draws_texel_words;
     blocks_depth_in_place += o.blocks_depth_in_place;
+    quads_blended_in_place += o.quads_blended_in_place;
     seconds_vertex += o.seconds_vertex; seconds_setup += o.seconds_setup; seconds_fragment += o.seconds_fragment;
 }
 

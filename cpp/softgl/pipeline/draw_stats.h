@@ -36,6 +36,7 @@ struct DrawStats {
     uint64_t draws_texture_copy = 0;       // a shader that is one texture lookup: the sampler asked without the executor
     uint64_t draws_texel_words = 0;        // ... NEAREST (or one LINEAR level) of 8-bit unorm texels, their words written     // lookups (per instruction and batch of lanes) served by the 2D fast path
     uint64_t blocks_depth_in_place = 0;    // depth-only draws' covered 8x8 blocks tested without quads (whole_rect.h)
+    uint64_t quads_blended_in_place = 0;   // quads the colour kernels blended in the buffer (Tuning::blend_in_place)
     double seconds_vertex = 0, seconds_setup = 0, seconds_fragment = 0;
     void add(const DrawStats& o);
 };

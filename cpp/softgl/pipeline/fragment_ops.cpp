@@ -4,6 +4,7 @@
 #include <array>
 #include <cstdint>
 
+#include "softgl/pipeline/chunk_pixels.h"
 #include "softgl/pipeline/interpolate.h"
 
 namespace softgl {
@@ -161,20 +162,16 @@ __attribute__((target("avx2"))) inline __m256i unorm8_at_byte_ps8(__m256 v, int 
     return _mm256_and_si256(_mm256_slli_epi32(x, 8 * c - 1), _mm256_set1_epi32(int(0xFFu << (8 * c))));
 }
 
+// Eight lanes of the lane kernel: src + l the first lane's red (channels `stride` apart), d32 the
+// destination pixels; the pixels it writes (the colour mask's channels kept from d32).
 template <ColorKernel K>
-__attribute__((target("avx2"))) void lanes_avx2(const BlendOp& op, const float* src, size_t stride, uint32_t* dst,
-                                               size_t n) {
-    uint32_t keep = 0;
-    for (int c = 0; c < 4; ++c)
-        if (!op.write[size_t(c)]) keep |= 0xFFu << (8 * c);
-    const __m256i keep_v = _mm256_set1_epi32(int(keep));
+__attribute__((target("avx2"), always_inline)) inline __m256i blend8_avx2(const BlendOp& op, uint32_t keep,
+                                                                         const float* src, size_t stride, __m256i d32) {
     const __m256i byte = _mm256_set1_epi32(0xFF);
     const __m256 k255 = _mm256_set1_ps(255.0f);
-    size_t l = 0;
-    for (; l + 8 <= n; l += 8) {
-        const __m256i d32 = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(dst + l));
+    {
         __m256 s[4];
-        for (int c = 0; c < 4; ++c) s[c] = clamp01_ps8(_mm256_loadu_ps(src + size_t(c) * stride + l));
+        for (int c = 0; c < 4; ++c) s[c] = clamp01_ps8(_mm256_loadu_ps(src + size_t(c) * stride));
         __m256i packed = _mm256_setzero_si256();
         for (int c = 0; c < 4; ++c) {
             __m256 out;
@@ -195,10 +192,66 @@ __attribute__((target("avx2"))) void lanes_avx2(const BlendOp& op, const float* 
             }
             packed = _mm256_or_si256(packed, unorm8_at_byte_ps8(out, c));
         }
-        if (keep) packed = _mm256_or_si256(_mm256_andnot_si256(keep_v, packed), _mm256_and_si256(keep_v, d32));
-        _mm256_storeu_si256(reinterpret_cast<__m256i*>(dst + l), packed);
+        if (keep) {
+            const __m256i keep_v = _mm256_set1_epi32(int(keep));
+            packed = _mm256_or_si256(_mm256_andnot_si256(keep_v, packed), _mm256_and_si256(keep_v, d32));
+        }
+        return packed;
+    }
+}
+
+template <ColorKernel K>
+__attribute__((target("avx2"))) void lanes_avx2(const BlendOp& op, const float* src, size_t stride, uint32_t* dst,
+                                               size_t n) {
+    uint32_t keep = 0;
+    for (int c = 0; c < 4; ++c)
+        if (!op.write[size_t(c)]) keep |= 0xFFu << (8 * c);
+    size_t l = 0;
+    for (; l + 8 <= n; l += 8) {
+        const __m256i d32 = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(dst + l));
+        _mm256_storeu_si256(reinterpret_cast<__m256i*>(dst + l), blend8_avx2<K>(op, keep, src + l, stride, d32));
     }
     lanes<K>(op, src, stride, dst, n, l);   // the rest: four, then one at a time
+}
+
+// blend8_avx2 with float -> unorm8 by the FMA of unorm8_pixels_ps16 (its proof: exact for v in
+// [0, 1 + 2^-22]), for CPUs with FMA: the integer form's ten operations per channel become two.
+// AlphaOver's result lies in that range unclamped (blend_ps16's argument); the other kernels
+// clamp as blend8_avx2 does.
+inline bool has_fma() { return __builtin_cpu_supports("fma"); }
+template <ColorKernel K>
+__attribute__((target("avx2,fma"), always_inline)) inline __m256i blend8_fma(const BlendOp& op, uint32_t keep,
+                                                                            const float* src, size_t stride, __m256i d32) {
+    const __m256i byte = _mm256_set1_epi32(0xFF);
+    const __m256 k255 = _mm256_set1_ps(255.0f);
+    __m256 s[4];
+    for (int c = 0; c < 4; ++c) s[c] = clamp01_ps8(_mm256_loadu_ps(src + size_t(c) * stride));
+    __m256i packed = _mm256_setzero_si256();
+    for (int c = 0; c < 4; ++c) {
+        __m256 out;
+        if constexpr (K == ColorKernel::Plain) {
+            out = s[c];
+        } else {
+            __m256 d;
+            if (c == 3 && !op.has_alpha) d = _mm256_set1_ps(1.0f);
+            else d = _mm256_div_ps(_mm256_cvtepi32_ps(_mm256_and_si256(_mm256_srli_epi32(d32, 8 * c), byte)), k255);
+            if constexpr (K == ColorKernel::AlphaOver) {
+                const __m256 df = _mm256_sub_ps(_mm256_set1_ps(1.0f), s[3]);
+                out = _mm256_add_ps(_mm256_mul_ps(s[c], s[3]), _mm256_mul_ps(d, df));
+            } else {   // Additive
+                const __m256 one = _mm256_set1_ps(1.0f);
+                out = clamp01_ps8(_mm256_add_ps(_mm256_mul_ps(s[c], one), _mm256_mul_ps(d, one)));
+            }
+        }
+        // 2^23 + the byte; shifting by 8c (c >= 1) drops the exponent bits 0x4B.
+        const __m256i n = _mm256_castps_si256(_mm256_fmadd_ps(out, k255, _mm256_set1_ps(0x1p23f)));
+        packed = _mm256_or_si256(packed, c == 0 ? _mm256_and_si256(n, byte) : _mm256_slli_epi32(n, 8 * c));
+    }
+    if (keep) {
+        const __m256i keep_v = _mm256_set1_epi32(int(keep));
+        packed = _mm256_or_si256(_mm256_andnot_si256(keep_v, packed), _mm256_and_si256(keep_v, d32));
+    }
+    return packed;
 }
 #endif
 
@@ -571,6 +624,121 @@ __attribute__((target(SOFTGL_AVX512))) void interpolated_lanes_avx512(const Blen
         ++i;
     }
 }
+template <ColorKernel K>
+void lanes_at(SimdLevel level, const BlendOp& op, const float* src, size_t stride, uint32_t* dst, size_t n);
+
+// write_color_quads_at's fallback, and its reference: the quads' covered pixels into lanes, the
+// lane kernel, the covered lanes back (tile_pass's write step without blend_in_place).
+template <ColorKernel K>
+uint64_t quads_in_turn(SimdLevel level, const BlendOp& op, const float* src, size_t stride, const ChunkPixels& buffer,
+                       const Quad* quads, const uint16_t* masks, size_t n, uint32_t* lanes) {
+    load_chunk_pixels(buffer, quads, masks, n, lanes);
+    lanes_at<K>(level, op, src, stride, lanes, 4 * n);
+    return store_chunk_pixels(buffer, quads, masks, n, lanes);
+}
+
+// Whether quads a and b have different positions (so no pixel in common: quads sit at even x, y).
+inline bool apart(const Quad& a, const Quad& b) { return a.x != b.x || a.y != b.y; }
+
+// blend_in_place, AVX2 with FMA: two quads (eight lanes) at a time, read from and written to the buffer's
+// rows (lanes 4i, 4i + 1 are row y's two pixels, 4i + 2, 4i + 3 row y + 1's), uncovered lanes
+// written back as read. A pair that is not inside the buffer or shares its position (a gathered
+// batch may hold one primitive's uncovered pixel of a quad and another's covered one) goes
+// through quads_in_turn, as does a last single quad.
+template <ColorKernel K>
+__attribute__((target("avx2,fma"))) uint64_t quads_avx2(const BlendOp& op, const float* src, size_t stride,
+                                                    const ChunkPixels& buffer, const Quad* quads, const uint16_t* masks,
+                                                    size_t n, uint64_t& in_place) {
+    uint32_t keep = 0;
+    for (int c = 0; c < 4; ++c)
+        if (!op.write[size_t(c)]) keep |= 0xFFu << (8 * c);
+    const size_t row_bytes = 4 * buffer.pitch;
+    uint64_t written = 0;
+    alignas(32) uint32_t lanes[8];
+    size_t i = 0;
+    for (; i + 2 <= n; i += 2) {
+        const Quad& a = quads[i];
+        const Quad& b = quads[i + 1];
+        if (!buffer.inside(a) || !buffer.inside(b) || !apart(a, b)) {
+            written += quads_in_turn<K>(SimdLevel::AVX2, op, src + 4 * i, stride, buffer, quads + i, masks + 4 * i, 2, lanes);
+            continue;
+        }
+        uint8_t* const pa = buffer.at(a);
+        uint8_t* const pb = buffer.at(b);
+        const __m128i ra = _mm_castpd_si128(_mm_loadh_pd(_mm_castsi128_pd(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(pa))),
+                                                         reinterpret_cast<const double*>(pa + row_bytes)));
+        const __m128i rb = _mm_castpd_si128(_mm_loadh_pd(_mm_castsi128_pd(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(pb))),
+                                                         reinterpret_cast<const double*>(pb + row_bytes)));
+        const __m256i d32 = _mm256_inserti128_si256(_mm256_castsi128_si256(ra), rb, 1);
+        const __m256i uncovered = _mm256_cmpeq_epi32(
+            _mm256_cvtepu16_epi32(_mm_loadu_si128(reinterpret_cast<const __m128i*>(masks + 4 * i))), _mm256_setzero_si256());
+        const __m256i px = _mm256_blendv_epi8(blend8_fma<K>(op, keep, src + 4 * i, stride, d32), d32, uncovered);
+        written += uint64_t(8 - __builtin_popcount(unsigned(_mm256_movemask_ps(_mm256_castsi256_ps(uncovered)))));
+        in_place += 2;
+        const __m128i wa = _mm256_castsi256_si128(px), wb = _mm256_extracti128_si256(px, 1);
+        _mm_storel_epi64(reinterpret_cast<__m128i*>(pa), wa);
+        _mm_storeh_pd(reinterpret_cast<double*>(pa + row_bytes), _mm_castsi128_pd(wa));
+        _mm_storel_epi64(reinterpret_cast<__m128i*>(pb), wb);
+        _mm_storeh_pd(reinterpret_cast<double*>(pb + row_bytes), _mm_castsi128_pd(wb));
+    }
+    if (i < n) written += quads_in_turn<K>(SimdLevel::AVX2, op, src + 4 * i, stride, buffer, quads + i, masks + 4 * i, n - i, lanes);
+    return written;
+}
+
+// blend_in_place, AVX-512: four quads (sixteen lanes) at a time, as quads_avx2 does two. A chunk
+// of one colour in every lane goes through quads_in_turn, whose lane kernel blends it by table.
+template <ColorKernel K>
+__attribute__((target(SOFTGL_AVX512))) uint64_t quads_avx512(const BlendOp& op, const float* src, size_t stride,
+                                                             const ChunkPixels& buffer, const Quad* quads,
+                                                             const uint16_t* masks, size_t n, uint32_t* scratch,
+                                                             uint64_t& in_place) {
+    uint32_t colour[4];
+    if (K != ColorKernel::Plain && has_vbmi() && n > 0 && uniform_colour(src, stride, 4 * n, colour))
+        return quads_in_turn<K>(SimdLevel::AVX512, op, src, stride, buffer, quads, masks, n, scratch);
+    uint32_t keep = 0;
+    for (int c = 0; c < 4; ++c)
+        if (!op.write[size_t(c)]) keep |= 0xFFu << (8 * c);
+    const __m512i keep_v = _mm512_set1_epi32(int(keep));
+    const size_t row_bytes = 4 * buffer.pitch;
+    uint64_t written = 0;
+    size_t i = 0;
+    for (; i + 4 <= n; i += 4) {
+        const Quad* const q = quads + i;
+        const bool whole = buffer.row_of_four(q) ||
+            (buffer.inside(q[0]) && buffer.inside(q[1]) && buffer.inside(q[2]) && buffer.inside(q[3]) && apart(q[0], q[1]) &&
+             apart(q[0], q[2]) && apart(q[0], q[3]) && apart(q[1], q[2]) && apart(q[1], q[3]) && apart(q[2], q[3]));
+        if (!whole) {
+            written += quads_in_turn<K>(SimdLevel::AVX512, op, src + 4 * i, stride, buffer, q, masks + 4 * i, 4, scratch);
+            continue;
+        }
+        uint8_t* p[4];
+        __m128i r[4];
+        for (int k = 0; k < 4; ++k) {
+            p[k] = buffer.at(q[k]);
+            r[k] = _mm_castpd_si128(_mm_loadh_pd(_mm_castsi128_pd(_mm_loadl_epi64(reinterpret_cast<const __m128i*>(p[k]))),
+                                                 reinterpret_cast<const double*>(p[k] + row_bytes)));
+        }
+        const __m512i d32 = _mm512_inserti64x4(
+            _mm512_castsi256_si512(_mm256_inserti128_si256(_mm256_castsi128_si256(r[0]), r[1], 1)),
+            _mm256_inserti128_si256(_mm256_castsi128_si256(r[2]), r[3], 1), 1);
+        const __mmask16 covered = _mm256_test_epi16_mask(_mm256_loadu_si256(reinterpret_cast<const __m256i*>(masks + 4 * i)),
+                                                         _mm256_set1_epi16(-1));
+        __m512 s[4];
+        for (int c = 0; c < 4; ++c) s[c] = clamp01_ps16(_mm512_loadu_ps(src + size_t(c) * stride + 4 * i));
+        // keep ? d32 : blended (as lanes16), and d32 in the uncovered lanes.
+        const __m512i px = _mm512_mask_mov_epi32(d32, covered, _mm512_ternarylogic_epi32(keep_v, blend_ps16<K>(op, s, d32), d32, 0xAC));
+        written += uint64_t(__builtin_popcount(unsigned(covered)));
+        in_place += 4;
+        for (int k = 0; k < 4; ++k) {
+            const __m128i w = _mm512_extracti32x4_epi32(px, k);
+            _mm_storel_epi64(reinterpret_cast<__m128i*>(p[k]), w);
+            _mm_storeh_pd(reinterpret_cast<double*>(p[k] + row_bytes), _mm_castsi128_pd(w));
+        }
+    }
+    if (i < n) written += quads_in_turn<K>(SimdLevel::AVX512, op, src + 4 * i, stride, buffer, quads + i, masks + 4 * i, n - i, scratch);
+    return written;
+}
+
 #pragma GCC diagnostic pop
 #undef SOFTGL_AVX512
 
@@ -704,6 +872,34 @@ void write_color_lanes_at(SimdLevel level, ColorKernel kernel, const BlendOp& op
 void write_color_lanes(ColorKernel kernel, const BlendOp& op, const float* src, size_t stride, uint32_t* dst,
                        size_t n) {
     write_color_lanes_at(best_simd_level(), kernel, op, src, stride, dst, n);
+}
+
+namespace {
+template <ColorKernel K>
+uint64_t quads_at(SimdLevel level, bool in_place, const BlendOp& op, const float* src, size_t stride,
+                  const ChunkPixels& buffer, const Quad* quads, const uint16_t* masks, size_t n, uint32_t* scratch,
+                  uint64_t& quads_in_place) {
+#if defined(SOFTGL_HAVE_AVX2_KERNELS)
+    if (in_place && level == SimdLevel::AVX2 && has_fma()) return quads_avx2<K>(op, src, stride, buffer, quads, masks, n, quads_in_place);
+    if (in_place && level == SimdLevel::AVX512)
+        return quads_avx512<K>(op, src, stride, buffer, quads, masks, n, scratch, quads_in_place);
+#else
+    (void)in_place, (void)quads_in_place;
+#endif
+    return quads_in_turn<K>(level, op, src, stride, buffer, quads, masks, n, scratch);
+}
+}  // namespace
+
+uint64_t write_color_quads_at(SimdLevel level, bool in_place, ColorKernel kernel, const BlendOp& op, const float* src,
+                              size_t stride, const ChunkPixels& buffer, const Quad* quads, const uint16_t* masks,
+                              size_t n, uint32_t* scratch, uint64_t& quads_in_place) {
+    switch (kernel) {
+        case ColorKernel::Plain: return quads_at<ColorKernel::Plain>(level, in_place, op, src, stride, buffer, quads, masks, n, scratch, quads_in_place);
+        case ColorKernel::AlphaOver: return quads_at<ColorKernel::AlphaOver>(level, in_place, op, src, stride, buffer, quads, masks, n, scratch, quads_in_place);
+        case ColorKernel::Additive: return quads_at<ColorKernel::Additive>(level, in_place, op, src, stride, buffer, quads, masks, n, scratch, quads_in_place);
+        case ColorKernel::Generic: break;   // not offered (header)
+    }
+    return 0;
 }
 
 void write_interpolated_color_lanes_at(SimdLevel level, ColorKernel kernel, const BlendOp& op,

@@ -102,6 +102,19 @@ void write_color_lanes(ColorKernel kernel, const BlendOp& op, const float* src, 
 void write_color_lanes_at(SimdLevel level, ColorKernel kernel, const BlendOp& op, const float* src, size_t stride,
                           uint32_t* dst, size_t n);
 
+// The lane kernel on the lanes of quads[0 .. n) (lane 4i + j: pixel j of quads[i], masks[lane] its
+// coverage of 0 or 1; src as write_color_lanes) over the single-sampled RGBA8 buffer `buffer`,
+// their covered pixels blended there; returns the number of pixels written. Bit for bit
+// load_chunk_pixels, write_color_lanes_at and store_chunk_pixels (pipeline/chunk_pixels.h), which
+// it runs itself without `in_place` (Tuning::blend_in_place) or below AVX2; with it, the AVX2 (with
+// FMA) and AVX-512 levels read and write the quads' rows straight from registers, with no lane copies.
+// `scratch` holds 4n lanes; quads_in_place counts the quads blended in place. Not for Generic.
+struct ChunkPixels;
+struct Quad;
+uint64_t write_color_quads_at(SimdLevel level, bool in_place, ColorKernel kernel, const BlendOp& op, const float* src,
+                              size_t stride, const ChunkPixels& buffer, const Quad* quads, const uint16_t* masks,
+                              size_t n, uint32_t* scratch, uint64_t& quads_in_place);
+
 // For a fragment shader that only copies a smooth vec4 varying to its colour (FragmentShader::copies):
 // the colour kernel on that varying's interpolated values, v.words[first .. first + 3], for the
 // lanes of quads[0 .. n) (lane 4*i + j is pixel j of quads[i]; dst as write_color_lanes). Bit for

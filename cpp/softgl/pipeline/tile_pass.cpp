@@ -1126,9 +1126,15 @@ SOFTGL_STEP void TilePass::write(Tile& t, const Chunk& c, const Colors& col) {
             store_lane_pixels(buffer_pixels_, c.xy, L, d);
             w.stats.samples_written += L;
         } else {
-            if (reads) load_chunk_pixels(buffer_pixels_, c.quads, c.masks, c.kept, d);
-            if (!col.words) write_color_lanes_at(plan_.simd, plan_.kernel, blend_, src, cs, d, L);
-            w.stats.samples_written += store_chunk_pixels(buffer_pixels_, c.quads, c.masks, c.kept, d);
+            if (reads && !col.words) {   // both steps at once (write_color_quads_at)
+                w.stats.samples_written += write_color_quads_at(plan_.simd, in_.tuning.blend_in_place, plan_.kernel, blend_,
+                                                                src, cs, buffer_pixels_, c.quads, c.masks, c.kept, d,
+                                                                w.stats.quads_blended_in_place);
+            } else {
+                if (reads) load_chunk_pixels(buffer_pixels_, c.quads, c.masks, c.kept, d);
+                if (!col.words) write_color_lanes_at(plan_.simd, plan_.kernel, blend_, src, cs, d, L);
+                w.stats.samples_written += store_chunk_pixels(buffer_pixels_, c.quads, c.masks, c.kept, d);
+            }
         }
     } else if (plan_.kernel != ColorKernel::Generic) {
         // Multisampled: the kernel on all lanes at once, then each lane's result into its covered
