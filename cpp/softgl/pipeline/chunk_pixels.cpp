@@ -86,7 +86,8 @@ uint64_t store_chunk_pixels(const ChunkPixels buffer, const Quad* q, const uint1
 #if defined(SOFTGL_HAVE_AVX2_CHUNK_PIXELS)
 namespace {
 
-// Quad by quad: a whole quad's lanes as its two rows; a partial one's covered lanes (masks not 0)
+// Four whole quads side by side as two 32-byte rows; else quad by quad: a whole quad's lanes as
+// its two rows; a partial one's covered lanes (masks not 0)
 // selected over the old pixels, then both rows stored (the uncovered pixels get their own words
 // back: the pixels are in this worker's tile). A quad reaching past the buffer's edge moves pixel
 // by pixel, covered ones only, as the scalar loop does.
@@ -103,9 +104,24 @@ __attribute__((target("avx2"))) uint64_t store_chunk_pixels_avx2(const ChunkPixe
         }
         uint64_t m4;
         std::memcpy(&m4, masks + 4 * i, 8);
-        written += (m4 * 0x0001000100010001u) >> 48;   // the sum of four masks of 0 or 1
         uint8_t* const px = buffer.at(q[i]);
         const uint32_t* const l = lanes + 4 * i;
+        if (i + 4 <= n) {   // four whole quads side by side (a block's row): two 32-byte rows
+            uint64_t m1, m2, m3;
+            std::memcpy(&m1, masks + 4 * i + 4, 8), std::memcpy(&m2, masks + 4 * i + 8, 8), std::memcpy(&m3, masks + 4 * i + 12, 8);
+            if ((m4 & m1 & m2 & m3) == kWholeQuad && buffer.row_of_four(q + i)) {
+                // Lanes as 64-bit rows: q0r0 q0r1 q1r0 q1r1 | q2r0 q2r1 q3r0 q3r1.
+                const __m256i v0 = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(l));
+                const __m256i v1 = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(l + 8));
+                _mm256_storeu_si256(reinterpret_cast<__m256i*>(px), _mm256_permute4x64_epi64(_mm256_unpacklo_epi64(v0, v1), 0xD8));
+                _mm256_storeu_si256(reinterpret_cast<__m256i*>(px + 4 * pitch),
+                                    _mm256_permute4x64_epi64(_mm256_unpackhi_epi64(v0, v1), 0xD8));
+                written += 16;
+                i += 4;
+                continue;
+            }
+        }
+        written += (m4 * 0x0001000100010001u) >> 48;   // the sum of four masks of 0 or 1
         if (!buffer.inside(q[i])) {
             for (size_t j = 0; j < 4; ++j)
                 if (masks[4 * i + j]) std::memcpy(px + 4 * ((j >> 1) * pitch + (j & 1)), l + j, 4);
