@@ -227,21 +227,3 @@ def test_every_simd_level_gives_the_reference_bytes(shader, simd):
     image, _, plan = render(shader, "blend_depth", mixed=False, simd=simd)
     assert plan["simd"] == simd and plan["no_helper_lanes"]
     assert image.tobytes() == ref.tobytes()
-
-
-@pytest.mark.parametrize("size", [(96, 80), (97, 81)])
-@pytest.mark.parametrize("state", ["none", "depth"])
-def test_chunk_pixels_stored_alike_at_every_simd_level(state, size, monkeypatch):
-    """The colour kernels' stores (chunk_pixels store_chunk_pixels_at): with AVX2 a quad at a time
-    (partial quads selected over the old pixels) and runs of four whole quads as 32-byte rows;
-    the scalar rows are the reference. Whole quads (derivatives), large and small triangles, and
-    an odd-sized canvas whose last quads reach past its edge."""
-    monkeypatch.setitem(globals(), "W", size[0])
-    monkeypatch.setitem(globals(), "H", size[1])
-    ref, ref_stats, _ = render("derivatives", state, mixed=True, simd="scalar")
-    assert (ref != ref[0, 0]).any()
-    for simd in SIMD[1:]:
-        image, stats, plan = render("derivatives", state, mixed=True, simd=simd)
-        assert plan["simd"] == simd and plan["color_kernels"]
-        assert image.tobytes() == ref.tobytes(), simd
-        assert stats["samples_written"] == ref_stats["samples_written"]

@@ -1,10 +1,5 @@
 #include "softgl/pipeline/chunk_pixels.h"
 
-#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__))
-#include <immintrin.h>
-#define SOFTGL_HAVE_AVX2_CHUNK_PIXELS 1
-#endif
-
 namespace softgl {
 
 void load_chunk_pixels(const ChunkPixels buffer, const Quad* q, const uint16_t* masks, size_t n, uint32_t* lanes,
@@ -81,77 +76,6 @@ uint64_t store_chunk_pixels(const ChunkPixels buffer, const Quad* q, const uint1
         ++i;
     }
     return written;
-}
-
-#if defined(SOFTGL_HAVE_AVX2_CHUNK_PIXELS)
-namespace {
-
-// Four whole quads side by side as two 32-byte rows; else quad by quad: a whole quad's lanes as
-// its two rows; a partial one's covered lanes (masks not 0)
-// selected over the old pixels, then both rows stored (the uncovered pixels get their own words
-// back: the pixels are in this worker's tile). A quad reaching past the buffer's edge moves pixel
-// by pixel, covered ones only, as the scalar loop does.
-__attribute__((target("avx2"))) uint64_t store_chunk_pixels_avx2(const ChunkPixels buffer, const Quad* q,
-                                                                 const uint16_t* masks, size_t n,
-                                                                 const uint32_t* lanes, uint64_t skip) {
-    const size_t pitch = buffer.pitch;
-    uint64_t written = 0;
-    for (size_t i = 0; i < n;) {
-        if (skip >> i & 1) {   // written already, whole
-            written += 16;
-            i += 4;
-            continue;
-        }
-        uint64_t m4;
-        std::memcpy(&m4, masks + 4 * i, 8);
-        uint8_t* const px = buffer.at(q[i]);
-        const uint32_t* const l = lanes + 4 * i;
-        if (i + 4 <= n) {   // four whole quads side by side (a block's row): two 32-byte rows
-            uint64_t m1, m2, m3;
-            std::memcpy(&m1, masks + 4 * i + 4, 8), std::memcpy(&m2, masks + 4 * i + 8, 8), std::memcpy(&m3, masks + 4 * i + 12, 8);
-            if ((m4 & m1 & m2 & m3) == kWholeQuad && buffer.row_of_four(q + i)) {
-                // Lanes as 64-bit rows: q0r0 q0r1 q1r0 q1r1 | q2r0 q2r1 q3r0 q3r1.
-                const __m256i v0 = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(l));
-                const __m256i v1 = _mm256_loadu_si256(reinterpret_cast<const __m256i*>(l + 8));
-                _mm256_storeu_si256(reinterpret_cast<__m256i*>(px), _mm256_permute4x64_epi64(_mm256_unpacklo_epi64(v0, v1), 0xD8));
-                _mm256_storeu_si256(reinterpret_cast<__m256i*>(px + 4 * pitch),
-                                    _mm256_permute4x64_epi64(_mm256_unpackhi_epi64(v0, v1), 0xD8));
-                written += 16;
-                i += 4;
-                continue;
-            }
-        }
-        written += (m4 * 0x0001000100010001u) >> 48;   // the sum of four masks of 0 or 1
-        if (!buffer.inside(q[i])) {
-            for (size_t j = 0; j < 4; ++j)
-                if (masks[4 * i + j]) std::memcpy(px + 4 * ((j >> 1) * pitch + (j & 1)), l + j, 4);
-            ++i;
-            continue;
-        }
-        __m128i* const row0 = reinterpret_cast<__m128i*>(px);
-        __m128i* const row1 = reinterpret_cast<__m128i*>(px + 4 * pitch);
-        __m128i out = _mm_loadu_si128(reinterpret_cast<const __m128i*>(l));
-        if (m4 != kWholeQuad) {
-            const __m128i keep = _mm_cmpgt_epi32(_mm_cvtepu16_epi32(_mm_cvtsi64_si128(int64_t(m4))), _mm_setzero_si128());
-            const __m128i old = _mm_unpacklo_epi64(_mm_loadl_epi64(row0), _mm_loadl_epi64(row1));
-            out = _mm_blendv_epi8(old, out, keep);
-        }
-        _mm_storel_epi64(row0, out);
-        _mm_storel_epi64(row1, _mm_unpackhi_epi64(out, out));
-        ++i;
-    }
-    return written;
-}
-
-}  // namespace
-#endif
-
-uint64_t store_chunk_pixels_at(SimdLevel level, const ChunkPixels buffer, const Quad* q, const uint16_t* masks,
-                               size_t n, const uint32_t* lanes, uint64_t skip) {
-#if defined(SOFTGL_HAVE_AVX2_CHUNK_PIXELS)
-    if (level >= SimdLevel::AVX2) return store_chunk_pixels_avx2(buffer, q, masks, n, lanes, skip);
-#endif
-    return store_chunk_pixels(buffer, q, masks, n, lanes, skip);
 }
 
 }  // namespace softgl

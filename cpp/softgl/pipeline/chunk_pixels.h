@@ -11,7 +11,6 @@
 #include <cstdint>
 #include <cstring>
 
-#include "softgl/core/simd.h"
 #include "softgl/pipeline/raster.h"
 
 namespace softgl {
@@ -62,11 +61,6 @@ void load_chunk_pixels(const ChunkPixels buffer, const Quad* q, const uint16_t* 
 // The covered lanes into the buffer; returns the number of pixels written.
 uint64_t store_chunk_pixels(const ChunkPixels buffer, const Quad* q, const uint16_t* masks, size_t n,
                             const uint32_t* lanes, uint64_t skip = 0);
-// The same at `level`: with AVX2 a quad's two rows at a time, its covered lanes blended over the
-// old pixels in one select (a tile's gathered batches are mostly partial quads, which cost the
-// scalar rows ~90 instructions each). The same pixels written at every level.
-uint64_t store_chunk_pixels_at(SimdLevel level, const ChunkPixels buffer, const Quad* q, const uint16_t* masks,
-                               size_t n, const uint32_t* lanes, uint64_t skip = 0);
 
 // The same for lanes that are single covered pixels: lane l is pixel (xy[2l], xy[2l + 1]).
 inline void load_lane_pixels(const ChunkPixels buffer, const int32_t* xy, size_t n, uint32_t* lanes) {

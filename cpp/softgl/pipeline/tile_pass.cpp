@@ -996,7 +996,7 @@ SOFTGL_STEP void TilePass::write_copied_varying(Tile& t, const Primitive& prim, 
         load_chunk_pixels(buffer_pixels_, c.quads, c.masks, c.kept, d, rows);
     write_interpolated_color_lanes_at(plan_.simd, plan_.kernel, blend_, prim.vi, size_t(plan_.copied_index), c.quads,
                                       c.kept, d, PixelRows{buffer_pixels_.color, buffer_pixels_.pitch, rows});
-    const uint64_t written = store_chunk_pixels_at(plan_.simd, buffer_pixels_, c.quads, c.masks, c.kept, d, rows);
+    const uint64_t written = store_chunk_pixels(buffer_pixels_, c.quads, c.masks, c.kept, d, rows);
     t.w.stats.samples_written += written;
     if (!plan_.plain_write) t.w.stats.samples_blended += written;
 }
@@ -1127,7 +1127,7 @@ SOFTGL_STEP void TilePass::write(Tile& t, const Chunk& c, const Colors& col) {
         const uint64_t rows = whole_rows_of_four(buffer_pixels_, c.quads, c.masks, c.kept);
         load_chunk_pixels(buffer_pixels_, c.quads, c.masks, c.kept, d, rows);
         apply_blend_table_at(plan_.simd, *blend_table_, c.quads, c.kept, d, PixelRows{buffer_pixels_.color, pitch_, rows});
-        w.stats.samples_written += store_chunk_pixels_at(plan_.simd, buffer_pixels_, c.quads, c.masks, c.kept, d, rows);
+        w.stats.samples_written += store_chunk_pixels(buffer_pixels_, c.quads, c.masks, c.kept, d, rows);
     } else if (samples_ == 1 && plan_.kernel != ColorKernel::Generic) {
         // Gather the destination pixels (only when the kernel reads them), blend all lanes at
         // once, scatter back.
@@ -1141,7 +1141,7 @@ SOFTGL_STEP void TilePass::write(Tile& t, const Chunk& c, const Colors& col) {
         } else {
             if (reads) load_chunk_pixels(buffer_pixels_, c.quads, c.masks, c.kept, d);
             if (!col.words) write_color_lanes_at(plan_.simd, plan_.kernel, blend_, src, cs, d, L);
-            w.stats.samples_written += store_chunk_pixels_at(plan_.simd, buffer_pixels_, c.quads, c.masks, c.kept, d);
+            w.stats.samples_written += store_chunk_pixels(buffer_pixels_, c.quads, c.masks, c.kept, d);
         }
     } else if (plan_.kernel != ColorKernel::Generic) {
         // Multisampled: the kernel on all lanes at once, then each lane's result into its covered
