@@ -426,7 +426,7 @@ void bind_drawing(ContextClass& cls) {
             SOFTGL_STAT(primitives_zero_area) SOFTGL_STAT(primitives_rasterized) SOFTGL_STAT(tiles_touched)
             SOFTGL_STAT(quads) SOFTGL_STAT(blocks_accepted_whole) SOFTGL_STAT(fragments_shaded)
             SOFTGL_STAT(fragments_killed_early) SOFTGL_STAT(fragments_killed_late) SOFTGL_STAT(fragments_discarded)
-            SOFTGL_STAT(fragments_hidden) SOFTGL_STAT(primitives_depth_hidden)
+            SOFTGL_STAT(fragments_hidden) SOFTGL_STAT(tiles_hidden_surface) SOFTGL_STAT(primitives_depth_hidden)
             SOFTGL_STAT(samples_written) SOFTGL_STAT(samples_blended) SOFTGL_STAT(draws_skipped_no_output)
             SOFTGL_STAT(draws_early_depth) SOFTGL_STAT(draws_plain_write) SOFTGL_STAT(draws_blend_table)
             SOFTGL_STAT(texture_queries_fast)

@@ -13,7 +13,7 @@ using softgl::Tuning;
 
 namespace {
 
-const char* const kHiddenSurfaceRemoval[] = {"off", "where_piles_up", "in_every_tile"};
+const char* const kHiddenSurfaceRemoval[] = {"off", "where_piles_up", "in_every_tile", "where_boxes_pile_up"};
 const char* const kDepthBounds[] = {"off", "on", "sabotaged_for_tests"};
 const char* const kSamplerPath[] = {"general", "scalar", "best", "avx2"};
 

@@ -379,6 +379,8 @@ class Context(_core.Context):
         removal, single-sampled targets, in tiles where primitives pile up): the bytes are the
         same as when every fragment is shaded. Hidden fragments are not charged to the draw's work
         budget (set_work_budget).
+        ``tiles_hidden_surface`` counts the (tile, batch) pairs where that removal's first pass ran
+        (where the pixels a draw's primitives may cover add up to twice the tile or more).
 
         ``primitives_depth_hidden`` counts (primitive, tile) pairs that were neither rasterized
         nor tested, because the tile's stored depth words show that every fragment of the

@@ -57,7 +57,7 @@ void main() { if (vColor.a < 0.3) discard; fragColor = vColor; }
 """
 
 
-MODES = ("off", "where_piles_up", "in_every_tile")   # modes 0, 1, 2
+MODES = ("off", "where_piles_up", "in_every_tile", "where_boxes_pile_up")   # modes 0, 1, 2, 3
 
 
 @pytest.fixture
@@ -120,15 +120,17 @@ def render(mode, fs, pos, color, threads=1, setup=None, primitive="TRIANGLES", f
 
 
 def same_with_and_without(fs, pos, color, expect_hidden=True, **kw):
-    """Renders in modes 0, 1, 2 at 1 and 2 threads; all must give the same bytes. Returns mode 0's
-    image and the counters of modes 0 and 2."""
-    results = {(m, t): render(m, fs, pos, color, threads=t, **kw) for m in (0, 1, 2) for t in (1, 2)}
+    """Renders in modes 0, 1, 2, 3 at 1 and 2 threads; all must give the same bytes. Returns mode
+    0's image and the counters of modes 0 and 2."""
+    results = {(m, t): render(m, fs, pos, color, threads=t, **kw) for m in (0, 1, 2, 3) for t in (1, 2)}
     reference = results[(0, 1)]
     for key, (image, depth, _) in results.items():
         assert image == reference[0], f"colour differs with hidden-surface removal mode/threads {key}"
         assert depth == reference[1], f"depth differs with hidden-surface removal mode/threads {key}"
     off, every = results[(0, 1)][2], results[(2, 1)][2]
-    assert off["fragments_hidden"] == 0
+    assert off["fragments_hidden"] == 0 and off["tiles_hidden_surface"] == 0
+    for m in (1, 2, 3):   # the pass runs in the same tiles at any thread count
+        assert results[(m, 1)][2]["tiles_hidden_surface"] == results[(m, 2)][2]["tiles_hidden_surface"]
     if expect_hidden:
         assert every["fragments_hidden"] > 0
         assert every["fragments_shaded"] < off["fragments_shaded"]
@@ -282,3 +284,51 @@ def test_deep_piles_past_the_kept_quads_bound(hsr_mode):
     assert off["samples_written"] == n * SIZE * SIZE
     assert every["samples_written"] == SIZE * SIZE
     assert every["fragments_hidden"] == (n - 1) * SIZE * SIZE
+
+
+def grid(cells, z, rng):
+    """A mesh of cells x cells squares (two triangles each) over the whole canvas at depth z, its
+    inner vertices jittered (the triangles still tile the canvas once), colours at random."""
+    t = np.linspace(-1, 1, cells + 1)
+    x, y = np.meshgrid(t, t)
+    jitter = rng.uniform(-0.3, 0.3, (2, cells + 1, cells + 1)) * (2 / cells)
+    jitter[:, [0, -1], :] = 0
+    jitter[:, :, [0, -1]] = 0
+    x, y = x + jitter[0], y + jitter[1]
+    tris = []
+    for i in range(cells):
+        for j in range(cells):
+            a, b, c, d = (i, j), (i, j + 1), (i + 1, j + 1), (i + 1, j)
+            tris += [a, b, c, a, c, d]
+    pos = np.array([[x[v], y[v], z, 1.0] for v in tris], np.float32)
+    return pos, rng.uniform(0, 1, (len(pos), 4)).astype(np.float32)
+
+
+def test_a_mesh_covering_the_tiles_once_skips_the_first_pass(hsr_mode):
+    """A triangle covers at most its area, half its bounding box or less: a mesh of small
+    triangles that covers each tile once has boxes that cover it twice, and the first pass would
+    hide nothing there. Counted by area (mode 1) the pass does not run; by boxes (mode 3) it
+    does; the same mesh twice (the second layer in front) piles up either way and hides the
+    first. Same bytes in every mode."""
+    rng = np.random.default_rng(12)
+
+    def setup(gl, prog):
+        tex = gl.createTexture()
+        gl.bindTexture(gl.TEXTURE_2D, tex)
+        img = np.random.default_rng(5).integers(0, 256, (32, 32, 4), dtype=np.uint8)
+        gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA, 32, 32, 0, gl.RGBA, gl.UNSIGNED_BYTE, img)
+        gl.generateMipmap(gl.TEXTURE_2D)
+        gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.LINEAR_MIPMAP_LINEAR)
+        gl.enable(gl.DEPTH_TEST)
+    once = grid(24, 0.2, rng)   # triangles of ~15 pixels
+    same_with_and_without(DERIVATIVE_FS, *once, setup=setup, expect_hidden=False)
+    by_area = render(1, DERIVATIVE_FS, *once, setup=setup)[2]
+    by_boxes = render(3, DERIVATIVE_FS, *once, setup=setup)[2]
+    assert by_area["tiles_hidden_surface"] == 0 and by_area["fragments_hidden"] == 0
+    assert by_boxes["tiles_hidden_surface"] == 9 and by_boxes["fragments_hidden"] == 0   # 3 x 3 tiles
+    back, front = grid(24, 0.2, rng), grid(24, -0.2, rng)
+    twice = np.concatenate([back[0], front[0]]), np.concatenate([back[1], front[1]])
+    same_with_and_without(DERIVATIVE_FS, *twice, setup=setup)
+    by_area = render(1, DERIVATIVE_FS, *twice, setup=setup)[2]
+    assert by_area["tiles_hidden_surface"] == 9
+    assert by_area["fragments_hidden"] == SIZE * SIZE   # the back layer, every pixel once

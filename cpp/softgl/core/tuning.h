@@ -10,8 +10,10 @@
 namespace softgl {
 
 // Hidden-surface removal within a draw (pipeline/tile_pass: the owner map): off, where a tile's
-// primitives pile up (the default), or in every tile with two or more primitives.
-enum class HiddenSurfaceRemoval : uint8_t { Off, WherePilesUp, InEveryTile };
+// primitives pile up (the default: a triangle counts its area, at most its box's part of the tile),
+// in every tile with two or more primitives, or where their bounding boxes alone pile up (the rule
+// before triangle areas, which ran the pass on meshes that cover a tile once).
+enum class HiddenSurfaceRemoval : uint8_t { Off, WherePilesUp, InEveryTile, WhereBoxesPileUp };
 
 // Per-tile depth bounds (pipeline/early_depth DepthBounds): off, on (the default), or on with the
 // primitive's depth taken at the wrong corner, so that the tests comparing with Off must fail.

@@ -187,6 +187,7 @@ DrawPlan plan_draw(const DrawInputs& in, const DrawCall& call, const FragmentOps
          {plan.blend_lab, Path::BlendLab},
          {smoothing, Path::Smoothing}});
     plan.hidden_surface_in_every_tile = in.tuning.hidden_surface_removal == HiddenSurfaceRemoval::InEveryTile;
+    plan.hidden_surface_by_boxes = in.tuning.hidden_surface_removal == HiddenSurfaceRemoval::WhereBoxesPileUp;
 
     // ---- colour kernels: chunks of lanes on the RGBA8 drawing buffer, nothing per lane ----
     plan.color_kernels = first_reason({{skipped, Path::NotRasterized},
@@ -273,6 +274,7 @@ std::vector<DrawPlanField> DrawPlan::fields() const {
         yes("tests", "depth_bounds_sabotaged", depth_bounds_sabotaged),
         path("tests", "hidden_surface_removal", hidden_surface_removal),
         yes("tests", "hidden_surface_in_every_tile", hidden_surface_in_every_tile),
+        yes("tests", "hidden_surface_by_boxes", hidden_surface_by_boxes),
         path("shading", "fragment_copies", fragment_copies),
         num("shading", "copied_word", copied_word),
         path("shading", "fused_copy", fused_copy),

@@ -96,6 +96,7 @@ struct DrawPlan {
     bool depth_bounds_sabotaged = false;       // ... at the wrong corner (Tuning, for tests)
     Path hidden_surface_removal = Path::Taken; // owner map: only the last fragment of a pixel is shaded
     bool hidden_surface_in_every_tile = false; // ... in every tile, not only where primitives pile up
+    bool hidden_surface_by_boxes = false;      // ... piling up counted by bounding boxes, not triangle areas
     // ---- shading ----
     Path fragment_copies = Path::Taken;   // the shader only copies: its colours come from the batch
     int copied_word = -1;                 // ... one vec4 varying's first word, read in place

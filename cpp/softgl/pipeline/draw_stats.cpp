@@ -10,7 +10,7 @@ void DrawStats::add(const DrawStats& o) {
     tiles_touched += o.tiles_touched; quads += o.quads; blocks_accepted_whole += o.blocks_accepted_whole;
     fragments_shaded += o.fragments_shaded; fragments_killed_early += o.fragments_killed_early;
     fragments_killed_late += o.fragments_killed_late; fragments_discarded += o.fragments_discarded;
-    fragments_hidden += o.fragments_hidden; primitives_depth_hidden += o.primitives_depth_hidden;
+    fragments_hidden += o.fragments_hidden; tiles_hidden_surface += o.tiles_hidden_surface; primitives_depth_hidden += o.primitives_depth_hidden;
     samples_written += o.samples_written; samples_blended += o.samples_blended;
     draws_skipped_no_output += o.draws_skipped_no_output; draws_early_depth += o.draws_early_depth;
     draws_blend_table += o.draws_blend_table; draws_plain_write += o.draws_plain_write;

@@ -18,6 +18,7 @@ struct DrawStats {
     uint64_t fragments_killed_early = 0, fragments_killed_late = 0, fragments_discarded = 0;
     uint64_t fragments_flat = 0;        // of those, lanes of flat primitives: one shader run per primitive and tile
     uint64_t fragments_hidden = 0;      // passed the tests, then covered by a later one: not shaded
+    uint64_t tiles_hidden_surface = 0;  // (tile, batch) pairs whose hidden-surface first pass ran
     uint64_t primitives_depth_hidden = 0;  // (primitive, tile) pairs failing early depth everywhere: not rasterized
     uint64_t samples_written = 0, samples_blended = 0;
     uint64_t draws_skipped_no_output = 0;  // nothing could change: no shading at all
