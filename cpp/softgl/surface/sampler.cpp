@@ -2065,6 +2065,39 @@ __attribute__((target("avx2,f16c"))) void cube_levels8(const Fast2D& f, Planes8&
     }
 }
 
+// The last 1-7 lanes of a query (lanes l ..) as one block of 8 over copies of their operands,
+// the lanes beyond them inactive (their results are dropped): a block's lanes give one_lane's
+// bits whatever the other lanes hold, so a tail costs one block, not 1-7 lanes one by one.
+struct PaddedTail8 {
+    alignas(32) glsl::Scalar coord[3][8] = {}, ddx[3][8] = {}, ddy[3][8] = {}, lod[8] = {}, result[4][8];
+    alignas(32) uint32_t active[8] = {};
+    glsl::TextureQuery query;   // points into this struct: not copyable
+    PaddedTail8(const glsl::TextureQuery& q, int l) : query(q) {
+        const int n = q.lane_count - l;
+        query.lane_count = 8;
+        const auto lanes_of = [&](const glsl::Scalar* src, glsl::Scalar* dst) -> const glsl::Scalar* {
+            if (!src) return nullptr;
+            std::copy_n(src + l, n, dst);
+            return dst;
+        };
+        for (int k = 0; k < 3; ++k) {
+            query.coord[k] = lanes_of(q.coord[k], coord[k]);
+            query.ddx[k] = lanes_of(q.ddx[k], ddx[k]);
+            query.ddy[k] = lanes_of(q.ddy[k], ddy[k]);
+        }
+        query.lod = lanes_of(q.lod, lod);
+        for (int k = 0; k < n; ++k) active[k] = q.active ? q.active[l + k] : ~0u;
+        query.active = active;
+        for (int c = 0; c < 4; ++c) query.out[c] = q.out[c] ? result[c] : nullptr;
+    }
+    PaddedTail8(const PaddedTail8&) = delete;
+    PaddedTail8& operator=(const PaddedTail8&) = delete;
+    void copy_results(const glsl::TextureQuery& q, int l) const {
+        for (int c = 0; c < 4; ++c)
+            if (q.out[c]) std::copy_n(result[c], q.lane_count - l, q.out[c] + l);
+    }
+};
+
 // One block of lanes l .. l + 7: false (nothing written) when its lanes do not share their levels
 // (the caller takes the block by the general code); else the results are stored and `outside`
 // holds the active lanes whose texels cross a face edge under seamless filtering, which the
@@ -3351,34 +3384,13 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
             }
         }
         if (l < q.lane_count) {
-            // The last 1-7 lanes: one block of 8 over copies of their operands, the lanes beyond
-            // them inactive (they add no level; their results are dropped). A block's lanes give
-            // one_lane's bits whatever the other lanes hold, so the same bits as lane by lane.
-            const int n = q.lane_count - l;
-            alignas(32) glsl::Scalar coord[3][8] = {}, ddx[3][8] = {}, ddy[3][8] = {}, lod[8] = {}, result[4][8];
-            alignas(32) uint32_t active[8] = {};
-            glsl::TextureQuery tail = q;
-            tail.lane_count = 8;
-            const auto lanes_of = [&](const glsl::Scalar* src, glsl::Scalar* dst) -> const glsl::Scalar* {
-                if (!src) return nullptr;
-                std::copy_n(src + l, n, dst);
-                return dst;
-            };
-            for (int k = 0; k < 3; ++k) {
-                tail.coord[k] = lanes_of(q.coord[k], coord[k]);
-                tail.ddx[k] = lanes_of(q.ddx[k], ddx[k]);
-                tail.ddy[k] = lanes_of(q.ddy[k], ddy[k]);
-            }
-            tail.lod = lanes_of(q.lod, lod);
-            for (int k = 0; k < n; ++k) active[k] = q.active ? q.active[l + k] : ~0u;
-            tail.active = active;
-            for (int c = 0; c < 4; ++c) tail.out[c] = q.out[c] ? result[c] : nullptr;
+            // The last 1-7 lanes as one padded block (their extra lanes add no level).
+            PaddedTail8 padded(q, l);
             ColourQuery tail_cq = cq;
-            tail_cq.q = &tail;
-            tail_cq.r = cq.r ? &tail.coord[2][0].f : nullptr;
+            tail_cq.q = &padded.query;
+            tail_cq.r = cq.r ? &padded.query.coord[2][0].f : nullptr;
             if (blocks8(tail_cq, 0, 8) == 8) {
-                for (int c = 0; c < 4; ++c)
-                    if (q.out[c]) std::copy_n(result[c], n, q.out[c] + l);
+                padded.copy_results(q, l);
                 l = q.lane_count;
             }
         }
@@ -3565,37 +3577,16 @@ bool TextureUnitSampler::sample_2d(const glsl::TextureQuery& q, SimdBlocks simd)
             l += 8;
         }
         if (cube_run8 && l < q.lane_count) {
-            // The last 1-7 lanes: one block of 8 over copies of their operands, the lanes beyond
-            // them inactive (they add no level or face; their results are dropped), as the colour
-            // blocks' tail: a block's lanes give one_lane's bits whatever the other lanes hold.
-            // Lanes leaving the face go to sample_lane after their block results are copied.
-            const int n = q.lane_count - l;
-            alignas(32) glsl::Scalar coord[3][8] = {}, ddx[3][8] = {}, ddy[3][8] = {}, lod[8] = {}, result[4][8];
-            alignas(32) uint32_t active[8] = {};
-            glsl::TextureQuery tail = q;
-            tail.lane_count = 8;
-            const auto lanes_of = [&](const glsl::Scalar* src, glsl::Scalar* dst) -> const glsl::Scalar* {
-                if (!src) return nullptr;
-                std::copy_n(src + l, n, dst);
-                return dst;
-            };
-            for (int k = 0; k < 3; ++k) {
-                tail.coord[k] = lanes_of(q.coord[k], coord[k]);
-                tail.ddx[k] = lanes_of(q.ddx[k], ddx[k]);
-                tail.ddy[k] = lanes_of(q.ddy[k], ddy[k]);
-            }
-            tail.lod = lanes_of(q.lod, lod);
-            for (int k = 0; k < n; ++k) active[k] = q.active ? q.active[l + k] : ~0u;
-            tail.active = active;
-            for (int c = 0; c < 4; ++c) tail.out[c] = q.out[c] ? result[c] : nullptr;
+            // The last 1-7 lanes as one padded block (their extra lanes add no level or face);
+            // lanes leaving the face go to sample_lane after the block's results are copied.
+            PaddedTail8 padded(q, l);
             uint32_t outside = 0;
             CubeQuery tail_query = cube_query;
-            tail_query.q = &tail;
+            tail_query.q = &padded.query;
             tail_query.again = [](void* context, int lane) { *static_cast<uint32_t*>(context) |= 1u << lane; };
             tail_query.context = &outside;
             if (cube_run8(tail_query, cube_planes, 0, 8) == 8) {
-                for (int c = 0; c < 4; ++c)
-                    if (q.out[c]) std::copy_n(result[c], n, q.out[c] + l);
+                padded.copy_results(q, l);
                 for (; outside; outside &= outside - 1) sample_lane(q, l + __builtin_ctz(outside));
                 l = q.lane_count;
             }
