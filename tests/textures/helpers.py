@@ -6,6 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 import softgl
+from softgl import _core
 
 QUAD = np.array([-1, -1, 1, -1, -1, 1, -1, 1, 1, -1, 1, 1], np.float32)
 
@@ -197,4 +198,43 @@ def sample_mipmapped(levels, s, t, lam, min_filter, mag_filter="NEAREST", wrap_s
         k2 = (d2 == level) & (d2 != d1)
         res[k2] += frac[k2] * sample_level(levels[level], s[m][k2], t[m][k2], lin, wrap_s, wrap_t, weights8)
     out[m] = res
+    return out
+
+
+def rgba_expansion(v):
+    """RGBA of texels v (..., channels): absent channels 0, alpha 1 (ES 3.0 table 3.24)."""
+    out = np.zeros(v.shape[:-1] + (4,), np.float32)
+    out[..., 3] = 1.0
+    out[..., :v.shape[-1]] = v
+    return out
+
+
+def sampling_configs():
+    """(threads, simd, sampler_path): every SIMD level of this CPU, 2 threads, the general path."""
+    simd = ["scalar", "sse2", "avx2", "avx512"][:_core.testing.simd_level() + 1]
+    return [(1, lv, "best") for lv in simd] + [(2, simd[-1], "best"), (1, simd[-1], "general")]
+
+
+def float_sampling_context(w, h, threads, simd, path):
+    """A WebGL 2 context drawing into a w x h RGBA32F renderbuffer (so every bit a lookup returns
+    is kept), with float textures filterable and the given speed-path switches."""
+    gl = softgl.Context(w, h, threads=threads, antialias=False, version=2)
+    _core.testing.set_tuning(gl, simd=simd, sampler_path=path)
+    assert gl.getExtension("EXT_color_buffer_float") is not None
+    assert gl.getExtension("OES_texture_float_linear") is not None
+    rb = gl.createRenderbuffer()
+    gl.bindRenderbuffer(gl.RENDERBUFFER, rb)
+    gl.renderbufferStorage(gl.RENDERBUFFER, gl.RGBA32F, w, h)
+    fb = gl.createFramebuffer()
+    gl.bindFramebuffer(gl.FRAMEBUFFER, fb)
+    gl.framebufferRenderbuffer(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.RENDERBUFFER, rb)
+    gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1)
+    return gl
+
+
+def read_float_quad(gl, vs, fs, w, h):
+    """Draws the full-viewport quad with (vs, fs); the w x h float pixels it wrote."""
+    draw_quad(gl, softgl.program(gl, vs, fs))
+    out = np.asarray(gl.readPixels(0, 0, w, h, gl.RGBA, gl.FLOAT), np.float32)
+    assert gl.getError() == gl.NO_ERROR
     return out

@@ -13,12 +13,14 @@ import pytest
 
 import softgl
 from helpers import RECEDING_FS as FS, RECEDING_FS_ARRAY as FS_ARRAY, RECEDING_FS_CUBE as FS_CUBE, RECEDING_VS as VS
-from helpers import STORAGE_FILTERS as FILTERS, draw_quad
-from softgl import _core
+from helpers import STORAGE_FILTERS as FILTERS, float_sampling_context, read_float_quad
+from helpers import rgba_expansion as expand, sampling_configs as configs
 
 
 # internal format -> (client format, channels, values): values(rng, shape) are floats the format
 # holds exactly (so the RGBA32F upload of the same floats is the same texture).
+
+
 def _halves(rng, shape):      # float16 values, signed, some beyond 1
     return rng.uniform(-4, 4, shape).astype(np.float16).astype(np.float32)
 
@@ -40,14 +42,6 @@ FORMATS = {
 W, H = 64, 48
 
 
-def expand(v):
-    """RGBA of texels v (..., channels): absent channels 0, alpha 1 (ES 3.0 table 3.24)."""
-    out = np.zeros(v.shape[:-1] + (4,), np.float32)
-    out[..., 3] = 1.0
-    out[..., :v.shape[-1]] = v
-    return out
-
-
 def levels_of(name, size):
     rng = np.random.default_rng(sum(map(ord, name)) + size[0])
     w, h = size
@@ -59,30 +53,8 @@ def levels_of(name, size):
         w, h = max(w // 2, 1), max(h // 2, 1)
 
 
-def context(threads, simd, path):
-    gl = softgl.Context(W, H, threads=threads, antialias=False, version=2)
-    _core.testing.set_tuning(gl, simd=simd, sampler_path=path)
-    assert gl.getExtension("EXT_color_buffer_float") is not None
-    assert gl.getExtension("OES_texture_float_linear") is not None
-    rb = gl.createRenderbuffer()
-    gl.bindRenderbuffer(gl.RENDERBUFFER, rb)
-    gl.renderbufferStorage(gl.RENDERBUFFER, gl.RGBA32F, W, H)
-    fb = gl.createFramebuffer()
-    gl.bindFramebuffer(gl.FRAMEBUFFER, fb)
-    gl.framebufferRenderbuffer(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.RENDERBUFFER, rb)
-    gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1)
-    return gl
-
-
-def quad(gl, fs):
-    draw_quad(gl, softgl.program(gl, VS, fs))
-    out = np.asarray(gl.readPixels(0, 0, W, H, gl.RGBA, gl.FLOAT), np.float32)
-    assert gl.getError() == gl.NO_ERROR
-    return out
-
-
 def draw(levels, internal, fmt, filters, wrap, threads, simd, path):
-    gl = context(threads, simd, path)
+    gl = float_sampling_context(W, H, threads, simd, path)
     tex = gl.createTexture()
     gl.bindTexture(gl.TEXTURE_2D, tex)
     for k, level in enumerate(levels):
@@ -93,12 +65,7 @@ def draw(levels, internal, fmt, filters, wrap, threads, simd, path):
     gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, getattr(gl, filters[1]))
     gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_S, getattr(gl, wrap))
     gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_T, getattr(gl, wrap))
-    return quad(gl, FS)
-
-
-def configs():
-    simd = ["scalar", "sse2", "avx2", "avx512"][:_core.testing.simd_level() + 1]
-    return [(1, lv, "best") for lv in simd] + [(2, simd[-1], "best"), (1, simd[-1], "general")]
+    return read_float_quad(gl, VS, FS, W, H)
 
 
 @pytest.mark.parametrize("name", list(FORMATS))
@@ -117,7 +84,7 @@ def test_float_formats_sample_as_their_rgba32f_expansion(name, filters, wrap, si
 
 def draw_layers(layers, internal, fmt, kind, threads, simd, path):
     """layers: (n, h, w, channels) floats; kind: "array" (n layers) or "cube" (6 faces)."""
-    gl = context(threads, simd, path)
+    gl = float_sampling_context(W, H, threads, simd, path)
     n, h, w = layers.shape[:3]
     target = gl.TEXTURE_2D_ARRAY if kind == "array" else gl.TEXTURE_CUBE_MAP
     tex = gl.createTexture()
@@ -130,7 +97,7 @@ def draw_layers(layers, internal, fmt, kind, threads, simd, path):
                           gl.FLOAT, np.ascontiguousarray(layers[face]))
     gl.texParameteri(target, gl.TEXTURE_MIN_FILTER, gl.LINEAR)
     gl.texParameteri(target, gl.TEXTURE_MAG_FILTER, gl.LINEAR)
-    return quad(gl, FS_ARRAY if kind == "array" else FS_CUBE)
+    return read_float_quad(gl, VS, FS_ARRAY if kind == "array" else FS_CUBE, W, H)
 
 
 @pytest.mark.parametrize("name", ["R32F", "RG32F", "RGB16F"])
@@ -148,6 +115,8 @@ def test_float_arrays_and_cube_maps_sample_as_their_rgba32f_expansion(name, kind
 
 @pytest.mark.parametrize("name,channels", [("R32F", 1), ("RG32F", 2), ("R16F", 1), ("RG16F", 2),
                                            ("R11F_G11F_B10F", 3)])
+
+
 def test_float_targets_of_fewer_channels_draw_blend_clear_and_read(name, channels):
     """A colour attachment of 1-3 float channels: clear (masked), a blended draw, readPixels and a
     blit to RGBA32F give the stored channels and the absent ones' defaults (0, alpha 1)."""

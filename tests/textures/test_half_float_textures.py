@@ -12,8 +12,8 @@ import pytest
 
 import softgl
 from helpers import RECEDING_FS as FS, RECEDING_FS_ARRAY as FS_ARRAY, RECEDING_FS_CUBE as FS_CUBE, RECEDING_VS as VS
-from helpers import STORAGE_FILTERS as FILTERS, draw_quad
-from softgl import _core
+from helpers import STORAGE_FILTERS as FILTERS, draw_quad, float_sampling_context, read_float_quad
+from helpers import rgba_expansion as expand, sampling_configs as configs
 
 FORMATS = {"R16F": ("RED", 1), "RG16F": ("RG", 2), "RGB16F": ("RGB", 3), "RGBA16F": ("RGBA", 4)}
 W, H = 64, 48
@@ -25,14 +25,6 @@ void main() { o = texture(tex, vec3(uv, uv.y * 0.7 + 0.1)); }"""
 def as_half(v):
     """float32 v rounded to binary16 (IEEE round to nearest even) and back, by NumPy."""
     return v.astype(np.float16).astype(np.float32)
-
-
-def expand(v):
-    """RGBA of texels v (..., channels): absent channels 0, alpha 1 (ES 3.0 table 3.24)."""
-    out = np.zeros(v.shape[:-1] + (4,), np.float32)
-    out[..., 3] = 1.0
-    out[..., :v.shape[-1]] = v
-    return out
 
 
 def raw(rng, shape):
@@ -51,35 +43,8 @@ def levels_of(name, size):
         w, h = max(w // 2, 1), max(h // 2, 1)
 
 
-def context(threads, simd, path):
-    gl = softgl.Context(W, H, threads=threads, antialias=False, version=2)
-    _core.testing.set_tuning(gl, simd=simd, sampler_path=path)
-    assert gl.getExtension("EXT_color_buffer_float") is not None
-    assert gl.getExtension("OES_texture_float_linear") is not None
-    rb = gl.createRenderbuffer()
-    gl.bindRenderbuffer(gl.RENDERBUFFER, rb)
-    gl.renderbufferStorage(gl.RENDERBUFFER, gl.RGBA32F, W, H)
-    fb = gl.createFramebuffer()
-    gl.bindFramebuffer(gl.FRAMEBUFFER, fb)
-    gl.framebufferRenderbuffer(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.RENDERBUFFER, rb)
-    gl.pixelStorei(gl.UNPACK_ALIGNMENT, 1)
-    return gl
-
-
-def quad(gl, fs):
-    draw_quad(gl, softgl.program(gl, VS, fs))
-    out = np.asarray(gl.readPixels(0, 0, W, H, gl.RGBA, gl.FLOAT), np.float32)
-    assert gl.getError() == gl.NO_ERROR
-    return out
-
-
-def configs():
-    simd = ["scalar", "sse2", "avx2", "avx512"][:_core.testing.simd_level() + 1]
-    return [(1, lv, "best") for lv in simd] + [(2, simd[-1], "best"), (1, simd[-1], "general")]
-
-
 def draw(levels, internal, fmt, filters, wrap, threads, simd, path):
-    gl = context(threads, simd, path)
+    gl = float_sampling_context(W, H, threads, simd, path)
     tex = gl.createTexture()
     gl.bindTexture(gl.TEXTURE_2D, tex)
     for k, level in enumerate(levels):
@@ -90,7 +55,7 @@ def draw(levels, internal, fmt, filters, wrap, threads, simd, path):
     gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, getattr(gl, filters[1]))
     gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_S, getattr(gl, wrap))
     gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_T, getattr(gl, wrap))
-    return quad(gl, FS)
+    return read_float_quad(gl, VS, FS, W, H)
 
 
 @pytest.mark.parametrize("name", list(FORMATS))
@@ -109,7 +74,7 @@ def test_16f_textures_sample_as_the_float32_texture_of_their_halves(name, filter
 
 def draw_volume(layers, internal, fmt, kind, filt, threads, simd, path):
     """layers: (n, h, w, channels) floats; kind: "array", "3d" (n layers) or "cube" (6 faces)."""
-    gl = context(threads, simd, path)
+    gl = float_sampling_context(W, H, threads, simd, path)
     n, h, w = layers.shape[:3]
     target = {"array": gl.TEXTURE_2D_ARRAY, "3d": gl.TEXTURE_3D, "cube": gl.TEXTURE_CUBE_MAP}[kind]
     tex = gl.createTexture()
@@ -122,7 +87,7 @@ def draw_volume(layers, internal, fmt, kind, filt, threads, simd, path):
                           gl.FLOAT, np.ascontiguousarray(layers[face]))
     gl.texParameteri(target, gl.TEXTURE_MIN_FILTER, getattr(gl, filt))
     gl.texParameteri(target, gl.TEXTURE_MAG_FILTER, getattr(gl, filt))
-    return quad(gl, {"array": FS_ARRAY, "3d": FS_3D, "cube": FS_CUBE}[kind])
+    return read_float_quad(gl, VS, {"array": FS_ARRAY, "3d": FS_3D, "cube": FS_CUBE}[kind], W, H)
 
 
 @pytest.mark.parametrize("name", ["R16F", "RGBA16F"])
