@@ -238,3 +238,20 @@ def read_float_quad(gl, vs, fs, w, h):
     out = np.asarray(gl.readPixels(0, 0, w, h, gl.RGBA, gl.FLOAT), np.float32)
     assert gl.getError() == gl.NO_ERROR
     return out
+
+
+def sample_float_levels(levels, internal, fmt, filters, wrap, threads, simd, path, w, h):
+    """The w x h float pixels of RECEDING_FS over a 2D texture of `internal` whose mip levels are
+    `levels` (float arrays, uploaded as FLOAT), with the (min, mag) filters and the wrap mode."""
+    gl = float_sampling_context(w, h, threads, simd, path)
+    tex = gl.createTexture()
+    gl.bindTexture(gl.TEXTURE_2D, tex)
+    for k, level in enumerate(levels):
+        lh, lw = level.shape[:2]
+        gl.texImage2D(gl.TEXTURE_2D, k, getattr(gl, internal), lw, lh, 0, getattr(gl, fmt), gl.FLOAT,
+                      np.ascontiguousarray(level))
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, getattr(gl, filters[0]))
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, getattr(gl, filters[1]))
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_S, getattr(gl, wrap))
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_T, getattr(gl, wrap))
+    return read_float_quad(gl, RECEDING_VS, RECEDING_FS, w, h)

@@ -12,9 +12,9 @@ import numpy as np
 import pytest
 
 import softgl
-from helpers import RECEDING_FS as FS, RECEDING_FS_ARRAY as FS_ARRAY, RECEDING_FS_CUBE as FS_CUBE, RECEDING_VS as VS
+from helpers import RECEDING_FS_ARRAY as FS_ARRAY, RECEDING_FS_CUBE as FS_CUBE, RECEDING_VS as VS
 from helpers import STORAGE_FILTERS as FILTERS, float_sampling_context, read_float_quad
-from helpers import rgba_expansion as expand, sampling_configs as configs
+from helpers import rgba_expansion as expand, sample_float_levels, sampling_configs as configs
 
 
 # internal format -> (client format, channels, values): values(rng, shape) are floats the format
@@ -53,31 +53,16 @@ def levels_of(name, size):
         w, h = max(w // 2, 1), max(h // 2, 1)
 
 
-def draw(levels, internal, fmt, filters, wrap, threads, simd, path):
-    gl = float_sampling_context(W, H, threads, simd, path)
-    tex = gl.createTexture()
-    gl.bindTexture(gl.TEXTURE_2D, tex)
-    for k, level in enumerate(levels):
-        h, w = level.shape[:2]
-        gl.texImage2D(gl.TEXTURE_2D, k, getattr(gl, internal), w, h, 0, getattr(gl, fmt), gl.FLOAT,
-                      np.ascontiguousarray(level))
-    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, getattr(gl, filters[0]))
-    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, getattr(gl, filters[1]))
-    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_S, getattr(gl, wrap))
-    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_WRAP_T, getattr(gl, wrap))
-    return read_float_quad(gl, VS, FS, W, H)
-
-
 @pytest.mark.parametrize("name", list(FORMATS))
 @pytest.mark.parametrize("filters", FILTERS, ids=["/".join(f) for f in FILTERS])
 @pytest.mark.parametrize("wrap,size", [("REPEAT", (32, 16)), ("CLAMP_TO_EDGE", (13, 7))])
 def test_float_formats_sample_as_their_rgba32f_expansion(name, filters, wrap, size):
     fmt = FORMATS[name][0]
     levels = levels_of(name, size)
-    want = draw([expand(v) for v in levels], "RGBA32F", "RGBA", filters, wrap, 1, "scalar", "best")
+    want = sample_float_levels([expand(v) for v in levels], "RGBA32F", "RGBA", filters, wrap, 1, "scalar", "best", W, H)
     assert np.ptp(want.reshape(-1, 4)[:, 0]) > 0.3   # not a constant image
     for threads, level, path in configs():
-        got = draw(levels, name, fmt, filters, wrap, threads, level, path)
+        got = sample_float_levels(levels, name, fmt, filters, wrap, threads, level, path, W, H)
         np.testing.assert_array_equal(got.view(np.uint32), want.view(np.uint32),
                                       err_msg=f"{name} {filters} {wrap} {size} threads {threads} {level} {path}")
 
