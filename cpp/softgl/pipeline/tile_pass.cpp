@@ -113,9 +113,9 @@ struct OwnerMap {
 };
 
 // Whether a tile's primitives pile up enough for hidden-surface removal's first pass to pay: the
-// pixels they may cover add up to `times` the tile. A triangle covers at most its area (twice the
-// area of its edges' cross product, in 1/256 pixel units squared) and its bounding box's part of the
-// tile; its box alone is at least twice its area, so a mesh that covers a tile once (terrain:
+// pixels they may cover add up to `times` the tile. A triangle covers at most its area (half the
+// cross product of two edges' coefficients, in 1/256-pixel units squared) and its bounding box's
+// part of the tile; its box alone is at least twice its area, so a mesh that covers a tile once (terrain:
 // 0.5% of the fragments hidden, the pass 6% of the draw's instructions) looked piled up. Other
 // primitives count their box (`by_boxes`: every primitive, the rule before).
 bool piles_up(const std::vector<uint32_t>& list, const PrimitiveTable& prims, const TileRect& rect, int64_t times,
